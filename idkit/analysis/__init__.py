@@ -1,0 +1,82 @@
+"""Array-level signal processing of isolator measurements and simulations.
+
+Pure numpy/scipy functions (no plotting, no model imports), one concept per module:
+
+- :mod:`~idkit.analysis.cycles` - quasi-static loops: reversals, cycles, resampling (SPEC 4);
+- :mod:`~idkit.analysis.harmonics` - stepped sine: harmonics, subharmonic, bias, HOSIDF (SPEC 5);
+- :mod:`~idkit.analysis.frf` - white-noise FRF: H1, H2, coherence (SPEC 3);
+- :mod:`~idkit.analysis.drop` - drop tests: impact, shock peaks, peak deflection (SPEC 3, 5);
+- :mod:`~idkit.analysis.srs` - shock response spectrum (Smallwood filter);
+- :mod:`~idkit.analysis.psd` - random vibration: PSD profiles, synthesis, Welch, RMS (SPEC 5).
+"""
+
+from idkit.analysis.cycles import (
+    CycleSplit,
+    ResampledLoops,
+    classify_amplitudes,
+    find_reversals,
+    resample_loops,
+    split_cycles,
+)
+from idkit.analysis.drop import (
+    STANDARD_GRAVITY,
+    DropResult,
+    impact_velocity_from_height,
+    process_drop,
+    zero_phase_moving_average,
+)
+from idkit.analysis.frf import FrfEstimate, estimate_frf
+from idkit.analysis.harmonics import (
+    HarmonicFit,
+    HosidfResult,
+    InputFlatness,
+    fit_harmonics,
+    hosidf,
+    input_flatness,
+)
+from idkit.analysis.psd import (
+    PsdEstimate,
+    PsdProfile,
+    cumulative_rms,
+    output_psd,
+    rms_from_psd,
+    synthesize_random,
+    welch_psd,
+)
+from idkit.analysis.srs import (
+    ShockResponseSpectrum,
+    shock_response_spectrum,
+    smallwood_coefficients,
+)
+
+__all__ = [
+    "STANDARD_GRAVITY",
+    "CycleSplit",
+    "DropResult",
+    "FrfEstimate",
+    "HarmonicFit",
+    "HosidfResult",
+    "InputFlatness",
+    "PsdEstimate",
+    "PsdProfile",
+    "ResampledLoops",
+    "ShockResponseSpectrum",
+    "classify_amplitudes",
+    "cumulative_rms",
+    "estimate_frf",
+    "find_reversals",
+    "fit_harmonics",
+    "hosidf",
+    "impact_velocity_from_height",
+    "input_flatness",
+    "output_psd",
+    "process_drop",
+    "resample_loops",
+    "rms_from_psd",
+    "shock_response_spectrum",
+    "smallwood_coefficients",
+    "split_cycles",
+    "synthesize_random",
+    "welch_psd",
+    "zero_phase_moving_average",
+]

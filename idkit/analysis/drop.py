@@ -1,0 +1,380 @@
+"""Drop-test processing: smoothing, impact detection, impact velocity and shock peaks.
+
+The drop tests of SPEC section 3 (thesis section 6.3 and appendix F) record the deflection
+and relative velocity over the isolator (laser vibrometer) and the vertical acceleration of
+the top mass with two accelerometers. As in the thesis, the accelerations are averaged, and
+velocity and acceleration are smoothed by a 5-sample moving average run forward and
+backward (zero phase). From the smoothed records this module finds the impact, the impact
+velocity, the peak acceleration magnitude in the compression and in the tension phase (the
+"rest shock level", thesis section 8.3) and the peak compression and tension.
+
+Sign conventions (SPEC): deflection ``x = x_top - x_base`` in m, positive = tension; velocity
+and acceleration positive upward (towards tension). A drop moves the top mass down onto the
+isolator, so the impact velocity is negative, ``v0 = -sqrt(2 g h)`` (thesis eq. (3.18)).
+During compression the isolator pushes the top mass up: the acceleration is positive.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+from scipy import signal as sps
+
+from idkit.errors import DataError
+
+__all__ = [
+    "STANDARD_GRAVITY",
+    "DropResult",
+    "impact_velocity_from_height",
+    "process_drop",
+    "zero_phase_moving_average",
+]
+
+STANDARD_GRAVITY = 9.80665  # m/s^2, CGPM 1901 conventional value
+
+
+def zero_phase_moving_average(signal: ArrayLike, *, window: int = 5) -> NDArray[np.float64]:
+    """Moving average of ``window`` samples run forward and backward (zero phase).
+
+    Implemented with :func:`scipy.signal.filtfilt` and a boxcar of ``window`` equal taps. The
+    net filter is the triangle of ``2 window - 1`` samples (boxcar convolved with itself),
+    magnitude response ``(sin(window w T / 2) / (window sin(w T / 2)))**2``: a sine of angular
+    frequency ``w`` sampled at interval ``T`` loses about ``(window**2 - 1) (w T)**2 / 12`` of its
+    amplitude (2 (w T)^2 for window 5), with no phase shift.
+
+    Edge handling: filtfilt's default odd extension by ``3 window`` samples at each end (the
+    record is extended by its point reflection about the end sample), which keeps a linear
+    trend, and a step that starts at the first sample, unbiased at the ends.
+
+    Parameters
+    ----------
+    signal : array_like, shape (n,)
+        Uniformly sampled record (any unit); ``n > 3 window``.
+    window : int, default 5
+        Moving-average length in samples; 1 returns a copy of the input.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Smoothed record, same unit.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> np.round(zero_phase_moving_average(np.arange(20.0))[:3], 12).tolist()  # ramp kept
+    [0.0, 1.0, 2.0]
+    """
+    values = np.asarray(signal, dtype=float)
+    if values.ndim != 1:
+        raise DataError(f"signal must be 1-D; found shape {values.shape}")
+    if int(window) != window or window < 1:
+        raise DataError(f"window must be a positive integer number of samples; found {window!r}")
+    window = int(window)
+    if window == 1:
+        return values.copy()
+    if values.size <= 3 * window:
+        raise DataError(
+            f"signal has {values.size} samples; more than {3 * window} are needed for a "
+            f"{window}-sample forward-backward moving average"
+        )
+    return sps.filtfilt(np.full(window, 1.0 / window), [1.0], values)
+
+
+def impact_velocity_from_height(
+    height: ArrayLike, *, g: float = STANDARD_GRAVITY
+) -> NDArray[np.float64] | float:
+    """Impact velocity of a frictionless fall from ``height``: ``v0 = -sqrt(2 g h)``.
+
+    Thesis eq. (3.18); negative because the top mass moves down (compression).
+
+    Parameters
+    ----------
+    height : float or array_like
+        Drop height(s), m, >= 0.
+    g : float, default 9.80665
+        Gravitational acceleration, m/s^2.
+
+    Returns
+    -------
+    float or ndarray
+        Impact velocity, m/s (<= 0).
+
+    Examples
+    --------
+    >>> round(impact_velocity_from_height(0.08), 4)
+    -1.2526
+    """
+    h = np.asarray(height, dtype=float)
+    if not np.all(np.isfinite(h) & (h >= 0)):
+        raise DataError(f"height must be finite and >= 0 m; found {height!r}")
+    v0 = -np.sqrt(2.0 * g * h)
+    return float(v0) if v0.ndim == 0 else v0
+
+
+@dataclass(frozen=True)
+class DropResult:
+    """Characteristic values of one drop.
+
+    Attributes
+    ----------
+    impact_index : int
+        Sample of the impact (see :func:`process_drop` for the rule).
+    impact_time : float
+        Time of the impact sample, s.
+    impact_velocity : float
+        Measured impact velocity, m/s (negative): the most negative smoothed relative velocity
+        between the impact and the end of the first compression stroke.
+    impact_velocity_from_height : float
+        ``-sqrt(2 g h)`` from the drop height, m/s (``nan`` when no height was given).
+    peak_acceleration_compression : float
+        Largest acceleration **magnitude** of the top mass while the isolator is compressed
+        (deflection below the reference) after the impact, m/s^2 (>= 0).
+    time_peak_acceleration_compression : float
+        Its time, s.
+    peak_acceleration_tension : float
+        Largest acceleration magnitude while the isolator is in tension after the impact,
+        m/s^2 (``nan`` when it never is).
+    time_peak_acceleration_tension : float
+        Its time, s (``nan`` when there is no tension phase).
+    max_compression : float
+        Peak compression as a **positive magnitude**: ``reference - min(deflection)`` after
+        the impact, m.
+    max_tension : float
+        Peak tension ``max(deflection) - reference`` after the impact, m (0 if never positive).
+    deflection_reference : float
+        Deflection taken as zero (isolator unloaded at impact), m.
+    time : ndarray
+        Time, s.
+    acceleration : ndarray
+        Mean of the accelerometers, smoothed, m/s^2.
+    relative_velocity : ndarray
+        Relative velocity over the isolator, smoothed, m/s.
+    deflection : ndarray
+        Deflection relative to ``deflection_reference``, m (not smoothed).
+    """
+
+    impact_index: int
+    impact_time: float
+    impact_velocity: float
+    impact_velocity_from_height: float
+    peak_acceleration_compression: float
+    time_peak_acceleration_compression: float
+    peak_acceleration_tension: float
+    time_peak_acceleration_tension: float
+    max_compression: float
+    max_tension: float
+    deflection_reference: float
+    time: NDArray[np.float64]
+    acceleration: NDArray[np.float64]
+    relative_velocity: NDArray[np.float64]
+    deflection: NDArray[np.float64]
+
+    @property
+    def peak_acceleration(self) -> float:
+        """Rest shock level: the larger of the two phase peaks, m/s^2."""
+        return float(np.nanmax([self.peak_acceleration_compression, self.peak_acceleration_tension]))
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One-row table of the scalar results (SI units in the column names)."""
+        return pd.DataFrame(
+            {
+                "impact_time_s": [self.impact_time],
+                "impact_velocity_m_per_s": [self.impact_velocity],
+                "impact_velocity_from_height_m_per_s": [self.impact_velocity_from_height],
+                "peak_acceleration_compression_m_per_s2": [self.peak_acceleration_compression],
+                "peak_acceleration_tension_m_per_s2": [self.peak_acceleration_tension],
+                "max_compression_m": [self.max_compression],
+                "max_tension_m": [self.max_tension],
+            }
+        )
+
+    def time_series(self) -> pd.DataFrame:
+        """The processed records as a table: time, deflection, relative velocity, acceleration."""
+        return pd.DataFrame(
+            {
+                "time_s": self.time,
+                "deflection_m": self.deflection,
+                "relative_velocity_m_per_s": self.relative_velocity,
+                "acceleration_m_per_s2": self.acceleration,
+            }
+        )
+
+
+def process_drop(
+    time: ArrayLike,
+    deflection: ArrayLike,
+    acceleration: ArrayLike,
+    *,
+    relative_velocity: ArrayLike | None = None,
+    drop_height: float | None = None,
+    window: int = 5,
+    impact_fraction: float = 0.5,
+    deflection_reference: float | None = None,
+    g: float = STANDARD_GRAVITY,
+) -> DropResult:
+    """Process one drop record into impact velocity, shock peaks and peak deflections.
+
+    Steps:
+
+    1. ``acceleration`` of shape (n_sensors, n) is averaged over the sensors.
+    2. Acceleration and relative velocity are smoothed with
+       :func:`zero_phase_moving_average` (``window`` samples, default 5 as in the thesis);
+       the deflection is used as measured. Without ``relative_velocity`` it is computed as
+       :func:`numpy.gradient` of the deflection, then smoothed.
+    3. Impact: at impact the base stops and the relative velocity steps from about zero to
+       ``v0 < 0``. The impact sample is the first at which the smoothed relative velocity
+       falls to ``impact_fraction`` (default one half) of its most negative value, i.e. the
+       middle of the smoothed step; the zero-phase filter keeps the step centred on the
+       raw one. A record that starts at impact (a simulation from ``v0``) gives sample 0.
+    4. Reference deflection (unloaded isolator): unless given, the mean deflection over the
+       ``window`` samples ending ``window`` samples before the impact (before the smoothed
+       step), or the first sample when the impact is at the start.
+    5. Phases after the impact: compression where ``deflection < reference``, tension where
+       it is above. The peaks are acceleration magnitudes within each phase, so the
+       compression peak (acceleration upward, positive) and the tension peak (downward,
+       negative) are directly comparable.
+    6. Measured impact velocity: the most negative smoothed relative velocity between the
+       impact and the end of the first stroke (where the relative velocity turns upward); for an isolator whose force starts from zero it is
+       the velocity just after the step. Smoothing makes it slightly too small in magnitude:
+       about ``8 (w0 T)**2`` relative for an oscillator of angular frequency ``w0`` sampled
+       at interval ``T`` and the default window.
+
+    Accelerations are used as given (no gravity correction): pass kinematic acceleration,
+    or accept that accelerometer readings include the 1 g offset after impact.
+
+    Parameters
+    ----------
+    time : array_like, shape (n,)
+        Uniformly sampled time, s.
+    deflection : array_like, shape (n,)
+        Deflection over the isolator, m (positive = tension).
+    acceleration : array_like, shape (n,) or (n_sensors, n)
+        Top-mass acceleration(s), m/s^2, positive upward.
+    relative_velocity : array_like, shape (n,), optional
+        Relative velocity over the isolator, m/s (``d deflection / dt``).
+    drop_height : float, optional
+        Drop height, m, for ``impact_velocity_from_height``.
+    window : int, default 5
+        Moving-average length in samples (1 disables smoothing).
+    impact_fraction : float, default 0.5
+        Fraction of the most negative relative velocity that marks the impact, in (0, 1).
+    deflection_reference : float, optional
+        Deflection of the unloaded isolator, m; overrides step 4.
+    g : float, default 9.80665
+        Gravitational acceleration, m/s^2.
+
+    Returns
+    -------
+    DropResult
+
+    Raises
+    ------
+    DataError
+        Mismatched shapes, non-uniform or non-increasing time, no compression (no negative
+        relative velocity).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> w0, v0 = 2 * np.pi * 20.0, -1.0
+    >>> t = np.arange(0.0, 0.1, 1e-4)
+    >>> x = v0 / w0 * np.sin(w0 * t)
+    >>> result = process_drop(t, x, -w0**2 * x, relative_velocity=v0 * np.cos(w0 * t))
+    >>> round(result.peak_acceleration_compression / (w0 * abs(v0)), 3)
+    1.0
+    """
+    t = np.asarray(time, dtype=float)
+    x = np.asarray(deflection, dtype=float)
+    acc = np.asarray(acceleration, dtype=float)
+    if t.ndim != 1 or x.shape != t.shape:
+        raise DataError(
+            f"time and deflection must be 1-D of equal length; found {t.shape} and {x.shape}"
+        )
+    if acc.ndim == 2:
+        acc = acc.mean(axis=0)
+    if acc.shape != t.shape:
+        raise DataError(
+            f"acceleration has shape {np.shape(acceleration)}; expected ({t.size},) or "
+            f"(n_sensors, {t.size})"
+        )
+    for name, values in (("time", t), ("deflection", x), ("acceleration", acc)):
+        if not np.all(np.isfinite(values)):
+            raise DataError(f"{name} must be finite; found NaN or inf")
+    if t.size < 2:
+        raise DataError(f"time has {t.size} samples; expected many")
+    steps = np.diff(t)
+    if np.any(steps <= 0) or np.ptp(steps) > 1e-6 * steps.mean():
+        raise DataError(
+            "time must increase uniformly (the moving average assumes a constant sample "
+            f"interval); found steps from {steps.min():g} to {steps.max():g} s"
+        )
+    if not (0 < impact_fraction < 1):
+        raise DataError(f"impact_fraction must be in (0, 1); found {impact_fraction!r}")
+    if relative_velocity is None:
+        velocity_raw = np.gradient(x, t)
+    else:
+        velocity_raw = np.asarray(relative_velocity, dtype=float)
+        if velocity_raw.shape != t.shape or not np.all(np.isfinite(velocity_raw)):
+            raise DataError(
+                f"relative_velocity must be finite with shape {t.shape}; found "
+                f"{velocity_raw.shape}"
+            )
+    velocity = zero_phase_moving_average(velocity_raw, window=window)
+    acc = zero_phase_moving_average(acc, window=window)
+
+    most_negative = velocity.min()
+    if not most_negative < 0:
+        raise DataError(
+            "relative_velocity never becomes negative: no compression, no impact found "
+            f"(minimum {most_negative:g} m/s)"
+        )
+    impact = int(np.flatnonzero(velocity <= impact_fraction * most_negative)[0])
+    if deflection_reference is None:
+        stop = max(impact - window, 0)
+        start = max(stop - window + 1, 0)
+        reference = float(x[start : stop + 1].mean())
+    else:
+        reference = float(deflection_reference)
+    relative = x - reference
+    after = np.arange(t.size) >= impact
+    compression = after & (relative < 0)
+    tension = after & (relative > 0)
+    if not np.any(compression):
+        raise DataError("the deflection never goes below its reference after the impact")
+
+    def phase_peak(mask: NDArray[np.bool_]) -> tuple[float, float]:
+        if not np.any(mask):
+            return float("nan"), float("nan")
+        magnitude = np.where(mask, np.abs(acc), -np.inf)
+        index = int(np.argmax(magnitude))
+        return float(magnitude[index]), float(t[index])
+
+    peak_compression, time_compression = phase_peak(compression)
+    peak_tension, time_tension = phase_peak(tension)
+    # First compression phase: from the impact until the relative velocity turns upward
+    # (the peak compression of the first stroke); velocity[impact] < 0 so it is not empty.
+    turning = np.flatnonzero(velocity[impact:] >= 0)
+    end = impact + int(turning[0]) if turning.size else t.size
+    first_phase = velocity[impact:end]
+    return DropResult(
+        impact_index=impact,
+        impact_time=float(t[impact]),
+        impact_velocity=float(first_phase.min()),
+        impact_velocity_from_height=(
+            float("nan") if drop_height is None else impact_velocity_from_height(drop_height, g=g)
+        ),
+        peak_acceleration_compression=peak_compression,
+        time_peak_acceleration_compression=time_compression,
+        peak_acceleration_tension=peak_tension,
+        time_peak_acceleration_tension=time_tension,
+        max_compression=float(-relative[impact:].min()),
+        max_tension=float(max(relative[impact:].max(), 0.0)),
+        deflection_reference=reference,
+        time=t,
+        acceleration=acc,
+        relative_velocity=velocity,
+        deflection=relative,
+    )

@@ -1,0 +1,498 @@
+"""Stepped-sine processing: harmonics, subharmonic, bias and HOSIDFs by least squares.
+
+At each (frequency, amplitude) point of a stepped-sine test or simulation (SPEC sections 3
+and 5, thesis sections 3.4 and 6.2) the base and top-mass velocities are reduced to
+
+- the complex amplitudes of the harmonics ``k = 1..K`` of the excitation frequency,
+- the complex amplitude of the 1/2 subharmonic (period doubling, thesis fig. 3.17-3.19),
+- the bias (mean),
+
+by linear least squares over an integer number of excitation periods, and the
+higher-order sinusoidal input describing functions (HOSIDF) are formed as the k-th harmonic
+of the response over the **first** harmonic of the input (the shaker input is not a pure sine,
+SPEC section 3). The input distortion (2nd and 3rd harmonic over the first) and the
+non-flat input amplitude over a sweep are reported too.
+
+Complex amplitude convention: a signal is modelled as
+``s(t) = bias + sum_k Re(C_k exp(i k omega t)) + Re(C_sub exp(i omega t / 2))`` with
+``omega = 2 pi freq`` and ``t = n / fs`` the time of sample ``n`` counted from the **first
+sample of the record** (not of the analysed window), so phases do not depend on how much
+of the record was trimmed. ``|C_k|`` is the amplitude (peak, not RMS) and ``angle(C_k)`` the
+phase of the cosine.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+
+from idkit.errors import DataError
+
+__all__ = [
+    "HarmonicFit",
+    "HosidfResult",
+    "InputFlatness",
+    "fit_harmonics",
+    "hosidf",
+    "input_flatness",
+]
+
+
+@dataclass(frozen=True)
+class HarmonicFit:
+    """Least-squares harmonic decomposition of one signal.
+
+    Attributes
+    ----------
+    freq : float
+        Excitation frequency, Hz.
+    fs : float
+        Sample rate, Hz.
+    coefficients : ndarray of complex, shape (n_harmonics,)
+        Complex amplitudes ``C_1..C_K`` (unit of the signal; peak amplitude and cosine phase).
+    subharmonic : complex
+        Complex amplitude of the 1/2 subharmonic, or ``nan`` when not fitted.
+    bias : float
+        Mean value (unit of the signal).
+    n_periods : int
+        Number of whole excitation periods analysed.
+    n_samples : int
+        Number of samples analysed (``floor(n_periods * fs / freq)``, see :func:`fit_harmonics`).
+    first_sample : int
+        Index in the record of the first analysed sample.
+    residual_rms : float
+        RMS of the least-squares residual (unit of the signal).
+    standard_error : float
+        Approximate standard error of the real and imaginary part of each coefficient,
+        ``residual_rms * sqrt(2 / n_samples)`` (white residual, nearly orthogonal basis).
+    """
+
+    freq: float
+    fs: float
+    coefficients: NDArray[np.complex128]
+    subharmonic: complex
+    bias: float
+    n_periods: int
+    n_samples: int
+    first_sample: int
+    residual_rms: float
+    standard_error: float
+
+    @property
+    def amplitude(self) -> NDArray[np.float64]:
+        """Peak amplitudes ``|C_k|`` of harmonics 1..K (unit of the signal)."""
+        return np.abs(self.coefficients)
+
+    @property
+    def phase(self) -> NDArray[np.float64]:
+        """Phases ``angle(C_k)`` of harmonics 1..K, rad."""
+        return np.angle(self.coefficients)
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per component: order (0 = bias, 0.5 = subharmonic, 1..K), complex value,
+        amplitude and phase (rad)."""
+        orders = np.concatenate([[0.0, 0.5], np.arange(1, self.coefficients.size + 1)])
+        values = np.concatenate([[self.bias, self.subharmonic], self.coefficients]).astype(complex)
+        return pd.DataFrame(
+            {
+                "order": orders,
+                "value": values,
+                "amplitude": np.abs(values),
+                "phase_rad": np.angle(values),
+            }
+        )
+
+
+def _analysis_window(
+    n_total: int,
+    *,
+    fs: float,
+    freq: float,
+    n_periods: int | None,
+    even_periods: bool,
+    align: str,
+) -> tuple[int, int, int]:
+    """Return (first_sample, n_samples, n_periods) of the analysed window."""
+    samples_per_period = fs / freq
+    available = int(np.floor(n_total / samples_per_period * (1 + 1e-12)))
+    if n_periods is None:
+        periods = available - (available % 2 if even_periods else 0)
+    else:
+        if int(n_periods) != n_periods or n_periods < 1:
+            raise DataError(f"n_periods must be a positive integer; found {n_periods!r}")
+        periods = int(n_periods)
+        if even_periods and periods % 2:
+            raise DataError(
+                f"n_periods={periods} is odd; the 1/2 subharmonic needs an even number of "
+                "periods (or pass subharmonic=False)"
+            )
+        if periods > available:
+            raise DataError(
+                f"n_periods={periods} does not fit: the record of {n_total} samples at "
+                f"fs={fs:g} Hz holds {available} periods of {freq:g} Hz"
+            )
+    minimum = 2 if even_periods else 1
+    if periods < minimum:
+        raise DataError(
+            f"the record of {n_total} samples at fs={fs:g} Hz holds {available} whole periods "
+            f"of {freq:g} Hz; at least {minimum} are needed"
+        )
+    n_samples = int(np.floor(periods * samples_per_period * (1 + 1e-12)))
+    first = n_total - n_samples if align == "end" else 0
+    return first, n_samples, periods
+
+
+def fit_harmonics(
+    signal: ArrayLike,
+    *,
+    fs: float,
+    freq: float,
+    n_harmonics: int = 5,
+    n_periods: int | None = None,
+    subharmonic: bool = True,
+    align: Literal["end", "start"] = "end",
+) -> HarmonicFit:
+    """Fit bias, harmonics 1..K and the 1/2 subharmonic of a periodic signal by least squares.
+
+    Window: an integer number of excitation periods is analysed, by default the largest that
+    fits (the largest **even** number when ``subharmonic`` is true, so that the subharmonic
+    completes whole periods too). When the record is not an integer number of periods it is
+    trimmed to ``n_samples = floor(n_periods * fs / freq)`` samples, taken from the **end** of
+    the record by default (the most settled part of a stepped-sine step or a simulation run to
+    steady state) or from its start; ``n_samples``, ``first_sample`` and ``n_periods`` are
+    reported. If ``fs / freq`` is not an integer the window misses a fraction of a sample of
+    being whole periods; the least-squares fit stays exact for a noiseless periodic signal,
+    only the basis is then marginally non-orthogonal.
+
+    Parameters
+    ----------
+    signal : array_like, shape (n,)
+        Uniformly sampled signal (any unit, e.g. m/s).
+    fs : float
+        Sample rate, Hz.
+    freq : float
+        Excitation frequency, Hz; ``n_harmonics * freq`` must stay below ``fs / 2``.
+    n_harmonics : int, default 5
+        Number K of harmonics fitted (orders 1..K).
+    n_periods : int, optional
+        Number of whole periods to analyse; default the largest that fits.
+    subharmonic : bool, default True
+        Fit the 1/2 subharmonic as well (needs an even number of periods).
+    align : {"end", "start"}, default "end"
+        Take the analysed window from the end or the start of the record.
+
+    Returns
+    -------
+    HarmonicFit
+        Complex amplitudes, bias, window and residual statistics.
+
+    Raises
+    ------
+    DataError
+        Bad sizes or options, too short a record, harmonics above the Nyquist frequency.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> fs, f = 1000.0, 10.0
+    >>> t = np.arange(1000) / fs
+    >>> fit = fit_harmonics(0.1 + 2 * np.cos(2 * np.pi * f * t - 0.3), fs=fs, freq=f)
+    >>> round(float(fit.amplitude[0]), 9), round(float(fit.phase[0]), 9), round(fit.bias, 9)
+    (2.0, -0.3, 0.1)
+    """
+    values = np.asarray(signal, dtype=float)
+    if values.ndim != 1:
+        raise DataError(f"signal must be 1-D; found shape {values.shape}")
+    if not np.all(np.isfinite(values)):
+        raise DataError("signal must be finite; found NaN or inf")
+    if not (np.isfinite(fs) and fs > 0):
+        raise DataError(f"fs must be a positive sample rate in Hz; found {fs!r}")
+    if not (np.isfinite(freq) and freq > 0):
+        raise DataError(f"freq must be a positive frequency in Hz; found {freq!r}")
+    if int(n_harmonics) != n_harmonics or n_harmonics < 1:
+        raise DataError(f"n_harmonics must be a positive integer; found {n_harmonics!r}")
+    n_harmonics = int(n_harmonics)
+    if n_harmonics * freq >= fs / 2:
+        raise DataError(
+            f"harmonic {n_harmonics} of freq={freq:g} Hz is at or above the Nyquist frequency "
+            f"{fs / 2:g} Hz; lower n_harmonics or raise fs"
+        )
+    if align not in ("end", "start"):
+        raise DataError(f"align must be 'end' or 'start'; found {align!r}")
+    first, n_samples, periods = _analysis_window(
+        values.size, fs=fs, freq=freq, n_periods=n_periods, even_periods=subharmonic, align=align
+    )
+    window = values[first : first + n_samples]
+    # Phase argument omega*t reduced modulo one subharmonic period (4 pi) to keep cos/sin
+    # accurate for late windows; exact because every column is periodic in it.
+    sample = np.arange(first, first + n_samples)
+    half_phase = np.mod(np.pi * freq * sample / fs, 2 * np.pi)  # (omega/2) t, wrapped
+    columns = [np.ones(n_samples)]
+    orders = np.arange(1, n_harmonics + 1)
+    angles = 2.0 * orders[:, None] * half_phase[None, :]
+    columns.extend(np.cos(angles))
+    columns.extend(np.sin(angles))
+    if subharmonic:
+        columns.append(np.cos(half_phase))
+        columns.append(np.sin(half_phase))
+    design = np.column_stack(columns)
+    solution, *_ = np.linalg.lstsq(design, window, rcond=None)
+    residual = window - design @ solution
+    cosine = solution[1 : 1 + n_harmonics]
+    sine = solution[1 + n_harmonics : 1 + 2 * n_harmonics]
+    # a cos + b sin = Re((a - i b) exp(i angle))
+    coefficients = cosine - 1j * sine
+    sub = complex(solution[-2] - 1j * solution[-1]) if subharmonic else complex(np.nan, np.nan)
+    n_parameters = design.shape[1]
+    dof = max(n_samples - n_parameters, 1)
+    residual_rms = float(np.sqrt(residual @ residual / dof))
+    return HarmonicFit(
+        freq=float(freq),
+        fs=float(fs),
+        coefficients=coefficients,
+        subharmonic=sub,
+        bias=float(solution[0]),
+        n_periods=periods,
+        n_samples=n_samples,
+        first_sample=first,
+        residual_rms=residual_rms,
+        standard_error=residual_rms * float(np.sqrt(2.0 / n_samples)),
+    )
+
+
+@dataclass(frozen=True)
+class HosidfResult:
+    """HOSIDFs of one stepped-sine point: response harmonics over the input's first harmonic.
+
+    Attributes
+    ----------
+    freq : float
+        Excitation frequency, Hz.
+    input : HarmonicFit
+        Decomposition of the input (base) signal.
+    output : HarmonicFit
+        Decomposition of the output (top-mass) signal.
+    hosidf : ndarray of complex, shape (n_harmonics,)
+        ``C_k(output) / C_1(input)``, k = 1..K (dimensionless for like signals).
+    subharmonic : complex
+        ``C_1/2(output) / C_1(input)`` (``nan`` when not fitted).
+    bias : float
+        ``bias(output) / |C_1(input)|``.
+    input_distortion : ndarray, shape (2,)
+        ``|C_2(input)| / |C_1(input)|`` and ``|C_3(input)| / |C_1(input)|``.
+    output_half_range : float
+        Half the peak-to-peak output over the analysed window (unit of the output).
+    """
+
+    freq: float
+    input: HarmonicFit
+    output: HarmonicFit
+    hosidf: NDArray[np.complex128]
+    subharmonic: complex
+    bias: float
+    input_distortion: NDArray[np.float64]
+    output_half_range: float
+
+    @property
+    def input_amplitude(self) -> float:
+        """First-harmonic amplitude ``|C_1|`` of the input (unit of the input)."""
+        return float(np.abs(self.input.coefficients[0]))
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per order (0 = bias, 0.5 = subharmonic, 1..K): complex ratio,
+        magnitude, phase (rad)."""
+        orders = np.concatenate([[0.0, 0.5], np.arange(1, self.hosidf.size + 1)])
+        values = np.concatenate([[self.bias, self.subharmonic], self.hosidf]).astype(complex)
+        return pd.DataFrame(
+            {
+                "freq_Hz": self.freq,
+                "order": orders,
+                "value": values,
+                "magnitude": np.abs(values),
+                "phase_rad": np.angle(values),
+            }
+        )
+
+
+def hosidf(
+    base: ArrayLike,
+    top: ArrayLike,
+    *,
+    fs: float,
+    freq: float,
+    n_harmonics: int = 5,
+    n_periods: int | None = None,
+    subharmonic: bool = True,
+    align: Literal["end", "start"] = "end",
+) -> HosidfResult:
+    """Higher-order sinusoidal input describing functions of one stepped-sine point.
+
+    Both signals are decomposed over the same window by :func:`fit_harmonics`; the k-th
+    HOSIDF is the k-th harmonic of the output over the **first** harmonic of the input
+    (SPEC section 5, thesis section 6.2), so a distorted input (SPEC section 3: 2nd/3rd
+    harmonics about two decades below the first) is reported, not corrected. The input is
+    fitted with at least 3 harmonics so that its distortion is always available.
+
+    Parameters
+    ----------
+    base : array_like, shape (n,)
+        Input signal, e.g. base velocity v_b in m/s.
+    top : array_like, shape (n,)
+        Output signal, e.g. top-mass velocity v_m in m/s (same sampling as ``base``).
+    fs : float
+        Sample rate, Hz.
+    freq : float
+        Excitation frequency, Hz.
+    n_harmonics : int, default 5
+        Number K of output harmonics.
+    n_periods : int, optional
+        Whole periods analysed (default: largest that fits, even with ``subharmonic``).
+    subharmonic : bool, default True
+        Fit the 1/2 subharmonic.
+    align : {"end", "start"}, default "end"
+        Window at the end (steady state) or the start of the records.
+
+    Returns
+    -------
+    HosidfResult
+
+    Raises
+    ------
+    DataError
+        Mismatched lengths, zero input first harmonic, and the errors of :func:`fit_harmonics`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> fs, f = 1000.0, 10.0
+    >>> t = np.arange(2000) / fs
+    >>> vb = np.cos(2 * np.pi * f * t)
+    >>> vm = 0.5 * np.cos(2 * np.pi * f * t - 1.0) + 0.1 * np.cos(4 * np.pi * f * t)
+    >>> result = hosidf(vb, vm, fs=fs, freq=f, n_harmonics=2)
+    >>> np.round(np.abs(result.hosidf), 9).tolist()
+    [0.5, 0.1]
+    """
+    base_values = np.asarray(base, dtype=float)
+    top_values = np.asarray(top, dtype=float)
+    if base_values.shape != top_values.shape:
+        raise DataError(
+            f"top has shape {top_values.shape}; expected the shape of base {base_values.shape}"
+        )
+    options = dict(fs=fs, freq=freq, n_periods=n_periods, subharmonic=subharmonic, align=align)
+    input_harmonics = max(int(n_harmonics), 3)
+    if input_harmonics * freq >= fs / 2:
+        input_harmonics = int(n_harmonics)  # distortion orders above Nyquist: not available
+    input_fit = fit_harmonics(base_values, n_harmonics=input_harmonics, **options)
+    output_fit = fit_harmonics(top_values, n_harmonics=n_harmonics, **options)
+    first = input_fit.coefficients[0]
+    if abs(first) == 0:
+        raise DataError("base has a zero first harmonic; the HOSIDF is undefined")
+    distortion = np.full(2, np.nan)
+    available = input_fit.amplitude[1:3] / abs(first)
+    distortion[: available.size] = available
+    window = top_values[output_fit.first_sample : output_fit.first_sample + output_fit.n_samples]
+    return HosidfResult(
+        freq=float(freq),
+        input=input_fit,
+        output=output_fit,
+        hosidf=output_fit.coefficients / first,
+        subharmonic=output_fit.subharmonic / first,
+        bias=output_fit.bias / abs(first),
+        input_distortion=distortion,
+        output_half_range=float(0.5 * (window.max() - window.min())),
+    )
+
+
+@dataclass(frozen=True)
+class InputFlatness:
+    """First-harmonic input amplitude across a frequency sweep.
+
+    Attributes
+    ----------
+    freq : ndarray, shape (n,)
+        Excitation frequencies, Hz (in the order given).
+    amplitude : ndarray, shape (n,)
+        First-harmonic input amplitudes (unit of the input, e.g. m/s).
+    ratio : float
+        ``max(amplitude) / min(amplitude)`` (1 for a flat sweep).
+    ratio_db : float
+        ``20 log10(ratio)``, dB.
+    freq_of_max, freq_of_min : float
+        Frequencies of the largest and smallest amplitude, Hz.
+    """
+
+    freq: NDArray[np.float64]
+    amplitude: NDArray[np.float64]
+    ratio: float
+    ratio_db: float
+    freq_of_max: float
+    freq_of_min: float
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per sweep point: freq_Hz, amplitude, amplitude relative to the maximum."""
+        return pd.DataFrame(
+            {
+                "freq_Hz": self.freq,
+                "amplitude": self.amplitude,
+                "relative_to_max": self.amplitude / self.amplitude.max(),
+            }
+        )
+
+
+def input_flatness(
+    freq: ArrayLike | Sequence[float], amplitude: ArrayLike | Sequence[HosidfResult]
+) -> InputFlatness:
+    """Quantify how far the input amplitude of a sweep is from flat.
+
+    The shaker of SPEC section 3 does not keep the base amplitude constant over frequency;
+    this reports the first-harmonic amplitude versus frequency and its max/min ratio.
+
+    Parameters
+    ----------
+    freq : array_like, shape (n,)
+        Excitation frequencies, Hz.
+    amplitude : array_like, shape (n,), or sequence of HosidfResult
+        First-harmonic input amplitudes (complex values are reduced to their modulus), or
+        the :class:`HosidfResult` of each sweep point (their ``input_amplitude`` is used).
+
+    Returns
+    -------
+    InputFlatness
+
+    Raises
+    ------
+    DataError
+        Mismatched lengths, empty sweep, non-positive amplitudes.
+
+    Examples
+    --------
+    >>> flat = input_flatness([10.0, 20.0, 40.0], [0.010, 0.012, 0.008])
+    >>> round(flat.ratio, 6), flat.freq_of_min
+    (1.5, 40.0)
+    """
+    if isinstance(amplitude, Sequence) and amplitude and isinstance(amplitude[0], HosidfResult):
+        values = np.array([point.input_amplitude for point in amplitude])
+    else:
+        values = np.abs(np.asarray(amplitude))
+    freq_values = np.asarray(freq, dtype=float)
+    if values.ndim != 1 or values.shape != freq_values.shape or values.size == 0:
+        raise DataError(
+            f"amplitude has shape {values.shape}; expected a non-empty 1-D array like freq "
+            f"{freq_values.shape}"
+        )
+    if not np.all(np.isfinite(values) & (values > 0)):
+        raise DataError("amplitude must be finite and positive at every sweep point")
+    ratio = float(values.max() / values.min())
+    return InputFlatness(
+        freq=freq_values,
+        amplitude=values.astype(float),
+        ratio=ratio,
+        ratio_db=float(20 * np.log10(ratio)),
+        freq_of_max=float(freq_values[np.argmax(values)]),
+        freq_of_min=float(freq_values[np.argmin(values)]),
+    )

@@ -1,0 +1,186 @@
+"""Shock response spectrum (SRS) of an acceleration record.
+
+The SRS is the peak absolute acceleration of a bank of base-excited, linear, viscously
+damped SDOF oscillators, one per natural frequency, driven by the record
+(ISO 18431-4:2007; Smallwood, "An improved recursive formula for calculating shock response
+spectra", Shock and Vibration Bulletin 51, 1981). It complements the rest shock level of
+:mod:`idkit.analysis.drop` when comparing isolators on a measured shock (SPEC sections 3, 6).
+
+Each oscillator is evaluated with Smallwood's ramp-invariant digital filter: exact at the
+sample instants when the base acceleration is linear between samples. For natural
+frequency ``f_n``, damping ratio ``zeta`` and sample interval ``T`` with
+``A = zeta w_n T``, ``B = w_d T``, ``w_d = w_n sqrt(1 - zeta^2)``, ``E = exp(-A)``,
+``S = E sin(B) / B``, ``C = E cos(B)``::
+
+    b = [1 - S, 2 (S - C), E^2 - S],   a = [1, -2 C, E^2]
+
+The filter gives the response at the samples only, so a peak between samples is missed by
+at most about ``(w_n T)^2 / 8`` relative: 4.9 % at ``fs = 10 f_n`` (the usual minimum
+rate), 1.2 % at ``20 f_n``, 0.2 % at ``50 f_n``. Sample the record accordingly.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+from scipy import signal as sps
+
+from idkit.errors import DataError
+
+__all__ = ["ShockResponseSpectrum", "shock_response_spectrum", "smallwood_coefficients"]
+
+
+def smallwood_coefficients(
+    freq: ArrayLike, *, fs: float, damping_ratio: float = 0.05
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Smallwood ramp-invariant filter coefficients for absolute acceleration response.
+
+    Parameters
+    ----------
+    freq : array_like, shape (n_freq,)
+        Natural frequencies, Hz, in (0, fs/2).
+    fs : float
+        Sample rate, Hz.
+    damping_ratio : float, default 0.05
+        Viscous damping ratio zeta in [0, 1) (0.05 is Q = 10).
+
+    Returns
+    -------
+    b, a : ndarray, shape (n_freq, 3)
+        Numerator and denominator coefficients per natural frequency (``a[:, 0] = 1``).
+    """
+    fn = np.atleast_1d(np.asarray(freq, dtype=float))
+    omega_n = 2 * np.pi * fn
+    period = 1.0 / fs
+    decay = np.exp(-damping_ratio * omega_n * period)
+    phase = omega_n * np.sqrt(1.0 - damping_ratio**2) * period
+    sine = decay * np.sin(phase) / phase
+    cosine = decay * np.cos(phase)
+    b = np.column_stack([1.0 - sine, 2.0 * (sine - cosine), decay**2 - sine])
+    a = np.column_stack([np.ones_like(fn), -2.0 * cosine, decay**2])
+    return b, a
+
+
+@dataclass(frozen=True)
+class ShockResponseSpectrum:
+    """Shock response spectrum (absolute acceleration).
+
+    Attributes
+    ----------
+    freq : ndarray, shape (n_freq,)
+        Natural frequencies, Hz.
+    positive : ndarray, shape (n_freq,)
+        Largest response acceleration (signed maximum), m/s^2 (unit of the input).
+    negative : ndarray, shape (n_freq,)
+        Largest response acceleration in the negative direction as a magnitude,
+        ``-min(response)``, m/s^2.
+    maximax : ndarray, shape (n_freq,)
+        ``max(|response|) = max(positive, negative)``, m/s^2.
+    damping_ratio : float
+        Damping ratio of the oscillators.
+    """
+
+    freq: NDArray[np.float64]
+    positive: NDArray[np.float64]
+    negative: NDArray[np.float64]
+    maximax: NDArray[np.float64]
+    damping_ratio: float
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per natural frequency: freq_Hz, positive, negative, maximax."""
+        return pd.DataFrame(
+            {
+                "freq_Hz": self.freq,
+                "positive": self.positive,
+                "negative": self.negative,
+                "maximax": self.maximax,
+            }
+        )
+
+
+def shock_response_spectrum(
+    acceleration: ArrayLike,
+    *,
+    fs: float,
+    freq: ArrayLike,
+    damping_ratio: float = 0.05,
+    residual_duration: float | None = None,
+) -> ShockResponseSpectrum:
+    """Shock response spectrum of a base acceleration record (Smallwood filter).
+
+    Parameters
+    ----------
+    acceleration : array_like, shape (n,)
+        Base acceleration, m/s^2 (any unit: the SRS has the same one), sampled at ``fs``.
+    fs : float
+        Sample rate, Hz.
+    freq : array_like, shape (n_freq,)
+        Natural frequencies, Hz, each in (0, fs/2); ``fs >= 20 freq`` for peaks within 1.2 %.
+    damping_ratio : float, default 0.05
+        Damping ratio of every oscillator (0.05 is Q = 10), in [0, 1).
+    residual_duration : float, optional
+        Seconds of zero input appended after the record so that the residual (free-vibration)
+        peak is captured. Default: one period of the lowest natural frequency, ``1 /
+        min(freq)``, which contains the first residual peak of every oscillator. 0 disables.
+
+    Returns
+    -------
+    ShockResponseSpectrum
+
+    Raises
+    ------
+    DataError
+        Bad shapes or values, a natural frequency at or above the Nyquist frequency.
+
+    Notes
+    -----
+    Each oscillator is one call of :func:`scipy.signal.lfilter` (C speed); lfilter does not
+    take per-row coefficients, so the bank is a loop over natural frequencies, each of cost
+    O(n). The computation is ``O(n_freq * n)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> fs = 20000.0
+    >>> t = np.arange(0, 0.011, 1 / fs)
+    >>> pulse = np.where(t < 0.011, np.sin(np.pi * t / 0.011), 0.0)  # 1 m/s^2, 11 ms
+    >>> srs = shock_response_spectrum(pulse, fs=fs, freq=[2000.0])
+    >>> round(float(srs.maximax[0]), 2)  # far above the pulse: the static response
+    1.0
+    """
+    values = np.asarray(acceleration, dtype=float)
+    if values.ndim != 1 or values.size < 2:
+        raise DataError(f"acceleration must be 1-D with >= 2 samples; found shape {values.shape}")
+    if not np.all(np.isfinite(values)):
+        raise DataError("acceleration must be finite; found NaN or inf")
+    if not (np.isfinite(fs) and fs > 0):
+        raise DataError(f"fs must be a positive sample rate in Hz; found {fs!r}")
+    fn = np.atleast_1d(np.asarray(freq, dtype=float))
+    if fn.ndim != 1 or fn.size == 0 or not np.all(np.isfinite(fn) & (fn > 0) & (fn < fs / 2)):
+        raise DataError(
+            f"freq must be natural frequencies in (0, fs/2) = (0, {fs / 2:g}) Hz; found {fn!r}"
+        )
+    if not (0 <= damping_ratio < 1):
+        raise DataError(f"damping_ratio must be in [0, 1); found {damping_ratio!r}")
+    if residual_duration is None:
+        residual_duration = 1.0 / fn.min()
+    if not (np.isfinite(residual_duration) and residual_duration >= 0):
+        raise DataError(f"residual_duration must be >= 0 s; found {residual_duration!r}")
+    padded = np.concatenate([values, np.zeros(int(np.ceil(residual_duration * fs)))])
+    b, a = smallwood_coefficients(fn, fs=fs, damping_ratio=damping_ratio)
+    positive = np.empty(fn.size)
+    negative = np.empty(fn.size)
+    for index in range(fn.size):
+        response = sps.lfilter(b[index], a[index], padded)
+        positive[index] = response.max()
+        negative[index] = -response.min()
+    return ShockResponseSpectrum(
+        freq=fn,
+        positive=positive,
+        negative=negative,
+        maximax=np.maximum(positive, negative),
+        damping_ratio=float(damping_ratio),
+    )
