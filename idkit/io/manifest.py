@@ -1,0 +1,503 @@
+"""Measurement sets: a folder with ``manifest.json`` listing every measurement file.
+
+See ``docs/data-format.md`` for the format. The manifest is JSON because the
+standard library both reads and writes it (``tomllib`` only reads TOML), so
+the synthetic-data generator can write manifests without a dependency.
+Entries are checked completely (unknown keys, kinds, masses, files) before
+any data file is read; every problem raises
+:class:`~idkit.errors.DataError` naming the manifest, the entry (1-based
+position in ``measurements`` and its id), what was found and what was
+expected.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import re
+from collections.abc import Iterable, Iterator, Mapping
+from dataclasses import dataclass, replace
+from pathlib import Path, PurePosixPath
+
+import pandas as pd
+
+from idkit.errors import DataError
+from idkit.io.atomic import write_bytes_atomic
+from idkit.io.columns import KINDS
+from idkit.io.csv_measurement import read_csv_measurement, write_csv_measurement
+from idkit.io.csv_table import read_file_bytes
+from idkit.io.info import Excitation, MeasurementInfo
+from idkit.io.matfile import MatColumn, parse_mat_column, read_mat
+from idkit.io.measurements import Measurement
+from idkit.io.units import SI_UNITS, lookup_unit
+
+__all__ = [
+    "MANIFEST_FORMAT",
+    "MANIFEST_NAME",
+    "MANIFEST_VERSION",
+    "ManifestEntry",
+    "MeasurementSet",
+    "load_measurement_set",
+    "read_manifest",
+    "write_measurement_set",
+]
+
+MANIFEST_NAME = "manifest.json"
+MANIFEST_FORMAT = "idkit-measurement-set"
+MANIFEST_VERSION = 1
+
+_TOP_KEYS = {"format", "version", "name", "notes", "defaults", "measurements"}
+_INFO_KEYS = ("isolator", "top_mass_kg", "intermediate_mass_kg", "bottom_mass_kg",
+              "drop_height_m", "repetition", "sample_rate_hz", "split", "notes")
+_ENTRY_KEYS = {"id", "kind", "file", "excitation", "mat_columns", *_INFO_KEYS}
+_EXCITATION_KEYS = {"freq_hz", "amplitude", "amplitude_unit", "band_hz"}
+_ID_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
+_SUFFIXES = (".csv", ".csv.gz", ".mat")
+
+
+@dataclass(frozen=True)
+class ManifestEntry:
+    """One checked entry of a manifest.
+
+    Parameters
+    ----------
+    kind : str
+        Kind of measurement.
+    file : str
+        Path relative to the set's folder (POSIX separators).
+    info : MeasurementInfo
+        Metadata (id, isolator, masses, ...).
+    mat_columns : tuple of (str, MatColumn)
+        Column mapping for ``.mat`` files (empty for CSV).
+    """
+
+    kind: str
+    file: str
+    info: MeasurementInfo
+    mat_columns: tuple[tuple[str, MatColumn], ...] = ()
+
+    @property
+    def id(self) -> str:
+        """The entry's id."""
+        return self.info.id
+
+
+def _nan_if_none(value: float | None) -> float:
+    return float("nan") if value is None else float(value)
+
+
+def _reject_constant(token: str) -> float:
+    raise ValueError(f"non-finite number {token} is not valid JSON")
+
+
+def _load_json(path: Path, raw: bytes) -> object:
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise DataError(f"manifest '{path}': not UTF-8 text (byte {exc.start})") from None
+    if not text.strip():
+        raise DataError(f"manifest '{path}': empty file, expected a JSON object")
+    try:
+        return json.loads(text, parse_constant=_reject_constant)
+    except json.JSONDecodeError as exc:
+        raise DataError(f"manifest '{path}': invalid JSON at line {exc.lineno}, column "
+                        f"{exc.colno}: {exc.msg}") from None
+    except ValueError as exc:
+        raise DataError(f"manifest '{path}': invalid JSON: {exc}") from None
+
+
+def _parse_excitation(value: object, where: str) -> Excitation:
+    if not isinstance(value, dict):
+        raise DataError(f"{where}: excitation: found {value!r}, expected an object with "
+                        f"{', '.join(sorted(_EXCITATION_KEYS))}")
+    unknown = sorted(set(value) - _EXCITATION_KEYS)
+    if unknown:
+        raise DataError(f"{where}: excitation: unknown key(s) {', '.join(unknown)}; expected "
+                        f"{', '.join(sorted(_EXCITATION_KEYS))}")
+    amplitude = value.get("amplitude")
+    unit = value.get("amplitude_unit")
+    quantity = None
+    if amplitude is not None or unit is not None:
+        if amplitude is None or unit is None:
+            raise DataError(f"{where}: excitation: 'amplitude' and 'amplitude_unit' must be "
+                            "given together")
+        if isinstance(amplitude, bool) or not isinstance(amplitude, (int, float)):
+            raise DataError(f"{where}: excitation amplitude: found {amplitude!r}, expected a number")
+        scale = lookup_unit(unit if isinstance(unit, str) else None,
+                            ("velocity", "length", "acceleration", "voltage"),
+                            where=f"{where}: excitation amplitude_unit")
+        quantity = scale.quantity
+        amplitude = float(amplitude) * scale.numerator / scale.denominator
+    band = value.get("band_hz")
+    if band is not None and not isinstance(band, list):
+        raise DataError(f"{where}: excitation band_hz: found {band!r}, expected [low, high]")
+    return Excitation(freq=value.get("freq_hz"), amplitude=amplitude,
+                      amplitude_quantity=quantity,
+                      band=None if band is None else tuple(band))
+
+
+def _parse_entry(number: int, raw_entry: object, defaults: dict, path: Path) -> ManifestEntry:
+    where = f"manifest '{path}': measurements entry {number} (1-based)"
+    if not isinstance(raw_entry, dict):
+        raise DataError(f"{where}: found {type(raw_entry).__name__}, expected an object")
+    if "id" in raw_entry:
+        where += f", id {raw_entry['id']!r}"
+    entry = {**defaults, **raw_entry}
+    unknown = sorted(set(entry) - _ENTRY_KEYS)
+    if unknown:
+        raise DataError(f"{where}: unknown key(s) {', '.join(unknown)}; expected keys from "
+                        f"{', '.join(sorted(_ENTRY_KEYS))}")
+    for key in ("id", "kind", "file"):
+        if key not in entry:
+            raise DataError(f"{where}: required key '{key}' missing")
+    entry_id, kind, file = entry["id"], entry["kind"], entry["file"]
+    if not isinstance(entry_id, str) or not _ID_RE.match(entry_id):
+        raise DataError(f"{where}: id: found {entry_id!r}, expected a string of letters, "
+                        "digits, '_', '-', '.' (starting with a letter or digit)")
+    if kind not in KINDS:
+        raise DataError(f"{where}: unknown kind {kind!r}; expected one of {', '.join(KINDS)}")
+    if not isinstance(file, str) or not file:
+        raise DataError(f"{where}: file: found {file!r}, expected a relative path")
+    pure = PurePosixPath(file)
+    if pure.is_absolute() or ".." in pure.parts or "\\" in file:
+        raise DataError(f"{where}: file: found {file!r}, expected a relative POSIX path "
+                        "inside the set's folder (no '..', no absolute path)")
+    if not file.endswith(_SUFFIXES):
+        raise DataError(f"{where}: file: found {file!r}, expected a name ending in "
+                        f"{', '.join(_SUFFIXES)}")
+    mat_columns: tuple = ()
+    if file.endswith(".mat"):
+        spec = entry.get("mat_columns")
+        if not isinstance(spec, dict) or not spec:
+            raise DataError(f"{where}: a .mat file needs 'mat_columns': an object mapping "
+                            "column names to 'var [unit]' or 'var[:,k] [unit]'")
+        mat_columns = tuple((name, parse_mat_column(text, where=f"{where}: mat_columns.{name}"))
+                            for name, text in spec.items())
+    elif "mat_columns" in entry:
+        raise DataError(f"{where}: 'mat_columns' given for a non-.mat file {file!r}")
+    try:
+        excitation = (_parse_excitation(entry["excitation"], where)
+                      if entry.get("excitation") is not None else None)
+        info = MeasurementInfo(id=entry_id, excitation=excitation,
+                               **{key: entry[key] for key in _INFO_KEYS if key in entry})
+    except DataError as exc:
+        text = str(exc)
+        raise DataError(text if text.startswith(where) else f"{where}: {text}") from None
+    except TypeError as exc:  # e.g. a list where a number was expected
+        raise DataError(f"{where}: {exc}") from None
+    if kind == "drop" and info.drop_height_m is None:
+        raise DataError(f"{where}: drop without 'drop_height_m'; expected the drop height in m")
+    if kind == "stepped_sine" and (excitation is None or excitation.freq is None):
+        raise DataError(f"{where}: stepped_sine without 'excitation': {{'freq_hz': ...}}; "
+                        "expected the excitation frequency in Hz")
+    return ManifestEntry(kind=kind, file=file, info=info, mat_columns=mat_columns)
+
+
+def read_manifest(folder: str | Path) -> tuple[dict, tuple[ManifestEntry, ...], str]:
+    """Read and check ``folder/manifest.json`` (no data file is read).
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        The measurement set's folder.
+
+    Returns
+    -------
+    header : dict
+        ``name`` and ``notes`` of the set.
+    entries : tuple of ManifestEntry
+        The checked entries, in file order.
+    sha256 : str
+        SHA-256 of the manifest bytes.
+
+    Raises
+    ------
+    DataError
+        Invalid JSON, schema violations, duplicate ids, missing data files.
+    """
+    folder = Path(folder)
+    path = folder / MANIFEST_NAME
+    raw = read_file_bytes(path)
+    sha256 = hashlib.sha256(raw).hexdigest()
+    document = _load_json(path, raw)
+    if not isinstance(document, dict):
+        raise DataError(f"manifest '{path}': found a JSON {type(document).__name__}, "
+                        "expected an object with a 'measurements' list")
+    unknown = sorted(set(document) - _TOP_KEYS)
+    if unknown:
+        raise DataError(f"manifest '{path}': unknown top-level key(s) {', '.join(unknown)}; "
+                        f"expected {', '.join(sorted(_TOP_KEYS))}")
+    if document.get("format", MANIFEST_FORMAT) != MANIFEST_FORMAT:
+        raise DataError(f"manifest '{path}': format {document['format']!r}, expected "
+                        f"{MANIFEST_FORMAT!r}")
+    if document.get("version", MANIFEST_VERSION) != MANIFEST_VERSION:
+        raise DataError(f"manifest '{path}': version {document['version']!r}, this idkit "
+                        f"reads version {MANIFEST_VERSION}")
+    defaults = document.get("defaults", {})
+    if not isinstance(defaults, dict) or {"id", "file"} & set(defaults):
+        raise DataError(f"manifest '{path}': 'defaults' must be an object of entry keys "
+                        "other than id and file")
+    measurements = document.get("measurements")
+    if not isinstance(measurements, list) or not measurements:
+        raise DataError(f"manifest '{path}': 'measurements': found {measurements!r:.60}, "
+                        "expected a non-empty list of entries")
+    entries = tuple(_parse_entry(n, e, defaults, path) for n, e in enumerate(measurements, 1))
+    seen: dict[str, int] = {}
+    for number, entry in enumerate(entries, 1):
+        if entry.id in seen:
+            raise DataError(f"manifest '{path}': measurements entry {number} (1-based): "
+                            f"duplicate id {entry.id!r} (first in entry {seen[entry.id]})")
+        seen[entry.id] = number
+    missing = [f"entry {n} (id {e.id!r}): '{e.file}'" for n, e in enumerate(entries, 1)
+               if not (folder / e.file).is_file()]
+    if missing:
+        raise DataError(f"manifest '{path}': data file(s) not found (relative to "
+                        f"'{folder}'): {'; '.join(missing)}")
+    header = {"name": str(document.get("name", "")), "notes": str(document.get("notes", ""))}
+    return header, entries, sha256
+
+
+def _read_entry(folder: Path, entry: ManifestEntry) -> Measurement:
+    path = folder / entry.file
+    if entry.file.endswith(".mat"):
+        return read_mat(path, entry.kind, columns=dict(entry.mat_columns), info=entry.info)
+    return read_csv_measurement(path, entry.kind, info=entry.info)
+
+
+@dataclass(frozen=True, eq=False)
+class MeasurementSet:
+    """A loaded measurement set: manifest entries and their measurements (eager).
+
+    Parameters
+    ----------
+    folder : pathlib.Path or None
+        The set's folder.
+    entries : tuple of ManifestEntry
+        Checked manifest entries.
+    measurements : tuple of Measurement
+        One measurement per entry, same order.
+    name, notes : str
+        From the manifest.
+    manifest_sha256 : str or None
+        SHA-256 of ``manifest.json``.
+    """
+
+    folder: Path | None
+    entries: tuple[ManifestEntry, ...]
+    measurements: tuple[Measurement, ...]
+    name: str = ""
+    notes: str = ""
+    manifest_sha256: str | None = None
+
+    def __len__(self) -> int:
+        return len(self.measurements)
+
+    def __iter__(self) -> Iterator[Measurement]:
+        return iter(self.measurements)
+
+    @property
+    def ids(self) -> tuple[str, ...]:
+        """Ids of the measurements, in manifest order."""
+        return tuple(entry.id for entry in self.entries)
+
+    def get(self, measurement_id: str) -> Measurement:
+        """The measurement with this id (KeyError if absent)."""
+        for entry, measurement in zip(self.entries, self.measurements):
+            if entry.id == measurement_id:
+                return measurement
+        raise KeyError(f"no measurement with id {measurement_id!r}; ids: {', '.join(self.ids)}")
+
+    def select(self, *, kind: str | None = None, isolator: str | None = None,
+               split: str | None = None, top_mass_kg: float | None = None,
+               mass_tol_kg: float = 1e-9) -> MeasurementSet:
+        """A new set with the measurements matching every given criterion.
+
+        Parameters
+        ----------
+        kind, isolator, split : str, optional
+            Exact matches.
+        top_mass_kg : float, optional
+            Top mass in kg, matched within ``mass_tol_kg``.
+        mass_tol_kg : float
+            Absolute tolerance of the mass match in kg.
+
+        Returns
+        -------
+        MeasurementSet
+            Possibly empty; same folder and manifest hash.
+        """
+        if kind is not None and kind not in KINDS:
+            raise DataError(f"select: unknown kind {kind!r}; expected one of {', '.join(KINDS)}")
+
+        def keep(entry: ManifestEntry) -> bool:
+            info = entry.info
+            return ((kind is None or entry.kind == kind)
+                    and (isolator is None or info.isolator == isolator)
+                    and (split is None or info.split == split)
+                    and (top_mass_kg is None or (info.top_mass_kg is not None
+                         and abs(info.top_mass_kg - top_mass_kg) <= mass_tol_kg)))
+
+        pairs = [(e, m) for e, m in zip(self.entries, self.measurements) if keep(e)]
+        return replace(self, entries=tuple(e for e, _ in pairs),
+                       measurements=tuple(m for _, m in pairs))
+
+    def hashes(self) -> dict[str, str]:
+        """SHA-256 of every file of the set, for provenance records.
+
+        Returns
+        -------
+        dict of str to str
+            Relative path -> hex digest, ``manifest.json`` first.
+        """
+        out = {}
+        if self.manifest_sha256 is not None:
+            out[MANIFEST_NAME] = self.manifest_sha256
+        for entry, measurement in zip(self.entries, self.measurements):
+            out[entry.file] = measurement.source.sha256
+        return out
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per measurement: id, kind, file, metadata, sample count, SHA-256."""
+        rows = []
+        for entry, measurement in zip(self.entries, self.measurements):
+            info = entry.info
+            exc = info.excitation or Excitation()
+            rows.append({
+                "id": entry.id, "kind": entry.kind, "file": entry.file,
+                "isolator": info.isolator, "top_mass [kg]": _nan_if_none(info.top_mass_kg),
+                "intermediate_mass [kg]": _nan_if_none(info.intermediate_mass_kg),
+                "bottom_mass [kg]": _nan_if_none(info.bottom_mass_kg), "drop_height [m]": _nan_if_none(info.drop_height_m),
+                "freq [Hz]": _nan_if_none(exc.freq), "repetition": info.repetition,
+                "sample_rate [Hz]": _nan_if_none(info.sample_rate_hz), "split": info.split,
+                "n_samples": measurement.n_samples, "sha256": measurement.source.sha256,
+            })
+        return pd.DataFrame(rows)
+
+
+def load_measurement_set(folder: str | Path) -> MeasurementSet:
+    """Load a measurement set: check ``manifest.json``, then read every file.
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        Folder holding ``manifest.json`` and the data files it names.
+
+    Returns
+    -------
+    MeasurementSet
+        All measurements loaded (SI units) with provenance.
+
+    Raises
+    ------
+    DataError
+        On any problem in the manifest or a data file (the message names
+        the file, entry or column and row).
+
+    Examples
+    --------
+    >>> mset = load_measurement_set("lab/elastomer")  # doctest: +SKIP
+    >>> fit = mset.select(kind="white_noise", split="fit")  # doctest: +SKIP
+    """
+    folder = Path(folder)
+    header, entries, sha256 = read_manifest(folder)
+    measurements = tuple(_read_entry(folder, entry) for entry in entries)
+    return MeasurementSet(folder=folder, entries=entries, measurements=measurements,
+                          name=header["name"], notes=header["notes"], manifest_sha256=sha256)
+
+
+def _entry_json(kind: str, file: str, info: MeasurementInfo) -> dict:
+    out: dict = {"id": info.id, "kind": kind, "file": file}
+    for key in _INFO_KEYS:
+        value = getattr(info, key)
+        if value is not None and value != "":
+            out[key] = value
+    exc = info.excitation
+    if exc is not None:
+        spec: dict = {}
+        if exc.freq is not None:
+            spec["freq_hz"] = exc.freq
+        if exc.amplitude is not None:
+            spec["amplitude"] = exc.amplitude
+            spec["amplitude_unit"] = SI_UNITS[exc.amplitude_quantity]
+        if exc.band is not None:
+            spec["band_hz"] = list(exc.band)
+        out["excitation"] = spec
+    return out
+
+
+def write_measurement_set(folder: str | Path, measurements: Iterable[Measurement], *,
+                          name: str = "", notes: str = "", gzip: bool = False,
+                          units: Mapping[str, str] | None = None,
+                          overwrite: bool = False) -> Path:
+    """Write measurements as a measurement set (CSV files + ``manifest.json``).
+
+    Each measurement goes to ``<kind>/<id>.csv`` (or ``.csv.gz``); the
+    manifest is written last, so a set with a manifest is complete. Every
+    file is written atomically; existing files are never replaced unless
+    ``overwrite`` is true.
+
+    Parameters
+    ----------
+    folder : str or pathlib.Path
+        Target folder (created if missing).
+    measurements : iterable of Measurement
+        Each with a unique, non-empty ``info.id``.
+    name, notes : str
+        Set name and notes for the manifest.
+    gzip : bool
+        Write ``.csv.gz`` files.
+    units : mapping of str to str, optional
+        Column units to write instead of SI (see :func:`write_csv_measurement`).
+    overwrite : bool
+        Replace existing files.
+
+    Returns
+    -------
+    pathlib.Path
+        Path of the written ``manifest.json``.
+
+    Raises
+    ------
+    DataError
+        Missing or duplicate ids.
+    FileExistsError
+        A target file exists and ``overwrite`` is false (checked for all
+        files before anything is written).
+    """
+    folder = Path(folder)
+    measurements = list(measurements)
+    suffix = ".csv.gz" if gzip else ".csv"
+    plan = []
+    seen: set[str] = set()
+    for number, measurement in enumerate(measurements, 1):
+        entry_id = measurement.info.id
+        if not isinstance(entry_id, str) or not _ID_RE.match(entry_id):
+            raise DataError(f"measurement {number} (1-based): id {entry_id!r} is not usable as "
+                            "a file name; expected letters, digits, '_', '-', '.'")
+        if entry_id in seen:
+            raise DataError(f"measurement {number} (1-based): duplicate id {entry_id!r}")
+        seen.add(entry_id)
+        plan.append((measurement, f"{measurement.kind}/{entry_id}{suffix}"))
+    if not plan:
+        raise DataError("write_measurement_set: no measurements given")
+    manifest_path = folder / MANIFEST_NAME
+    if not overwrite:
+        existing = [p for p in [manifest_path] + [folder / f for _, f in plan] if p.exists()]
+        if existing:
+            raise FileExistsError(f"refusing to overwrite existing file(s): "
+                                  f"{', '.join(map(str, existing))} (pass overwrite=True)")
+    for measurement, file in plan:
+        (folder / file).parent.mkdir(parents=True, exist_ok=True)
+        kind_units = {k: v for k, v in (units or {}).items() if k in measurement.signals()}
+        write_csv_measurement(measurement, folder / file, units=kind_units, overwrite=overwrite)
+    document = {
+        "format": MANIFEST_FORMAT, "version": MANIFEST_VERSION, "name": name, "notes": notes,
+        "measurements": [_entry_json(m.kind, f, m.info) for m, f in plan],
+    }
+    for entry in document["measurements"]:
+        for key, value in entry.items():
+            if isinstance(value, float) and not math.isfinite(value):
+                raise DataError(f"measurement {entry['id']!r}: {key} = {value!r} is not finite")
+    text = json.dumps(document, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
+    return write_bytes_atomic(manifest_path, text.encode("utf-8"), overwrite=overwrite)

@@ -1,0 +1,193 @@
+"""Read measurements from MATLAB ``.mat`` files (v4 - v7.2, via scipy.io.loadmat).
+
+A ``.mat`` file has variables, not headers, so the caller (or the manifest
+entry's ``mat_columns``) maps each idkit column to a variable and declares its
+unit, in the same ``name [unit]`` spirit as a CSV header::
+
+    {"time": "Tout [s]", "deflection": "x_F[:,0] [mm]", "force": "x_F[:,2] [N]"}
+
+``var`` takes a vector variable (shape ``(n,)``, ``(n, 1)`` or ``(1, n)``);
+``var[:,k]`` takes column ``k`` (0-based, Python convention) of a 2-D
+variable. MATLAB v7.3 (HDF5) files are not supported: DataError says so.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import scipy.io
+
+from idkit.errors import DataError
+from idkit.io.columns import COLUMN_QUANTITIES, KIND_SCHEMAS
+from idkit.io.csv_measurement import build_measurement
+from idkit.io.csv_table import read_file_bytes
+from idkit.io.info import MeasurementInfo
+from idkit.io.measurements import Measurement
+from idkit.io.provenance import Source
+from idkit.io.units import convert_to_si, lookup_unit
+
+__all__ = ["MatColumn", "load_mat_variables", "parse_mat_column", "read_mat"]
+
+_SPEC_RE = re.compile(
+    r"^\s*([A-Za-z][A-Za-z0-9_]*)\s*(?:\[\s*:\s*,\s*(\d+)\s*\])?\s*(?:\[([^\[\]]*)\])?\s*$"
+)
+
+
+@dataclass(frozen=True)
+class MatColumn:
+    """Where one idkit column is in a ``.mat`` file.
+
+    Parameters
+    ----------
+    variable : str
+        MATLAB variable name, e.g. ``"x_F"``.
+    index : int or None
+        0-based column of a 2-D variable, or ``None`` for a vector.
+    unit : str or None
+        Declared unit, e.g. ``"mm"`` (``None``: missing, an error when read).
+    """
+
+    variable: str
+    index: int | None
+    unit: str | None
+
+    def label(self) -> str:
+        """The spec as text, e.g. ``"x_F[:,0] [mm]"``."""
+        text = self.variable if self.index is None else f"{self.variable}[:,{self.index}]"
+        return f"{text} [{self.unit}]" if self.unit else text
+
+
+def parse_mat_column(spec: str | MatColumn, *, where: str) -> MatColumn:
+    """Parse ``"var [unit]"`` or ``"var[:,k] [unit]"`` into a :class:`MatColumn`.
+
+    Parameters
+    ----------
+    spec : str or MatColumn
+        The column spec.
+    where : str
+        Location for error messages.
+
+    Returns
+    -------
+    MatColumn
+    """
+    if isinstance(spec, MatColumn):
+        return spec
+    match = _SPEC_RE.match(spec) if isinstance(spec, str) else None
+    if match is None:
+        raise DataError(f"{where}: found column spec {spec!r}, expected 'var [unit]' or "
+                        "'var[:,k] [unit]' (k 0-based)")
+    variable, index, unit = match.groups()
+    unit = unit.strip() if unit is not None else None
+    return MatColumn(variable, None if index is None else int(index), unit or None)
+
+
+def load_mat_variables(path: str | Path) -> tuple[dict[str, np.ndarray], str]:
+    """Load the variables of a ``.mat`` file, reading the file once.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        MATLAB v4-v7.2 file.
+
+    Returns
+    -------
+    variables : dict of str to numpy.ndarray
+        Variables (MATLAB ``__header__`` etc. removed).
+    sha256 : str
+        SHA-256 of the file bytes that were parsed.
+    """
+    path = Path(path)
+    raw = read_file_bytes(path)
+    sha256 = hashlib.sha256(raw).hexdigest()
+    if raw[:128].startswith(b"MATLAB 7.3") or raw[:8] == b"\x89HDF\r\n\x1a\n":
+        raise DataError(f"file '{path}': MATLAB v7.3 (HDF5) file; expected a v4-v7.2 .mat "
+                        "file (re-save with save(..., '-v7'))")
+    try:
+        variables = scipy.io.loadmat(io.BytesIO(raw))
+    except (ValueError, TypeError, OSError, NotImplementedError) as exc:
+        raise DataError(f"file '{path}': not a readable MATLAB .mat file ({exc})") from None
+    return {k: v for k, v in variables.items() if not k.startswith("__")}, sha256
+
+
+def _column_values(variables: dict, column: MatColumn, where: str) -> np.ndarray:
+    if column.variable not in variables:
+        raise DataError(f"{where}: variable '{column.variable}' not in the file; found "
+                        f"{', '.join(sorted(variables)) or 'no variables'}")
+    value = np.asarray(variables[column.variable])
+    if value.dtype.kind not in "iuf":
+        raise DataError(f"{where}: variable '{column.variable}' has dtype {value.dtype}, "
+                        "expected real numbers")
+    if column.index is None:
+        if value.ndim > 2 or (value.ndim == 2 and min(value.shape) != 1):
+            raise DataError(f"{where}: variable '{column.variable}' has shape {value.shape}, "
+                            "expected a vector; select a column with 'var[:,k]'")
+        return value.reshape(-1)
+    if value.ndim != 2 or column.index >= value.shape[1]:
+        raise DataError(f"{where}: variable '{column.variable}' has shape {value.shape}, "
+                        f"expected a 2-D array with a column {column.index} (0-based)")
+    return value[:, column.index]
+
+
+def read_mat(path: str | Path, kind: str, *, columns: Mapping[str, str | MatColumn],
+             info: MeasurementInfo | None = None) -> Measurement:
+    """Read one measurement from a MATLAB ``.mat`` file.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        ``.mat`` file (v4 - v7.2).
+    kind : str
+        ``"quasi_static"``, ``"white_noise"``, ``"stepped_sine"`` or ``"drop"``.
+    columns : mapping of str to str or MatColumn
+        idkit column name -> ``"var [unit]"`` or ``"var[:,k] [unit]"``
+        (k 0-based). Units are required and looked up as for CSV headers.
+    info : MeasurementInfo, optional
+        Metadata (sample rate checked within 1 %).
+
+    Returns
+    -------
+    Measurement
+        Values in SI; ``source.columns`` records the specs; rows in error
+        messages are 1-based sample numbers.
+
+    Raises
+    ------
+    DataError
+        Missing variable, wrong shape, unknown or missing unit, non-finite
+        values, time not strictly increasing, sample-rate mismatch, ...
+
+    Examples
+    --------
+    >>> read_mat("ensaio1.mat", "quasi_static", columns={  # doctest: +SKIP
+    ...     "time": "Tout [s]", "deflection": "x_F[:,0] [mm]", "force": "x_F[:,2] [N]"})
+    """
+    path = Path(path)
+    if kind not in KIND_SCHEMAS:
+        raise DataError(f"file '{path}': unknown kind {kind!r}; expected one of "
+                        f"{', '.join(KIND_SCHEMAS)}")
+    schema = KIND_SCHEMAS[kind]
+    specs = {name: parse_mat_column(spec, where=f"file '{path}', column '{name}'")
+             for name, spec in columns.items()}
+    unknown = [name for name in specs if name not in schema.allowed]
+    missing = [name for name in schema.required if name not in specs]
+    if unknown or missing:
+        raise DataError(f"file '{path}': column mapping has unknown {unknown} / lacks "
+                        f"{missing}; expected for {kind}: {schema.describe()}")
+    variables, sha256 = load_mat_variables(path)
+    source = Source(path=path, sha256=sha256,
+                    columns=tuple((name, spec.label()) for name, spec in specs.items()))
+    values = {}
+    for name, spec in specs.items():
+        where = source.where(name)
+        scale = lookup_unit(spec.unit, COLUMN_QUANTITIES[name], where=where)
+        values[name] = convert_to_si(_column_values(variables, spec, where), scale)
+    if info is None:
+        info = MeasurementInfo(id=path.name.removesuffix(".mat"))
+    return build_measurement(kind, values, info=info, source=source)

@@ -1,0 +1,443 @@
+"""Typed measurements: the four kinds of SPEC section 3, plus acceleration records.
+
+All arrays are SI (s, m, N, m/s, m/s^2, V), 1-D float64, read-only copies.
+Deflection is ``x_top - x_base``: positive = tension. Constructors check
+their inputs (same length, at least two samples, finite values, strictly
+increasing time, declared sample rate consistent with the time column) and
+raise :class:`~idkit.errors.DataError` naming the source file, column and
+1-based row. Nothing is altered, dropped or clipped.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from typing import ClassVar
+
+import numpy as np
+import pandas as pd
+
+from idkit.errors import DataError
+from idkit.io.info import MeasurementInfo
+from idkit.io.provenance import Source
+from idkit.io.units import SI_UNITS
+
+__all__ = [
+    "SAMPLE_RATE_TOLERANCE",
+    "AccelerationRecord",
+    "DropMeasurement",
+    "Measurement",
+    "QuasiStaticMeasurement",
+    "SteppedSineMeasurement",
+    "WhiteNoiseMeasurement",
+    "measurement_class",
+]
+
+#: Relative tolerance between a declared sample rate and ``1 / median(diff(time))``.
+SAMPLE_RATE_TOLERANCE = 0.01
+
+# SI unit of each signal field, used by to_dataframe() and the writer.
+SIGNAL_QUANTITIES: dict[str, str] = {
+    "time": "time", "deflection": "length", "force": "force", "v_rel": "velocity",
+    "v_base": "velocity", "v_top": "velocity", "x_base": "length", "u_in": "voltage",
+    "a_base": "acceleration", "a_top": "acceleration", "a_top_1": "acceleration",
+    "a_top_2": "acceleration",
+}
+
+
+def _as_signal(value: object, name: str, source: Source) -> np.ndarray:
+    try:
+        array = np.array(value, dtype=np.float64, copy=True)
+    except (TypeError, ValueError) as exc:
+        raise DataError(f"{source.where(name)}: found values that are not numbers ({exc}), "
+                        "expected a 1-D array of floats") from exc
+    if array.ndim != 1:
+        raise DataError(f"{source.where(name)}: found an array of shape {array.shape}, "
+                        "expected 1-D")
+    bad = np.flatnonzero(~np.isfinite(array))
+    if bad.size:
+        i = int(bad[0])
+        raise DataError(f"{source.where(name)}: {source.row_label(i)}: found {array[i]!r}, "
+                        f"expected a finite number ({bad.size} non-finite value(s) in total)")
+    array.setflags(write=False)
+    return array
+
+
+def check_time(time: np.ndarray, source: Source, sample_rate_hz: float | None) -> None:
+    """Check a time column: at least two samples, strictly increasing, declared rate.
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        Time stamps in s (finite).
+    source : Source
+        For error messages.
+    sample_rate_hz : float or None
+        Declared sample rate in Hz; if given, ``1 / median(diff(time))`` must
+        agree within :data:`SAMPLE_RATE_TOLERANCE` (1 %, relative).
+
+    Raises
+    ------
+    DataError
+        On fewer than two samples, a repeated or decreasing time stamp, or a
+        contradicting sample rate.
+    """
+    if time.size < 2:
+        raise DataError(f"{source.where('time')}: found {time.size} data row(s), "
+                        "expected at least 2")
+    step = np.diff(time)
+    bad = np.flatnonzero(step <= 0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        what = "duplicate time stamp" if step[i - 1] == 0 else "time decreases (unsorted)"
+        raise DataError(
+            f"{source.where('time')}: {source.row_label(i)}: {what}: found {time[i]!r} after "
+            f"{time[i - 1]!r}, expected strictly increasing time"
+        )
+    if sample_rate_hz is not None:
+        rate_hz = 1.0 / float(np.median(step))
+        if abs(rate_hz - sample_rate_hz) > SAMPLE_RATE_TOLERANCE * sample_rate_hz:
+            raise DataError(
+                f"{source.where('time')}: sample rate from the time column "
+                f"{rate_hz:.6g} Hz (1 / median step) contradicts the declared "
+                f"sample_rate_hz {sample_rate_hz:.6g} Hz (tolerance "
+                f"{SAMPLE_RATE_TOLERANCE:.0%} relative)"
+            )
+
+
+@dataclass(frozen=True, eq=False)
+class _SignalMeasurement:
+    """Common machinery of the time-series measurements (not public)."""
+
+    kind: ClassVar[str] = ""
+    _signals: ClassVar[tuple[str, ...]] = ()
+
+    def _validate(self) -> None:
+        if not isinstance(self.info, MeasurementInfo):
+            raise DataError(f"info: found {type(self.info).__name__}, expected MeasurementInfo")
+        if not isinstance(self.source, Source):
+            raise DataError(f"source: found {type(self.source).__name__}, expected Source")
+        length = None
+        for name in self._signals:
+            value = getattr(self, name)
+            if value is None:
+                continue
+            array = _as_signal(value, name, self.source)
+            if length is None:
+                length = array.size
+            elif array.size != length:
+                raise DataError(f"{self.source.where(name)}: found {array.size} samples, "
+                                f"expected {length} (as many as time)")
+            object.__setattr__(self, name, array)
+        check_time(self.time, self.source, self.info.sample_rate_hz)
+
+    @property
+    def n_samples(self) -> int:
+        """Number of samples."""
+        return int(self.time.size)
+
+    @property
+    def id(self) -> str:
+        """The measurement's id (``info.id``)."""
+        return self.info.id
+
+    def signals(self) -> dict[str, np.ndarray]:
+        """The signals present, by column name, in SI units."""
+        return {name: getattr(self, name) for name in self._signals
+                if getattr(self, name) is not None}
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """The signals as a DataFrame with headers ``name [SI unit]``.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One column per signal present, e.g. ``time [s]``, ``force [N]``;
+            metadata stays on the object (not stored as DataFrame attributes).
+        """
+        return pd.DataFrame({
+            f"{name} [{SI_UNITS[SIGNAL_QUANTITIES[name]]}]": np.array(values)
+            for name, values in self.signals().items()
+        })
+
+
+@dataclass(frozen=True, eq=False)
+class QuasiStaticMeasurement(_SignalMeasurement):
+    """Quasi-static force-deflection measurement (lathe; SPEC section 3).
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        Time in s, strictly increasing.
+    deflection : numpy.ndarray
+        Deflection ``x_top - x_base`` in m, positive = tension.
+    force : numpy.ndarray
+        Isolator force in N.
+    v_rel : numpy.ndarray or None
+        Relative velocity (rate of deflection) in m/s, if recorded.
+    info : MeasurementInfo
+        Metadata.
+    source : Source
+        Provenance (file, SHA-256, declared columns).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> m = QuasiStaticMeasurement(time=np.array([0.0, 0.1]),
+    ...                            deflection=np.array([0.0, 1e-3]), force=np.array([0.0, 3.0]))
+    >>> m.n_samples
+    2
+    """
+
+    time: np.ndarray
+    deflection: np.ndarray
+    force: np.ndarray
+    v_rel: np.ndarray | None = None
+    info: MeasurementInfo = field(default_factory=MeasurementInfo)
+    source: Source = field(default_factory=Source)
+
+    kind: ClassVar[str] = "quasi_static"
+    _signals: ClassVar[tuple[str, ...]] = ("time", "deflection", "force", "v_rel")
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+
+@dataclass(frozen=True, eq=False)
+class WhiteNoiseMeasurement(_SignalMeasurement):
+    """Shaker run with white-noise base excitation (elastomer; SPEC section 3).
+
+    Either both velocities or both accelerations (or all four) are present.
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        Time in s.
+    v_base, v_top : numpy.ndarray or None
+        Base and top-mass velocity in m/s.
+    a_base, a_top : numpy.ndarray or None
+        Base and top-mass acceleration in m/s^2.
+    info : MeasurementInfo
+        Metadata; ``info.excitation.band`` holds the band in Hz if declared.
+    source : Source
+        Provenance.
+    """
+
+    time: np.ndarray
+    v_base: np.ndarray | None = None
+    v_top: np.ndarray | None = None
+    a_base: np.ndarray | None = None
+    a_top: np.ndarray | None = None
+    info: MeasurementInfo = field(default_factory=MeasurementInfo)
+    source: Source = field(default_factory=Source)
+
+    kind: ClassVar[str] = "white_noise"
+    _signals: ClassVar[tuple[str, ...]] = ("time", "v_base", "v_top", "a_base", "a_top")
+
+    def __post_init__(self) -> None:
+        pairs = (("v_base", "v_top"), ("a_base", "a_top"))
+        complete = False
+        for pair in pairs:
+            present = [getattr(self, n) is not None for n in pair]
+            if any(present) and not all(present):
+                missing = pair[present.index(False)]
+                raise DataError(f"{self.source.where()}: column '{missing}' missing: "
+                                f"expected both of {pair[0]}, {pair[1]}")
+            complete = complete or all(present)
+        if not complete:
+            raise DataError(f"{self.source.where()}: no response columns; expected "
+                            "v_base and v_top, or a_base and a_top")
+        self._validate()
+
+    @property
+    def band(self) -> tuple[float, float] | None:
+        """Declared excitation band in Hz, if any."""
+        return None if self.info.excitation is None else self.info.excitation.band
+
+
+@dataclass(frozen=True, eq=False)
+class SteppedSineMeasurement(_SignalMeasurement):
+    """One (frequency, amplitude) point of a stepped-sine shaker run.
+
+    The frequency and nominal amplitude are metadata
+    (``info.excitation``); the frequency is required.
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        Time in s.
+    v_base : numpy.ndarray
+        Base velocity in m/s.
+    v_top : numpy.ndarray
+        Top-mass velocity in m/s.
+    x_base : numpy.ndarray or None
+        Base position in m.
+    u_in : numpy.ndarray or None
+        Shaker drive voltage in V.
+    info : MeasurementInfo
+        Metadata; ``info.excitation.freq`` (Hz) must be set.
+    source : Source
+        Provenance.
+    """
+
+    time: np.ndarray
+    v_base: np.ndarray
+    v_top: np.ndarray
+    x_base: np.ndarray | None = None
+    u_in: np.ndarray | None = None
+    info: MeasurementInfo = field(default_factory=MeasurementInfo)
+    source: Source = field(default_factory=Source)
+
+    kind: ClassVar[str] = "stepped_sine"
+    _signals: ClassVar[tuple[str, ...]] = ("time", "v_base", "v_top", "x_base", "u_in")
+
+    def __post_init__(self) -> None:
+        if self.info.excitation is None or self.info.excitation.freq is None:
+            raise DataError(f"{self.source.where()}: stepped-sine point without a frequency; "
+                            "expected info.excitation.freq in Hz (manifest: excitation.freq_hz)")
+        self._validate()
+
+    @property
+    def freq(self) -> float:
+        """Excitation frequency in Hz."""
+        return float(self.info.excitation.freq)
+
+    @property
+    def nominal_amplitude(self) -> float | None:
+        """Nominal amplitude in the SI unit of ``info.excitation.amplitude_quantity``."""
+        return self.info.excitation.amplitude
+
+
+@dataclass(frozen=True, eq=False)
+class DropMeasurement(_SignalMeasurement):
+    """Drop test (SPEC section 3): deflection over the isolator and top accelerations.
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        Time in s.
+    deflection : numpy.ndarray
+        Relative displacement ``x_top - x_base`` in m (positive = tension).
+    a_top_1, a_top_2 : numpy.ndarray
+        The two vertical accelerometers on the top mass, m/s^2.
+    v_rel : numpy.ndarray or None
+        Relative velocity in m/s (laser vibrometer), if recorded.
+    info : MeasurementInfo
+        Metadata (drop height, masses).
+    source : Source
+        Provenance.
+    """
+
+    time: np.ndarray
+    deflection: np.ndarray
+    a_top_1: np.ndarray
+    a_top_2: np.ndarray
+    v_rel: np.ndarray | None = None
+    info: MeasurementInfo = field(default_factory=MeasurementInfo)
+    source: Source = field(default_factory=Source)
+
+    kind: ClassVar[str] = "drop"
+    _signals: ClassVar[tuple[str, ...]] = ("time", "deflection", "a_top_1", "a_top_2", "v_rel")
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @property
+    def a_top_mean(self) -> np.ndarray:
+        """Mean of the two top-mass accelerations in m/s^2 (SPEC: use their mean)."""
+        return 0.5 * (self.a_top_1 + self.a_top_2)
+
+
+Measurement = QuasiStaticMeasurement | WhiteNoiseMeasurement | SteppedSineMeasurement | DropMeasurement
+
+_CLASSES = {cls.kind: cls for cls in (QuasiStaticMeasurement, WhiteNoiseMeasurement,
+                                       SteppedSineMeasurement, DropMeasurement)}
+
+
+def measurement_class(kind: str) -> type:
+    """The measurement dataclass of a kind.
+
+    Parameters
+    ----------
+    kind : str
+        ``"quasi_static"``, ``"white_noise"``, ``"stepped_sine"`` or ``"drop"``.
+
+    Returns
+    -------
+    type
+        E.g. :class:`QuasiStaticMeasurement`.
+
+    Raises
+    ------
+    DataError
+        For an unknown kind.
+    """
+    try:
+        return _CLASSES[kind]
+    except (KeyError, TypeError):
+        raise DataError(f"unknown kind {kind!r}; expected one of {', '.join(_CLASSES)}") from None
+
+
+def signal_field_names(kind: str) -> tuple[str, ...]:
+    """Names of the signal fields of a kind, in column order."""
+    cls = measurement_class(kind)
+    return tuple(f.name for f in fields(cls) if f.name in cls._signals)
+
+
+@dataclass(frozen=True, eq=False)
+class AccelerationRecord:
+    """Repeated acceleration records of one channel on a common time base.
+
+    Used for shock data such as the AFRL drop-tower set (one accelerometer,
+    several repeated tests).
+
+    Parameters
+    ----------
+    time : numpy.ndarray
+        Time in s, shape ``(n_samples,)``, strictly increasing.
+    accel : numpy.ndarray
+        Acceleration in m/s^2, shape ``(n_samples, n_tests)``.
+    channel : str
+        Name of the accelerometer channel.
+    source : Source
+        Provenance.
+    """
+
+    time: np.ndarray
+    accel: np.ndarray
+    channel: str = ""
+    source: Source = field(default_factory=Source)
+
+    def __post_init__(self) -> None:
+        time = _as_signal(self.time, "time", self.source)
+        try:
+            accel = np.array(self.accel, dtype=np.float64, copy=True)
+        except (TypeError, ValueError) as exc:
+            raise DataError(f"{self.source.where('accel')}: not numbers ({exc})") from exc
+        if accel.ndim == 1:
+            accel = accel[:, None]
+        if accel.ndim != 2 or accel.shape[0] != time.size:
+            raise DataError(f"{self.source.where('accel')}: found shape {accel.shape}, "
+                            f"expected ({time.size}, n_tests)")
+        for j in range(accel.shape[1]):
+            _as_signal(accel[:, j], f"test {j + 1}", self.source)
+        accel.setflags(write=False)
+        check_time(time, self.source, None)
+        object.__setattr__(self, "time", time)
+        object.__setattr__(self, "accel", accel)
+
+    @property
+    def n_tests(self) -> int:
+        """Number of repeated tests (columns of ``accel``)."""
+        return int(self.accel.shape[1])
+
+    @property
+    def sample_rate_hz(self) -> float:
+        """Sample rate in Hz from the median time step."""
+        return 1.0 / float(np.median(np.diff(self.time)))
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """Time and one acceleration column per test (``test_1 [m/s^2]`` ...)."""
+        data = {"time [s]": np.array(self.time)}
+        for j in range(self.n_tests):
+            data[f"test_{j + 1} [m/s^2]"] = np.array(self.accel[:, j])
+        return pd.DataFrame(data)
