@@ -64,8 +64,9 @@ def zero_phase_moving_average(signal: ArrayLike, *, window: int = 5) -> NDArray[
     Examples
     --------
     >>> import numpy as np
-    >>> np.round(zero_phase_moving_average(np.arange(20.0))[:3], 12).tolist()  # ramp kept
-    [0.0, 1.0, 2.0]
+    >>> ramp = np.arange(20.0)
+    >>> bool(np.allclose(zero_phase_moving_average(ramp), ramp))  # a ramp is kept, ends too
+    True
     """
     values = np.asarray(signal, dtype=float)
     if values.ndim != 1:
