@@ -50,7 +50,7 @@ def _frozen_array(value: object, name: str, source: Source) -> np.ndarray:
     bad = np.flatnonzero(~np.isfinite(array))
     if bad.size:
         i = int(bad[0])
-        raise DataError(f"{source.where(name)}: {source.row_label(i)}: found {array[i]!r}, "
+        raise DataError(f"{source.where(name)}: {source.row_label(i)}: found {float(array[i])!r}, "
                         "expected a finite number")
     array.setflags(write=False)
     return array
@@ -110,7 +110,7 @@ class ComplexStiffnessTable:
         if bad.size:
             i = int(bad[0])
             raise DataError(f"{self.source.where('frequency')}: {self.source.row_label(i)}: "
-                            f"found {self.freq[i]!r}, expected a frequency > 0 Hz")
+                            f"found {float(self.freq[i])!r}, expected a frequency > 0 Hz")
 
     @property
     def unit(self) -> str:

@@ -56,7 +56,7 @@ def _as_signal(value: object, name: str, source: Source) -> np.ndarray:
     bad = np.flatnonzero(~np.isfinite(array))
     if bad.size:
         i = int(bad[0])
-        raise DataError(f"{source.where(name)}: {source.row_label(i)}: found {array[i]!r}, "
+        raise DataError(f"{source.where(name)}: {source.row_label(i)}: found {float(array[i])!r}, "
                         f"expected a finite number ({bad.size} non-finite value(s) in total)")
     array.setflags(write=False)
     return array
@@ -90,8 +90,8 @@ def check_time(time: np.ndarray, source: Source, sample_rate_hz: float | None) -
         i = int(bad[0]) + 1
         what = "duplicate time stamp" if step[i - 1] == 0 else "time decreases (unsorted)"
         raise DataError(
-            f"{source.where('time')}: {source.row_label(i)}: {what}: found {time[i]!r} after "
-            f"{time[i - 1]!r}, expected strictly increasing time"
+            f"{source.where('time')}: {source.row_label(i)}: {what}: found {float(time[i])!r} after "
+            f"{float(time[i - 1])!r}, expected strictly increasing time"
         )
     if sample_rate_hz is not None:
         rate_hz = 1.0 / float(np.median(step))

@@ -178,7 +178,7 @@ def lookup_unit(unit: str | None, quantities: tuple[str, ...] | str, *, where: s
         if scale is not None:
             return scale
     raise DataError(
-        f"{where}: unknown unit {unit!r} for a {' or '.join(quantities)} column; "
+        f"{where}: unknown unit {unit!r} for quantity {' or '.join(quantities)}; "
         f"accepted: {', '.join(accepted)}"
     )
 
