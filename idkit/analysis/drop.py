@@ -240,8 +240,10 @@ def process_drop(
     6. Measured impact velocity: the most negative smoothed relative velocity between the
        impact and the end of the first stroke (where the relative velocity turns upward); for an isolator whose force starts from zero it is
        the velocity just after the step. Smoothing makes it slightly too small in magnitude:
-       about ``8 (w0 T)**2`` relative for an oscillator of angular frequency ``w0`` sampled
-       at interval ``T`` and the default window.
+       the smoothed step reaches full height ``window - 1`` samples after the raw one, so for
+       an oscillator of angular frequency ``w0`` sampled at interval ``T`` and the default
+       window the magnitude is low by about ``10 (w0 T)**2`` relative (``8`` from the
+       4-sample delay, ``2`` from the filter gain).
 
     Accelerations are used as given (no gravity correction): pass kinematic acceleration,
     or accept that accelerometer readings include the 1 g offset after impact.
