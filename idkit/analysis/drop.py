@@ -176,7 +176,8 @@ class DropResult:
     @property
     def peak_acceleration(self) -> float:
         """Rest shock level: the larger of the two phase peaks, m/s^2."""
-        return float(np.nanmax([self.peak_acceleration_compression, self.peak_acceleration_tension]))
+        peaks = [self.peak_acceleration_compression, self.peak_acceleration_tension]
+        return float(np.nanmax(peaks))
 
     def to_dataframe(self) -> pd.DataFrame:
         """One-row table of the scalar results (SI units in the column names)."""
@@ -238,12 +239,13 @@ def process_drop(
        compression peak (acceleration upward, positive) and the tension peak (downward,
        negative) are directly comparable.
     6. Measured impact velocity: the most negative smoothed relative velocity between the
-       impact and the end of the first stroke (where the relative velocity turns upward); for an isolator whose force starts from zero it is
-       the velocity just after the step. Smoothing makes it slightly too small in magnitude:
-       the smoothed step reaches full height ``window - 1`` samples after the raw one, so for
-       an oscillator of angular frequency ``w0`` sampled at interval ``T`` and the default
-       window the magnitude is low by about ``10 (w0 T)**2`` relative (``8`` from the
-       4-sample delay, ``2`` from the filter gain).
+       impact and the end of the first stroke (where the relative velocity turns upward);
+       for an isolator whose force starts from zero it is the velocity just after the step.
+       Smoothing makes it slightly too small in magnitude: the smoothed step reaches full
+       height ``window - 1`` samples after the raw one, so for an oscillator of angular
+       frequency ``w0`` sampled at interval ``T`` and the default window the magnitude is
+       low by about ``10 (w0 T)**2`` relative (``8`` from the 4-sample delay, ``2`` from
+       the filter gain).
 
     Accelerations are used as given (no gravity correction): pass kinematic acceleration,
     or accept that accelerometer readings include the 1 g offset after impact.

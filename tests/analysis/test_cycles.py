@@ -61,7 +61,8 @@ def test_reversals_are_robust_to_noise_and_spikes():
 def test_reversals_of_a_zigzag_are_its_corners(excursions, samples_per_leg):
     # Legs alternate in direction with lengths > 2 * threshold; every corner is a reversal.
     corners = np.concatenate([[0.0], np.cumsum(excursions * np.resize([1, -1], len(excursions)))])
-    legs = [np.linspace(a, b, samples_per_leg, endpoint=False) for a, b in zip(corners, corners[1:])]
+    legs = [np.linspace(a, b, samples_per_leg, endpoint=False)
+            for a, b in zip(corners, corners[1:])]
     x = np.concatenate(legs + [corners[-1:]])
     expected = samples_per_leg * np.arange(1, len(excursions))
     assert find_reversals(x, min_excursion=0.1).tolist() == expected.tolist()
@@ -96,7 +97,9 @@ def test_split_cycles_amplitudes_and_classification():
     assert split.is_large.tolist() == (expected > 1.5e-3).tolist()
     assert split.branch_direction.tolist() == [-1, 1, -1, 1, -1, 1, -1]
     table = split.to_dataframe()
-    assert list(table.columns) == ["cycle_start", "cycle_stop", "amplitude_m", "center_m", "is_large"]
+    assert list(table.columns) == [
+        "cycle_start", "cycle_stop", "amplitude_m", "center_m", "is_large"
+    ]
     assert len(table) == 3
 
 

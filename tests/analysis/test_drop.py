@@ -100,7 +100,8 @@ def test_zero_phase_moving_average_response_of_a_sine():
 
 def test_impact_velocity_from_height():
     assert impact_velocity_from_height(0.08) == pytest.approx(-np.sqrt(2 * 9.80665 * 0.08))
-    np.testing.assert_allclose(impact_velocity_from_height([0.0, 0.02], g=10.0), [0.0, -0.632455532],
+    np.testing.assert_allclose(impact_velocity_from_height([0.0, 0.02], g=10.0),
+                               [0.0, -0.632455532],
                                rtol=1e-9)
     with pytest.raises(DataError, match="height"):
         impact_velocity_from_height(-0.01)
