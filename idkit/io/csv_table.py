@@ -31,7 +31,7 @@ from idkit.io.units import UnitScale, convert_to_si, lookup_unit
 
 __all__ = ["CsvTable", "parse_number_cells", "read_csv_table", "read_file_bytes"]
 
-_NUMBER_RE = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+_NUMBER_RE = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")  # ASCII digits only
 _NONFINITE_RE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
 
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 import hashlib
 import io
 import re
+import struct
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -111,7 +112,9 @@ def load_mat_variables(path: str | Path) -> tuple[dict[str, np.ndarray], str]:
                         "file (re-save with save(..., '-v7'))")
     try:
         variables = scipy.io.loadmat(io.BytesIO(raw))
-    except (ValueError, TypeError, OSError, NotImplementedError) as exc:
+    # scipy raises assorted exceptions on malformed bytes; all mean "not a .mat file"
+    except (ValueError, TypeError, OSError, NotImplementedError, IndexError, KeyError,
+            EOFError, struct.error) as exc:
         raise DataError(f"file '{path}': not a readable MATLAB .mat file ({exc})") from None
     return {k: v for k, v in variables.items() if not k.startswith("__")}, sha256
 

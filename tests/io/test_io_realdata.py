@@ -1,0 +1,127 @@
+"""Adapters for shared/realdata (skipped when the folder is absent)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from idkit.errors import DataError
+from idkit.io import (
+    file_sha256,
+    load_measurement_set,
+    read_afrl_accel,
+    read_boucwen_benchmark,
+    read_mr_damper,
+    read_prony_reference,
+    read_pyvisco_complex_modulus,
+    read_pyvisco_shift_factors,
+)
+from idkit.io.realdata import realdata_dir
+
+
+def test_realdata_dir_honours_env(monkeypatch, tmp_path):
+    monkeypatch.setenv("IDKIT_REALDATA", str(tmp_path))
+    assert realdata_dir() == tmp_path.resolve()
+    assert realdata_dir("absent") is None
+
+
+def test_pyvisco_master_curve_and_isotherms(realdata):
+    folder = realdata("pyvisco_dma")
+    master = read_pyvisco_complex_modulus(folder / "examples" / "freq_user_master.csv")
+    assert master.quantity == "modulus" and master.freq.size == 206
+    assert master.freq[0] == 1e-12 and master.freq[-1] == pytest.approx(1e14)
+    assert master.storage[0] == pytest.approx(88.79651575665739e6, rel=1e-15)
+    assert np.all(np.diff(master.freq) > 0)
+    raw = read_pyvisco_complex_modulus(folder / "examples" / "freq_user_raw.csv")
+    assert raw.freq.size == 210 and raw.temperature is not None
+    assert raw.temperature.min() == pytest.approx(223.15, abs=0.1)
+    shifts = read_pyvisco_shift_factors(folder / "examples" / "freq_user_master__shift_factors.csv")
+    assert shifts.temperature.size == 21
+    assert shifts.reference_temperature == pytest.approx(268.15)  # Tref -5 C
+    reduced = raw.master_curve(shifts)
+    # the shifted isotherms span the master curve's range of reduced frequency
+    assert reduced.freq.min() == pytest.approx(0.1 * 10 ** -11.7, rel=1e-9)
+    assert reduced.freq.max() == pytest.approx(100 * 10 ** 12.75, rel=1e-9)
+
+
+@pytest.mark.parametrize(("relpath", "n_terms", "e0_pa"), [
+    ("freq_master/prony_terms.MPL", 27, None),
+    ("freq_raw/prony_terms.MPL", 34, None),
+    ("time_master/prony_terms.MPL", 31, None),
+    ("time_master/prony_terms_KPf_MD.csv", 31, 1739.03e6),
+])
+def test_prony_references(realdata, relpath, n_terms, e0_pa):
+    path = realdata("pyvisco_dma") / "verification" / relpath
+    prony = read_prony_reference(path)
+    assert prony.alpha.size == prony.tau.size == n_terms
+    assert np.all(np.diff(prony.tau) > 0) and 0 < prony.alpha.sum() < 1
+    assert prony.instantaneous_modulus == e0_pa
+    if e0_pa is None:
+        with pytest.raises(DataError, match="instantaneous_modulus"):
+            _ = prony.moduli
+    else:
+        np.testing.assert_allclose(prony.moduli.sum() + prony.equilibrium_modulus, e0_pa)
+
+
+def test_both_time_master_prony_files_agree(realdata):
+    folder = realdata("pyvisco_dma") / "verification" / "time_master"
+    ansys = read_prony_reference(folder / "prony_terms.MPL", instantaneous_modulus=1739.03e6)
+    pyvisco = read_prony_reference(folder / "prony_terms_KPf_MD.csv")
+    np.testing.assert_allclose(ansys.alpha, pyvisco.alpha, rtol=1e-6)
+    np.testing.assert_allclose(ansys.tau, pyvisco.tau, rtol=1e-6)
+    assert ansys.equilibrium_modulus == pytest.approx(pyvisco.equilibrium_modulus, rel=1e-6)
+
+
+def test_mr_damper_loop(realdata):
+    path = realdata("mr_damper_labcontrol") / "data" / "ensaio10.2.mat"
+    before = (file_sha256(path), path.stat().st_mtime_ns)
+    loop = read_mr_damper(path)
+    assert loop.kind == "quasi_static" and loop.n_samples == 3001
+    assert loop.info.sample_rate_hz == pytest.approx(100.0)
+    assert np.abs(loop.deflection).max() == pytest.approx(12.4e-3, rel=0.01)  # mm -> m
+    assert 250 < np.abs(loop.force).max() < 350  # N
+    # v_rel is the time derivative of the position (same length unit per second)
+    slope = np.gradient(loop.deflection, loop.time)
+    assert np.corrcoef(slope, loop.v_rel)[0, 1] > 0.99
+    assert np.std(slope) / np.std(loop.v_rel) == pytest.approx(1.0, rel=0.01)
+    assert (file_sha256(path), path.stat().st_mtime_ns) == before
+    assert loop.source.sha256 == before[0]
+
+
+def test_mr_damper_through_a_manifest_in_tmp(realdata, tmp_path):
+    """The same file as a .mat manifest entry (symlinked into tmp, not copied into the repo)."""
+    source = realdata("mr_damper_labcontrol") / "data" / "ensaio1.mat"
+    (tmp_path / "ensaio1.mat").symlink_to(source)
+    (tmp_path / "manifest.json").write_text(json.dumps({"measurements": [{
+        "id": "ensaio1", "kind": "quasi_static", "isolator": "mr_damper", "file": "ensaio1.mat",
+        "sample_rate_hz": 100.0,
+        "mat_columns": {"time": "Tout [s]", "deflection": "x_F[:,0] [mm]",
+                        "v_rel": "x_F[:,1] [mm/s]", "force": "x_F[:,2] [N]"}}]}))
+    from_manifest = load_measurement_set(tmp_path).get("ensaio1")
+    direct = read_mr_damper(source)
+    assert np.array_equal(from_manifest.force, direct.force)
+    assert from_manifest.source.sha256 == direct.source.sha256
+
+
+@pytest.mark.parametrize(("k", "channel", "peak_kgn"), [
+    (1, "pcb_1", (20, 30)), (4, "pcb_4", (75, 90)), (6, "fixture_bottom", (10, 15))])
+def test_afrl_accelerations(realdata, k, channel, peak_kgn):
+    record = read_afrl_accel(realdata("droptower_shock_afrl") / f"accel_{k}.csv")
+    assert record.channel == channel
+    assert record.accel.shape == (5000, 5) and record.n_tests == 5
+    assert record.sample_rate_hz == pytest.approx(1e6, rel=1e-9)
+    peak = np.abs(record.accel).max() / 9806.65
+    assert peak_kgn[0] < peak < peak_kgn[1]
+    assert list(record.to_dataframe().columns)[:2] == ["time [s]", "test_1 [m/s^2]"]
+
+
+def test_boucwen_benchmark(realdata):
+    data = read_boucwen_benchmark(realdata("boucwen_benchmark") / "bouc-wen.mat")
+    assert data.sample_rate_hz == 750.0
+    assert data.train_force.size == data.train_displacement.size == 40960
+    assert data.test_multisine_force.size == 8192
+    assert data.test_sinesweep_displacement.size == 153000
+    assert np.sqrt(np.mean(data.train_force ** 2)) == pytest.approx(50.0, rel=0.05)  # RMS 50 N
+    assert data.time(3)[-1] == pytest.approx(2 / 750)
