@@ -1,0 +1,272 @@
+"""Linear viscoelastic models of an elastomer isolator (SPEC 1.4, thesis ch. 4).
+
+Generalized Maxwell: spring ``k0`` in parallel with ``n`` Maxwell elements, each a
+spring ``k_i`` in series with a dashpot ``d_i``. Each element is described by its
+stiffness and its relaxation **rate** ``rate_i = k_i / d_i`` in 1/s (the quantity
+Table 7.3 prints under "tau"; see SPEC 1.4). Time constants ``tau_i = 1 / rate_i``
+in s and dashpot coefficients ``d_i`` in N s/m are derived properties.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from idkit.errors import ParameterError
+from idkit.models._hysteresis import maxwell_states
+from idkit.models.base import (
+    M_EFF_SPEC,
+    IsolatorArrays,
+    IsolatorModel,
+    _as_deflection,
+    _as_time,
+    _velocity,
+)
+from idkit.params import ParamSpec, check_array
+
+__all__ = ["GeneralizedMaxwell", "VoigtModel"]
+
+K0_SPEC = ParamSpec("k0", "N/m", 0.0, math.inf, "static (parallel) stiffness")
+
+
+class GeneralizedMaxwell(IsolatorModel):
+    """Generalized Maxwell model of order ``n``.
+
+    Parameters
+    ----------
+    k0 : float
+        Static stiffness in N/m (>= 0).
+    k : array_like, shape (n,)
+        Maxwell element stiffnesses in N/m (> 0).
+    rate : array_like, shape (n,)
+        Relaxation rates ``k_i / d_i`` in 1/s (> 0).
+    m_eff : float, optional
+        Isolator mass in kg that moves with the mass above it (identified with
+        the model, Table 7.3). Systems add it to that mass. Default 0.
+
+    Examples
+    --------
+    >>> elastomer = GeneralizedMaxwell(k0=1.40e4, k=[3.49e3, 1.07e4], rate=[46.6, 841.0])
+    >>> round(float(elastomer.loss_factor(20.0)), 3)
+    0.156
+    """
+
+    kind = "generalized_maxwell"
+
+    def __init__(self, *, k0, k, rate, m_eff=0.0):
+        name = type(self).__name__
+        self._k0 = K0_SPEC.check(k0, model=name)
+        self._k = check_array(k, name="k", unit="N/m", lower=0.0, meaning="Maxwell element stiffness",
+                              positive=True, model=name, min_length=1)
+        self._rate = check_array(rate, name="rate", unit="1/s", lower=0.0,
+                                 meaning="relaxation rate k_i/d_i", positive=True, model=name,
+                                 length=self._k.size)
+        self._m_eff = M_EFF_SPEC.check(m_eff, model=name)
+
+    @classmethod
+    def from_dampers(cls, *, k0, k, damping, m_eff=0.0) -> GeneralizedMaxwell:
+        """Build from dashpot coefficients ``d_i`` in N s/m (Table B.1 style)."""
+        k_array = np.asarray(k, dtype=float)
+        d_array = check_array(damping, name="damping", unit="N s/m", lower=0.0, meaning="dashpot coefficient",
+                              positive=True, model=cls.__name__, length=np.size(k_array))
+        return cls(k0=k0, k=k_array, rate=k_array / d_array, m_eff=m_eff)
+
+    @classmethod
+    def from_time_constants(cls, *, k0, k, tau, m_eff=0.0) -> GeneralizedMaxwell:
+        """Build from relaxation time constants ``tau_i = d_i / k_i`` in s."""
+        tau_array = check_array(tau, name="tau", unit="s", lower=0.0, meaning="relaxation time constant",
+                                positive=True, model=cls.__name__)
+        return cls(k0=k0, k=k, rate=1.0 / tau_array, m_eff=m_eff)
+
+    @classmethod
+    def maxwell(cls, *, k, damping) -> GeneralizedMaxwell:
+        """Single Maxwell element (spring ``k`` N/m in series with dashpot ``damping`` N s/m)."""
+        return cls.from_dampers(k0=0.0, k=[k], damping=[damping])
+
+    k0 = property(lambda self: self._k0, doc="Static stiffness, N/m.")
+    k = property(lambda self: self._k, doc="Maxwell element stiffnesses, N/m.")
+    rate = property(lambda self: self._rate, doc="Relaxation rates k_i/d_i, 1/s.")
+
+    @property
+    def m_eff(self) -> float:
+        return self._m_eff
+
+    @property
+    def tau(self) -> np.ndarray:
+        """Relaxation time constants ``1 / rate_i`` in s."""
+        return 1.0 / self._rate
+
+    @property
+    def damping(self) -> np.ndarray:
+        """Dashpot coefficients ``d_i = k_i / rate_i`` in N s/m."""
+        return self._k / self._rate
+
+    @property
+    def order(self) -> int:
+        """Number of Maxwell elements."""
+        return int(self._k.size)
+
+    @property
+    def instantaneous_stiffness(self) -> float:
+        """High-frequency limit ``k0 + sum k_i`` in N/m."""
+        return self._k0 + float(self._k.sum())
+
+    def scaled(self, factor: float) -> GeneralizedMaxwell:
+        """Model with every stiffness multiplied by ``factor`` (rates unchanged)."""
+        if not (math.isfinite(factor) and factor > 0):
+            raise ParameterError(f"scaled: found factor={factor!r}, expected a positive finite number")
+        return GeneralizedMaxwell(k0=self._k0 * factor, k=self._k * factor, rate=self._rate, m_eff=self._m_eff)
+
+    def param_specs(self) -> tuple[ParamSpec, ...]:
+        n = self.order
+        return (
+            K0_SPEC,
+            *(ParamSpec(f"k_{i}", "N/m", 0.0, math.inf, "Maxwell element stiffness", True) for i in range(1, n + 1)),
+            *(ParamSpec(f"rate_{i}", "1/s", 0.0, math.inf, "relaxation rate k_i/d_i", True) for i in range(1, n + 1)),
+            M_EFF_SPEC,
+        )
+
+    def params(self) -> dict[str, float]:
+        values = {"k0": self._k0}
+        values.update({f"k_{i}": float(v) for i, v in enumerate(self._k, start=1)})
+        values.update({f"rate_{i}": float(v) for i, v in enumerate(self._rate, start=1)})
+        values["m_eff"] = self._m_eff
+        return values
+
+    @classmethod
+    def from_params(cls, params: dict[str, float]) -> GeneralizedMaxwell:
+        params = dict(params)
+        order = sum(1 for name in params if name.startswith("k_"))
+        try:
+            model = cls(
+                k0=params.pop("k0"),
+                k=[params.pop(f"k_{i}") for i in range(1, order + 1)],
+                rate=[params.pop(f"rate_{i}") for i in range(1, order + 1)],
+                m_eff=params.pop("m_eff", 0.0),
+            )
+        except KeyError as missing:
+            raise ParameterError(f"GeneralizedMaxwell: parameter {missing.args[0]!r} missing") from None
+        if params:
+            raise ParameterError(f"GeneralizedMaxwell: unknown parameters {sorted(params)}, expected k0, k_i, rate_i, m_eff")
+        return model
+
+    def complex_stiffness(self, freq) -> np.ndarray:
+        """Complex stiffness ``k0 + sum k_i s / (s + rate_i)``, ``s = 2 pi i freq`` (eq. 4.3), N/m."""
+        s = 2j * np.pi * np.asarray(freq, dtype=float)
+        return self._k0 + np.sum(self._k * s[..., None] / (s[..., None] + self._rate), axis=-1)
+
+    def loss_factor(self, freq) -> np.ndarray:
+        """Loss factor ``Im k* / Re k*`` at ``freq`` in Hz (eq. 4.4)."""
+        stiffness = self.complex_stiffness(freq)
+        return stiffness.imag / stiffness.real
+
+    def damping_ratio(self, freq) -> np.ndarray:
+        """Equivalent damping ratio ``eta / 2`` at ``freq`` in Hz (eq. 4.5)."""
+        return 0.5 * self.loss_factor(freq)
+
+    small_amplitude_stiffness = complex_stiffness
+
+    def element_states(self, deflection, time, initial_states=None) -> np.ndarray:
+        """Maxwell spring elongations ``u_i`` in m along the history, shape (n_samples, n)."""
+        x = _as_deflection(deflection)
+        t = _as_time(time, x.size)
+        start = np.zeros(self.order) if initial_states is None else np.asarray(initial_states, float)
+        return maxwell_states(x, t, self._rate, start)
+
+    def force(self, deflection, time=None, initial_states=None) -> np.ndarray:
+        """Isolator force in N along a deflection history (m) sampled at ``time`` (s).
+
+        Exact for deflection piecewise linear in time; the elements start
+        relaxed unless ``initial_states`` (m) are given. ``time`` is required:
+        the model is rate dependent.
+        """
+        if time is None:
+            raise ParameterError("GeneralizedMaxwell.force: found time=None, expected sample times in s")
+        x = _as_deflection(deflection)
+        return self._k0 * x + self.element_states(x, time, initial_states) @ self._k
+
+    def kernel_arrays(self) -> IsolatorArrays:
+        return IsolatorArrays(
+            poly=np.array([self._k0, 0.0, 0.0]),
+            c_visc=0.0,
+            jenkin_stiffness=np.zeros(0),
+            jenkin_friction=np.zeros(0),
+            maxwell_stiffness=np.array(self._k),
+            maxwell_rate=np.array(self._rate),
+            boucwen=np.zeros(10),
+        )
+
+
+class VoigtModel(IsolatorModel):
+    """Voigt (Kelvin-Voigt, viscous) model: spring ``k`` N/m parallel to dashpot ``damping`` N s/m."""
+
+    kind = "voigt"
+    _SPECS = (
+        ParamSpec("k", "N/m", 0.0, math.inf, "spring stiffness"),
+        ParamSpec("damping", "N s/m", 0.0, math.inf, "dashpot coefficient"),
+        M_EFF_SPEC,
+    )
+
+    def __init__(self, *, k, damping, m_eff=0.0):
+        name = type(self).__name__
+        self._k = self._SPECS[0].check(k, model=name)
+        self._damping = self._SPECS[1].check(damping, model=name)
+        self._m_eff = M_EFF_SPEC.check(m_eff, model=name)
+
+    k = property(lambda self: self._k, doc="Stiffness, N/m.")
+    damping = property(lambda self: self._damping, doc="Dashpot coefficient, N s/m.")
+
+    @property
+    def m_eff(self) -> float:
+        return self._m_eff
+
+    def param_specs(self) -> tuple[ParamSpec, ...]:
+        return self._SPECS
+
+    def params(self) -> dict[str, float]:
+        return {"k": self._k, "damping": self._damping, "m_eff": self._m_eff}
+
+    @classmethod
+    def from_params(cls, params: dict[str, float]) -> VoigtModel:
+        params = dict(params)
+        try:
+            model = cls(k=params.pop("k"), damping=params.pop("damping"), m_eff=params.pop("m_eff", 0.0))
+        except KeyError as missing:
+            raise ParameterError(f"VoigtModel: parameter {missing.args[0]!r} missing") from None
+        if params:
+            raise ParameterError(f"VoigtModel: unknown parameters {sorted(params)}, expected k, damping, m_eff")
+        return model
+
+    def complex_stiffness(self, freq) -> np.ndarray:
+        """``k + i omega d`` in N/m at ``freq`` in Hz."""
+        return self._k + 2j * np.pi * np.asarray(freq, dtype=float) * self._damping
+
+    def loss_factor(self, freq) -> np.ndarray:
+        """Loss factor ``omega d / k``."""
+        stiffness = self.complex_stiffness(freq)
+        return stiffness.imag / stiffness.real
+
+    def damping_ratio(self, freq) -> np.ndarray:
+        """Equivalent damping ratio ``eta / 2``."""
+        return 0.5 * self.loss_factor(freq)
+
+    small_amplitude_stiffness = complex_stiffness
+
+    def force(self, deflection, time=None) -> np.ndarray:
+        """Force ``k x + d xdot`` in N; ``time`` (s) is required for the viscous part."""
+        x = _as_deflection(deflection)
+        if time is None:
+            raise ParameterError("VoigtModel.force: found time=None, expected sample times in s")
+        return self._k * x + self._damping * _velocity(x, _as_time(time, x.size))
+
+    def kernel_arrays(self) -> IsolatorArrays:
+        return IsolatorArrays(
+            poly=np.array([self._k, 0.0, 0.0]),
+            c_visc=self._damping,
+            jenkin_stiffness=np.zeros(0),
+            jenkin_friction=np.zeros(0),
+            maxwell_stiffness=np.zeros(0),
+            maxwell_rate=np.zeros(0),
+            boucwen=np.zeros(10),
+        )

@@ -1,0 +1,23 @@
+"""Time simulation of isolator systems (SPEC 1.5, 5).
+
+The fast path (:func:`simulate`, :func:`free_fall`, :func:`harmonic_response`)
+runs batches through one compiled kernel: average-acceleration Newmark with the
+exact Jenkin stop operator and exact exponential Maxwell update. Independent
+reference paths for cross-checks live in :mod:`idkit.simulate.reference`.
+"""
+
+from idkit.simulate._arrays import STANDARD_GRAVITY
+from idkit.simulate.base_motion import BaseMotion
+from idkit.simulate.harmonic import (
+    HarmonicResponse,
+    default_steps_per_period,
+    harmonic_response,
+    small_amplitude_resonance,
+)
+from idkit.simulate.time_response import TimeResponse, free_fall, initial_states, simulate, static_deflection
+
+__all__ = [
+    "BaseMotion", "TimeResponse", "simulate", "free_fall", "static_deflection", "initial_states",
+    "HarmonicResponse", "harmonic_response", "default_steps_per_period", "small_amplitude_resonance",
+    "STANDARD_GRAVITY",
+]

@@ -1,0 +1,73 @@
+"""Flatten a system into the arrays the compiled kernel reads."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from idkit.errors import SimulationError
+from idkit.models.systems import CoulombSpringSystem, HybridSystem, SDOFSystem
+
+STANDARD_GRAVITY = 9.80665  # m/s^2
+
+
+@dataclass(frozen=True)
+class SystemArrays:
+    masses: np.ndarray  # (ndof,) kg, top first
+    poly: np.ndarray  # (ndof, 3)
+    cvisc: np.ndarray  # (ndof,)
+    jk: np.ndarray  # (ndof, nj)
+    jfc: np.ndarray
+    mk: np.ndarray  # (ndof, nm)
+    mrate: np.ndarray
+    bw: np.ndarray  # (ndof, 10)
+
+    @property
+    def ndof(self) -> int:
+        return int(self.masses.size)
+
+    def as_tuple(self):
+        return (self.masses, self.poly, self.cvisc, self.jk, self.jfc, self.mk, self.mrate, self.bw)
+
+
+def resolve_system(system):
+    """Accept SDOF, hybrid or Coulomb-spring systems; return an SDOF/hybrid system."""
+    if isinstance(system, CoulombSpringSystem):
+        return system.as_sdof()
+    if isinstance(system, (SDOFSystem, HybridSystem)):
+        return system
+    raise SimulationError(
+        f"system: found {type(system).__name__}, expected SDOFSystem, HybridSystem or CoulombSpringSystem "
+        "(wrap an isolator model in SDOFSystem(mass, isolator))"
+    )
+
+
+def system_arrays(system) -> SystemArrays:
+    """Flat, padded parameter arrays of ``system`` (isolator j sits below mass j)."""
+    system = resolve_system(system)
+    parts = [isolator.kernel_arrays() for isolator in system.isolators]
+    ndof = len(parts)
+    nj = max(1, max(p.jenkin_stiffness.size for p in parts))
+    nm = max(1, max(p.maxwell_stiffness.size for p in parts))
+    jk = np.zeros((ndof, nj))
+    jfc = np.zeros((ndof, nj))
+    mk = np.zeros((ndof, nm))
+    mrate = np.ones((ndof, nm))
+    for j, part in enumerate(parts):
+        jk[j, : part.jenkin_stiffness.size] = part.jenkin_stiffness
+        jfc[j, : part.jenkin_friction.size] = part.jenkin_friction
+        mk[j, : part.maxwell_stiffness.size] = part.maxwell_stiffness
+        mrate[j, : part.maxwell_rate.size] = part.maxwell_rate
+    return SystemArrays(
+        masses=np.asarray(system.masses, dtype=float),
+        poly=np.array([p.poly for p in parts], dtype=float),
+        cvisc=np.array([p.c_visc for p in parts], dtype=float),
+        jk=jk, jfc=jfc, mk=mk, mrate=mrate,
+        bw=np.array([p.boucwen for p in parts], dtype=float),
+    )
+
+
+def force_scale(arrays: SystemArrays, accel_scale: float) -> float:
+    """A force magnitude (N) for convergence tests: total mass times an acceleration scale."""
+    return float(arrays.masses.sum() * (abs(accel_scale) + STANDARD_GRAVITY) + arrays.jfc.sum())

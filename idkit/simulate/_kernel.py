@@ -1,0 +1,479 @@
+"""Compiled time stepping of base-excited isolator systems (numba).
+
+Scheme (documented in ``docs/simulator.md``):
+
+* Mechanics: average-acceleration Newmark (trapezoidal rule, beta = 1/4,
+  gamma = 1/2) in absolute mass coordinates ``q``, ``M q'' + f(q - x_b, q' - v_b) =
+  -M g``; the base enters through the exact base displacement and velocity at
+  the step ends, so a small response to a large base motion is not computed as
+  the difference of two large numbers. Unconditionally stable and second-order accurate, so the
+  small intermediate mass of the hybrid does not force small steps.
+* Constitutive updates, exact for deflection linear over a step: the Jenkin
+  stop operator ``F <- clip(F + k dy, -Fc, Fc)`` and the Maxwell exponential
+  update ``u <- e u + g dy`` with ``e = exp(-rate h)``, ``g = (1 - e) / (rate h)``.
+  Bouc-Wen's ``z`` is advanced by Runge-Kutta sub-steps in deflection.
+* The implicit equation of each step is solved by Newton's method with the
+  consistent tangent and backtracking (the residual is monotone while every
+  local stiffness is non-negative).
+
+A run that leaves the model's valid range stops and reports a flag; the other
+members of the batch go on.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from idkit.models._hysteresis import boucwen_z_step
+
+FLAG_OK = 0
+FLAG_NEGATIVE_STIFFNESS = 1
+FLAG_NON_FINITE = 2
+FLAG_NO_CONVERGENCE = 3
+FLAG_REASONS = {
+    FLAG_OK: "ok",
+    FLAG_NEGATIVE_STIFFNESS: "negative local stiffness of the parallel spring (model outside its valid range)",
+    FLAG_NON_FINITE: "non-finite state",
+    FLAG_NO_CONVERGENCE: "Newton iteration of a step did not converge",
+}
+
+_NEWTON_MAX_ITER = 60
+_RES_TOL = 1e-13
+_BW_SUBSTEPS = 4
+
+
+@numba.njit(cache=True)
+def _isolator_force(j, y, dy, vrel, h, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate,
+                    bw, bwz, commit):
+    """Force (N) and tangent (N/m, including 2 c / h) of isolator ``j`` at deflection ``y``.
+
+    ``dy`` is the deflection increment over the step, ``vrel`` the end-of-step
+    deflection rate. If ``commit`` the internal states are updated.
+    """
+    g1 = poly[j, 0]
+    g2 = poly[j, 1]
+    g3 = poly[j, 2]
+    force = y * (g1 + y * (g2 + y * g3))
+    tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y)
+    force += cvisc[j] * vrel
+    tangent += cvisc[j] * 2.0 / h
+    for i in range(jk.shape[1]):
+        trial = jforce[j, i] + jk[j, i] * dy
+        limit = jfc[j, i]
+        if trial > limit:
+            trial = limit
+        elif trial < -limit:
+            trial = -limit
+        else:
+            tangent += jk[j, i]
+        force += trial
+        if commit:
+            jforce[j, i] = trial
+    for i in range(mk.shape[1]):
+        u = mdecay[j, i] * mstate[j, i] + mgain[j, i] * dy
+        force += mk[j, i] * u
+        tangent += mk[j, i] * mgain[j, i]
+        if commit:
+            mstate[j, i] = u
+    if bw[j, 0] != 0.0:
+        z, dz = boucwen_z_step(bwz[j], dy, bw[j, 4], bw[j, 5], bw[j, 6], bw[j, 7], _BW_SUBSTEPS)
+        factor = bw[j, 8] ** (bw[j, 9] * y)
+        elastic = y * (bw[j, 1] + bw[j, 2] * abs(y) + bw[j, 3] * y * y)
+        inner = elastic + z
+        bw_force = factor * inner
+        force += bw_force
+        tangent += math.log(bw[j, 8]) * bw[j, 9] * bw_force + factor * (
+            bw[j, 1] + 2.0 * bw[j, 2] * abs(y) + 3.0 * bw[j, 3] * y * y + dz
+        )
+        if commit:
+            bwz[j] = z
+    return force, tangent
+
+
+@numba.njit(cache=True)
+def _spring_stiffness_ok(ndof, q, xb, poly):
+    for j in range(ndof):
+        y = q[0] - q[1] if (ndof == 2 and j == 0) else q[j] - xb
+        if poly[j, 0] + y * (2.0 * poly[j, 1] + 3.0 * poly[j, 2] * y) < 0.0:
+            return False
+    return True
+
+
+@numba.njit(cache=True)
+def _forces(ndof, qn, qtrial, vtrial, xb_old, xb_new, vb_new, h, poly, cvisc, jk, jfc, jforce, mk, mdecay,
+            mgain, mstate, bw, bwz, commit, out_force, out_tangent):
+    """Isolator forces/tangents for the trial state (absolute coordinates).
+
+    Isolator 0 sits below mass 0; the last isolator stands on the base.
+    """
+    if ndof == 1:
+        y = qtrial[0] - xb_new
+        f, t = _isolator_force(0, y, y - (qn[0] - xb_old), vtrial[0] - vb_new, h, poly, cvisc, jk, jfc, jforce,
+                               mk, mdecay, mgain, mstate, bw, bwz, commit)
+        out_force[0] = f
+        out_tangent[0] = t
+    else:
+        y_up = qtrial[0] - qtrial[1]
+        f, t = _isolator_force(0, y_up, y_up - (qn[0] - qn[1]), vtrial[0] - vtrial[1], h, poly, cvisc, jk,
+                               jfc, jforce, mk, mdecay, mgain, mstate, bw, bwz, commit)
+        out_force[0] = f
+        out_tangent[0] = t
+        y_low = qtrial[1] - xb_new
+        f, t = _isolator_force(1, y_low, y_low - (qn[1] - xb_old), vtrial[1] - vb_new, h, poly, cvisc, jk,
+                               jfc, jforce, mk, mdecay, mgain, mstate, bw, bwz, commit)
+        out_force[1] = f
+        out_tangent[1] = t
+
+
+@numba.njit(cache=True)
+def _residual(ndof, masses, qn, vn, an, q, h, load, xb_old, xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain,
+              mstate, bw, bwz, res, tangent_out, force_out, vtrial, atrial):
+    """Step residual ``M (a + g) + f`` in ``res``; returns the magnitude of its terms (N)."""
+    for d in range(ndof):
+        vtrial[d] = 2.0 / h * (q[d] - qn[d]) - vn[d]
+        atrial[d] = 4.0 / (h * h) * (q[d] - qn[d]) - 4.0 / h * vn[d] - an[d]
+    _forces(ndof, qn, q, vtrial, xb_old, xb_new, vb_new, h, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain,
+            mstate, bw, bwz, False, force_out, tangent_out)
+    res[0] = masses[0] * (atrial[0] + load) + force_out[0]
+    magnitude = masses[0] * (abs(atrial[0]) + abs(load) + 4.0 / (h * h) * (abs(q[0]) + abs(qn[0]))) \
+        + abs(force_out[0])
+    if ndof == 2:
+        res[1] = masses[1] * (atrial[1] + load) - force_out[0] + force_out[1]
+        magnitude += masses[1] * (abs(atrial[1]) + abs(load) + 4.0 / (h * h) * (abs(q[1]) + abs(qn[1]))) \
+            + abs(force_out[1])
+    return magnitude
+
+
+@numba.njit(cache=True)
+def _norm(ndof, values):
+    total = 0.0
+    for d in range(ndof):
+        total += values[d] * values[d]
+    return math.sqrt(total)
+
+
+@numba.njit(cache=True)
+def _step(ndof, masses, q, v, a, h, load_next, xb_old, xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate,
+          bw, bwz, force_scale, work):
+    """Advance one step in place (absolute coordinates; ``load_next`` is gravity in m/s^2).
+
+    ``xb_old``, ``xb_new``, ``vb_new``: base displacement (m) at both ends of the
+    step and base velocity (m/s) at its end.
+
+    Returns a flag (0 ok). ``work`` is scratch space of shape (10, 2).
+    """
+    qn = work[0]
+    vn = work[1]
+    an = work[2]
+    qt = work[3]
+    res = work[4]
+    tan = work[5]
+    frc = work[6]
+    vt = work[7]
+    at = work[8]
+    qnew = work[9]
+    for d in range(ndof):
+        qn[d] = q[d]
+        vn[d] = v[d]
+        an[d] = a[d]
+        qt[d] = q[d] + h * v[d] + 0.25 * h * h * a[d]
+    magnitude = _residual(ndof, masses, qn, vn, an, qt, h, load_next, xb_old, xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk,
+                          mdecay, mgain, mstate, bw, bwz, res, tan, frc, vt, at)
+    rnorm = _norm(ndof, res)
+    # Residual terms are O(M q / h^2): judge convergence relative to their size,
+    # which is the round-off floor of the residual itself.
+    converged = rnorm <= _RES_TOL * (magnitude + force_scale)
+    iteration = 0
+    while not converged and iteration < _NEWTON_MAX_ITER:
+        iteration += 1
+        if ndof == 1:
+            jac = 4.0 * masses[0] / (h * h) + tan[0]
+            dq0 = -res[0] / jac
+            dq1 = 0.0
+        else:
+            j00 = 4.0 * masses[0] / (h * h) + tan[0]
+            j01 = -tan[0]
+            j11 = 4.0 * masses[1] / (h * h) + tan[0] + tan[1]
+            det = j00 * j11 - j01 * j01
+            dq0 = -(j11 * res[0] - j01 * res[1]) / det
+            dq1 = -(j00 * res[1] - j01 * res[0]) / det
+        scale = 1.0
+        accepted = False
+        new_norm = rnorm
+        for _ in range(40):
+            qnew[0] = qt[0] + scale * dq0
+            if ndof == 2:
+                qnew[1] = qt[1] + scale * dq1
+            magnitude = _residual(ndof, masses, qn, vn, an, qnew, h, load_next, xb_old, xb_new, vb_new,
+                                  poly, cvisc, jk, jfc, jforce,
+                                  mk, mdecay, mgain, mstate, bw, bwz, res, tan, frc, vt, at)
+            new_norm = _norm(ndof, res)
+            if new_norm < rnorm or new_norm <= _RES_TOL * (magnitude + force_scale):
+                accepted = True
+                break
+            scale *= 0.5
+        for d in range(ndof):
+            qt[d] = qnew[d]
+        rnorm = new_norm
+        if rnorm <= _RES_TOL * (magnitude + force_scale):
+            converged = True
+        elif abs(scale * dq0) + abs(scale * dq1) <= 1e-14 * (abs(qt[0]) + abs(qt[ndof - 1]) + abs(qn[0])) \
+                or not accepted:
+            converged = rnorm <= 1e3 * _RES_TOL * (magnitude + force_scale)
+            break
+    if not converged:
+        return FLAG_NO_CONVERGENCE
+    # Commit: recompute with state update at the converged point.
+    _forces(ndof, qn, qt, vt, xb_old, xb_new, vb_new, h, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain,
+            mstate, bw, bwz, True, frc, tan)
+    for d in range(ndof):
+        v[d] = 2.0 / h * (qt[d] - qn[d]) - vn[d]
+        a[d] = 4.0 / (h * h) * (qt[d] - qn[d]) - 4.0 / h * vn[d] - an[d]
+        q[d] = qt[d]
+        if not (math.isfinite(q[d]) and math.isfinite(v[d]) and math.isfinite(a[d])):
+            return FLAG_NON_FINITE
+    if not _spring_stiffness_ok(ndof, q, xb_new, poly):
+        return FLAG_NEGATIVE_STIFFNESS
+    return FLAG_OK
+
+
+@numba.njit(cache=True)
+def _prepare_maxwell(mrate, h, mdecay, mgain):
+    for j in range(mrate.shape[0]):
+        for i in range(mrate.shape[1]):
+            x = mrate[j, i] * h
+            mdecay[j, i] = math.exp(-x)
+            mgain[j, i] = -math.expm1(-x) / x if x > 0.0 else 1.0
+
+
+@numba.njit(cache=True)
+def _initial_acceleration(ndof, masses, q, v, a, load, xb, vb, poly, cvisc, jk, jforce, mk, mstate, bw, bwz):
+    """Acceleration from equilibrium at t = 0 with the given internal states."""
+    frc = np.zeros(2)
+    _isolator_forces_now(ndof, q, v, xb, vb, poly, cvisc, jk, jforce, mk, mstate, bw, bwz, frc)
+    if ndof == 1:
+        a[0] = -frc[0] / masses[0] - load
+    else:
+        a[0] = -frc[0] / masses[0] - load
+        a[1] = (frc[0] - frc[1]) / masses[1] - load
+
+
+@numba.njit(cache=True)
+def _isolator_forces_now(ndof, q, v, xb, vb, poly, cvisc, jk, jforce, mk, mstate, bw, bwz, out):
+    for j in range(ndof):
+        if ndof == 2 and j == 0:
+            y = q[0] - q[1]
+            vr = v[0] - v[1]
+        else:
+            y = q[j] - xb
+            vr = v[j] - vb
+        f = y * (poly[j, 0] + y * (poly[j, 1] + y * poly[j, 2])) + cvisc[j] * vr
+        for i in range(jk.shape[1]):
+            f += jforce[j, i]
+        for i in range(mk.shape[1]):
+            f += mk[j, i] * mstate[j, i]
+        if bw[j, 0] != 0.0:
+            f += bw[j, 8] ** (bw[j, 9] * y) * (y * (bw[j, 1] + bw[j, 2] * abs(y) + bw[j, 3] * y * y) + bwz[j])
+        out[j] = f
+
+
+@numba.njit(cache=True, parallel=True)
+def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, h, base_disp, base_vel, gravity,
+                   q0, v0, jforce0, mstate0, bwz0, record_every, force_scale):
+    """Simulate a batch on a common time grid; record every ``record_every`` steps.
+
+    Parameters (arrays are float64)
+    ----------
+    base_disp, base_vel : (n_base, n_steps + 1) base displacement (m) and velocity
+        (m/s) at every step time; ``n_base`` is 1 (shared) or the batch size.
+    q0, v0 : (batch, ndof) initial absolute displacement (m) and velocity (m/s).
+    jforce0 : (batch, ndof, nj) initial Jenkin forces (N); mstate0 : (batch, ndof, nm)
+        initial Maxwell elongations (m); bwz0 : (batch, ndof) initial Bouc-Wen z (N).
+
+    Returns
+    -------
+    q, v, a, force : (batch, ndof, n_records) absolute records and isolator forces;
+    flags, flag_step : (batch,)
+    """
+    batch = q0.shape[0]
+    ndof = masses.shape[0]
+    n_steps = base_disp.shape[1] - 1
+    n_records = n_steps // record_every + 1
+    rec_q = np.full((batch, ndof, n_records), np.nan)
+    rec_v = np.full((batch, ndof, n_records), np.nan)
+    rec_a = np.full((batch, ndof, n_records), np.nan)
+    rec_f = np.full((batch, ndof, n_records), np.nan)
+    flags = np.zeros(batch, dtype=np.int64)
+    flag_step = np.full(batch, -1, dtype=np.int64)
+    mdecay = np.empty(mrate.shape)
+    mgain = np.empty(mrate.shape)
+    _prepare_maxwell(mrate, h, mdecay, mgain)
+    for b in numba.prange(batch):
+        row = np.int64(b) if base_disp.shape[0] > 1 else np.int64(0)
+        q = q0[b].copy()
+        v = v0[b].copy()
+        a = np.zeros(ndof)
+        jforce = jforce0[b].copy()
+        mstate = mstate0[b].copy()
+        bwz = bwz0[b].copy()
+        work = np.zeros((10, 2))
+        frc = np.zeros(2)
+        _initial_acceleration(ndof, masses, q, v, a, gravity, base_disp[row, 0], base_vel[row, 0], poly, cvisc,
+                              jk, jforce, mk, mstate, bw, bwz)
+        _isolator_forces_now(ndof, q, v, base_disp[row, 0], base_vel[row, 0], poly, cvisc, jk, jforce, mk,
+                             mstate, bw, bwz, frc)
+        for d in range(ndof):
+            rec_q[b, d, 0] = q[d]
+            rec_v[b, d, 0] = v[d]
+            rec_a[b, d, 0] = a[d]
+            rec_f[b, d, 0] = frc[d]
+        for n in range(1, n_steps + 1):
+            flag = _step(ndof, masses, q, v, a, h, gravity, base_disp[row, n - 1], base_disp[row, n],
+                         base_vel[row, n], poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate, bw, bwz,
+                         force_scale, work)
+            if flag != FLAG_OK:
+                flags[b] = flag
+                flag_step[b] = n
+                break
+            if n % record_every == 0:
+                r = n // record_every
+                _isolator_forces_now(ndof, q, v, base_disp[row, n], base_vel[row, n], poly, cvisc, jk, jforce,
+                                     mk, mstate, bw, bwz, frc)
+                for d in range(ndof):
+                    rec_q[b, d, r] = q[d]
+                    rec_v[b, d, r] = v[d]
+                    rec_a[b, d, r] = a[d]
+                    rec_f[b, d, r] = frc[d]
+    return rec_q, rec_v, rec_a, rec_f, flags, flag_step
+
+
+@numba.njit(cache=True, parallel=True)
+def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplitude, steps_per_period,
+                       n_coeff, tolerance, min_windows, max_windows, force_scale):
+    """Run harmonic base displacement ``A sin(2 pi f t)`` to steady state, per member.
+
+    From zero initial state (masses at rest, isolators unloaded; thesis 3.4). Every window of two excitation periods, the Fourier
+    coefficients of the absolute top displacement at multiples ``m/2`` of
+    ``f`` (``m = 0 .. n_coeff-1``) are computed; the run stops when the change
+    between consecutive windows, relative to the first-harmonic amplitude, and
+    its geometric extrapolation to infinity are both below ``tolerance``.
+
+    Returns
+    -------
+    coeff : complex (batch, n_coeff) amplitudes X_m with x(t) = Re(sum X_m exp(i m w t / 2))
+        (X_0 is the mean), of the last window.
+    half_range : (batch,) peak-peak/2 of the absolute top displacement (m), last window.
+    accel_peak : (batch,) max |absolute top acceleration| (m/s^2), last window.
+    deflection_coeff : complex (batch, n_coeff) same for the top deflection (q_top).
+    windows, change, converged, flags.
+    """
+    batch = freq.shape[0]
+    ndof = masses.shape[0]
+    coeff = np.zeros((batch, n_coeff), dtype=np.complex128)
+    dcoeff = np.zeros((batch, n_coeff), dtype=np.complex128)
+    half_range = np.full(batch, np.nan)
+    accel_peak = np.full(batch, np.nan)
+    windows = np.zeros(batch, dtype=np.int64)
+    change = np.full(batch, np.nan)
+    converged = np.zeros(batch, dtype=np.bool_)
+    flags = np.zeros(batch, dtype=np.int64)
+    for b in numba.prange(batch):
+        omega = 2.0 * math.pi * freq[b]
+        n_per = steps_per_period[b]
+        h = 1.0 / (freq[b] * n_per)
+        amp = amplitude[b]
+        mdecay = np.empty(mrate.shape)
+        mgain = np.empty(mrate.shape)
+        _prepare_maxwell(mrate, h, mdecay, mgain)
+        q = np.zeros(ndof)  # absolute rest at t = 0
+        v = np.zeros(ndof)
+        a = np.zeros(ndof)
+        jforce = np.zeros(jk.shape)
+        mstate = np.zeros(mk.shape)
+        bwz = np.zeros(ndof)
+        work = np.zeros((10, 2))
+        _initial_acceleration(ndof, masses, q, v, a, 0.0, 0.0, amp * omega, poly, cvisc, jk, jforce, mk, mstate,
+                              bw, bwz)
+        window = 2 * n_per
+        # twiddle factors for the window
+        cos_t = np.empty((n_coeff, window))
+        sin_t = np.empty((n_coeff, window))
+        for m in range(n_coeff):
+            for n in range(window):
+                angle = 2.0 * math.pi * m * n / window
+                cos_t[m, n] = math.cos(angle)
+                sin_t[m, n] = math.sin(angle)
+        previous = np.zeros(n_coeff, dtype=np.complex128)
+        current = np.zeros(n_coeff, dtype=np.complex128)
+        dcurrent = np.zeros(n_coeff, dtype=np.complex128)
+        last_change = np.inf
+        step = 0
+        flag = FLAG_OK
+        for w in range(max_windows):
+            for m in range(n_coeff):
+                current[m] = 0.0
+                dcurrent[m] = 0.0
+            lo = np.inf
+            hi = -np.inf
+            apeak = 0.0
+            for n in range(window):
+                # sample at the start of the step (t = step * h), then advance
+                base = amp * math.sin(omega * step * h)
+                top = q[0]
+                for m in range(n_coeff):
+                    twiddle = complex(cos_t[m, n], -sin_t[m, n])
+                    current[m] += top * twiddle
+                    dcurrent[m] += (top - base) * twiddle
+                lo = min(lo, top)
+                hi = max(hi, top)
+                apeak = max(apeak, abs(a[0]))
+                step += 1
+                phase = omega * step * h
+                flag = _step(ndof, masses, q, v, a, h, 0.0, base, amp * math.sin(phase), amp * omega * math.cos(phase),
+                             poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate, bw, bwz, force_scale, work)
+                if flag != FLAG_OK:
+                    break
+            if flag != FLAG_OK:
+                break
+            for m in range(n_coeff):
+                scale = 1.0 / window if m == 0 else 2.0 / window
+                current[m] *= scale
+                dcurrent[m] *= scale
+            first = abs(current[2]) if n_coeff > 2 else abs(current[0])
+            diff = 0.0
+            for m in range(n_coeff):
+                diff = max(diff, abs(current[m] - previous[m]))
+            relative = diff / max(first, 1e-300)
+            # geometric extrapolation of the remaining change: r/(1-r) * relative
+            if relative == 0.0:
+                remaining = 0.0
+            elif last_change > 0.0 and math.isfinite(last_change) and relative < last_change:
+                ratio = relative / last_change
+                remaining = relative * ratio / (1.0 - ratio)
+            else:
+                remaining = np.inf
+            last_change = relative
+            for m in range(n_coeff):
+                previous[m] = current[m]
+            windows[b] = w + 1
+            change[b] = relative
+            half_range[b] = 0.5 * (hi - lo)
+            accel_peak[b] = apeak
+            if w + 1 >= min_windows and relative < tolerance and remaining < tolerance:
+                converged[b] = True
+                break
+        flags[b] = flag
+        if flag != FLAG_OK:
+            half_range[b] = np.nan
+            accel_peak[b] = np.nan
+            for m in range(n_coeff):
+                coeff[b, m] = np.nan
+                dcoeff[b, m] = np.nan
+        else:
+            for m in range(n_coeff):
+                coeff[b, m] = previous[m]
+                dcoeff[b, m] = dcurrent[m]
+    return coeff, half_range, accel_peak, dcoeff, windows, change, converged, flags

@@ -1,0 +1,165 @@
+"""Steady-state response to harmonic base displacement, for a batch of points."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from idkit.errors import SimulationError
+from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
+from idkit.simulate._kernel import FLAG_REASONS, run_harmonic_batch
+
+__all__ = ["HarmonicResponse", "harmonic_response", "default_steps_per_period", "small_amplitude_resonance"]
+
+
+@dataclass(frozen=True)
+class HarmonicResponse:
+    """Steady-state response of a batch of (frequency, amplitude) points.
+
+    The base moves as ``x_b = A sin(2 pi f t)``. Coefficients are complex amplitudes
+    ``X_m`` of the absolute top-mass displacement at ``m/2`` times the excitation
+    frequency, ``x(t) = X_0 + Re sum_{m>=1} X_m exp(i m pi f t)``, from the last
+    window of two periods.
+
+    Attributes
+    ----------
+    freq, amplitude : (n_points,) Hz, m
+    coefficients : complex (n_points, 2 K + 1), m
+    deflection_coefficients : complex (n_points, 2 K + 1), m, same for the top deflection
+        (top displacement relative to the base)
+    half_range : (n_points,) peak-peak/2 of the top displacement, m
+    peak_acceleration : (n_points,) max |top acceleration| in the last window, m/s^2
+    periods : (n_points,) excitation periods simulated
+    change : (n_points,) last window-to-window change relative to the first harmonic
+    converged : (n_points,) bool; flags, reasons: validity of each run
+    steps_per_period : (n_points,)
+    """
+
+    freq: np.ndarray
+    amplitude: np.ndarray
+    coefficients: np.ndarray
+    deflection_coefficients: np.ndarray
+    half_range: np.ndarray
+    peak_acceleration: np.ndarray
+    periods: np.ndarray
+    change: np.ndarray
+    converged: np.ndarray
+    flags: np.ndarray
+    reasons: tuple[str, ...]
+    steps_per_period: np.ndarray
+
+    @property
+    def n_harmonics(self) -> int:
+        return (self.coefficients.shape[1] - 1) // 2
+
+    def harmonic(self, order: float) -> np.ndarray:
+        """Complex amplitude (m) of the top displacement at ``order`` x f (0, 0.5, 1, 2, ...)."""
+        index = int(round(2 * order))
+        if not (0 <= index < self.coefficients.shape[1]) or abs(2 * order - index) > 1e-9:
+            raise SimulationError(
+                f"harmonic order: found {order!r}, expected 0, 0.5, 1, ..., {self.n_harmonics}"
+            )
+        return self.coefficients[:, index]
+
+    @property
+    def base_first_harmonic(self) -> np.ndarray:
+        """Complex amplitude of the base displacement, ``-i A`` for ``A sin``."""
+        return -1j * self.amplitude
+
+    def hosidf(self, order: float) -> np.ndarray:
+        """Higher-order sinusoidal input describing function of order ``order``.
+
+        k-th harmonic of the top velocity over the first harmonic of the base
+        velocity, ``k X_k / X_b1`` (SPEC 5); for a linear system order 1 is the
+        transmissibility and the others vanish.
+        """
+        return order * self.harmonic(order) / self.base_first_harmonic
+
+    @property
+    def bias(self) -> np.ndarray:
+        """Mean of the top deflection over the last window (m); non-zero for asymmetric isolators."""
+        return self.deflection_coefficients[:, 0].real
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """Long-format table: one row per point and harmonic order."""
+        rows = []
+        orders = np.arange(self.coefficients.shape[1]) / 2
+        for index, order in enumerate(orders):
+            value = order * self.coefficients[:, index] / self.base_first_harmonic if order else self.bias
+            rows.append(pd.DataFrame({
+                "freq [Hz]": self.freq, "amplitude [m]": self.amplitude, "order": order,
+                "magnitude [-]": np.abs(value) if order else value,
+                "phase [rad]": np.angle(value) if order else 0.0,
+                "converged": self.converged, "flag": self.flags,
+            }))
+        return pd.concat(rows, ignore_index=True)
+
+
+def small_amplitude_resonance(system) -> float:
+    """Frequency (Hz) of the peak of the small-amplitude transmissibility (0.1 Hz - 5 kHz)."""
+    system = resolve_system(system)
+    freq = np.logspace(-1, np.log10(5e3), 2000)
+    return float(freq[np.argmax(np.abs(system.transmissibility(freq)))])
+
+
+def default_steps_per_period(system, freq, *, per_period: int = 128, per_resonance: int = 48) -> np.ndarray:
+    """Steps per excitation period: at least ``per_period``, and at least ``per_resonance``
+    per period of the small-amplitude resonance, rounded up to an even number."""
+    resonance = small_amplitude_resonance(system)
+    freq = np.asarray(freq, dtype=float)
+    steps = np.maximum(per_period, np.ceil(per_resonance * resonance / freq))
+    return (2 * np.ceil(steps / 2)).astype(np.int64)
+
+
+def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, tolerance: float = 1e-3,
+                      steps_per_period=None, min_periods: int = 8, max_periods: int = 4000) -> HarmonicResponse:
+    """Run every (freq, amplitude) point of a batch to steady state.
+
+    Parameters
+    ----------
+    system : SDOFSystem, HybridSystem or CoulombSpringSystem
+    freq, amplitude : array_like, broadcast to (n_points,)
+        Excitation frequency in Hz and base displacement amplitude in m.
+    n_harmonics : int
+        Highest harmonic K; orders 0, 1/2, 1, ..., K are extracted.
+    tolerance : float
+        Steady-state criterion: the change of every coefficient between consecutive
+        two-period windows, relative to the first harmonic, and its geometric
+        extrapolation (remaining change) both below ``tolerance``.
+    steps_per_period : int or array_like, optional
+        Default :func:`default_steps_per_period`.
+    min_periods, max_periods : int
+        Bounds on the simulated periods; points that hit ``max_periods`` are
+        returned with ``converged = False``.
+    """
+    system = resolve_system(system)
+    arrays = system_arrays(system)
+    freq, amplitude = np.broadcast_arrays(np.asarray(freq, dtype=float), np.asarray(amplitude, dtype=float))
+    freq = np.ascontiguousarray(freq.ravel())
+    amplitude = np.ascontiguousarray(amplitude.ravel())
+    if np.any(~np.isfinite(freq)) or np.any(freq <= 0):
+        raise SimulationError(f"freq: found {freq[~(freq > 0)][:1]}, expected positive frequencies in Hz")
+    if np.any(~np.isfinite(amplitude)) or np.any(amplitude <= 0):
+        raise SimulationError(f"amplitude: found {amplitude[~(amplitude > 0)][:1]}, expected positive m")
+    if int(n_harmonics) < 1:
+        raise SimulationError(f"n_harmonics: found {n_harmonics!r}, expected >= 1")
+    if steps_per_period is None:
+        steps = default_steps_per_period(system, freq)
+    else:
+        steps = np.broadcast_to(np.asarray(steps_per_period, dtype=np.int64), freq.shape).copy()
+        if np.any(steps < 8) or np.any(steps % 2):
+            raise SimulationError("steps_per_period: expected even integers >= 8")
+    n_coeff = 2 * int(n_harmonics) + 1
+    scale = force_scale(arrays, float(np.max(amplitude * (2 * np.pi * freq) ** 2)))
+    coeff, half_range, peak, dcoeff, windows, change, converged, flags = run_harmonic_batch(
+        *arrays.as_tuple(), freq, amplitude, np.ascontiguousarray(steps), n_coeff, float(tolerance),
+        max(1, int(np.ceil(min_periods / 2))), max(1, int(np.ceil(max_periods / 2))), scale,
+    )
+    return HarmonicResponse(
+        freq=freq, amplitude=amplitude, coefficients=coeff, deflection_coefficients=dcoeff,
+        half_range=half_range, peak_acceleration=peak, periods=2 * windows, change=change,
+        converged=converged, flags=flags, reasons=tuple(FLAG_REASONS[int(f)] for f in flags),
+        steps_per_period=steps,
+    )

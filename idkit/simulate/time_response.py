@@ -1,0 +1,248 @@
+"""Time simulation of base-excited and free-falling isolator systems, in batches."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from idkit.errors import SimulationError
+from idkit.models.base import IsolatorModel
+from idkit.simulate._arrays import STANDARD_GRAVITY, force_scale, resolve_system, system_arrays
+from idkit.simulate._kernel import FLAG_REASONS, run_time_batch
+from idkit.simulate.base_motion import BaseMotion, integrate_acceleration
+
+__all__ = ["TimeResponse", "simulate", "free_fall", "static_deflection", "initial_states"]
+
+
+@dataclass(frozen=True)
+class TimeResponse:
+    """Recorded response of a batch of runs on a common time grid.
+
+    Attributes
+    ----------
+    time : (n_records,) s
+    displacement : (batch, ndof, n_records) mass displacement relative to the base, m (top first)
+    velocity : (batch, ndof, n_records) relative velocity, m/s
+    acceleration : (batch, ndof, n_records) absolute acceleration, m/s^2 (what an accelerometer reads,
+        without gravity)
+    deflection : (batch, n_isolators, n_records) isolator deflections, m (positive = tension),
+        isolator 0 is the one below the top mass
+    isolator_force : (batch, n_isolators, n_records) isolator forces, N (positive = tension)
+    flags : (batch,) 0 if the run finished, else a code; ``reasons`` gives the text
+    flag_time : (batch,) s, time of the step that failed (NaN when ok)
+    """
+
+    time: np.ndarray
+    displacement: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    deflection: np.ndarray
+    isolator_force: np.ndarray
+    flags: np.ndarray
+    flag_time: np.ndarray
+    reasons: tuple[str, ...] = field(default=())
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Boolean mask of runs that finished inside the model's valid range."""
+        return self.flags == 0
+
+    def to_dataframe(self, member: int = 0) -> pd.DataFrame:
+        """One run as a table with unit-bearing column names."""
+        columns = {"time [s]": self.time}
+        for d in range(self.displacement.shape[1]):
+            name = "top" if d == 0 else "intermediate"
+            columns[f"x_{name} [m]"] = self.displacement[member, d]
+            columns[f"v_{name} [m/s]"] = self.velocity[member, d]
+            columns[f"a_{name} [m/s^2]"] = self.acceleration[member, d]
+        for j in range(self.deflection.shape[1]):
+            columns[f"deflection_{j} [m]"] = self.deflection[member, j]
+            columns[f"force_{j} [N]"] = self.isolator_force[member, j]
+        return pd.DataFrame(columns)
+
+
+def static_deflection(isolator: IsolatorModel, load: float, *, tolerance: float = 1e-12) -> float:
+    """Deflection (m) at which the isolator's monotonic quasi-static force equals ``load`` (N).
+
+    Loading from the unloaded state; positive load = tension. Solved by
+    bisection on the (monotonic while valid) backbone curve.
+    """
+    if load == 0:
+        return 0.0
+
+    def backbone(y):
+        path = np.linspace(0.0, y, 65)
+        if isinstance(isolator, IsolatorModel) and isolator.kind in ("generalized_maxwell", "voigt"):
+            return float(isolator.small_amplitude_stiffness(0.0).real * y)
+        return float(isolator.force(path)[-1])
+
+    direction = np.sign(load)
+    high = direction * 1e-6
+    while abs(backbone(high)) < abs(load):
+        high *= 2.0
+        if abs(high) > 10.0:
+            raise SimulationError(f"static_deflection: no deflection within 10 m carries {load:g} N")
+    low = 0.0
+    while abs(high - low) > tolerance * max(abs(high), 1e-9):
+        middle = 0.5 * (low + high)
+        if abs(backbone(middle)) < abs(load):
+            low = middle
+        else:
+            high = middle
+    return 0.5 * (low + high)
+
+
+def initial_states(system, deflections):
+    """Internal states after monotonic loading to ``deflections`` (m, one per isolator).
+
+    Jenkin elements carry ``clip(k y, -Fc, Fc)``; Maxwell elements are relaxed
+    (held long at that deflection); Bouc-Wen ``z`` follows the loading branch.
+    Returns ``(jenkin_force (ndof, nj), maxwell_state (ndof, nm), boucwen_z (ndof,))``.
+    """
+    system = resolve_system(system)
+    arrays = system_arrays(system)
+    deflections = np.broadcast_to(np.asarray(deflections, dtype=float), (arrays.ndof,))
+    jforce = np.clip(arrays.jk * deflections[:, None], -arrays.jfc, arrays.jfc)
+    mstate = np.zeros_like(arrays.mk)
+    bwz = np.zeros(arrays.ndof)
+    for j, isolator in enumerate(system.isolators):
+        if isolator.kind == "bouc_wen" and deflections[j] != 0:
+            bwz[j] = isolator.hysteretic_force(np.linspace(0.0, deflections[j], 257))[-1]
+    return jforce, mstate, bwz
+
+
+def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=None,
+             initial_velocity=None, initial_deflection=None, gravity: bool | float = False,
+             record_every: int = 1) -> TimeResponse:
+    """Simulate a batch of runs of ``system`` on a uniform time grid.
+
+    Parameters
+    ----------
+    system : SDOFSystem, HybridSystem or CoulombSpringSystem
+    time : array_like, shape (n_steps + 1,)
+        Uniform, increasing time grid in s; its spacing is the integration step.
+    base : BaseMotion, optional
+        One base motion shared by the whole batch (default: base at rest).
+    base_acceleration : array_like, shape (batch, n_steps + 1), optional
+        Sampled base accelerations in m/s^2, one row per run (e.g. random
+        realizations); overrides ``base``. Integrated with the integrator's rule
+        from zero base displacement and velocity.
+    initial_velocity : array_like, shape (batch, ndof) or (ndof,), optional
+        Absolute initial velocities of the masses in m/s, top first (drops: ``v0 < 0``).
+        Default: at rest.
+    initial_deflection : array_like, shape (batch, n_isolators) or (n_isolators,), optional
+        Initial isolator deflections in m (positive = tension); internal states follow
+        :func:`initial_states`. Default: unloaded.
+    gravity : bool or float
+        Include gravity (True: 9.80665 m/s^2, or a value in m/s^2) acting downward.
+    record_every : int
+        Record every n-th step.
+
+    Returns
+    -------
+    TimeResponse
+    """
+    system = resolve_system(system)
+    arrays = system_arrays(system)
+    ndof = arrays.ndof
+    t = np.asarray(time, dtype=float)
+    if t.ndim != 1 or t.size < 2:
+        raise SimulationError(f"time: found shape {t.shape}, expected a 1-D grid with at least 2 points")
+    steps = np.diff(t)
+    h = float(steps.mean())
+    if not (h > 0 and np.allclose(steps, h, rtol=1e-9, atol=0)):
+        raise SimulationError("time: found a non-uniform or non-increasing grid, expected uniform spacing")
+    if base_acceleration is not None:
+        accel = np.atleast_2d(np.asarray(base_acceleration, dtype=float))
+        if accel.shape[1] != t.size:
+            raise SimulationError(
+                f"base_acceleration: found {accel.shape[1]} samples per run, expected {t.size} (one per time point)"
+            )
+        if not np.all(np.isfinite(accel)):
+            bad = np.argwhere(~np.isfinite(accel))[0]
+            raise SimulationError(f"base_acceleration: found a non-finite sample at run {bad[0]}, index {bad[1]}")
+        base_disp, base_vel = integrate_acceleration(accel, h)
+    else:
+        base_disp, base_vel = (values[None, :] for values in (base or BaseMotion.at_rest()).on_grid(t))
+    batch_sizes = {base_disp.shape[0]}
+    v_abs = np.zeros((1, ndof)) if initial_velocity is None else np.atleast_2d(np.asarray(initial_velocity, float))
+    y0 = np.zeros((1, ndof)) if initial_deflection is None else np.atleast_2d(np.asarray(initial_deflection, float))
+    for name, values in (("initial_velocity", v_abs), ("initial_deflection", y0)):
+        if values.shape[1] != ndof:
+            raise SimulationError(f"{name}: found {values.shape[1]} columns, expected {ndof} (one per mass/isolator)")
+        if not np.all(np.isfinite(values)):
+            raise SimulationError(f"{name}: found non-finite values")
+        batch_sizes.add(values.shape[0])
+    batch_sizes.discard(1)
+    if len(batch_sizes) > 1:
+        raise SimulationError(f"batch sizes differ between inputs: {sorted(batch_sizes)}")
+    batch = batch_sizes.pop() if batch_sizes else 1
+    v_abs = np.ascontiguousarray(np.broadcast_to(v_abs, (batch, ndof)))
+    y0 = np.broadcast_to(y0, (batch, ndof))
+    x_base0 = np.broadcast_to(base_disp[:, :1], (batch, 1))
+    # absolute positions: the last isolator stands on the base, isolator 0 carries the top mass
+    q0 = x_base0 + (y0 if ndof == 1 else np.column_stack([y0[:, 0] + y0[:, 1], y0[:, 1]]))
+    jforce0 = np.empty((batch, ndof, arrays.jk.shape[1]))
+    mstate0 = np.empty((batch, ndof, arrays.mk.shape[1]))
+    bwz0 = np.empty((batch, ndof))
+    for b in range(batch):
+        jforce0[b], mstate0[b], bwz0[b] = initial_states(system, y0[b])
+    g = STANDARD_GRAVITY if gravity is True else float(gravity or 0.0)
+    if int(record_every) < 1:
+        raise SimulationError(f"record_every: found {record_every!r}, expected a positive integer")
+    accel_scale = float(np.abs(np.diff(base_vel, axis=-1)).max() / h) if t.size > 1 else 0.0
+    rec_q, rec_v, rec_a, rec_f, flags, flag_step = run_time_batch(
+        *arrays.as_tuple(), h, np.ascontiguousarray(base_disp), np.ascontiguousarray(base_vel), g,
+        np.ascontiguousarray(q0), v_abs, jforce0, mstate0, bwz0, int(record_every),
+        force_scale(arrays, accel_scale),
+    )
+    n_records = rec_q.shape[2]
+    record_time = t[:: int(record_every)][:n_records]
+    base_x = base_disp[:, :: int(record_every)][:, :n_records]
+    base_v = base_vel[:, :: int(record_every)][:, :n_records]
+    displacement = rec_q - base_x[:, None, :]
+    velocity = rec_v - base_v[:, None, :]
+    if ndof == 1:
+        deflection = displacement
+    else:
+        deflection = np.stack([displacement[:, 0] - displacement[:, 1], displacement[:, 1]], axis=1)
+    flag_time = np.where(flag_step >= 0, t[0] + flag_step * h, np.nan)
+    return TimeResponse(
+        time=record_time, displacement=displacement, velocity=velocity, acceleration=rec_a,
+        deflection=deflection, isolator_force=rec_f, flags=flags, flag_time=flag_time,
+        reasons=tuple(FLAG_REASONS[int(f)] for f in flags),
+    )
+
+
+def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float, time_step: float,
+              gravity: bool | float = False, initial_deflection=None, record_every: int = 1) -> TimeResponse:
+    """Conditioned free fall (SPEC 5): base fixed, every mass hits with the same velocity.
+
+    Parameters
+    ----------
+    impact_velocity : array_like (batch,), m/s
+        Velocity at impact, negative downward. Give this or ``drop_height``.
+    drop_height : array_like (batch,), m
+        Drop heights; ``v0 = -sqrt(2 g h)`` (eq. 3.19).
+    duration, time_step : float, s
+    gravity, initial_deflection : see :func:`simulate`.
+    """
+    if (impact_velocity is None) == (drop_height is None):
+        raise SimulationError("free_fall: give exactly one of impact_velocity and drop_height")
+    if drop_height is not None:
+        heights = np.atleast_1d(np.asarray(drop_height, dtype=float))
+        if np.any(~np.isfinite(heights)) or np.any(heights < 0):
+            raise SimulationError(f"drop_height: found {heights[~(heights >= 0)][:1]}, expected finite heights >= 0 m")
+        v0 = -np.sqrt(2.0 * STANDARD_GRAVITY * heights)
+    else:
+        v0 = np.atleast_1d(np.asarray(impact_velocity, dtype=float))
+    if not (duration > 0 and time_step > 0 and duration / time_step < 1e8):
+        raise SimulationError(f"free_fall: found duration={duration!r}, time_step={time_step!r}, expected positive s")
+    n_steps = int(round(duration / time_step))
+    time = np.arange(n_steps + 1) * time_step
+    ndof = system_arrays(system).ndof
+    velocities = np.repeat(v0[:, None], ndof, axis=1)
+    return simulate(system, time, initial_velocity=velocities, initial_deflection=initial_deflection,
+                    gravity=gravity, record_every=record_every)
