@@ -21,6 +21,7 @@ from idkit.io.csv_measurement import (
 )
 from idkit.io.info import Excitation, MeasurementInfo
 from idkit.io.manifest import (
+    Manifest,
     ManifestEntry,
     MeasurementSet,
     load_measurement_set,
@@ -58,6 +59,7 @@ __all__ = [
     "ComplexStiffnessTable",
     "DropMeasurement",
     "Excitation",
+    "Manifest",
     "ManifestEntry",
     "MatColumn",
     "Measurement",

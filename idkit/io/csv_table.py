@@ -31,7 +31,8 @@ from idkit.io.units import UnitScale, convert_to_si, lookup_unit
 
 __all__ = ["CsvTable", "parse_number_cells", "read_csv_table", "read_file_bytes"]
 
-_NUMBER_RE = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")  # ASCII digits only
+# ASCII digits only: Python's float() would also accept Unicode digits and underscores
+_NUMBER_RE = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 _NONFINITE_RE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
 
 

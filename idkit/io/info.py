@@ -66,7 +66,8 @@ class Excitation:
                 f"excitation: amplitude={self.amplitude!r} and "
                 f"amplitude_quantity={self.amplitude_quantity!r} must be given together"
             )
-        if self.amplitude_quantity is not None and self.amplitude_quantity not in AMPLITUDE_QUANTITIES:
+        quantity = self.amplitude_quantity
+        if quantity is not None and quantity not in AMPLITUDE_QUANTITIES:
             raise DataError(
                 f"excitation amplitude_quantity: found {self.amplitude_quantity!r}, "
                 f"expected one of {', '.join(AMPLITUDE_QUANTITIES)}"
@@ -125,7 +126,8 @@ class MeasurementInfo:
     def __post_init__(self) -> None:
         if not isinstance(self.id, str):
             raise DataError(f"id: found {self.id!r}, expected a string")
-        if self.isolator is not None and (not isinstance(self.isolator, str) or not self.isolator.strip()):
+        isolator = self.isolator
+        if isolator is not None and (not isinstance(isolator, str) or not isolator.strip()):
             raise DataError(f"isolator: found {self.isolator!r}, expected a non-empty string "
                             f"(one of {', '.join(ISOLATORS)} or free text)")
         for name in ("top_mass_kg", "intermediate_mass_kg", "bottom_mass_kg",
@@ -141,4 +143,5 @@ class MeasurementInfo:
         if not isinstance(self.notes, str):
             raise DataError(f"notes: found {self.notes!r}, expected a string")
         if self.excitation is not None and not isinstance(self.excitation, Excitation):
-            raise DataError(f"excitation: found {type(self.excitation).__name__}, expected Excitation")
+            raise DataError(f"excitation: found {type(self.excitation).__name__}, "
+                            "expected Excitation")

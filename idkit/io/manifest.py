@@ -36,6 +36,7 @@ __all__ = [
     "MANIFEST_FORMAT",
     "MANIFEST_NAME",
     "MANIFEST_VERSION",
+    "Manifest",
     "ManifestEntry",
     "MeasurementSet",
     "load_measurement_set",
@@ -83,6 +84,29 @@ class ManifestEntry:
         return self.info.id
 
 
+@dataclass(frozen=True)
+class Manifest:
+    """A checked ``manifest.json`` (no data file read yet).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The manifest file.
+    name, notes : str
+        Set name and notes.
+    entries : tuple of ManifestEntry
+        The checked entries, in file order (defaults applied).
+    sha256 : str
+        SHA-256 of the manifest bytes.
+    """
+
+    path: Path
+    name: str
+    notes: str
+    entries: tuple[ManifestEntry, ...]
+    sha256: str
+
+
 def _nan_if_none(value: float | None) -> float:
     return float("nan") if value is None else float(value)
 
@@ -123,7 +147,8 @@ def _parse_excitation(value: object, where: str) -> Excitation:
             raise DataError(f"{where}: excitation: 'amplitude' and 'amplitude_unit' must be "
                             "given together")
         if isinstance(amplitude, bool) or not isinstance(amplitude, (int, float)):
-            raise DataError(f"{where}: excitation amplitude: found {amplitude!r}, expected a number")
+            raise DataError(f"{where}: excitation amplitude: found {amplitude!r}, "
+                            "expected a number")
         scale = lookup_unit(unit if isinstance(unit, str) else None,
                             ("velocity", "length", "acceleration", "voltage"),
                             where=f"{where}: excitation amplitude_unit")
@@ -194,7 +219,7 @@ def _parse_entry(number: int, raw_entry: object, defaults: dict, path: Path) -> 
     return ManifestEntry(kind=kind, file=file, info=info, mat_columns=mat_columns)
 
 
-def read_manifest(folder: str | Path) -> tuple[dict, tuple[ManifestEntry, ...], str]:
+def read_manifest(folder: str | Path) -> Manifest:
     """Read and check ``folder/manifest.json`` (no data file is read).
 
     Parameters
@@ -204,12 +229,8 @@ def read_manifest(folder: str | Path) -> tuple[dict, tuple[ManifestEntry, ...], 
 
     Returns
     -------
-    header : dict
-        ``name`` and ``notes`` of the set.
-    entries : tuple of ManifestEntry
-        The checked entries, in file order.
-    sha256 : str
-        SHA-256 of the manifest bytes.
+    Manifest
+        Name, notes, checked entries and the manifest's SHA-256.
 
     Raises
     ------
@@ -254,8 +275,8 @@ def read_manifest(folder: str | Path) -> tuple[dict, tuple[ManifestEntry, ...], 
     if missing:
         raise DataError(f"manifest '{path}': data file(s) not found (relative to "
                         f"'{folder}'): {'; '.join(missing)}")
-    header = {"name": str(document.get("name", "")), "notes": str(document.get("notes", ""))}
-    return header, entries, sha256
+    return Manifest(path=path, name=str(document.get("name", "")),
+                    notes=str(document.get("notes", "")), entries=entries, sha256=sha256)
 
 
 def _read_entry(folder: Path, entry: ManifestEntry) -> Measurement:
@@ -367,7 +388,8 @@ class MeasurementSet:
                 "id": entry.id, "kind": entry.kind, "file": entry.file,
                 "isolator": info.isolator, "top_mass [kg]": _nan_if_none(info.top_mass_kg),
                 "intermediate_mass [kg]": _nan_if_none(info.intermediate_mass_kg),
-                "bottom_mass [kg]": _nan_if_none(info.bottom_mass_kg), "drop_height [m]": _nan_if_none(info.drop_height_m),
+                "bottom_mass [kg]": _nan_if_none(info.bottom_mass_kg),
+                "drop_height [m]": _nan_if_none(info.drop_height_m),
                 "freq [Hz]": _nan_if_none(exc.freq), "repetition": info.repetition,
                 "sample_rate [Hz]": _nan_if_none(info.sample_rate_hz), "split": info.split,
                 "n_samples": measurement.n_samples, "sha256": measurement.source.sha256,
@@ -400,10 +422,11 @@ def load_measurement_set(folder: str | Path) -> MeasurementSet:
     >>> fit = mset.select(kind="white_noise", split="fit")  # doctest: +SKIP
     """
     folder = Path(folder)
-    header, entries, sha256 = read_manifest(folder)
-    measurements = tuple(_read_entry(folder, entry) for entry in entries)
-    return MeasurementSet(folder=folder, entries=entries, measurements=measurements,
-                          name=header["name"], notes=header["notes"], manifest_sha256=sha256)
+    manifest = read_manifest(folder)
+    measurements = tuple(_read_entry(folder, entry) for entry in manifest.entries)
+    return MeasurementSet(folder=folder, entries=manifest.entries, measurements=measurements,
+                          name=manifest.name, notes=manifest.notes,
+                          manifest_sha256=manifest.sha256)
 
 
 def _entry_json(kind: str, file: str, info: MeasurementInfo) -> dict:

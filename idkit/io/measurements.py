@@ -90,8 +90,8 @@ def check_time(time: np.ndarray, source: Source, sample_rate_hz: float | None) -
         i = int(bad[0]) + 1
         what = "duplicate time stamp" if step[i - 1] == 0 else "time decreases (unsorted)"
         raise DataError(
-            f"{source.where('time')}: {source.row_label(i)}: {what}: found {float(time[i])!r} after "
-            f"{float(time[i - 1])!r}, expected strictly increasing time"
+            f"{source.where('time')}: {source.row_label(i)}: {what}: found "
+            f"{float(time[i])!r} after {float(time[i - 1])!r}, expected strictly increasing time"
         )
     if sample_rate_hz is not None:
         rate_hz = 1.0 / float(np.median(step))
@@ -347,7 +347,9 @@ class DropMeasurement(_SignalMeasurement):
         return 0.5 * (self.a_top_1 + self.a_top_2)
 
 
-Measurement = QuasiStaticMeasurement | WhiteNoiseMeasurement | SteppedSineMeasurement | DropMeasurement
+#: Any of the four measurement dataclasses (for annotations).
+Measurement = (QuasiStaticMeasurement | WhiteNoiseMeasurement | SteppedSineMeasurement
+               | DropMeasurement)
 
 _CLASSES = {cls.kind: cls for cls in (QuasiStaticMeasurement, WhiteNoiseMeasurement,
                                        SteppedSineMeasurement, DropMeasurement)}

@@ -154,7 +154,8 @@ def read_pyvisco_complex_modulus(path: str | Path) -> ComplexStiffnessTable:
     })
     for name in ("f", "E_stor", "E_loss"):
         if name not in values:
-            raise DataError(f"{source.where()}: column '{name}' missing; expected f, E_stor, E_loss")
+            raise DataError(f"{source.where()}: column '{name}' missing; "
+                            "expected f, E_stor, E_loss")
     if "Set" in values and np.any(values["Set"] != np.round(values["Set"])):
         raise DataError(f"{source.where('Set')}: found non-integer isotherm numbers")
     return ComplexStiffnessTable(freq=values["f"], storage=values["E_stor"],
@@ -299,7 +300,9 @@ def read_prony_reference(path: str | Path, *,
     else:
         lines = text.splitlines()
         source = Source(path=path, sha256=sha256)
-        comments = [line for line in lines if line.startswith("#")]
+        header_lines = next((n for n, line in enumerate(lines) if not line.startswith("#")),
+                            len(lines))
+        comments = lines[:header_lines]
         match = next((re.match(r"#\s*E0\s*=\s*(\S+)\s*(\S+)", c) for c in comments
                       if re.match(r"#\s*E0\s*=", c)), None)
         if match is None:
@@ -307,9 +310,11 @@ def read_prony_reference(path: str | Path, *,
                             "pyvisco prony_terms layout")
         scale = lookup_unit(match.group(2), "modulus", where=f"{source.where()}, E0 line")
         e0 = float(convert_to_si(parse_number_cells([match.group(1)], "E0", source), scale)[0])
-        header_lines = len(comments)
         source = Source(path=path, sha256=sha256, header_lines=header_lines)
-        rows = [[c.strip() for c in line.split(",")] for line in lines[header_lines:] if line.strip()]
+        body = lines[header_lines:]
+        while body and not body[-1].strip():
+            body.pop()
+        rows = [[c.strip() for c in line.split(",")] for line in body]
         for i, row in enumerate(rows):
             if len(row) != 2:
                 raise DataError(f"{source.where()}: {source.row_label(i)}: found {len(row)} "

@@ -209,7 +209,8 @@ def test_writer_gzip_is_reproducible(tmp_path):
 
 
 def test_writer_with_units(tmp_path):
-    path = write_csv_measurement(_qs(), tmp_path / "u.csv", units={"force": "daN", "deflection": "mm"})
+    path = write_csv_measurement(_qs(), tmp_path / "u.csv",
+                                 units={"force": "daN", "deflection": "mm"})
     assert path.read_text().splitlines()[0] == "time [s],deflection [mm],force [daN]"
     back = read_csv_measurement(path, "quasi_static")
     np.testing.assert_allclose(back.force, _qs().force, rtol=1e-15)

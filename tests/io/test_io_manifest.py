@@ -131,8 +131,9 @@ def test_write_refuses_existing_files_before_writing_anything(written_set):
 
 def test_write_gzip_set(tmp_path):
     write_measurement_set(tmp_path, _measurements()[:2], gzip=True)
-    _, entries, _ = read_manifest(tmp_path)
-    assert all(e.file.endswith(".csv.gz") for e in entries)
+    manifest = read_manifest(tmp_path)
+    assert all(e.file.endswith(".csv.gz") for e in manifest.entries)
+    assert manifest.sha256 == file_sha256(tmp_path / "manifest.json")
     assert len(load_measurement_set(tmp_path)) == 2
 
 
