@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from idkit.errors import DataError
 from idkit.io.complex_stiffness import ComplexStiffnessTable, ShiftFactorTable
@@ -224,6 +225,13 @@ class PronyReference:
     def rate(self) -> np.ndarray:
         """Relaxation rates ``1 / tau_i`` in 1/s."""
         return 1.0 / self.tau
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """Columns ``alpha [-]``, ``tau [s]`` and, if E_0 is known, ``modulus [Pa]``."""
+        data = {"alpha [-]": np.array(self.alpha), "tau [s]": np.array(self.tau)}
+        if self.instantaneous_modulus is not None:
+            data["modulus [Pa]"] = self.moduli
+        return pd.DataFrame(data)
 
 
 _TBDATA_RE = re.compile(r"^TBDATA\s*,\s*(\d+)\s*,(.*)$", re.IGNORECASE)

@@ -58,6 +58,7 @@ def test_prony_references(realdata, relpath, n_terms, e0_pa):
     assert prony.alpha.size == prony.tau.size == n_terms
     assert np.all(np.diff(prony.tau) > 0) and 0 < prony.alpha.sum() < 1
     assert prony.instantaneous_modulus == e0_pa
+    assert list(prony.to_dataframe().columns)[:2] == ["alpha [-]", "tau [s]"]
     if e0_pa is None:
         with pytest.raises(DataError, match="instantaneous_modulus"):
             _ = prony.moduli
