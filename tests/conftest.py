@@ -1,0 +1,12 @@
+"""Shared fixtures: locations resolved from this file, never the working directory."""
+
+from pathlib import Path
+
+import pytest
+
+REPO_ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="session")
+def repo_root() -> Path:
+    return REPO_ROOT

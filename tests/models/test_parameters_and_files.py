@@ -1,0 +1,114 @@
+"""Parameter validation, declarations and the JSON model file."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from idkit.errors import ModelFileError, ParameterError
+from idkit.models import (
+    BoucWenModel,
+    CoulombSpringSystem,
+    GeneralizedMaxwell,
+    HybridSystem,
+    IwanModel,
+    SDOFSystem,
+    VoigtModel,
+    library,
+    load_model,
+    save_model,
+)
+
+GOOD_IWAN = dict(g1=3e3, k=[3e3, 3e3], fc=[8.3, 14.6])
+
+
+@pytest.mark.parametrize(
+    "factory, kwargs, fragment",
+    [
+        (IwanModel, {**GOOD_IWAN, "g1": -1.0}, "'g1'"),
+        (IwanModel, {**GOOD_IWAN, "k": [3e3, -5.0]}, "'k_2'"),
+        (IwanModel, {**GOOD_IWAN, "fc": [8.3, 0.0]}, "'fc_2'"),
+        (IwanModel, {**GOOD_IWAN, "fc": [8.3]}, "found 1 values, expected 2"),
+        (IwanModel, {**GOOD_IWAN, "k": []}, "expected at least 1"),
+        (IwanModel, {**GOOD_IWAN, "g3": math.nan}, "'g3'"),
+        (IwanModel, {**GOOD_IWAN, "c_visc": -0.1}, "'c_visc'"),
+        (GeneralizedMaxwell, dict(k0=1e3, k=[1e3], rate=[-2.0]), "'rate_1'"),
+        (GeneralizedMaxwell, dict(k0=-1.0, k=[1e3], rate=[2.0]), "'k0'"),
+        (GeneralizedMaxwell, dict(k0=1e3, k=[1e3, 2e3], rate=[2.0]), "found 1 values, expected 2"),
+        (GeneralizedMaxwell, dict(k0=1e3, k=[1e3], rate=[2.0], m_eff=-0.1), "'m_eff'"),
+        (VoigtModel, dict(k=math.inf, damping=1.0), "'k'"),
+        (VoigtModel, dict(k=1.0, damping="abc"), "'damping'"),
+        (BoucWenModel, dict(k1=1.0, k2=0, k3=0, alpha=-1.0, beta=1.0, gamma=1.0, n=1.0), "'alpha'"),
+        (BoucWenModel, dict(k1=1.0, k2=0, k3=0, alpha=1.0, beta=-2.0, gamma=1.0, n=1.0), "beta + gamma"),
+        (BoucWenModel, dict(k1=1.0, k2=0, k3=0, alpha=1.0, beta=1.0, gamma=1.0, n=0.0), "'n'"),
+        (SDOFSystem, dict(mass=-2.0, isolator=VoigtModel(k=1.0, damping=1.0)), "'mass'"),
+        (SDOFSystem, dict(mass=2.0, isolator="rubber"), "expected an idkit isolator model"),
+        (CoulombSpringSystem, dict(mass=10.0, stiffness=9e3, friction_force=-1.0), "'friction_force'"),
+    ],
+)
+def test_invalid_parameters_raise_named_errors(factory, kwargs, fragment):
+    with pytest.raises(ParameterError) as caught:
+        factory(**kwargs)
+    assert fragment in str(caught.value)
+    assert isinstance(caught.value, ValueError)
+
+
+def test_declarations_drive_vectors():
+    model = library.get("table_7_1_wire_rope")
+    names = [spec.name for spec in model.param_specs()]
+    assert names == ["g1", "g2", "g3", "k_1", "k_2", "fc_1", "fc_2", "c_visc"]
+    assert list(model.params()) == names
+    assert model.with_vector(model.to_vector()) == model
+    with pytest.raises(ParameterError, match="shape"):
+        model.with_vector([1.0, 2.0])
+    assert "g2=2.45e+05 N/m^2" in repr(model)
+
+
+@pytest.mark.parametrize("name", library.names())
+def test_model_file_round_trip(tmp_path, name):
+    model = library.get(name)
+    path = save_model(model, tmp_path / f"{name}.json", provenance={"source": "library", "seed": 1})
+    loaded = load_model(path)
+    assert loaded.to_dict() == model.to_dict()
+    document = json.loads(path.read_text())
+    assert document["format"] == "idkit-model" and document["provenance"]["seed"] == 1
+    with pytest.raises(FileExistsError):
+        save_model(model, path)
+
+
+def test_coulomb_spring_round_trip(tmp_path):
+    system = CoulombSpringSystem(10.0, 9000.0, 1000.0, damping=10.0)
+    assert load_model(save_model(system, tmp_path / "cs.json")) == system
+
+
+@pytest.mark.parametrize(
+    "mutate, fragment",
+    [
+        (lambda d: d.update(format="other"), "expected 'idkit-model'"),
+        (lambda d: d.update(format_version=99), "format_version"),
+        (lambda d: d["model"].update(kind="spring"), "expected one of"),
+        (lambda d: d["model"]["params"].pop("g1"), "'g1' missing"),
+        (lambda d: d["model"]["params"].update(k_1=-3.0), "'k_1'"),
+        (lambda d: d["model"]["units"].update(g1="N/mm"), "units.g1"),
+        (lambda d: d["model"]["params"].update(bogus=1.0), "unknown parameters"),
+    ],
+)
+def test_bad_model_files_raise(tmp_path, mutate, fragment):
+    path = save_model(library.get("table_a1_asymmetric"), tmp_path / "model.json")
+    document = json.loads(path.read_text())
+    mutate(document)
+    path.write_text(json.dumps(document))
+    with pytest.raises(ModelFileError, match=fragment.replace("(", r"\(")):
+        load_model(path)
+
+
+def test_hybrid_small_amplitude_transmissibility_is_series_of_parts():
+    system = library.get("hybrid_asymmetric")
+    freq = np.array([0.01])
+    assert abs(system.transmissibility(freq)[0]) == pytest.approx(1.0, rel=1e-4)
+    stiff = system.series_stiffness(freq)[0]
+    k_wr = library.get("table_a1_asymmetric").stuck_stiffness
+    k_el = library.get("table_b1_medium").complex_stiffness(0.01)
+    assert stiff == pytest.approx(1 / (1 / k_wr + 1 / k_el), rel=1e-6)
+    assert isinstance(system, HybridSystem)
