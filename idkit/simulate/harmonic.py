@@ -114,7 +114,8 @@ def default_steps_per_period(system, freq, *, per_period: int = 128, per_resonan
 
 
 def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, tolerance: float = 1e-3,
-                      steps_per_period=None, min_periods: int = 8, max_periods: int = 4000) -> HarmonicResponse:
+                      steps_per_period=None, min_periods: int = 8, max_periods: int = 4000,
+                      progress=None, chunk_size: int = 256) -> HarmonicResponse:
     """Run every (freq, amplitude) point of a batch to steady state.
 
     Parameters
@@ -133,6 +134,15 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
     min_periods, max_periods : int
         Bounds on the simulated periods; points that hit ``max_periods`` are
         returned with ``converged = False``.
+    progress : callable(done, total), optional
+        Called after each chunk of ``chunk_size`` points (progress bars).
+
+    Examples
+    --------
+    >>> from idkit.models import library
+    >>> response = harmonic_response(library.get("system_b1_medium"), [5.0, 20.0], 1e-3)
+    >>> response.converged.tolist()
+    [True, True]
     """
     system = resolve_system(system)
     arrays = system_arrays(system)
@@ -153,9 +163,18 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
             raise SimulationError("steps_per_period: expected even integers >= 8")
     n_coeff = 2 * int(n_harmonics) + 1
     scale = force_scale(arrays, float(np.max(amplitude * (2 * np.pi * freq) ** 2)))
-    coeff, half_range, peak, dcoeff, windows, change, converged, flags = run_harmonic_batch(
-        *arrays.as_tuple(), freq, amplitude, np.ascontiguousarray(steps), n_coeff, float(tolerance),
-        max(1, int(np.ceil(min_periods / 2))), max(1, int(np.ceil(max_periods / 2))), scale,
+    size = max(1, int(chunk_size)) if progress is not None else freq.size
+    pieces = []
+    for start in range(0, freq.size, size):
+        chunk = slice(start, start + size)
+        pieces.append(run_harmonic_batch(
+            *arrays.as_tuple(), freq[chunk], amplitude[chunk], np.ascontiguousarray(steps[chunk]), n_coeff,
+            float(tolerance), max(1, int(np.ceil(min_periods / 2))), max(1, int(np.ceil(max_periods / 2))), scale,
+        ))
+        if progress is not None:
+            progress(min(start + size, freq.size), freq.size)
+    coeff, half_range, peak, dcoeff, windows, change, converged, flags = (
+        np.concatenate(parts) for parts in zip(*pieces)
     )
     return HarmonicResponse(
         freq=freq, amplitude=amplitude, coefficients=coeff, deflection_coefficients=dcoeff,

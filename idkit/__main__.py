@@ -1,0 +1,7 @@
+"""``python -m idkit`` runs the command-line interface."""
+
+import sys
+
+from idkit.cli.main import main
+
+sys.exit(main())

@@ -1,0 +1,185 @@
+"""The ``idkit`` command. It only parses arguments and calls the library."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from idkit import __version__
+from idkit.errors import IdkitError
+
+
+def _model_or_system(path, mass):
+    from idkit.models import IsolatorModel, SDOFSystem, load_model
+
+    model = load_model(path)
+    if isinstance(model, IsolatorModel):
+        if mass is None:
+            raise IdkitError(f"{path}: holds an isolator model; give --mass (kg) to put a top mass on it")
+        return SDOFSystem(mass, model)
+    if mass is not None:
+        raise IdkitError(f"{path}: holds a whole system; --mass applies to isolator model files only")
+    return model
+
+
+def _axis(values, spacing):
+    """Either explicit values or START STOP COUNT with log/linear spacing."""
+    if spacing is None:
+        return np.asarray(values, dtype=float)
+    start, stop, count = values
+    make = np.logspace if spacing == "log" else np.linspace
+    return make(np.log10(start), np.log10(stop), int(count)) if spacing == "log" else make(start, stop, int(count))
+
+
+def _write_table(frame, output):
+    if output is None:
+        print(frame.to_string(index=False))
+        return
+    output = Path(output)
+    if output.exists():
+        raise FileExistsError(f"{output}: exists; choose another name")
+    if output.suffix == ".json":
+        output.write_text(frame.to_json(orient="records", indent=1) + "\n")
+    else:
+        frame.to_csv(output, index=False)
+    print(f"wrote {output}", file=sys.stderr)
+
+
+def _cmd_demo(args):
+    from idkit.cli.progress import say
+    from idkit.report import run_demo
+
+    summary = run_demo(args.output, force=args.force, quick=args.quick, progress=lambda m: say(m, enabled=not args.quiet))
+    print(json.dumps({key: summary[key] for key in ("elastomer_resonance_hz", "timings_s")}, indent=1))
+    print(f"figures, model files and summary.json written to {args.output}", file=sys.stderr)
+
+
+def _cmd_library(args):
+    from idkit.models import library, save_model
+
+    if args.name is None:
+        for name in library.names():
+            print(f"{name:24s} {library.describe(name)}")
+        return
+    model = library.get(args.name)
+    if args.output:
+        save_model(model, args.output, provenance={"source": "idkit.models.library", "name": args.name})
+        print(f"wrote {args.output}", file=sys.stderr)
+    else:
+        print(repr(model))
+
+
+def _cmd_simulate_harmonic(args):
+    import pandas as pd
+
+    from idkit.cli.progress import ProgressBar
+    from idkit.simulate import harmonic_response
+
+    system = _model_or_system(args.model, args.mass)
+    freq = _axis(args.freq, args.freq_spacing)
+    amplitude = _axis(args.amplitude, args.amplitude_spacing)
+    grid_freq, grid_amplitude = np.meshgrid(freq, amplitude, indexing="ij")
+    response = harmonic_response(
+        system, grid_freq.ravel(), grid_amplitude.ravel(), n_harmonics=args.harmonics, tolerance=args.tolerance,
+        progress=ProgressBar("harmonic", enabled=not args.quiet), chunk_size=64,
+    )
+    columns = {"freq [Hz]": response.freq, "amplitude [m]": response.amplitude,
+               "half_range [m]": response.half_range}
+    for order in [0.5] + list(range(1, args.harmonics + 1)):
+        value = response.hosidf(order)
+        columns[f"|H{order:g}| [-]"] = np.abs(value)
+        columns[f"phase H{order:g} [deg]"] = np.degrees(np.angle(value))
+    columns.update({"bias [m]": response.bias, "periods": response.periods, "converged": response.converged,
+                    "status": list(response.reasons)})
+    _write_table(pd.DataFrame(columns), args.output)
+
+
+def _cmd_simulate_drop(args):
+    import pandas as pd
+
+    from idkit.simulate import STANDARD_GRAVITY, free_fall
+
+    system = _model_or_system(args.model, args.mass)
+    if (args.velocity is None) == (args.height is None):
+        raise IdkitError("give exactly one of --velocity and --height")
+    if args.velocity is not None:
+        velocity = -np.abs(np.asarray(args.velocity, dtype=float))
+    else:
+        velocity = -np.sqrt(2 * STANDARD_GRAVITY * np.asarray(args.height, dtype=float))
+    response = free_fall(system, impact_velocity=velocity, duration=args.duration, time_step=args.time_step,
+                         gravity=args.gravity)
+    top = response.acceleration[:, 0]
+    columns = {"impact_velocity [m/s]": velocity,
+               "peak_accel_compression [m/s^2]": np.nanmax(top, axis=1),
+               "peak_accel_tension [m/s^2]": -np.nanmin(top, axis=1),
+               "rest_shock [m/s^2]": np.nanmax(np.abs(top), axis=1)}
+    for j in range(response.deflection.shape[1]):
+        columns[f"max_compression_{j} [m]"] = -np.nanmin(response.deflection[:, j], axis=1)
+    columns["status"] = list(response.reasons)
+    _write_table(pd.DataFrame(columns), args.output)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="idkit", description="Identify, validate and simulate isolator models.")
+    parser.add_argument("--version", action="version", version=f"idkit {__version__}")
+    commands = parser.add_subparsers(dest="command", required=True)
+
+    demo = commands.add_parser("demo", help="simulate the study's systems; write figures and numbers")
+    demo.add_argument("-o", "--output", default="idkit-demo", help="output folder (default: idkit-demo)")
+    demo.add_argument("--force", action="store_true", help="replace an existing output folder")
+    demo.add_argument("--quick", action="store_true", help="smaller grids")
+    demo.add_argument("--quiet", action="store_true")
+    demo.set_defaults(handler=_cmd_demo)
+
+    lib = commands.add_parser("library", help="list the bundled parameter sets or write one as a model file")
+    lib.add_argument("name", nargs="?")
+    lib.add_argument("-o", "--output", help="model file to write (JSON)")
+    lib.set_defaults(handler=_cmd_library)
+
+    simulate = commands.add_parser("simulate", help="simulate a model file")
+    kinds = simulate.add_subparsers(dest="kind", required=True)
+    harmonic = kinds.add_parser("harmonic", help="steady-state harmonic base excitation over a grid")
+    harmonic.add_argument("model", help="model file (JSON)")
+    harmonic.add_argument("--mass", type=float, help="top mass in kg (isolator model files)")
+    harmonic.add_argument("--freq", type=float, nargs="+", required=True,
+                          help="frequencies in Hz, or START STOP COUNT with --freq-spacing")
+    harmonic.add_argument("--freq-spacing", choices=["log", "linear"])
+    harmonic.add_argument("--amplitude", type=float, nargs="+", required=True,
+                          help="base displacement amplitudes in m, or START STOP COUNT with --amplitude-spacing")
+    harmonic.add_argument("--amplitude-spacing", choices=["log", "linear"])
+    harmonic.add_argument("--harmonics", type=int, default=3)
+    harmonic.add_argument("--tolerance", type=float, default=1e-3, help="steady-state tolerance")
+    harmonic.add_argument("-o", "--output", help="CSV or JSON file (default: print a table)")
+    harmonic.add_argument("--quiet", action="store_true")
+    harmonic.set_defaults(handler=_cmd_simulate_harmonic)
+
+    drop = kinds.add_parser("drop", help="conditioned free fall (base fixed)")
+    drop.add_argument("model", help="model file (JSON)")
+    drop.add_argument("--mass", type=float, help="top mass in kg (isolator model files)")
+    drop.add_argument("--velocity", type=float, nargs="+", help="impact speeds |v0| in m/s")
+    drop.add_argument("--height", type=float, nargs="+", help="drop heights in m")
+    drop.add_argument("--duration", type=float, default=0.5, help="simulated time in s")
+    drop.add_argument("--time-step", type=float, default=2e-5, help="integration step in s")
+    drop.add_argument("--gravity", action="store_true", help="include gravity")
+    drop.add_argument("-o", "--output", help="CSV or JSON file (default: print a table)")
+    drop.set_defaults(handler=_cmd_simulate_drop)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        args.handler(args)
+    except (IdkitError, FileExistsError, FileNotFoundError) as problem:
+        print(f"idkit: error: {problem}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
