@@ -1,0 +1,790 @@
+"""Three-stage identification of the modified Iwan model from quasi-static loops.
+
+SPEC section 4 / thesis section 7.1. Deflection (m) is the input, force (N) the
+output. Each data set is resampled to a fixed number of points and scored by the
+relative RMS force error (7.1)::
+
+    e = sqrt(sum (F_model - F_meas)^2 / sum F_meas^2)
+
+and a stage minimises the mean of ``e`` over its sets with Nelder-Mead (nlopt
+``LN_NELDERMEAD``, or scipy's ``Nelder-Mead`` as the second backend):
+
+1. small loops: ``g1, k_i, fc_i`` free, ``g2 = g3 = 0``;
+2. large loops: all parameters free, started from stage 1;
+3. small loops: ``g1, g2, g3`` fixed at stage 2, ``k_i, fc_i`` refined.
+
+**Positivity.** ``g1``, ``k_i`` and ``fc_i`` are optimised as their natural
+logarithms, so every stiffness and slip force stays strictly positive however
+the simplex moves (the thesis could not enforce this). ``g2`` and ``g3`` are
+signed and optimised as ``g2 * x_ref / g1_ref`` and ``g3 * x_ref**2 / g1_ref``
+(``x_ref`` the largest |deflection| of the large sets, ``g1_ref`` the stage-1
+``g1``), i.e. as their share of the linear force at the largest deflection.
+
+**Initial element state.** A resampled set starts at a reversal, where the
+element forces depend on the unknown earlier history. Every element is taken
+unloaded at zero deflection and loaded to the first point of the set. By default
+(``initial_state="cycled"``) the model is then run once over the whole set and
+back to its first point, and those element forces start the scored run: the
+state of steady cycling, exact for repeated loops measured from an unloaded
+isolator (elements that never slip keep the offset ``k_i x`` of the loading, as
+they physically do). ``"virgin"`` skips the cycling pass.
+
+**Speed.** The objective of all sets of a stage is one compiled (numba) call
+running the stop operator without per-point Python work or allocations.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import nlopt
+import numba
+import numpy as np
+import scipy.optimize
+
+from idkit.analysis.cycles import resample_loops, split_cycles
+from idkit.errors import FitError
+from idkit.fit._params import Transform, central_jacobian, gauss_newton_covariance, to_lmfit
+from idkit.fit.result import IwanFitResult, IwanFitSettings, IwanStart, StageResult
+from idkit.models import IwanModel
+
+__all__ = ["LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "fit_iwan"]
+
+MIN_POINTS = 20  # per set, after resampling: fewer cannot resolve slip onset and loop height
+_BACKENDS = ("nlopt", "scipy")
+_PENALTY = 1e6  # objective returned for non-finite model forces
+
+
+@dataclass(frozen=True)
+class LoopSet:
+    """One quasi-static data set ready for fitting (a path starting at a reversal).
+
+    Attributes
+    ----------
+    deflection : ndarray, shape (n,)
+        Deflection path in m (positive = tension).
+    force : ndarray, shape (n,)
+        Measured force in N.
+    reversals : ndarray of int
+        Indices of the first point, every reversal and the last point.
+    name : str
+    """
+
+    deflection: np.ndarray
+    force: np.ndarray
+    reversals: np.ndarray
+    name: str = ""
+
+    @property
+    def amplitude(self) -> float:
+        """Half the peak-to-peak deflection, m."""
+        return 0.5 * float(np.ptp(self.deflection))
+
+
+def _as_pair(item, index: int, group: str):
+    if isinstance(item, LoopSet):
+        return item.deflection, item.force, item.name or f"{group}{index}"
+    if hasattr(item, "deflection") and hasattr(item, "force"):
+        return item.deflection, item.force, getattr(item, "name", "") or f"{group}{index}"
+    try:
+        deflection, force = item
+    except (TypeError, ValueError):
+        raise FitError(
+            f"{group} set {index}: found {type(item).__name__}, expected a (deflection, force) pair "
+            "of arrays or an object with .deflection and .force"
+        ) from None
+    return deflection, force, f"{group}{index}"
+
+
+def _check_record(values, what: str) -> np.ndarray:
+    array = np.asarray(values, dtype=float)
+    if array.ndim != 1:
+        raise FitError(f"{what}: found shape {array.shape}, expected a 1-D array")
+    if array.size < MIN_POINTS:
+        raise FitError(f"{what}: found {array.size} points, expected at least {MIN_POINTS}")
+    bad = np.flatnonzero(~np.isfinite(array))
+    if bad.size:
+        raise FitError(f"{what}: found {array[bad[0]]} at index {bad[0]}, expected finite values")
+    return array
+
+
+def prepare_loops(
+    deflection,
+    force,
+    *,
+    points_per_set: int | None = 200,
+    min_excursion: float | None = None,
+    name: str = "",
+) -> LoopSet:
+    """Cut a loop record to its complete branches and resample it to a fixed size.
+
+    Parameters
+    ----------
+    deflection, force : array_like, shape (n,)
+        Record in m and N, at least 20 finite points, with at least two reversals.
+    points_per_set : int or None, default 200
+        Total points of the resampled set (every branch gets the same count, the
+        reversals are kept exactly, :func:`idkit.analysis.resample_loops` with
+        equal deflection spacing). ``None`` keeps the record as given after
+        cutting it at the first and last reversal.
+    min_excursion : float, optional
+        Reversal threshold in m; default 2 % of the deflection range.
+    name : str
+
+    Returns
+    -------
+    LoopSet
+
+    Raises
+    ------
+    FitError
+        Too few or non-finite points, mismatched lengths, fewer than two reversals.
+    """
+    what = f"set {name!r}" if name else "set"
+    x = _check_record(deflection, f"{what} deflection")
+    f = _check_record(force, f"{what} force")
+    if f.size != x.size:
+        raise FitError(f"{what}: found {f.size} force and {x.size} deflection samples, expected equal counts")
+    span = float(np.ptp(x))
+    if span <= 0:
+        raise FitError(f"{what} deflection: found a constant record, expected loops with reversals")
+    threshold = 0.02 * span if min_excursion is None else float(min_excursion)
+    try:
+        split = split_cycles(x, min_excursion=threshold)
+    except FitError as error:
+        raise FitError(f"{what}: {error}") from None
+    if split.branch_start.size == 0:
+        raise FitError(
+            f"{what} deflection: found {split.reversals.size} reversal, expected at least 2 "
+            "(one complete branch between reversals)"
+        )
+    n_branches = split.branch_start.size
+    if points_per_set is None:
+        first, last = int(split.reversals[0]), int(split.reversals[-1])
+        path_x, path_f = x[first : last + 1], f[first : last + 1]
+        reversals = np.concatenate([split.reversals - first])
+    else:
+        if int(points_per_set) != points_per_set or points_per_set < MIN_POINTS:
+            raise FitError(f"points_per_set: found {points_per_set!r}, expected an integer >= {MIN_POINTS}")
+        per_branch = max(2, int(math.ceil((points_per_set - 1) / n_branches)) + 1)
+        loops = resample_loops(x, f, split=split, points_per_branch=per_branch)
+        path_x, path_f = loops.deflection, loops.force
+        reversals = np.arange(n_branches + 1) * (per_branch - 1)
+    if path_x.size < MIN_POINTS:
+        raise FitError(f"{what}: found {path_x.size} points between the first and last reversal, "
+                       f"expected at least {MIN_POINTS}")
+    if not np.any(path_f):
+        raise FitError(f"{what} force: found all zeros, expected a measured force (the error (7.1) divides by it)")
+    return LoopSet(deflection=np.ascontiguousarray(path_x), force=np.ascontiguousarray(path_f),
+                   reversals=reversals.astype(np.intp), name=name)
+
+
+# --------------------------------------------------------------------------- compiled objective
+
+
+@numba.njit(cache=True)
+def _stop_step(state, stiffness, friction, step):
+    total = 0.0
+    for j in range(state.shape[0]):
+        trial = state[j] + stiffness[j] * step
+        limit = friction[j]
+        if trial > limit:
+            trial = limit
+        elif trial < -limit:
+            trial = -limit
+        state[j] = trial
+        total += trial
+    return total
+
+
+@numba.njit(cache=True)
+def _iwan_set_forces(x, offsets, g1, g2, g3, stiffness, friction, cycled, out):
+    """Model force of every set of a concatenated path (``offsets`` delimit the sets)."""
+    state = np.empty(stiffness.shape[0])
+    for s in range(offsets.shape[0] - 1):
+        a = offsets[s]
+        b = offsets[s + 1]
+        for j in range(state.shape[0]):
+            state[j] = 0.0
+        _stop_step(state, stiffness, friction, x[a])  # unloaded at x = 0, loaded to the first point
+        if cycled:
+            for i in range(a + 1, b):
+                _stop_step(state, stiffness, friction, x[i] - x[i - 1])
+            _stop_step(state, stiffness, friction, x[a] - x[b - 1])
+        jenkin = 0.0
+        for j in range(state.shape[0]):
+            jenkin += state[j]
+        for i in range(a, b):
+            if i > a:
+                jenkin = _stop_step(state, stiffness, friction, x[i] - x[i - 1])
+            xi = x[i]
+            out[i] = xi * (g1 + xi * (g2 + xi * g3)) + jenkin
+
+
+@numba.njit(cache=True)
+def _iwan_set_errors(x, f, offsets, norm2, g1, g2, g3, stiffness, friction, cycled, out):
+    """Relative RMS error (7.1) of every set, written to ``out``; no allocation per point."""
+    state = np.empty(stiffness.shape[0])
+    for s in range(offsets.shape[0] - 1):
+        a = offsets[s]
+        b = offsets[s + 1]
+        for j in range(state.shape[0]):
+            state[j] = 0.0
+        _stop_step(state, stiffness, friction, x[a])  # unloaded at x = 0, loaded to the first point
+        if cycled:
+            for i in range(a + 1, b):
+                _stop_step(state, stiffness, friction, x[i] - x[i - 1])
+            _stop_step(state, stiffness, friction, x[a] - x[b - 1])
+        jenkin = 0.0
+        for j in range(state.shape[0]):
+            jenkin += state[j]
+        acc = 0.0
+        for i in range(a, b):
+            if i > a:
+                jenkin = _stop_step(state, stiffness, friction, x[i] - x[i - 1])
+            xi = x[i]
+            diff = xi * (g1 + xi * (g2 + xi * g3)) + jenkin - f[i]
+            acc += diff * diff
+        out[s] = math.sqrt(acc / norm2[s])
+
+
+class _Packed:
+    """Sets concatenated into flat arrays for the compiled objective."""
+
+    def __init__(self, sets: Sequence[LoopSet], cycled: bool):
+        self.names = tuple(s.name for s in sets)
+        self.x = np.ascontiguousarray(np.concatenate([s.deflection for s in sets]))
+        self.f = np.ascontiguousarray(np.concatenate([s.force for s in sets]))
+        self.offsets = np.concatenate([[0], np.cumsum([s.deflection.size for s in sets])]).astype(np.int64)
+        self.norm = np.array([math.sqrt(float(np.sum(s.force**2))) for s in sets])
+        self.norm2 = self.norm**2
+        self.cycled = cycled
+        self.errors = np.empty(len(sets))
+
+    def set_errors(self, g1, g2, g3, stiffness, friction) -> np.ndarray:
+        _iwan_set_errors(self.x, self.f, self.offsets, self.norm2, g1, g2, g3, stiffness, friction,
+                         self.cycled, self.errors)
+        return self.errors.copy()
+
+    def residuals(self, g1, g2, g3, stiffness, friction) -> np.ndarray:
+        """Per-set normalised residuals ``(F_model - F_meas) / |F_meas|_set``."""
+        model = np.empty_like(self.x)
+        _iwan_set_forces(self.x, self.offsets, g1, g2, g3, stiffness, friction, self.cycled, model)
+        scale = np.repeat(self.norm, np.diff(self.offsets))
+        return (model - self.f) / scale
+
+
+def iwan_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "cycled") -> np.ndarray:
+    """Relative RMS error (7.1) of ``model`` on each prepared set (fractions, 0.01 = 1 %).
+
+    Parameters
+    ----------
+    model : IwanModel
+    sets : sequence of LoopSet
+        From :func:`prepare_loops`.
+    initial_state : {"cycled", "virgin"}
+        Element forces at the first point (module docstring).
+    """
+    packed = _Packed(list(sets), _check_state(initial_state))
+    return packed.set_errors(model.g1, model.g2, model.g3, np.asarray(model.k, float), np.asarray(model.fc, float))
+
+
+def _check_state(initial_state: str) -> bool:
+    if initial_state not in ("cycled", "virgin"):
+        raise FitError(f"initial_state: found {initial_state!r}, expected 'cycled' or 'virgin'")
+    return initial_state == "cycled"
+
+
+# --------------------------------------------------------------------------- automatic start
+
+
+def _branches(loop_set: LoopSet):
+    """(travel u >= 0, force change dF >= 0 in the travel direction, total travel) per branch."""
+    for start, stop in zip(loop_set.reversals[:-1], loop_set.reversals[1:]):
+        x = loop_set.deflection[start : stop + 1]
+        f = loop_set.force[start : stop + 1]
+        direction = 1.0 if x[-1] >= x[0] else -1.0
+        yield direction * (x - x[0]), direction * (f - f[0]), abs(x[-1] - x[0])
+
+
+def _initial_slope(sets: Sequence[LoopSet]) -> float:
+    """Median stuck slope of the shortest third of all branches (first 10 % of travel)."""
+    slopes, travels = [], []
+    for loop_set in sets:
+        for travel_u, change, total in _branches(loop_set):
+            if total <= 0 or travel_u.size < 4:
+                continue
+            near = travel_u <= 0.1 * total
+            near[: min(4, travel_u.size)] = True
+            u, df = travel_u[near], change[near]
+            denominator = float(np.dot(u, u))
+            if denominator > 0:
+                slopes.append(float(np.dot(u, df)) / denominator)
+                travels.append(total)
+    if not slopes:
+        raise FitError("loops: found no branch with a measurable initial slope, expected loops with reversals")
+    order = np.argsort(travels)
+    shortest = np.asarray(slopes)[order[: max(1, len(order) // 3)]]
+    return float(np.median(shortest))
+
+
+def _largest_loop(sets: Sequence[LoopSet]):
+    """Deflection range, tip forces, and centre half-height of the largest loop."""
+    loop_set = max(sets, key=lambda s: s.amplitude)
+    x, f = loop_set.deflection, loop_set.force
+    high, low = int(np.argmax(x)), int(np.argmin(x))
+    amplitude = 0.5 * (x[high] - x[low])
+    centre = 0.5 * (x[high] + x[low])
+    secant = (f[high] - f[low]) / (x[high] - x[low])
+    rising, falling = [], []
+    for start, stop in zip(loop_set.reversals[:-1], loop_set.reversals[1:]):
+        xb, fb = x[start : stop + 1], f[start : stop + 1]
+        if min(xb[0], xb[-1]) <= centre <= max(xb[0], xb[-1]):
+            order = np.argsort(xb, kind="stable")
+            value = float(np.interp(centre, xb[order], fb[order]))
+            (rising if xb[-1] > xb[0] else falling).append(value)
+    if rising and falling:
+        half_height = 0.5 * (float(np.mean(rising)) - float(np.mean(falling)))
+    else:
+        half_height = 0.0
+    return loop_set, amplitude, secant, half_height
+
+
+def _slip_distribution(sets: Sequence[LoopSet], g1: float, order: int, grid_points: int = 40):
+    """Jenkin elements from the Masing branches: NNLS on a slip-travel grid, then merged.
+
+    Every branch after a reversal follows ``dF(u) - g1 u = sum_i k_i min(u, d_i)``
+    (Masing rule for the Iwan model; ``d_i = 2 fc_i / k_i`` is the travel after which
+    element i slips again). With ``d`` fixed on a geometric grid from the smallest
+    to the largest travel this is linear in ``k >= 0``: non-negative least squares.
+    The (sparse) solution is merged into ``order`` elements by joining the element
+    of smallest ``fc`` to its neighbour closest in ``log d`` (summing ``k`` and
+    ``fc``; noise creates such small spurious elements) or split (the
+    stiffest element into two at ``d / 1.5`` and ``d * 1.5``) until the count fits.
+    """
+    rows, targets = [], []
+    for loop_set in sets:
+        for travel_u, change, _ in _branches(loop_set):
+            rows.append(travel_u[1:])
+            targets.append(change[1:] - g1 * travel_u[1:])
+    if not rows:
+        return None, None
+    u = np.concatenate(rows)
+    target = np.concatenate(targets)
+    positive = u[u > 0]
+    if positive.size < 2 or np.ptp(positive) <= 0:
+        return None, None
+    grid = np.geomspace(positive.min(), positive.max(), grid_points)
+    design = np.minimum(u[:, None], grid[None, :])
+    weights = 1.0 / np.maximum(u, positive.min())  # relative fit: short travels count as much as long ones
+    solution, _ = scipy.optimize.nnls(design * weights[:, None], target * weights)
+    keep = solution > 1e-9 * max(solution.max(), 1e-300)
+    if not np.any(keep):
+        return None, None
+    stiffness = list(solution[keep])
+    friction = list(0.5 * solution[keep] * grid[keep])
+    while len(stiffness) > order:
+        travel = np.log(2.0 * np.asarray(friction) / np.asarray(stiffness))
+        j = int(np.argmin(friction))  # the element contributing least to the loop height ...
+        neighbours = [i for i in (j - 1, j + 1) if 0 <= i < len(stiffness)]
+        i = min(neighbours, key=lambda i: abs(travel[i] - travel[j]))  # ... joins its nearest neighbour
+        low, high = min(i, j), max(i, j)
+        stiffness[low : high + 1] = [stiffness[low] + stiffness[high]]
+        friction[low : high + 1] = [friction[low] + friction[high]]
+    while len(stiffness) < order:
+        j = int(np.argmax(stiffness))
+        k_half, travel = 0.5 * stiffness[j], 2.0 * friction[j] / stiffness[j]
+        stiffness[j : j + 1] = [k_half, k_half]
+        friction[j : j + 1] = [0.5 * k_half * travel / 1.5, 0.5 * k_half * travel * 1.5]
+    return np.asarray(stiffness), np.asarray(friction)
+
+
+def iwan_start(small: Sequence[LoopSet], large: Sequence[LoopSet], order: int) -> IwanStart:
+    """Starting parameters of an order-``n`` Iwan model read off the loops.
+
+    1. **Stuck stiffness** ``K_s = g1 + sum k_i``: least-squares slope of force
+       change against travel over the first 10 % of each branch after a reversal;
+       median over the shortest third of all branches (where no element slips yet).
+    2. **Loop height**: on the largest loop, half the force difference between the
+       loading (upper) and unloading (lower) branch at the centre deflection, ``H ~ sum fc_i``
+       (exact when all elements slip there).
+    3. **g1**: tip-to-tip secant slope of the largest loop ``(F_max - F_min) /
+       (x_max - x_min) = g1 + g3 A^2 + sum fc / A``, minus ``H / A``; kept within
+       [1 %, 90 %] of ``K_s`` so that ``sum k_i > 0``.
+    4. **Slip onset**: on the branches of the largest loop, the travel ``s_on``
+       where the force change first falls 10 % below the stuck line ``K_s u``
+       and ``s_full`` where it first reaches 90 % of the fully slipping asymptote
+       ``g1 u + 2 H`` (used only by the fallback below).
+    5. **Elements**: the small-loop branches after each reversal are Masing
+       curves ``dF(u) - g1 u = sum_i k_i min(u, 2 fc_i / k_i)``; a non-negative
+       least-squares fit on a grid of slip travels, merged to ``n`` elements
+       (:func:`_slip_distribution`), gives ``k_i`` and ``fc_i``. Fallback when no
+       branch is usable: ``k_i = (K_s - g1) / n``, slip travels geometric between
+       ``s_on`` and ``s_full``, ``fc_i`` scaled to ``sum fc_i = H``.
+    """
+    if int(order) != order or order < 1:
+        raise FitError(f"order: found {order!r}, expected an integer >= 1")
+    stuck = _initial_slope(list(small) + list(large))
+    loop_set, amplitude, secant, half_height = _largest_loop(large)
+    if not (stuck > 0 and math.isfinite(stuck)):
+        raise FitError(f"loops: found an initial slope of {stuck:g} N/m, expected a positive stiffness "
+                       "(is force in N and deflection in m with tension positive?)")
+    if not half_height > 0:
+        # no measurable hysteresis at the centre: take 1 % of the tip force as a seed
+        half_height = 0.01 * max(abs(loop_set.force).max(), 1e-12)
+    g1 = secant - half_height / amplitude
+    g1 = min(max(g1, 0.01 * stuck), 0.9 * stuck)
+    jenkin = stuck - g1
+    effective = 2.0 * half_height / jenkin  # travel where the bilinear asymptotes meet
+    onsets, fulls = [], []
+    for travel_u, change, total in _branches(loop_set):
+        positive = travel_u > 0
+        u, df = travel_u[positive], change[positive]
+        if u.size == 0:
+            continue
+        below = np.flatnonzero(df < 0.9 * stuck * u)
+        reached = np.flatnonzero(df >= g1 * u + 0.9 * 2.0 * half_height)
+        onsets.append(u[below[0]] if below.size else effective)
+        fulls.append(u[reached[0]] if reached.size else total)
+    slip_onset = float(np.median(onsets)) if onsets else effective
+    slip_full = float(np.median(fulls)) if fulls else effective
+    slip_onset = min(slip_onset, effective)
+    slip_full = max(slip_full, effective)
+    k, fc = _slip_distribution(list(small), g1, int(order))
+    if k is None:  # no usable branch: spread geometrically between onset and full slip
+        k = np.full(int(order), jenkin / order)
+        travels = np.geomspace(slip_onset, slip_full, int(order))
+        fc = 0.5 * k * travels
+        fc *= half_height / fc.sum()
+    travels = 2.0 * np.asarray(fc) / np.asarray(k)
+    slip_onset, slip_full = float(travels.min()), float(travels.max())
+    model = IwanModel(g1=g1, k=k, fc=fc)
+    return IwanStart(stuck_stiffness=float(stuck), half_height=float(half_height), g1=float(g1), slip_onset=slip_onset,
+                     slip_full=slip_full, model=model)
+
+
+# --------------------------------------------------------------------------- Nelder-Mead backends
+
+
+class _Tracked:
+    """Objective wrapper counting evaluations and keeping the best point."""
+
+    def __init__(self, function):
+        self.function = function
+        self.evaluations = 0
+        self.best_u = None
+        self.best_value = math.inf
+
+    def __call__(self, u, grad=None):
+        value = float(self.function(u))
+        if not math.isfinite(value):
+            value = _PENALTY
+        self.evaluations += 1
+        if value < self.best_value:
+            self.best_value = value
+            self.best_u = np.array(u, dtype=float)
+        return value
+
+
+def _nelder_mead_once(tracked: _Tracked, u0, step, *, backend, max_evals, xtol, ftol) -> str:
+    n = u0.size
+    if backend == "nlopt":
+        opt = nlopt.opt(nlopt.LN_NELDERMEAD, n)
+        opt.set_min_objective(tracked)
+        opt.set_initial_step(np.full(n, step))
+        opt.set_xtol_abs(xtol)
+        # no ftol for nlopt: its Nelder-Mead stops on one small improvement of the best
+        # vertex, which ended stage 2 far from the optimum in tests; xtol and restarts decide
+        opt.set_maxeval(int(max_evals))
+        try:
+            opt.optimize(np.array(u0, dtype=float))
+            code = opt.last_optimize_result()
+        except nlopt.RoundoffLimited:
+            return "nlopt: roundoff limited"
+        names = {nlopt.SUCCESS: "success", nlopt.FTOL_REACHED: "ftol reached",
+                 nlopt.XTOL_REACHED: "xtol reached", nlopt.MAXEVAL_REACHED: "max_evals reached"}
+        return "nlopt: " + names.get(code, f"code {code}")
+    simplex = np.vstack([u0, u0 + step * np.eye(n)])
+    result = scipy.optimize.minimize(
+        tracked, u0, method="Nelder-Mead",
+        options={"initial_simplex": simplex, "xatol": xtol, "fatol": ftol, "maxfev": int(max_evals)},
+    )
+    if result.nfev >= max_evals and not result.success:
+        return "scipy: max_evals reached"
+    return "scipy: " + ("converged" if result.success else str(result.message))
+
+
+def _nelder_mead(function, u0, step, *, backend, max_evals, xtol, ftol, restarts):
+    """Nelder-Mead with restarts from the best point (a fresh simplex escapes stalls)."""
+    tracked = _Tracked(function)
+    message = _nelder_mead_once(tracked, u0, step, backend=backend, max_evals=max_evals, xtol=xtol, ftol=ftol)
+    done = 0
+    for _ in range(restarts):
+        before = tracked.best_value
+        remaining = max_evals - tracked.evaluations
+        if remaining <= 0 or "max_evals" in message:
+            break
+        message = _nelder_mead_once(tracked, tracked.best_u, step, backend=backend,
+                                    max_evals=remaining, xtol=xtol, ftol=ftol)
+        done += 1
+        if before - tracked.best_value <= ftol:
+            break
+    return tracked.best_u, tracked.best_value, tracked.evaluations, done, message
+
+
+# --------------------------------------------------------------------------- the three stages
+
+
+def _prepare_group(sets, group: str, points_per_set) -> list[LoopSet]:
+    if sets is None or len(sets) == 0:
+        raise FitError(f"{group}: found no data set, expected at least one loop set")
+    prepared = []
+    for index, item in enumerate(sets):
+        if isinstance(item, LoopSet):
+            prepared.append(item if item.name else LoopSet(item.deflection, item.force, item.reversals,
+                                                           f"{group}{index}"))
+            continue
+        deflection, force, name = _as_pair(item, index, group)
+        prepared.append(prepare_loops(deflection, force, points_per_set=points_per_set, name=name))
+    return prepared
+
+
+_STAGE_FREE = {
+    "stage 1": ("g1", "k", "fc"),
+    "stage 2": ("g1", "g2", "g3", "k", "fc"),
+    "stage 3": ("k", "fc"),
+}
+
+
+def fit_iwan(
+    small,
+    large,
+    *,
+    order: int = 2,
+    start: IwanModel | None = None,
+    backend: str = "nlopt",
+    points_per_set: int | None = 200,
+    max_evals: int = 4000,
+    xtol: float = 1e-7,
+    ftol: float = 1e-12,
+    restarts: int = 2,
+    initial_step: float = 0.3,
+    initial_state: str = "cycled",
+    seed: int = 0,
+) -> IwanFitResult:
+    """Identify an order-``n`` modified Iwan model in three Nelder-Mead stages (SPEC 4).
+
+    Parameters
+    ----------
+    small, large : sequence
+        Small-amplitude and large-amplitude loop sets. Each item is a
+        :class:`LoopSet` (used as is), a ``(deflection, force)`` pair of arrays
+        in m and N, or any object with ``.deflection`` and ``.force`` (e.g.
+        :class:`idkit.analysis.ResampledLoops`); raw items are prepared with
+        :func:`prepare_loops` (cut at the reversals, resampled to
+        ``points_per_set`` points).
+    order : int, default 2
+        Number of Jenkin elements, >= 1.
+    start : IwanModel, optional
+        Starting model (its order wins over ``order``); default: :func:`iwan_start`.
+    backend : {"nlopt", "scipy"}
+        ``nlopt.LN_NELDERMEAD`` or ``scipy.optimize.minimize(method="Nelder-Mead")``,
+        both from the same initial simplex ``u0 + initial_step * e_i``.
+    points_per_set : int or None, default 200
+    max_evals : int, default 4000
+        Evaluation limit per stage (restarts included).
+    xtol, ftol : float
+        Absolute tolerances on the internal coordinates (log: relative change of
+        the value) and on the mean error (fraction).
+    restarts : int, default 2
+        Fresh simplices started from the best point after convergence; stops
+        early when a restart gains less than ``ftol``.
+    initial_step : float, default 0.3
+        Simplex edge in internal coordinates (0.3 ~ 35 % change of a log parameter).
+    initial_state : {"cycled", "virgin"}
+        Element forces at the first point of a set (module docstring).
+    seed : int
+        Seeds nlopt's generator (Nelder-Mead itself is deterministic); recorded.
+
+    Returns
+    -------
+    IwanFitResult
+        ``result.parameters`` carries standard errors from a Gauss-Newton
+        covariance ``s^2 (J^T J)^-1`` of the stacked per-set normalised residuals
+        ``(F_model - F_meas) / |F_meas|_set`` of all small and large sets at the
+        final parameters, ``J`` by central differences (step 1e-4) in the log
+        coordinates, mapped to physical units by ``stderr(p) = p * stderr(log p)``
+        (``g2``, ``g3``: linear). Approximate: the stop operator is only
+        piecewise smooth and the objective (mean of set norms) is not exactly a
+        sum of squares.
+
+    Raises
+    ------
+    FitError
+        Bad sets (too few points, no reversals, NaN), ``order < 1``, unknown backend.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from idkit.models import IwanModel
+    >>> truth = IwanModel(g1=3e3, k=[6e3], fc=[10.0])
+    >>> x = np.concatenate([a * np.sin(np.linspace(0, 4 * np.pi, 400)) for a in (2e-3, 8e-3)])
+    >>> pair = lambda a: (a * x[:400] / 2e-3, truth.force(a * x[:400] / 2e-3))
+    >>> result = fit_iwan([pair(1e-3), pair(2e-3)], [pair(8e-3)], order=1)
+    >>> bool(result.error_small < 1e-3)
+    True
+    """
+    t0 = time.perf_counter()
+    if backend not in _BACKENDS:
+        raise FitError(f"backend: found {backend!r}, expected one of {_BACKENDS}")
+    if start is None and (int(order) != order or order < 1):
+        raise FitError(f"order: found {order!r}, expected an integer >= 1")
+    cycled = _check_state(initial_state)
+    small_sets = _prepare_group(small, "small", points_per_set)
+    large_sets = _prepare_group(large, "large", points_per_set)
+    start_info = iwan_start(small_sets, large_sets, order if start is None else start.order)
+    model0 = start_info.model if start is None else start
+    n = model0.order
+    nlopt.srand(int(seed))
+    small_packed, large_packed = _Packed(small_sets, cycled), _Packed(large_sets, cycled)
+    x_ref = max(float(np.max(np.abs(s.deflection))) for s in large_sets)
+
+    current = {"g1": model0.g1, "g2": model0.g2, "g3": model0.g3,
+               "k": np.array(model0.k, float), "fc": np.array(model0.fc, float)}
+    stages = []
+    for stage_name, data in (("stage 1", "small"), ("stage 2", "large"), ("stage 3", "small")):
+        t_stage = time.perf_counter()
+        packed = small_packed if data == "small" else large_packed
+        if stage_name == "stage 1":
+            current["g2"] = current["g3"] = 0.0
+        g1_ref = current["g1"]
+        transforms = _stage_transforms(_STAGE_FREE[stage_name], n, x_ref, g1_ref)
+        u0 = _to_internal(current, transforms)
+        unpack = _make_unpack(current, transforms, n)
+
+        def objective(u, packed=packed, unpack=unpack):
+            g1, g2, g3, k, fc = unpack(u)
+            _iwan_set_errors(packed.x, packed.f, packed.offsets, packed.norm2, g1, g2, g3, k, fc,
+                             packed.cycled, packed.errors)
+            return packed.errors.mean()
+
+        start_params = _flat_params(current)
+        start_error = objective(u0)
+        best_u, _, evaluations, done, message = _nelder_mead(
+            objective, u0, initial_step, backend=backend, max_evals=max_evals,
+            xtol=xtol, ftol=ftol, restarts=restarts)
+        g1, g2, g3, k, fc = unpack(best_u)
+        current = {"g1": float(g1), "g2": float(g2), "g3": float(g3), "k": k.copy(), "fc": fc.copy()}
+        errors = packed.set_errors(g1, g2, g3, k, fc)
+        stages.append(StageResult(
+            name=stage_name, data=data, free=tuple(t.name for t in transforms), start=start_params,
+            params=_flat_params(current), set_names=packed.names, set_errors=errors,
+            mean_error=float(errors.mean()), start_error=float(start_error), evaluations=evaluations,
+            restarts=done, message=message, elapsed_s=time.perf_counter() - t_stage))
+    elapsed = time.perf_counter() - t0
+
+    model = IwanModel(g1=current["g1"], g2=current["g2"], g3=current["g3"], k=current["k"], fc=current["fc"])
+    parameters = _iwan_lmfit(model, small_packed, large_packed, x_ref)
+    settings = IwanFitSettings(order=n, backend=backend, points_per_set=points_per_set, max_evals=max_evals,
+                               xtol=xtol, ftol=ftol, restarts=restarts, initial_step=initial_step,
+                               initial_state=initial_state, seed=int(seed))
+    args = (model.g1, model.g2, model.g3, np.asarray(model.k, float), np.asarray(model.fc, float))
+    return IwanFitResult(
+        model=model, stages=tuple(stages),
+        small_errors=small_packed.set_errors(*args), large_errors=large_packed.set_errors(*args),
+        small_names=small_packed.names, large_names=large_packed.names, start=start_info,
+        settings=settings, parameters=parameters, elapsed_s=elapsed)
+
+
+def _stage_transforms(free: tuple[str, ...], n: int, x_ref: float, g1_ref: float) -> list[Transform]:
+    transforms = []
+    for group in free:
+        if group == "g1":
+            transforms.append(Transform("g1", "N/m", "log", 0.0))
+        elif group == "g2":
+            transforms.append(Transform("g2", "N/m^2", "scaled", scale=g1_ref / x_ref))
+        elif group == "g3":
+            transforms.append(Transform("g3", "N/m^3", "scaled", scale=g1_ref / x_ref**2))
+        elif group == "k":
+            transforms.extend(Transform(f"k_{i}", "N/m", "log", 0.0) for i in range(1, n + 1))
+        else:
+            transforms.extend(Transform(f"fc_{i}", "N", "log", 0.0) for i in range(1, n + 1))
+    return transforms
+
+
+def _to_internal(current: dict, transforms: list[Transform]) -> np.ndarray:
+    values = []
+    for t in transforms:
+        if "_" in t.name:
+            group, index = t.name.split("_")
+            values.append(current[group][int(index) - 1])
+        else:
+            values.append(current[t.name])
+    return np.array([float(t.to_internal(v)) for t, v in zip(transforms, values)])
+
+
+def _make_unpack(current: dict, transforms: list[Transform], n: int):
+    """Fast internal -> (g1, g2, g3, k, fc) for one stage (fixed values from ``current``)."""
+    names = [t.name for t in transforms]
+    log_mask = np.array([t.kind == "log" for t in transforms])
+    scales = np.array([t.scale for t in transforms])
+    index = {name: i for i, name in enumerate(names)}
+    g1_fixed, g2_fixed, g3_fixed = current["g1"], current["g2"], current["g3"]
+    k_fixed, fc_fixed = np.array(current["k"], float), np.array(current["fc"], float)
+    k_slice = slice(index["k_1"], index["k_1"] + n) if "k_1" in index else None
+    fc_slice = slice(index["fc_1"], index["fc_1"] + n) if "fc_1" in index else None
+
+    def unpack(u):
+        u = np.asarray(u, dtype=float)
+        values = np.where(log_mask, np.exp(np.minimum(u, 700.0)), scales * u)
+        g1 = values[index["g1"]] if "g1" in index else g1_fixed
+        g2 = values[index["g2"]] if "g2" in index else g2_fixed
+        g3 = values[index["g3"]] if "g3" in index else g3_fixed
+        k = np.ascontiguousarray(values[k_slice]) if k_slice else k_fixed
+        fc = np.ascontiguousarray(values[fc_slice]) if fc_slice else fc_fixed
+        return float(g1), float(g2), float(g3), k, fc
+
+    return unpack
+
+
+def _flat_params(current: dict) -> dict:
+    values = {"g1": float(current["g1"]), "g2": float(current["g2"]), "g3": float(current["g3"])}
+    values.update({f"k_{i}": float(v) for i, v in enumerate(current["k"], start=1)})
+    values.update({f"fc_{i}": float(v) for i, v in enumerate(current["fc"], start=1)})
+    return values
+
+
+def _iwan_lmfit(model: IwanModel, small: _Packed, large: _Packed, x_ref: float):
+    """lmfit view of the final model with Gauss-Newton standard errors (see :func:`fit_iwan`)."""
+    n = model.order
+    transforms = _stage_transforms(_STAGE_FREE["stage 2"], n, x_ref, model.g1)
+    current = {"g1": model.g1, "g2": model.g2, "g3": model.g3,
+               "k": np.array(model.k, float), "fc": np.array(model.fc, float)}
+    u_opt = _to_internal(current, transforms)
+    unpack = _make_unpack(current, transforms, n)
+
+    def residuals(u):
+        args = unpack(u)
+        return np.concatenate([small.residuals(*args), large.residuals(*args)])
+
+    jacobian = central_jacobian(residuals, u_opt)
+    covariance = gauss_newton_covariance(jacobian, residuals(u_opt))
+    names = [t.name for t in transforms]
+    physical = [float(t.to_physical(u)) for t, u in zip(transforms, u_opt)]
+    stderr = [None] * len(names)
+    if covariance is not None:
+        sigma_u = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
+        stderr = [float(abs(t.derivative(u)) * s) for t, u, s in zip(transforms, u_opt, sigma_u)]
+    specs = {spec.name: spec for spec in model.param_specs()}
+    parameters = to_lmfit(
+        names + ["c_visc"], physical + [0.0],
+        units=[specs[name].unit for name in names] + ["N s/m"],
+        lower=[specs[name].lower for name in names] + [0.0],
+        upper=[specs[name].upper for name in names] + [math.inf],
+        vary=[True] * len(names) + [False],
+        stderr=stderr + [None],
+    )
+    return parameters

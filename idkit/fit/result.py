@@ -1,0 +1,329 @@
+"""Typed results of the fitters: settings, stages, cross-check, reports.
+
+Every fit returns a frozen dataclass with named fields, an lmfit
+:class:`~lmfit.Parameters` view (``result.parameters``: values, physical bounds,
+``vary``, ``stderr`` where estimated, unit in ``user_data``), ``report()`` text for
+people and ``to_dataframe()`` for tables.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import lmfit
+import numpy as np
+import pandas as pd
+
+from idkit.models import GeneralizedMaxwell, IwanModel, VoigtModel
+
+__all__ = [
+    "IwanFitSettings",
+    "IwanStart",
+    "StageResult",
+    "IwanFitResult",
+    "MaxwellFitSettings",
+    "CrossCheck",
+    "MaxwellFitResult",
+]
+
+
+def _parameter_lines(parameters: lmfit.Parameters) -> list[str]:
+    lines = [f"    {'name':<8} {'value':>12} {'stderr':>10} {'unit':<7} {'bounds'}"]
+    for name, par in parameters.items():
+        unit = (par.user_data or {}).get("unit", "")
+        stderr = f"{par.stderr:10.3g}" if par.stderr is not None else f"{'n/a':>10}"
+        state = "" if par.vary else "  (fixed)"
+        lines.append(f"    {name:<8} {par.value:12.5g} {stderr} {unit:<7} [{par.min:.3g}, {par.max:.3g}]{state}")
+    return lines
+
+
+# --------------------------------------------------------------------------- Iwan
+
+
+@dataclass(frozen=True)
+class IwanFitSettings:
+    """Algorithm settings of a three-stage Iwan fit (recorded for provenance)."""
+
+    order: int
+    backend: str
+    points_per_set: int | None
+    max_evals: int
+    xtol: float
+    ftol: float
+    restarts: int
+    initial_step: float
+    initial_state: str
+    seed: int
+
+
+@dataclass(frozen=True)
+class IwanStart:
+    """Automatic starting point read off the loops (see :func:`idkit.fit.iwan_start`).
+
+    Attributes
+    ----------
+    stuck_stiffness : float
+        Initial slope after reversals of the smallest branches, ``g1 + sum k_i``, N/m.
+    half_height : float
+        Half the vertical loop height of the largest loop at its centre, ``~ sum fc_i``, N.
+    g1 : float
+        Tip-to-tip secant slope of the largest loop minus ``half_height / amplitude``, N/m.
+    slip_onset, slip_full : float
+        Smallest and largest slip travel ``2 fc_i / k_i`` (m) of the starting
+        elements: the travel after a reversal where the first and the last one slips.
+    model : IwanModel
+        The starting model built from these numbers.
+    """
+
+    stuck_stiffness: float
+    half_height: float
+    g1: float
+    slip_onset: float
+    slip_full: float
+    model: IwanModel
+
+
+@dataclass(frozen=True)
+class StageResult:
+    """One stage of a fit: what was free, on which sets, the errors and the cost.
+
+    ``set_errors`` are the per-set relative RMS errors (7.1) as fractions (0.01 = 1 %)
+    at the end of the stage; ``mean_error`` is their mean (the stage objective).
+    """
+
+    name: str
+    data: str
+    free: tuple[str, ...]
+    start: dict
+    params: dict
+    set_names: tuple[str, ...]
+    set_errors: np.ndarray
+    mean_error: float
+    start_error: float
+    evaluations: int
+    restarts: int
+    message: str
+    elapsed_s: float
+
+
+@dataclass(frozen=True)
+class IwanFitResult:
+    """Result of :func:`idkit.fit.fit_iwan` (three stages, SPEC 4).
+
+    Attributes
+    ----------
+    model : IwanModel
+        Identified model: global parameters (g1, g2, g3) of stage 2, local ones
+        (k_i, fc_i) of stage 3; ``c_visc = 0`` (quasi-static data carry no rate).
+    stages : tuple of StageResult
+        The three stages in order (the stage history).
+    small_errors, large_errors : ndarray
+        Per-set errors (fractions) of the final model on the small and large sets.
+    small_names, large_names : tuple of str
+    start : IwanStart
+    settings : IwanFitSettings
+    parameters : lmfit.Parameters
+        Values, bounds and standard errors (see :func:`idkit.fit.fit_iwan`).
+    elapsed_s : float
+        Wall time of the three stages (s), excluding the standard-error estimate.
+    """
+
+    model: IwanModel
+    stages: tuple[StageResult, ...]
+    small_errors: np.ndarray
+    large_errors: np.ndarray
+    small_names: tuple[str, ...]
+    large_names: tuple[str, ...]
+    start: IwanStart
+    settings: IwanFitSettings
+    parameters: lmfit.Parameters = field(repr=False)
+    elapsed_s: float
+
+    @property
+    def error_small(self) -> float:
+        """Mean relative RMS error (fraction) of the final model on the small sets."""
+        return float(np.mean(self.small_errors))
+
+    @property
+    def error_large(self) -> float:
+        """Mean relative RMS error (fraction) of the final model on the large sets."""
+        return float(np.mean(self.large_errors))
+
+    @property
+    def evaluations(self) -> int:
+        """Objective evaluations over all stages."""
+        return int(sum(stage.evaluations for stage in self.stages))
+
+    @property
+    def backend(self) -> str:
+        """Optimiser backend, ``"nlopt"`` or ``"scipy"``."""
+        return self.settings.backend
+
+    @property
+    def success(self) -> bool:
+        """True if no stage stopped on the evaluation limit."""
+        return all("max_evals" not in stage.message for stage in self.stages)
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per (stage, set) plus ``final`` rows: error in % and evaluations."""
+        rows = []
+        for stage in self.stages:
+            for name, error in zip(stage.set_names, stage.set_errors):
+                rows.append({"stage": stage.name, "data": stage.data, "set": name,
+                             "error_percent": 100.0 * error, "evaluations": stage.evaluations})
+        for data, names, errors in (("small", self.small_names, self.small_errors),
+                                    ("large", self.large_names, self.large_errors)):
+            for name, error in zip(names, errors):
+                rows.append({"stage": "final", "data": data, "set": name,
+                             "error_percent": 100.0 * error, "evaluations": 0})
+        return pd.DataFrame(rows)
+
+    def report(self) -> str:
+        """Readable summary: parameters with units and stderr, errors per stage and set."""
+        s = self.settings
+        lines = [
+            f"[[Iwan fit, order {s.order}, three stages, Nelder-Mead ({s.backend})]]",
+            f"    evaluations {self.evaluations}, wall time {self.elapsed_s:.3f} s, "
+            f"success {self.success}, initial state '{s.initial_state}', seed {s.seed}",
+            f"    mean error (7.1): small sets {100 * self.error_small:.3f} %, "
+            f"large sets {100 * self.error_large:.3f} %",
+            "[[Start (from the loops)]]",
+            f"    stuck stiffness {self.start.stuck_stiffness:.4g} N/m, half loop height "
+            f"{self.start.half_height:.4g} N, g1 {self.start.g1:.4g} N/m, slip travel "
+            f"{1e3 * self.start.slip_onset:.3g}-{1e3 * self.start.slip_full:.3g} mm",
+            "[[Stages]]",
+        ]
+        for stage in self.stages:
+            per_set = ", ".join(f"{n}: {100 * e:.2f}" for n, e in zip(stage.set_names, stage.set_errors))
+            lines.append(
+                f"    {stage.name} ({stage.data} loops, free {', '.join(stage.free)}): "
+                f"{100 * stage.start_error:.3f} % -> {100 * stage.mean_error:.3f} %, "
+                f"{stage.evaluations} evaluations, {stage.restarts} restarts, {stage.message}"
+            )
+            lines.append(f"        per set [%]: {per_set}")
+        lines.append("[[Variables]]")
+        lines.extend(_parameter_lines(self.parameters))
+        return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------- Maxwell
+
+
+@dataclass(frozen=True)
+class MaxwellFitSettings:
+    """Algorithm settings of a Maxwell / Voigt fit (recorded for provenance)."""
+
+    model: str
+    order: int
+    data: str
+    backend: str
+    band: tuple[float, float]
+    bounds: dict
+    monotone_loss: bool
+    loss_grid_points: int
+    max_evals: int
+    ftol: float
+    seed: int
+    global_method: str | None
+    global_max_evals: int | None
+
+
+@dataclass(frozen=True)
+class CrossCheck:
+    """Global cross-check of the local SQP optimum.
+
+    A population-based global search (nlopt GN_ISRES or scipy
+    differential_evolution, seeded) on the same objective and constraints,
+    polished by the same SQP. ``gap = sqp_error - global_error`` (fractions);
+    ``reached_global`` is true when the gap is within ``tolerance``.
+    """
+
+    method: str
+    sqp_error: float
+    global_error: float
+    gap: float
+    tolerance: float
+    reached_global: bool
+    global_params: dict
+    evaluations: int
+    seed: int
+    elapsed_s: float
+
+
+@dataclass(frozen=True)
+class MaxwellFitResult:
+    """Result of :func:`idkit.fit.fit_maxwell`, :func:`fit_voigt` or :func:`fit_complex_stiffness`.
+
+    Attributes
+    ----------
+    model : GeneralizedMaxwell or VoigtModel
+        The best model found (the SQP optimum, or the polished global optimum
+        when the cross-check found a lower error; ``source`` says which).
+    error : float
+        Objective (7.5) of ``model``: RMS relative complex error, fraction.
+    set_errors : ndarray
+        RMS relative error per data set (fraction).
+    set_names : tuple of str
+    sqp_error : float
+        Error at the SQP optimum from the (default or given) start.
+    at_bound : tuple of str
+        Free parameters within 1e-6 (in scaled [0, 1] coordinates) of a bound.
+    evaluations : int
+        Objective evaluations of the SQP run.
+    message : str
+        Optimiser stop reason.
+    source : {"sqp", "global"}
+    cross_check : CrossCheck or None
+    settings : MaxwellFitSettings
+    parameters : lmfit.Parameters
+        Values, bounds, stderr from the analytic Jacobian (parameters at a bound: none).
+    elapsed_s : float
+        Wall time of the SQP run (s).
+    """
+
+    model: GeneralizedMaxwell | VoigtModel
+    error: float
+    set_errors: np.ndarray
+    set_names: tuple[str, ...]
+    sqp_error: float
+    at_bound: tuple[str, ...]
+    evaluations: int
+    message: str
+    source: str
+    cross_check: CrossCheck | None
+    settings: MaxwellFitSettings
+    parameters: lmfit.Parameters = field(repr=False)
+    elapsed_s: float
+
+    @property
+    def success(self) -> bool:
+        """True unless the SQP stopped on its evaluation limit or failed."""
+        return not any(word in self.message for word in ("max_evals", "failure", "Iteration limit"))
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per data set: name and RMS relative error in %."""
+        return pd.DataFrame({"set": list(self.set_names), "error_percent": 100.0 * np.asarray(self.set_errors)})
+
+    def report(self) -> str:
+        """Readable summary: parameters, errors, bounds hit, cross-check."""
+        s = self.settings
+        title = f"{s.model} order {s.order}" if s.model == "maxwell" else s.model
+        lines = [
+            f"[[{title} fit to {s.data}, bounded SQP ({s.backend}), band {s.band[0]:g}-{s.band[1]:g} Hz]]",
+            f"    error (7.5) {100 * self.error:.3f} % (SQP {100 * self.sqp_error:.3f} %, model from {self.source}), "
+            f"{self.evaluations} evaluations, {self.elapsed_s:.3f} s, {self.message}",
+            f"    at a bound: {', '.join(self.at_bound) if self.at_bound else 'none'}; "
+            f"loss factor non-decreasing constraint: {s.monotone_loss}",
+            "    per set [%]: " + ", ".join(f"{n}: {100 * e:.2f}" for n, e in zip(self.set_names, self.set_errors)),
+        ]
+        if self.cross_check is not None:
+            c = self.cross_check
+            verdict = "reached" if c.reached_global else "did NOT reach"
+            lines.append(
+                f"    global cross-check ({c.method}, seed {c.seed}, {c.evaluations} evaluations, "
+                f"{c.elapsed_s:.2f} s): SQP {verdict} the global optimum; global {100 * c.global_error:.4f} %, "
+                f"gap {100 * c.gap:.4f} % (tolerance {100 * c.tolerance:.4f} %)"
+            )
+        lines.append("[[Variables]]")
+        lines.extend(_parameter_lines(self.parameters))
+        return "\n".join(lines)
