@@ -41,11 +41,11 @@ FLAG_REASONS = {
 }
 
 _NEWTON_MAX_ITER = 60
-_RES_TOL = 1e-13
+_RES_TOL = 1e-9
 _BW_SUBSTEPS = 4
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _isolator_force(j, y, dy, vrel, h, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate,
                     bw, bwz, commit):
     """Force (N) and tangent (N/m, including 2 c / h) of isolator ``j`` at deflection ``y``.
@@ -93,7 +93,7 @@ def _isolator_force(j, y, dy, vrel, h, poly, cvisc, jk, jfc, jforce, mk, mdecay,
     return force, tangent
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _spring_stiffness_ok(ndof, q, xb, poly):
     for j in range(ndof):
         y = q[0] - q[1] if (ndof == 2 and j == 0) else q[j] - xb
@@ -102,7 +102,7 @@ def _spring_stiffness_ok(ndof, q, xb, poly):
     return True
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _forces(ndof, qn, qtrial, vtrial, xb_old, xb_new, vb_new, h, poly, cvisc, jk, jfc, jforce, mk, mdecay,
             mgain, mstate, bw, bwz, commit, out_force, out_tangent):
     """Isolator forces/tangents for the trial state (absolute coordinates).
@@ -128,7 +128,7 @@ def _forces(ndof, qn, qtrial, vtrial, xb_old, xb_new, vb_new, h, poly, cvisc, jk
         out_tangent[1] = t
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _residual(ndof, masses, qn, vn, an, q, h, load, xb_old, xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain,
               mstate, bw, bwz, res, tangent_out, force_out, vtrial, atrial):
     """Step residual ``M (a + g) + f`` in ``res``; returns the magnitude of its terms (N)."""
@@ -147,7 +147,7 @@ def _residual(ndof, masses, qn, vn, an, q, h, load, xb_old, xb_new, vb_new, poly
     return magnitude
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _norm(ndof, values):
     total = 0.0
     for d in range(ndof):
@@ -155,7 +155,7 @@ def _norm(ndof, values):
     return math.sqrt(total)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _step(ndof, masses, q, v, a, h, load_next, xb_old, xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate,
           bw, bwz, force_scale, work):
     """Advance one step in place (absolute coordinates; ``load_next`` is gravity in m/s^2).
