@@ -15,6 +15,16 @@ Every fit returns a typed result (:mod:`idkit.fit.result`) with lmfit
 """
 
 from idkit.fit.iwan import LoopSet, fit_iwan, iwan_set_errors, iwan_start, prepare_loops
+from idkit.fit.maxwell import (
+    K0Estimate,
+    TransmissibilitySet,
+    estimate_k0,
+    fit_complex_stiffness,
+    fit_maxwell,
+    fit_voigt,
+    maxwell_objective,
+    maxwell_order_table,
+)
 from idkit.fit.result import (
     CrossCheck,
     IwanFitResult,
@@ -28,5 +38,7 @@ from idkit.fit.result import (
 __all__ = [
     "LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "fit_iwan",
     "IwanFitResult", "IwanFitSettings", "IwanStart", "StageResult",
+    "TransmissibilitySet", "K0Estimate", "estimate_k0", "maxwell_objective", "fit_maxwell", "fit_voigt",
+    "fit_complex_stiffness", "maxwell_order_table",
     "MaxwellFitResult", "MaxwellFitSettings", "CrossCheck",
 ]

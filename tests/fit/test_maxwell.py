@@ -1,0 +1,226 @@
+"""Maxwell / Voigt / complex-stiffness fits: recovery, gradients, cross-check, order table, bad input."""
+
+import numpy as np
+import pytest
+
+from idkit.errors import FitError
+from idkit.fit import (
+    TransmissibilitySet,
+    estimate_k0,
+    fit_complex_stiffness,
+    fit_maxwell,
+    fit_voigt,
+    maxwell_objective,
+    maxwell_order_table,
+)
+from idkit.fit.maxwell import _frf_problem, _Problem
+from idkit.fit._params import Transform
+from idkit.models import GeneralizedMaxwell, library
+
+NOISE = 0.01  # relative complex noise (std of |noise| / |H|)
+MASSES = np.geomspace(0.99, 6.40, 8)  # kg, the 8 shaker top masses of SPEC 3
+TOL_STIFFNESS = 0.02  # k_i recovered within 2 % at 1 % noise (stderr ~0.1 %)
+TOL_RATE = 0.02  # rates within 2 %
+TOL_M_EFF = 0.02  # m_eff within 2 %
+NOISE_FLOOR_FACTOR = 1.01  # fitted objective <= 1.01 x the truth's objective on the same data
+BACKEND_REL_TOL = 1e-4  # nlopt and scipy SLSQP parameters agree to 0.01 %
+GRADIENT_REL_TOL = 1e-6  # analytic vs central-difference gradient
+SQP_TIME_LIMIT_S = 0.5  # issue 4 benchmark target for Maxwell SQP order 2 on all FRFs
+
+
+def _transmissibility(model, mass, freq):
+    stiffness = model.complex_stiffness(freq)
+    return stiffness / (stiffness - (mass + model.m_eff) * (2 * np.pi * freq) ** 2)
+
+
+@pytest.fixture(scope="module")
+def truth():
+    return library.get("table_7_3_elastomer")
+
+
+@pytest.fixture(scope="module")
+def noisy_frfs(truth):
+    rng = np.random.default_rng(73)
+    freq = np.arange(0.5, 150.0, 0.5)  # Hz, beyond the band on both sides
+    sets = []
+    for mass in MASSES:
+        for repetition in range(3):
+            noise = NOISE * (rng.standard_normal(freq.size) + 1j * rng.standard_normal(freq.size)) / np.sqrt(2)
+            sets.append(TransmissibilitySet(mass, freq, _transmissibility(truth, mass, freq) * (1 + noise),
+                                            f"{mass:.2f} kg #{repetition + 1}"))
+    return sets
+
+
+@pytest.fixture(scope="module")
+def clean_frfs(truth):
+    freq = np.arange(1.0, 100.5, 1.0)
+    return [(mass, freq, _transmissibility(truth, mass, freq)) for mass in (0.99, 2.5, 6.4)]
+
+
+@pytest.fixture(scope="module")
+def fits(noisy_frfs, truth):
+    return {backend: fit_maxwell(noisy_frfs, k0=truth.k0, order=2, backend=backend) for backend in ("nlopt", "scipy")}
+
+
+@pytest.mark.parametrize("backend", ["nlopt", "scipy"])
+def test_recovers_table_7_3_from_noisy_frfs_of_eight_masses(fits, truth, noisy_frfs, backend):
+    result = fits[backend]
+    model = result.model
+    assert model.k == pytest.approx(truth.k, rel=TOL_STIFFNESS)
+    assert model.rate == pytest.approx(truth.rate, rel=TOL_RATE)
+    assert model.m_eff == pytest.approx(truth.m_eff, rel=TOL_M_EFF)
+    floor = maxwell_objective(truth, noisy_frfs)
+    assert floor == pytest.approx(NOISE, rel=0.05)
+    assert result.error <= NOISE_FLOOR_FACTOR * floor
+    assert result.error == pytest.approx(maxwell_objective(model, noisy_frfs), rel=1e-9)
+    assert result.at_bound == () and result.success
+    assert result.elapsed_s < SQP_TIME_LIMIT_S
+    # standard errors are defined and cover the truth
+    for name in ("k_1", "k_2", "rate_1", "rate_2", "m_eff"):
+        par = result.parameters[name]
+        assert par.stderr is not None and abs(par.value - truth.params()[name]) < 5 * par.stderr, name
+    assert result.parameters["k0"].vary is False
+
+
+def test_backends_agree(fits):
+    a, b = fits["nlopt"].model.params(), fits["scipy"].model.params()
+    for name in a:
+        assert a[name] == pytest.approx(b[name], rel=BACKEND_REL_TOL), name
+
+
+def test_fitted_loss_factor_is_non_decreasing_in_the_band(fits):
+    freq = np.geomspace(1, 100, 200)
+    assert np.all(np.diff(fits["nlopt"].model.loss_factor(freq)) >= -1e-6)
+
+
+def _check_gradient(problem: _Problem, z):
+    value, gradient = problem.objective(z)
+    step = 1e-6
+    numeric = np.array([(problem.objective(z + step * e, False)[0] - problem.objective(z - step * e, False)[0])
+                        / (2 * step) for e in np.eye(z.size)])
+    assert gradient == pytest.approx(numeric, rel=GRADIENT_REL_TOL, abs=1e-9 * max(abs(value), 1))
+    if problem.n_constraints:
+        _, jacobian = problem.constraints(z)
+        numeric_j = np.column_stack([(problem.constraints(z + step * e)[0] - problem.constraints(z - step * e)[0])
+                                     / (2 * step) for e in np.eye(z.size)])
+        assert jacobian == pytest.approx(numeric_j, rel=1e-5, abs=1e-8)
+
+
+@pytest.mark.parametrize("model", ["maxwell", "voigt"])
+def test_analytic_gradient_matches_finite_differences(clean_frfs, model):
+    problem, _ = _frf_problem(clean_frfs, model=model, order=2, k0=1.4e4, band=(1, 100), stiffness_bounds=None,
+                              rate_bounds=(1, 1e4), damping_bounds=None, m_eff_max=None, isolator_mass=None,
+                              monotone_loss=True, loss_grid_points=10)
+    rng = np.random.default_rng(5)
+    for _ in range(3):
+        _check_gradient(problem, rng.uniform(0.1, 0.9, len(problem.names)))
+
+
+def test_complex_stiffness_gradient_with_free_k0():
+    freq = np.geomspace(0.1, 1000, 40)
+    model = GeneralizedMaxwell(k0=1e3, k=[5e3, 2e4], rate=[3.0, 300.0])
+    measured = model.complex_stiffness(freq) * 1.01
+    transforms = [Transform("k0", "N/m", "log01", 1.0, 1e4), Transform("k_1", "N/m", "log01", 10, 1e6),
+                  Transform("k_2", "N/m", "log01", 10, 1e6), Transform("rate_1", "1/s", "log01", 0.1, 1e4),
+                  Transform("rate_2", "1/s", "log01", 0.1, 1e4)]
+    omega = 2 * np.pi * freq
+    problem = _Problem(model="maxwell", data="stiffness", omega=omega, measured=measured, mass=None,
+                       weights=np.full(freq.size, 1 / freq.size), set_index=np.zeros(freq.size, int),
+                       set_names=["k*"], k0=None, transforms=transforms, order=2,
+                       loss_omega=2 * np.pi * np.geomspace(1, 100, 8), monotone_loss=True)
+    _check_gradient(problem, np.array([0.3, 0.4, 0.6, 0.2, 0.7]))
+
+
+def test_global_cross_check_finds_the_planted_optimum_after_a_bad_start(clean_frfs, truth):
+    # noise-free data: the truth is a planted optimum with zero error. The SQP starts
+    # with both rates at the bottom of their range and stiff elements, where the
+    # loss-factor constraint is violated, and cannot recover.
+    bad_start = GeneralizedMaxwell(k0=truth.k0, k=[1.4e5, 1.4e5], rate=[1.0, 1.2], m_eff=0.0)
+    result = fit_maxwell(clean_frfs, k0=truth.k0, start=bad_start, cross_check=True, global_max_evals=5000, seed=1)
+    check = result.cross_check
+    assert result.sqp_error > 0.1
+    assert not check.reached_global and check.gap > 0.1
+    assert check.global_error < 1e-4
+    assert result.source == "global" and result.error < 1e-4
+    assert result.model.rate == pytest.approx(truth.rate, rel=1e-3)
+    assert "did NOT reach" in result.report()
+
+
+@pytest.mark.parametrize("backend", ["nlopt", "scipy"])
+def test_global_cross_check_confirms_a_good_sqp_optimum(clean_frfs, truth, backend):
+    result = fit_maxwell(clean_frfs, k0=truth.k0, cross_check=True, global_max_evals=4000, backend=backend, seed=2)
+    assert result.cross_check.reached_global and result.source == "sqp"
+    assert result.error < 1e-5
+    assert result.cross_check.evaluations > 1000
+
+
+def test_order_table_falls_then_flattens_and_voigt_is_worse(noisy_frfs, truth):
+    table = maxwell_order_table(noisy_frfs[::3], k0=truth.k0, orders=(1, 2, 3))
+    errors = table.set_index("order")["error_percent"]
+    assert list(table["model"]) == ["maxwell"] * 3 + ["voigt"]
+    assert errors[1] > 5 * errors[2]  # one element cannot follow two relaxation rates
+    assert errors[3] == pytest.approx(errors[2], rel=0.02)  # a third element adds nothing
+    assert table.loc[table["model"] == "voigt", "error_percent"].iloc[0] > 5 * errors[2]
+    assert table["at_bound"].map(bool).any()  # superfluous or misfitting parameters get flagged
+
+
+def test_voigt_fit_runs_and_reports(clean_frfs):
+    result = fit_voigt(clean_frfs, k0=1.4e4)
+    assert result.settings.model == "voigt" and set(result.parameters) == {"k", "damping", "m_eff"}
+    assert "voigt fit to transmissibility" in result.report()
+
+
+def test_complex_stiffness_fit_recovers_a_prony_series():
+    rng = np.random.default_rng(11)
+    model = GeneralizedMaxwell(k0=2e3, k=[4e3, 1e4, 3e4], rate=[2.0, 60.0, 2000.0])
+    freq = np.geomspace(0.05, 2000, 60)
+    measured = model.complex_stiffness(freq) * (1 + 0.005 * rng.standard_normal(freq.size))
+    result = fit_complex_stiffness(freq, measured.real, measured.imag, order=3)
+    assert result.error < 0.006
+    fitted = result.model
+    assert fitted.k0 == pytest.approx(2e3, rel=0.05)
+    assert fitted.rate == pytest.approx(model.rate, rel=0.05)
+    assert fitted.k == pytest.approx(model.k, rel=0.05)
+
+
+def test_estimate_k0_slope_and_standard_error():
+    rng = np.random.default_rng(3)
+    deflection = np.linspace(-4e-3, 4e-3, 801)
+    force = 1.4e4 * deflection + 0.05 * np.sin(900 * deflection) + 0.02 * rng.standard_normal(deflection.size)
+    estimate = estimate_k0(deflection, force, window=1e-3)
+    assert estimate.n_points == 201
+    assert abs(estimate.k0 - 1.4e4) < 5 * estimate.stderr + 50
+    assert 0 < estimate.stderr < 100
+
+
+@pytest.mark.parametrize(("mutate", "match"), [
+    (lambda h: np.where(np.arange(h.size) == 10, np.nan, h), r"found \(nan\+0j\) at 11 Hz"),
+    (lambda h: np.where(np.arange(h.size) == 10, 0, h), "found 0 at 11 Hz"),
+    (lambda h: h[:2], "expected equal 1-D shapes"),
+])
+def test_bad_frfs_raise_fit_error(clean_frfs, mutate, match):
+    mass, freq, h = clean_frfs[0]
+    bad = [(mass, freq if mutate(h).size == h.size else freq, mutate(h))] + clean_frfs[1:]
+    with pytest.raises(FitError, match=match):
+        fit_maxwell(bad, k0=1.4e4)
+
+
+@pytest.mark.parametrize(("options", "match"), [
+    ({"order": 0}, "order: found 0, expected an integer >= 1"),
+    ({"k0": -1.0}, "k0: found -1.0"),
+    ({"band": (100, 1)}, "band: found"),
+    ({"band": (1, 2.5)}, "found 2 points in the band"),
+    ({"backend": "matlab"}, "backend: found 'matlab'"),
+    ({"rate_bounds": (0, 10)}, "rate_bounds"),
+])
+def test_bad_options_raise_fit_error(clean_frfs, options, match):
+    kwargs = {"k0": 1.4e4, **options}
+    with pytest.raises(FitError, match=match):
+        fit_maxwell(clean_frfs, **kwargs)
+
+
+def test_bad_k0_window_and_empty_frfs():
+    with pytest.raises(FitError, match="found 1 points"):
+        estimate_k0(np.array([0.0, 2e-3, 3e-3]), np.array([0.0, 1.0, 2.0]), window=1e-3)
+    with pytest.raises(FitError, match="no transmissibility set"):
+        fit_maxwell([], k0=1e4)
