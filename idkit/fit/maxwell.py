@@ -619,12 +619,9 @@ def _solve(problem: _Problem, *, start, band, backend, max_evals, ftol, cross_ch
 
 def _start_values(problem: _Problem, start) -> np.ndarray:
     params = start.params()
-    if problem.model == "voigt":
-        names = problem.names
-    else:
-        names = problem.names
-        if isinstance(start, GeneralizedMaxwell) and start.order != problem.order:
-            raise FitError(f"start: found order {start.order}, expected order {problem.order}")
+    names = problem.names
+    if isinstance(start, GeneralizedMaxwell) and start.order != problem.order:
+        raise FitError(f"start: found order {start.order}, expected order {problem.order}")
     try:
         return np.array([params[name] for name in names], dtype=float)
     except KeyError as missing:
@@ -892,7 +889,8 @@ def fit_complex_stiffness(
                                                                              10 * magnitude.max()), "N/m")
     rate_bounds = _check_bounds("rate_bounds", rate_bounds or (2 * np.pi * f_in.min() / 10,
                                                                2 * np.pi * f_in.max() * 10), "1/s")
-    transforms = _maxwell_transforms(order, stiffness_bounds, rate_bounds, k0_bounds=None if k0 is not None else k0_bounds)
+    transforms = _maxwell_transforms(order, stiffness_bounds, rate_bounds,
+                                     k0_bounds=None if k0 is not None else k0_bounds)
     order_index = np.argsort(f_in)
     omega = 2 * np.pi * f_in[order_index]
     problem = _Problem(model="maxwell", data="stiffness", omega=omega, measured=k_in[order_index], mass=None,
@@ -900,10 +898,9 @@ def fit_complex_stiffness(
                        set_names=["complex stiffness"], k0=None if k0 is None else float(k0), transforms=transforms,
                        order=order, loss_omega=_loss_grid(band, loss_grid_points) if monotone_loss else None,
                        monotone_loss=monotone_loss)
-    result = _solve(problem, start=None, band=band, backend=backend, max_evals=max_evals, ftol=ftol,
-                    cross_check=cross_check, global_method=global_method, global_max_evals=global_max_evals,
-                    seed=seed, settings_extra={})
-    return result
+    return _solve(problem, start=None, band=band, backend=backend, max_evals=max_evals, ftol=ftol,
+                  cross_check=cross_check, global_method=global_method, global_max_evals=global_max_evals,
+                  seed=seed, settings_extra={})
 
 
 def maxwell_order_table(frfs, *, k0: float, orders: Sequence[int] = (1, 2, 3, 4), voigt: bool = True,
