@@ -41,7 +41,7 @@ FLAG_REASONS = {
 }
 
 _NEWTON_MAX_ITER = 60
-_RES_TOL = 1e-9
+_RES_TOL = 1e-12
 _BW_SUBSTEPS = 4
 
 
@@ -280,7 +280,7 @@ def _isolator_forces_now(ndof, q, v, xb, vb, poly, cvisc, jk, jforce, mk, mstate
         out[j] = f
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, nogil=True)
 def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, h, base_disp, base_vel, gravity,
                    q0, v0, jforce0, mstate0, bwz0, record_every, force_scale):
     """Simulate a batch on a common time grid; record every ``record_every`` steps.
@@ -311,7 +311,7 @@ def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, h, base_disp, ba
     mdecay = np.empty(mrate.shape)
     mgain = np.empty(mrate.shape)
     _prepare_maxwell(mrate, h, mdecay, mgain)
-    for b in numba.prange(batch):
+    for b in range(batch):
         row = np.int64(b) if base_disp.shape[0] > 1 else np.int64(0)
         q = q0[b].copy()
         v = v0[b].copy()
@@ -350,7 +350,7 @@ def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, h, base_disp, ba
     return rec_q, rec_v, rec_a, rec_f, flags, flag_step
 
 
-@numba.njit(cache=True, parallel=True)
+@numba.njit(cache=True, nogil=True)
 def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplitude, steps_per_period,
                        n_coeff, tolerance, min_windows, max_windows, force_scale):
     """Run harmonic base displacement ``A sin(2 pi f t)`` to steady state, per member.
@@ -380,7 +380,7 @@ def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplit
     change = np.full(batch, np.nan)
     converged = np.zeros(batch, dtype=np.bool_)
     flags = np.zeros(batch, dtype=np.int64)
-    for b in numba.prange(batch):
+    for b in range(batch):
         omega = 2.0 * math.pi * freq[b]
         n_per = steps_per_period[b]
         h = 1.0 / (freq[b] * n_per)

@@ -10,6 +10,7 @@ import pandas as pd
 from idkit.errors import SimulationError
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
 from idkit.simulate._kernel import FLAG_REASONS, run_harmonic_batch
+from idkit.simulate._parallel import run_chunked
 
 __all__ = ["HarmonicResponse", "harmonic_response", "default_steps_per_period", "small_amplitude_resonance"]
 
@@ -115,7 +116,8 @@ def default_steps_per_period(system, freq, *, per_period: int = 128, per_resonan
 
 def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, tolerance: float = 1e-3,
                       steps_per_period=None, min_periods: int = 8, max_periods: int = 4000,
-                      progress=None, chunk_size: int = 256) -> HarmonicResponse:
+                      progress=None, workers: int | None = None, executor=None,
+                      chunk_size: int | None = None) -> HarmonicResponse:
     """Run every (freq, amplitude) point of a batch to steady state.
 
     Parameters
@@ -135,7 +137,13 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
         Bounds on the simulated periods; points that hit ``max_periods`` are
         returned with ``converged = False``.
     progress : callable(done, total), optional
-        Called after each chunk of ``chunk_size`` points (progress bars).
+        Called after each chunk of points (progress bars).
+    workers : int, optional
+        Threads running chunks of the batch (default: all usable cores).
+    executor : concurrent.futures.Executor-like, optional
+        Runs the chunks instead of a local thread pool (e.g. a Dask ``Client``).
+    chunk_size : int, optional
+        Points per chunk (default: about four chunks per worker).
 
     Examples
     --------
@@ -163,18 +171,18 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
             raise SimulationError("steps_per_period: expected even integers >= 8")
     n_coeff = 2 * int(n_harmonics) + 1
     scale = force_scale(arrays, float(np.max(amplitude * (2 * np.pi * freq) ** 2)))
-    size = max(1, int(chunk_size)) if progress is not None else freq.size
-    pieces = []
-    for start in range(0, freq.size, size):
-        chunk = slice(start, start + size)
-        pieces.append(run_harmonic_batch(
-            *arrays.as_tuple(), freq[chunk], amplitude[chunk], np.ascontiguousarray(steps[chunk]), n_coeff,
-            float(tolerance), max(1, int(np.ceil(min_periods / 2))), max(1, int(np.ceil(max_periods / 2))), scale,
-        ))
-        if progress is not None:
-            progress(min(start + size, freq.size), freq.size)
-    coeff, half_range, peak, dcoeff, windows, change, converged, flags = (
-        np.concatenate(parts) for parts in zip(*pieces)
+    min_windows = max(1, int(np.ceil(min_periods / 2)))
+    max_windows = max(1, int(np.ceil(max_periods / 2)))
+    kernel_arrays = arrays.as_tuple()
+
+    def task(part: slice):
+        return run_harmonic_batch(
+            *kernel_arrays, freq[part], amplitude[part], np.ascontiguousarray(steps[part]), n_coeff,
+            float(tolerance), min_windows, max_windows, scale,
+        )
+
+    coeff, half_range, peak, dcoeff, windows, change, converged, flags = run_chunked(
+        task, freq.size, workers=workers, chunk_size=chunk_size, progress=progress, executor=executor,
     )
     return HarmonicResponse(
         freq=freq, amplitude=amplitude, coefficients=coeff, deflection_coefficients=dcoeff,

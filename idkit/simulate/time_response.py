@@ -11,6 +11,7 @@ from idkit.errors import SimulationError
 from idkit.models.base import IsolatorModel
 from idkit.simulate._arrays import STANDARD_GRAVITY, force_scale, resolve_system, system_arrays
 from idkit.simulate._kernel import FLAG_REASONS, run_time_batch
+from idkit.simulate._parallel import run_chunked
 from idkit.simulate.base_motion import BaseMotion, integrate_acceleration
 
 __all__ = ["TimeResponse", "simulate", "free_fall", "static_deflection", "initial_states"]
@@ -115,7 +116,7 @@ def initial_states(system, deflections):
 
 def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=None,
              initial_velocity=None, initial_deflection=None, gravity: bool | float = False,
-             record_every: int = 1) -> TimeResponse:
+             record_every: int = 1, workers: int | None = None, executor=None) -> TimeResponse:
     """Simulate a batch of runs of ``system`` on a uniform time grid.
 
     Parameters
@@ -139,6 +140,7 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
         Include gravity (True: 9.80665 m/s^2, or a value in m/s^2) acting downward.
     record_every : int
         Record every n-th step.
+    workers, executor : see :func:`idkit.simulate.harmonic_response`.
 
     Returns
     -------
@@ -193,11 +195,20 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     if int(record_every) < 1:
         raise SimulationError(f"record_every: found {record_every!r}, expected a positive integer")
     accel_scale = float(np.abs(np.diff(base_vel, axis=-1)).max() / h) if t.size > 1 else 0.0
-    rec_q, rec_v, rec_a, rec_f, flags, flag_step = run_time_batch(
-        *arrays.as_tuple(), h, np.ascontiguousarray(base_disp), np.ascontiguousarray(base_vel), g,
-        np.ascontiguousarray(q0), v_abs, jforce0, mstate0, bwz0, int(record_every),
-        force_scale(arrays, accel_scale),
-    )
+    kernel_arrays = arrays.as_tuple()
+    base_disp = np.ascontiguousarray(base_disp)
+    base_vel = np.ascontiguousarray(base_vel)
+    q0 = np.ascontiguousarray(q0)
+    scale = force_scale(arrays, accel_scale)
+
+    def task(part: slice):
+        rows = part if base_disp.shape[0] > 1 else slice(0, 1)
+        return run_time_batch(
+            *kernel_arrays, h, base_disp[rows], base_vel[rows], g, q0[part], v_abs[part], jforce0[part],
+            mstate0[part], bwz0[part], int(record_every), scale,
+        )
+
+    rec_q, rec_v, rec_a, rec_f, flags, flag_step = run_chunked(task, batch, workers=workers, executor=executor)
     n_records = rec_q.shape[2]
     record_time = t[:: int(record_every)][:n_records]
     base_x = base_disp[:, :: int(record_every)][:, :n_records]
@@ -217,7 +228,8 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
 
 
 def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float, time_step: float,
-              gravity: bool | float = False, initial_deflection=None, record_every: int = 1) -> TimeResponse:
+              gravity: bool | float = False, initial_deflection=None, record_every: int = 1,
+              workers: int | None = None, executor=None) -> TimeResponse:
     """Conditioned free fall (SPEC 5): base fixed, every mass hits with the same velocity.
 
     Parameters
@@ -245,4 +257,4 @@ def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float
     ndof = system_arrays(system).ndof
     velocities = np.repeat(v0[:, None], ndof, axis=1)
     return simulate(system, time, initial_velocity=velocities, initial_deflection=initial_deflection,
-                    gravity=gravity, record_every=record_every)
+                    gravity=gravity, record_every=record_every, workers=workers, executor=executor)

@@ -1,0 +1,63 @@
+"""Run compiled batch kernels over chunks of a batch on several threads.
+
+The kernels release the GIL (``nogil``), so plain threads run them in parallel
+without process start-up or pickling. ``executor`` may be any
+``concurrent.futures``-style executor (``submit`` returning futures), e.g. a
+Dask ``Client`` for a cluster.
+"""
+
+from __future__ import annotations
+
+import os
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from idkit.errors import SimulationError
+
+
+def default_workers() -> int:
+    """Number of usable CPU cores."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def chunk_slices(size: int, chunk_size: int) -> list[slice]:
+    return [slice(start, min(start + chunk_size, size)) for start in range(0, size, chunk_size)]
+
+
+def run_chunked(task, size: int, *, workers=None, chunk_size=None, progress=None, executor=None):
+    """Call ``task(slice)`` for chunks covering ``range(size)``; concatenate each output field.
+
+    ``task`` returns a tuple of arrays whose first axis runs over the chunk.
+    """
+    workers = default_workers() if workers is None else int(workers)
+    if workers < 1:
+        raise SimulationError(f"workers: found {workers}, expected a positive integer")
+    if chunk_size is None:
+        chunk_size = max(1, -(-size // (4 * workers))) if size > workers else 1
+    slices = chunk_slices(size, max(1, int(chunk_size)))
+    results = [None] * len(slices)
+    done = 0
+    if executor is None and workers == 1:
+        for index, part in enumerate(slices):
+            results[index] = task(part)
+            done += part.stop - part.start
+            if progress is not None:
+                progress(done, size)
+    else:
+        own_pool = executor is None
+        pool = ThreadPoolExecutor(max_workers=workers) if own_pool else executor
+        try:
+            futures = {index: pool.submit(task, part) for index, part in enumerate(slices)}
+            for index, part in enumerate(slices):
+                results[index] = futures[index].result()
+                done += part.stop - part.start
+                if progress is not None:
+                    progress(done, size)
+        finally:
+            if own_pool:
+                pool.shutdown()
+    return tuple(np.concatenate(field) for field in zip(*results))
