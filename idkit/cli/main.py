@@ -85,7 +85,7 @@ def _cmd_simulate_harmonic(args):
     grid_freq, grid_amplitude = np.meshgrid(freq, amplitude, indexing="ij")
     response = harmonic_response(
         system, grid_freq.ravel(), grid_amplitude.ravel(), n_harmonics=args.harmonics, tolerance=args.tolerance,
-        progress=ProgressBar("harmonic", enabled=not args.quiet), chunk_size=64,
+        progress=ProgressBar("harmonic", enabled=not args.quiet),
     )
     columns = {"freq [Hz]": response.freq, "amplitude [m]": response.amplitude,
                "half_range [m]": response.half_range}
