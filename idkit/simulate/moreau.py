@@ -54,7 +54,7 @@ class MoreauResponse:
     friction_force : (n,) N, force in the slider (isolator convention: positive in
         tension, so the mass feels ``-friction_force``). Entry ``i >= 1`` is the mean
         force over the step ending at ``time[i]``; entry 0 is the force of the
-        initial state (``clip(-k y0 - c ydot0, -Fc, Fc)`` when it starts at rest, else
+        initial state (``clip(-k y0, -Fc, Fc)`` when it starts at relative rest, else
         ``Fc sgn(ydot0)``).
     stick : (n,) bool, True where the step ended in stick (relative velocity 0)
     theta : float, the theta of the scheme
