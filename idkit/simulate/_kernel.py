@@ -41,7 +41,7 @@ FLAG_REASONS = {
 }
 
 _NEWTON_MAX_ITER = 60
-_RES_TOL = 1e-12
+_RES_TOL = 1e-13
 _BW_SUBSTEPS = 4
 
 
@@ -61,6 +61,8 @@ def _isolator_force(j, y, dy, vrel, h, poly, cvisc, jk, jfc, jforce, mk, mdecay,
     force += cvisc[j] * vrel
     tangent += cvisc[j] * 2.0 / h
     for i in range(jk.shape[1]):
+        if jk[j, i] == 0.0:  # padding (real stiffnesses are > 0)
+            break
         trial = jforce[j, i] + jk[j, i] * dy
         limit = jfc[j, i]
         if trial > limit:
@@ -73,6 +75,8 @@ def _isolator_force(j, y, dy, vrel, h, poly, cvisc, jk, jfc, jforce, mk, mdecay,
         if commit:
             jforce[j, i] = trial
     for i in range(mk.shape[1]):
+        if mk[j, i] == 0.0:  # padding
+            break
         u = mdecay[j, i] * mstate[j, i] + mgain[j, i] * dy
         force += mk[j, i] * u
         tangent += mk[j, i] * mgain[j, i]
@@ -94,149 +98,136 @@ def _isolator_force(j, y, dy, vrel, h, poly, cvisc, jk, jfc, jforce, mk, mdecay,
 
 
 @numba.njit(cache=True, inline="always")
-def _spring_stiffness_ok(ndof, q, xb, poly):
-    for j in range(ndof):
-        y = q[0] - q[1] if (ndof == 2 and j == 0) else q[j] - xb
-        if poly[j, 0] + y * (2.0 * poly[j, 1] + 3.0 * poly[j, 2] * y) < 0.0:
-            return False
-    return True
+def _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, poly, cvisc, jk, jfc, jforce, mk,
+            mdecay, mgain, mstate, bw, bwz, commit):
+    """Forces and tangents ``(f0, t0, f1, t1)`` of the isolators for a trial state.
 
-
-@numba.njit(cache=True, inline="always")
-def _forces(ndof, qn, qtrial, vtrial, xb_old, xb_new, vb_new, h, poly, cvisc, jk, jfc, jforce, mk, mdecay,
-            mgain, mstate, bw, bwz, commit, out_force, out_tangent):
-    """Isolator forces/tangents for the trial state (absolute coordinates).
-
-    Isolator 0 sits below mass 0; the last isolator stands on the base.
+    Absolute coordinates: isolator 0 sits below mass 0, the last stands on the base.
     """
     if ndof == 1:
-        y = qtrial[0] - xb_new
-        f, t = _isolator_force(0, y, y - (qn[0] - xb_old), vtrial[0] - vb_new, h, poly, cvisc, jk, jfc, jforce,
-                               mk, mdecay, mgain, mstate, bw, bwz, commit)
-        out_force[0] = f
-        out_tangent[0] = t
-    else:
-        y_up = qtrial[0] - qtrial[1]
-        f, t = _isolator_force(0, y_up, y_up - (qn[0] - qn[1]), vtrial[0] - vtrial[1], h, poly, cvisc, jk,
-                               jfc, jforce, mk, mdecay, mgain, mstate, bw, bwz, commit)
-        out_force[0] = f
-        out_tangent[0] = t
-        y_low = qtrial[1] - xb_new
-        f, t = _isolator_force(1, y_low, y_low - (qn[1] - xb_old), vtrial[1] - vb_new, h, poly, cvisc, jk,
-                               jfc, jforce, mk, mdecay, mgain, mstate, bw, bwz, commit)
-        out_force[1] = f
-        out_tangent[1] = t
+        y = q0 - xb_new
+        f0, t0 = _isolator_force(0, y, y - (qn0 - xb_old), v0 - vb_new, h, poly, cvisc, jk, jfc, jforce,
+                                 mk, mdecay, mgain, mstate, bw, bwz, commit)
+        return f0, t0, 0.0, 0.0
+    y_up = q0 - q1
+    f0, t0 = _isolator_force(0, y_up, y_up - (qn0 - qn1), v0 - v1, h, poly, cvisc, jk, jfc, jforce, mk,
+                             mdecay, mgain, mstate, bw, bwz, commit)
+    y_low = q1 - xb_new
+    f1, t1 = _isolator_force(1, y_low, y_low - (qn1 - xb_old), v1 - vb_new, h, poly, cvisc, jk, jfc, jforce,
+                             mk, mdecay, mgain, mstate, bw, bwz, commit)
+    return f0, t0, f1, t1
 
 
 @numba.njit(cache=True, inline="always")
-def _residual(ndof, masses, qn, vn, an, q, h, load, xb_old, xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain,
-              mstate, bw, bwz, res, tangent_out, force_out, vtrial, atrial):
-    """Step residual ``M (a + g) + f`` in ``res``; returns the magnitude of its terms (N)."""
-    for d in range(ndof):
-        vtrial[d] = 2.0 / h * (q[d] - qn[d]) - vn[d]
-        atrial[d] = 4.0 / (h * h) * (q[d] - qn[d]) - 4.0 / h * vn[d] - an[d]
-    _forces(ndof, qn, q, vtrial, xb_old, xb_new, vb_new, h, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain,
-            mstate, bw, bwz, False, force_out, tangent_out)
-    res[0] = masses[0] * (atrial[0] + load) + force_out[0]
-    magnitude = masses[0] * (abs(atrial[0]) + abs(load) + 4.0 / (h * h) * (abs(q[0]) + abs(qn[0]))) \
-        + abs(force_out[0])
-    if ndof == 2:
-        res[1] = masses[1] * (atrial[1] + load) - force_out[0] + force_out[1]
-        magnitude += masses[1] * (abs(atrial[1]) + abs(load) + 4.0 / (h * h) * (abs(q[1]) + abs(qn[1]))) \
-            + abs(force_out[1])
-    return magnitude
+def _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, load, xb_old, xb_new, vb_new, poly, cvisc,
+              jk, jfc, jforce, mk, mdecay, mgain, mstate, bw, bwz):
+    """Step residual ``M (a + g) + f`` at trial positions ``(q0, q1)``.
 
-
-@numba.njit(cache=True, inline="always")
-def _norm(ndof, values):
-    total = 0.0
-    for d in range(ndof):
-        total += values[d] * values[d]
-    return math.sqrt(total)
-
-
-@numba.njit(cache=True, inline="always")
-def _step(ndof, masses, q, v, a, h, load_next, xb_old, xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate,
-          bw, bwz, force_scale, work):
-    """Advance one step in place (absolute coordinates; ``load_next`` is gravity in m/s^2).
-
-    ``xb_old``, ``xb_new``, ``vb_new``: base displacement (m) at both ends of the
-    step and base velocity (m/s) at its end.
-
-    Returns a flag (0 ok). ``work`` is scratch space of shape (10, 2).
+    Returns ``(r0, r1, t0, t1, magnitude)``: residuals (N), isolator tangents
+    (N/m, including the viscous ``2 c / h``) and the size of the residual's terms
+    (N), which sets its round-off floor.
     """
-    qn = work[0]
-    vn = work[1]
-    an = work[2]
-    qt = work[3]
-    res = work[4]
-    tan = work[5]
-    frc = work[6]
-    vt = work[7]
-    at = work[8]
-    qnew = work[9]
-    for d in range(ndof):
-        qn[d] = q[d]
-        vn[d] = v[d]
-        an[d] = a[d]
-        qt[d] = q[d] + h * v[d] + 0.25 * h * h * a[d]
-    magnitude = _residual(ndof, masses, qn, vn, an, qt, h, load_next, xb_old, xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk,
-                          mdecay, mgain, mstate, bw, bwz, res, tan, frc, vt, at)
-    rnorm = _norm(ndof, res)
-    # Residual terms are O(M q / h^2): judge convergence relative to their size,
-    # which is the round-off floor of the residual itself.
-    converged = rnorm <= _RES_TOL * (magnitude + force_scale)
-    iteration = 0
-    while not converged and iteration < _NEWTON_MAX_ITER:
-        iteration += 1
+    c2 = 2.0 / h
+    c4 = c2 * c2
+    v0 = c2 * (q0 - qn0) - vn0
+    a0 = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
+    v1 = 0.0
+    a1 = 0.0
+    if ndof == 2:
+        v1 = c2 * (q1 - qn1) - vn1
+        a1 = c4 * (q1 - qn1) - 2.0 * c2 * vn1 - an1
+    f0, t0, f1, t1 = _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, poly, cvisc, jk, jfc,
+                             jforce, mk, mdecay, mgain, mstate, bw, bwz, False)
+    r0 = m0 * (a0 + load) + f0
+    magnitude = m0 * (abs(a0) + abs(load) + c4 * (abs(q0) + abs(qn0))) + abs(f0)
+    r1 = 0.0
+    if ndof == 2:
+        r1 = m1 * (a1 + load) - f0 + f1
+        magnitude += m1 * (abs(a1) + abs(load) + c4 * (abs(q1) + abs(qn1))) + abs(f1)
+    return r0, r1, t0, t1, magnitude
+
+
+@numba.njit(cache=True, inline="always")
+def _step(ndof, masses, state, h, load, xb_old, xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain,
+          mstate, bw, bwz, force_scale):
+    """Advance one step in place; returns a flag (0 ok).
+
+    ``state`` = ``[q0, q1, v0, v1, a0, a1]`` (absolute, top first); ``load`` is
+    gravity in m/s^2; ``xb_old``, ``xb_new``, ``vb_new``: base displacement (m) at
+    both ends of the step and base velocity (m/s) at its end.
+    """
+    m0 = masses[0]
+    m1 = masses[1] if ndof == 2 else 1.0
+    qn0 = state[0]
+    qn1 = state[1]
+    vn0 = state[2]
+    vn1 = state[3]
+    an0 = state[4]
+    an1 = state[5]
+    c2 = 2.0 / h
+    c4 = c2 * c2
+    # constant-acceleration predictor, then at least one Newton correction
+    q0 = qn0 + h * vn0 + 0.5 * h * h * an0
+    q1 = qn1 + h * vn1 + 0.5 * h * h * an1
+    r0, r1, t0, t1, magnitude = _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, load, xb_old,
+                                          xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate,
+                                          bw, bwz)
+    rnorm = math.sqrt(r0 * r0 + r1 * r1)
+    converged = False
+    for _iteration in range(_NEWTON_MAX_ITER):
         if ndof == 1:
-            jac = 4.0 * masses[0] / (h * h) + tan[0]
-            dq0 = -res[0] / jac
+            dq0 = -r0 / (c4 * m0 + t0)
             dq1 = 0.0
         else:
-            j00 = 4.0 * masses[0] / (h * h) + tan[0]
-            j01 = -tan[0]
-            j11 = 4.0 * masses[1] / (h * h) + tan[0] + tan[1]
+            j00 = c4 * m0 + t0
+            j01 = -t0
+            j11 = c4 * m1 + t0 + t1
             det = j00 * j11 - j01 * j01
-            dq0 = -(j11 * res[0] - j01 * res[1]) / det
-            dq1 = -(j00 * res[1] - j01 * res[0]) / det
+            dq0 = -(j11 * r0 - j01 * r1) / det
+            dq1 = -(j00 * r1 - j01 * r0) / det
         scale = 1.0
         accepted = False
-        new_norm = rnorm
         for _ in range(40):
-            qnew[0] = qt[0] + scale * dq0
-            if ndof == 2:
-                qnew[1] = qt[1] + scale * dq1
-            magnitude = _residual(ndof, masses, qn, vn, an, qnew, h, load_next, xb_old, xb_new, vb_new,
-                                  poly, cvisc, jk, jfc, jforce,
-                                  mk, mdecay, mgain, mstate, bw, bwz, res, tan, frc, vt, at)
-            new_norm = _norm(ndof, res)
+            trial0 = q0 + scale * dq0
+            trial1 = q1 + scale * dq1
+            r0, r1, t0, t1, magnitude = _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, trial0, trial1, h,
+                                                  load, xb_old, xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk,
+                                                  mdecay, mgain, mstate, bw, bwz)
+            new_norm = math.sqrt(r0 * r0 + r1 * r1)
             if new_norm < rnorm or new_norm <= _RES_TOL * (magnitude + force_scale):
                 accepted = True
                 break
             scale *= 0.5
-        for d in range(ndof):
-            qt[d] = qnew[d]
+        q0 = trial0
+        q1 = trial1
         rnorm = new_norm
         if rnorm <= _RES_TOL * (magnitude + force_scale):
             converged = True
-        elif abs(scale * dq0) + abs(scale * dq1) <= 1e-14 * (abs(qt[0]) + abs(qt[ndof - 1]) + abs(qn[0])) \
-                or not accepted:
+            break
+        if not accepted or abs(scale * dq0) + abs(scale * dq1) <= 1e-15 * (abs(q0) + abs(q1) + abs(qn0)):
             converged = rnorm <= 1e3 * _RES_TOL * (magnitude + force_scale)
             break
     if not converged:
         return FLAG_NO_CONVERGENCE
-    # Commit: recompute with state update at the converged point.
-    _forces(ndof, qn, qt, vt, xb_old, xb_new, vb_new, h, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain,
-            mstate, bw, bwz, True, frc, tan)
-    for d in range(ndof):
-        v[d] = 2.0 / h * (qt[d] - qn[d]) - vn[d]
-        a[d] = 4.0 / (h * h) * (qt[d] - qn[d]) - 4.0 / h * vn[d] - an[d]
-        q[d] = qt[d]
-        if not (math.isfinite(q[d]) and math.isfinite(v[d]) and math.isfinite(a[d])):
+    v0 = c2 * (q0 - qn0) - vn0
+    v1 = c2 * (q1 - qn1) - vn1 if ndof == 2 else 0.0
+    # commit the internal states at the converged point
+    _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, poly, cvisc, jk, jfc, jforce, mk,
+            mdecay, mgain, mstate, bw, bwz, True)
+    state[0] = q0
+    state[2] = v0
+    state[4] = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
+    if ndof == 2:
+        state[1] = q1
+        state[3] = v1
+        state[5] = c4 * (q1 - qn1) - 2.0 * c2 * vn1 - an1
+    for d in range(6):
+        if not math.isfinite(state[d]):
             return FLAG_NON_FINITE
-    if not _spring_stiffness_ok(ndof, q, xb_new, poly):
-        return FLAG_NEGATIVE_STIFFNESS
+    for j in range(ndof):
+        y = q0 - q1 if (ndof == 2 and j == 0) else (q0 if ndof == 1 else q1) - xb_new
+        if poly[j, 0] + y * (2.0 * poly[j, 1] + 3.0 * poly[j, 2] * y) < 0.0:
+            return FLAG_NEGATIVE_STIFFNESS
     return FLAG_OK
 
 
@@ -250,26 +241,25 @@ def _prepare_maxwell(mrate, h, mdecay, mgain):
 
 
 @numba.njit(cache=True)
-def _initial_acceleration(ndof, masses, q, v, a, load, xb, vb, poly, cvisc, jk, jforce, mk, mstate, bw, bwz):
-    """Acceleration from equilibrium at t = 0 with the given internal states."""
+def _initial_acceleration(ndof, masses, state, load, xb, vb, poly, cvisc, jk, jforce, mk, mstate, bw, bwz):
+    """Accelerations ``state[4:6]`` from equilibrium at t = 0 with the given internal states."""
     frc = np.zeros(2)
-    _isolator_forces_now(ndof, q, v, xb, vb, poly, cvisc, jk, jforce, mk, mstate, bw, bwz, frc)
-    if ndof == 1:
-        a[0] = -frc[0] / masses[0] - load
-    else:
-        a[0] = -frc[0] / masses[0] - load
-        a[1] = (frc[0] - frc[1]) / masses[1] - load
+    _isolator_forces_now(ndof, state, xb, vb, poly, cvisc, jk, jforce, mk, mstate, bw, bwz, frc)
+    state[4] = -frc[0] / masses[0] - load
+    if ndof == 2:
+        state[5] = (frc[0] - frc[1]) / masses[1] - load
 
 
 @numba.njit(cache=True)
-def _isolator_forces_now(ndof, q, v, xb, vb, poly, cvisc, jk, jforce, mk, mstate, bw, bwz, out):
+def _isolator_forces_now(ndof, state, xb, vb, poly, cvisc, jk, jforce, mk, mstate, bw, bwz, out):
+    """Isolator forces (N) of the current ``state = [q0, q1, v0, v1, a0, a1]``."""
     for j in range(ndof):
         if ndof == 2 and j == 0:
-            y = q[0] - q[1]
-            vr = v[0] - v[1]
+            y = state[0] - state[1]
+            vr = state[2] - state[3]
         else:
-            y = q[j] - xb
-            vr = v[j] - vb
+            y = state[j] - xb
+            vr = state[2 + j] - vb
         f = y * (poly[j, 0] + y * (poly[j, 1] + y * poly[j, 2])) + cvisc[j] * vr
         for i in range(jk.shape[1]):
             f += jforce[j, i]
@@ -313,39 +303,39 @@ def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, h, base_disp, ba
     _prepare_maxwell(mrate, h, mdecay, mgain)
     for b in range(batch):
         row = np.int64(b) if base_disp.shape[0] > 1 else np.int64(0)
-        q = q0[b].copy()
-        v = v0[b].copy()
-        a = np.zeros(ndof)
+        state = np.zeros(6)
+        for d in range(ndof):
+            state[d] = q0[b, d]
+            state[2 + d] = v0[b, d]
         jforce = jforce0[b].copy()
         mstate = mstate0[b].copy()
         bwz = bwz0[b].copy()
-        work = np.zeros((10, 2))
         frc = np.zeros(2)
-        _initial_acceleration(ndof, masses, q, v, a, gravity, base_disp[row, 0], base_vel[row, 0], poly, cvisc,
-                              jk, jforce, mk, mstate, bw, bwz)
-        _isolator_forces_now(ndof, q, v, base_disp[row, 0], base_vel[row, 0], poly, cvisc, jk, jforce, mk,
+        _initial_acceleration(ndof, masses, state, gravity, base_disp[row, 0], base_vel[row, 0], poly, cvisc, jk,
+                              jforce, mk, mstate, bw, bwz)
+        _isolator_forces_now(ndof, state, base_disp[row, 0], base_vel[row, 0], poly, cvisc, jk, jforce, mk,
                              mstate, bw, bwz, frc)
         for d in range(ndof):
-            rec_q[b, d, 0] = q[d]
-            rec_v[b, d, 0] = v[d]
-            rec_a[b, d, 0] = a[d]
+            rec_q[b, d, 0] = state[d]
+            rec_v[b, d, 0] = state[2 + d]
+            rec_a[b, d, 0] = state[4 + d]
             rec_f[b, d, 0] = frc[d]
         for n in range(1, n_steps + 1):
-            flag = _step(ndof, masses, q, v, a, h, gravity, base_disp[row, n - 1], base_disp[row, n],
+            flag = _step(ndof, masses, state, h, gravity, base_disp[row, n - 1], base_disp[row, n],
                          base_vel[row, n], poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate, bw, bwz,
-                         force_scale, work)
+                         force_scale)
             if flag != FLAG_OK:
                 flags[b] = flag
                 flag_step[b] = n
                 break
             if n % record_every == 0:
                 r = n // record_every
-                _isolator_forces_now(ndof, q, v, base_disp[row, n], base_vel[row, n], poly, cvisc, jk, jforce,
+                _isolator_forces_now(ndof, state, base_disp[row, n], base_vel[row, n], poly, cvisc, jk, jforce,
                                      mk, mstate, bw, bwz, frc)
                 for d in range(ndof):
-                    rec_q[b, d, r] = q[d]
-                    rec_v[b, d, r] = v[d]
-                    rec_a[b, d, r] = a[d]
+                    rec_q[b, d, r] = state[d]
+                    rec_v[b, d, r] = state[2 + d]
+                    rec_a[b, d, r] = state[4 + d]
                     rec_f[b, d, r] = frc[d]
     return rec_q, rec_v, rec_a, rec_f, flags, flag_step
 
@@ -388,14 +378,11 @@ def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplit
         mdecay = np.empty(mrate.shape)
         mgain = np.empty(mrate.shape)
         _prepare_maxwell(mrate, h, mdecay, mgain)
-        q = np.zeros(ndof)  # absolute rest at t = 0
-        v = np.zeros(ndof)
-        a = np.zeros(ndof)
+        state = np.zeros(6)  # absolute rest at t = 0
         jforce = np.zeros(jk.shape)
         mstate = np.zeros(mk.shape)
         bwz = np.zeros(ndof)
-        work = np.zeros((10, 2))
-        _initial_acceleration(ndof, masses, q, v, a, 0.0, 0.0, amp * omega, poly, cvisc, jk, jforce, mk, mstate,
+        _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, poly, cvisc, jk, jforce, mk, mstate,
                               bw, bwz)
         window = 2 * n_per
         # twiddle factors for the window
@@ -422,18 +409,18 @@ def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplit
             for n in range(window):
                 # sample at the start of the step (t = step * h), then advance
                 base = amp * math.sin(omega * step * h)
-                top = q[0]
+                top = state[0]
                 for m in range(n_coeff):
                     twiddle = complex(cos_t[m, n], -sin_t[m, n])
                     current[m] += top * twiddle
                     dcurrent[m] += (top - base) * twiddle
                 lo = min(lo, top)
                 hi = max(hi, top)
-                apeak = max(apeak, abs(a[0]))
+                apeak = max(apeak, abs(state[4]))
                 step += 1
                 phase = omega * step * h
-                flag = _step(ndof, masses, q, v, a, h, 0.0, base, amp * math.sin(phase), amp * omega * math.cos(phase),
-                             poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate, bw, bwz, force_scale, work)
+                flag = _step(ndof, masses, state, h, 0.0, base, amp * math.sin(phase), amp * omega * math.cos(phase),
+                             poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate, bw, bwz, force_scale)
                 if flag != FLAG_OK:
                     break
             if flag != FLAG_OK:
