@@ -8,6 +8,8 @@ reference paths for cross-checks live in :mod:`idkit.simulate.reference`.
 
 from idkit.simulate._arrays import STANDARD_GRAVITY
 from idkit.simulate.base_motion import BaseMotion
+from idkit.simulate.moreau import MoreauResponse, moreau_coulomb_spring
+from idkit.simulate.reference import ReferenceHarmonic, ReferenceResponse, harmonic_reference, solve_ivp_reference
 from idkit.simulate.harmonic import (
     HarmonicResponse,
     default_steps_per_period,
@@ -19,5 +21,6 @@ from idkit.simulate.time_response import TimeResponse, free_fall, initial_states
 __all__ = [
     "BaseMotion", "TimeResponse", "simulate", "free_fall", "static_deflection", "initial_states",
     "HarmonicResponse", "harmonic_response", "default_steps_per_period", "small_amplitude_resonance",
-    "STANDARD_GRAVITY",
+    "STANDARD_GRAVITY", "solve_ivp_reference", "harmonic_reference", "ReferenceResponse", "ReferenceHarmonic",
+    "moreau_coulomb_spring", "MoreauResponse",
 ]

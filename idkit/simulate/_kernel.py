@@ -45,82 +45,143 @@ _RES_TOL = 1e-13
 _BW_SUBSTEPS = 4
 
 
+# Packed layout. Parameters P[j, row, i] of isolator j (0 below the top mass):
+#   row 0: g1, g2, g3, c_visc, mgsum, n_jenkin, n_maxwell, Bouc-Wen[10] (columns 0..16)
+#   row 1: Jenkin stiffness, row 2: Jenkin slip force,
+#   row 3: Maxwell stiffness, row 4: exp(-rate h), row 5: (1 - exp(-rate h)) / (rate h)
+# States S[j, row, i]: row 0 Jenkin forces, row 1 Maxwell elongations,
+#   row 2: [Bouc-Wen z, mbase]. Packing keeps the number of arrays handed between the
+#   (inlined) functions small: each array argument costs reference counting per call.
+_P_WIDTH = 17
+_MGSUM, _NJ, _NM, _BW = 4, 5, 6, 7
+
+
+@numba.njit(cache=True)
+def _pack(poly, cvisc, jk, jfc, mk, mrate, bw, h):
+    """Parameter block for step ``h`` (see the layout above); ``mgsum = sum k_i g_i``."""
+    ndof = poly.shape[0]
+    width = max(_P_WIDTH, jk.shape[1], mk.shape[1])
+    packed = np.zeros((ndof, 6, width))
+    for j in range(ndof):
+        packed[j, 0, 0] = poly[j, 0]
+        packed[j, 0, 1] = poly[j, 1]
+        packed[j, 0, 2] = poly[j, 2]
+        packed[j, 0, 3] = cvisc[j]
+        n_jenkin = 0
+        for i in range(jk.shape[1]):
+            if jk[j, i] > 0.0:  # padding has zero stiffness; real ones are > 0
+                packed[j, 1, n_jenkin] = jk[j, i]
+                packed[j, 2, n_jenkin] = jfc[j, i]
+                n_jenkin += 1
+        n_maxwell = 0
+        gain_sum = 0.0
+        for i in range(mk.shape[1]):
+            if mk[j, i] > 0.0:
+                x = mrate[j, i] * h
+                decay = math.exp(-x)
+                gain = -math.expm1(-x) / x if x > 0.0 else 1.0
+                packed[j, 3, n_maxwell] = mk[j, i]
+                packed[j, 4, n_maxwell] = decay
+                packed[j, 5, n_maxwell] = gain
+                gain_sum += mk[j, i] * gain
+                n_maxwell += 1
+        packed[j, 0, _MGSUM] = gain_sum
+        packed[j, 0, _NJ] = n_jenkin
+        packed[j, 0, _NM] = n_maxwell
+        for i in range(10):
+            packed[j, 0, _BW + i] = bw[j, i]
+    return packed
+
+
+@numba.njit(cache=True)
+def _pack_states(packed, jforce, mstate, bwz):
+    """State block from Jenkin forces (N), Maxwell elongations (m) and Bouc-Wen z (N)."""
+    ndof = packed.shape[0]
+    width = max(2, jforce.shape[1], mstate.shape[1])
+    states = np.zeros((ndof, 3, width))
+    for j in range(ndof):
+        for i in range(jforce.shape[1]):
+            states[j, 0, i] = jforce[j, i]
+        base = 0.0
+        for i in range(int(packed[j, 0, _NM])):
+            states[j, 1, i] = mstate[j, i]
+            base += packed[j, 3, i] * packed[j, 4, i] * mstate[j, i]
+        states[j, 2, 0] = bwz[j]
+        states[j, 2, 1] = base
+    return states
+
+
 @numba.njit(cache=True, inline="always")
-def _isolator_force(j, y, dy, vrel, h, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate,
-                    bw, bwz, commit):
+def _isolator_force(j, y, dy, vrel, h, P, S, commit):
     """Force (N) and tangent (N/m, including 2 c / h) of isolator ``j`` at deflection ``y``.
 
     ``dy`` is the deflection increment over the step, ``vrel`` the end-of-step
     deflection rate. If ``commit`` the internal states are updated.
     """
-    g1 = poly[j, 0]
-    g2 = poly[j, 1]
-    g3 = poly[j, 2]
-    force = y * (g1 + y * (g2 + y * g3))
-    tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y)
-    force += cvisc[j] * vrel
-    tangent += cvisc[j] * 2.0 / h
-    for i in range(jk.shape[1]):
-        if jk[j, i] == 0.0:  # padding (real stiffnesses are > 0)
-            break
-        trial = jforce[j, i] + jk[j, i] * dy
-        limit = jfc[j, i]
+    g1 = P[j, 0, 0]
+    g2 = P[j, 0, 1]
+    g3 = P[j, 0, 2]
+    force = y * (g1 + y * (g2 + y * g3)) + P[j, 0, 3] * vrel
+    tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
+    for i in range(int(P[j, 0, _NJ])):
+        trial = S[j, 0, i] + P[j, 1, i] * dy
+        limit = P[j, 2, i]
         if trial > limit:
             trial = limit
         elif trial < -limit:
             trial = -limit
         else:
-            tangent += jk[j, i]
+            tangent += P[j, 1, i]
         force += trial
         if commit:
-            jforce[j, i] = trial
-    for i in range(mk.shape[1]):
-        if mk[j, i] == 0.0:  # padding
-            break
-        u = mdecay[j, i] * mstate[j, i] + mgain[j, i] * dy
-        force += mk[j, i] * u
-        tangent += mk[j, i] * mgain[j, i]
-        if commit:
-            mstate[j, i] = u
-    if bw[j, 0] != 0.0:
-        z, dz = boucwen_z_step(bwz[j], dy, bw[j, 4], bw[j, 5], bw[j, 6], bw[j, 7], _BW_SUBSTEPS)
-        factor = bw[j, 8] ** (bw[j, 9] * y)
-        elastic = y * (bw[j, 1] + bw[j, 2] * abs(y) + bw[j, 3] * y * y)
-        inner = elastic + z
-        bw_force = factor * inner
+            S[j, 0, i] = trial
+    # Maxwell elements are affine in dy within a step: sum k_i u_i = mbase + mgsum dy
+    # with mbase = sum k_i e_i u_i (start of step) and mgsum = sum k_i g_i.
+    force += S[j, 2, 1] + P[j, 0, _MGSUM] * dy
+    tangent += P[j, 0, _MGSUM]
+    if commit:
+        base = 0.0
+        for i in range(int(P[j, 0, _NM])):
+            u = P[j, 4, i] * S[j, 1, i] + P[j, 5, i] * dy
+            S[j, 1, i] = u
+            base += P[j, 3, i] * P[j, 4, i] * u
+        S[j, 2, 1] = base
+    if P[j, 0, _BW] != 0.0:
+        b_base = P[j, 0, _BW + 8]
+        b_exp = P[j, 0, _BW + 9]
+        k1 = P[j, 0, _BW + 1]
+        k2 = P[j, 0, _BW + 2]
+        k3 = P[j, 0, _BW + 3]
+        z, dz = boucwen_z_step(S[j, 2, 0], dy, P[j, 0, _BW + 4], P[j, 0, _BW + 5], P[j, 0, _BW + 6],
+                               P[j, 0, _BW + 7], _BW_SUBSTEPS)
+        factor = b_base ** (b_exp * y)
+        bw_force = factor * (y * (k1 + k2 * abs(y) + k3 * y * y) + z)
         force += bw_force
-        tangent += math.log(bw[j, 8]) * bw[j, 9] * bw_force + factor * (
-            bw[j, 1] + 2.0 * bw[j, 2] * abs(y) + 3.0 * bw[j, 3] * y * y + dz
-        )
+        tangent += math.log(b_base) * b_exp * bw_force + factor * (k1 + 2.0 * k2 * abs(y) + 3.0 * k3 * y * y + dz)
         if commit:
-            bwz[j] = z
+            S[j, 2, 0] = z
     return force, tangent
 
 
 @numba.njit(cache=True, inline="always")
-def _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, poly, cvisc, jk, jfc, jforce, mk,
-            mdecay, mgain, mstate, bw, bwz, commit):
+def _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, P, S, commit):
     """Forces and tangents ``(f0, t0, f1, t1)`` of the isolators for a trial state.
 
     Absolute coordinates: isolator 0 sits below mass 0, the last stands on the base.
     """
     if ndof == 1:
         y = q0 - xb_new
-        f0, t0 = _isolator_force(0, y, y - (qn0 - xb_old), v0 - vb_new, h, poly, cvisc, jk, jfc, jforce,
-                                 mk, mdecay, mgain, mstate, bw, bwz, commit)
+        f0, t0 = _isolator_force(0, y, y - (qn0 - xb_old), v0 - vb_new, h, P, S, commit)
         return f0, t0, 0.0, 0.0
     y_up = q0 - q1
-    f0, t0 = _isolator_force(0, y_up, y_up - (qn0 - qn1), v0 - v1, h, poly, cvisc, jk, jfc, jforce, mk,
-                             mdecay, mgain, mstate, bw, bwz, commit)
+    f0, t0 = _isolator_force(0, y_up, y_up - (qn0 - qn1), v0 - v1, h, P, S, commit)
     y_low = q1 - xb_new
-    f1, t1 = _isolator_force(1, y_low, y_low - (qn1 - xb_old), v1 - vb_new, h, poly, cvisc, jk, jfc, jforce,
-                             mk, mdecay, mgain, mstate, bw, bwz, commit)
+    f1, t1 = _isolator_force(1, y_low, y_low - (qn1 - xb_old), v1 - vb_new, h, P, S, commit)
     return f0, t0, f1, t1
 
 
 @numba.njit(cache=True, inline="always")
-def _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, load, xb_old, xb_new, vb_new, poly, cvisc,
-              jk, jfc, jforce, mk, mdecay, mgain, mstate, bw, bwz):
+def _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, load, xb_old, xb_new, vb_new, P, S):
     """Step residual ``M (a + g) + f`` at trial positions ``(q0, q1)``.
 
     Returns ``(r0, r1, t0, t1, magnitude)``: residuals (N), isolator tangents
@@ -136,8 +197,7 @@ def _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, load, xb_ol
     if ndof == 2:
         v1 = c2 * (q1 - qn1) - vn1
         a1 = c4 * (q1 - qn1) - 2.0 * c2 * vn1 - an1
-    f0, t0, f1, t1 = _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, poly, cvisc, jk, jfc,
-                             jforce, mk, mdecay, mgain, mstate, bw, bwz, False)
+    f0, t0, f1, t1 = _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, P, S, False)
     r0 = m0 * (a0 + load) + f0
     magnitude = m0 * (abs(a0) + abs(load) + c4 * (abs(q0) + abs(qn0))) + abs(f0)
     r1 = 0.0
@@ -148,16 +208,13 @@ def _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, load, xb_ol
 
 
 @numba.njit(cache=True, inline="always")
-def _step(ndof, masses, state, h, load, xb_old, xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain,
-          mstate, bw, bwz, force_scale):
+def _step(ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
     """Advance one step in place; returns a flag (0 ok).
 
     ``state`` = ``[q0, q1, v0, v1, a0, a1]`` (absolute, top first); ``load`` is
     gravity in m/s^2; ``xb_old``, ``xb_new``, ``vb_new``: base displacement (m) at
     both ends of the step and base velocity (m/s) at its end.
     """
-    m0 = masses[0]
-    m1 = masses[1] if ndof == 2 else 1.0
     qn0 = state[0]
     qn1 = state[1]
     vn0 = state[2]
@@ -170,8 +227,7 @@ def _step(ndof, masses, state, h, load, xb_old, xb_new, vb_new, poly, cvisc, jk,
     q0 = qn0 + h * vn0 + 0.5 * h * h * an0
     q1 = qn1 + h * vn1 + 0.5 * h * h * an1
     r0, r1, t0, t1, magnitude = _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, load, xb_old,
-                                          xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate,
-                                          bw, bwz)
+                                          xb_new, vb_new, P, S)
     rnorm = math.sqrt(r0 * r0 + r1 * r1)
     converged = False
     for _iteration in range(_NEWTON_MAX_ITER):
@@ -187,12 +243,14 @@ def _step(ndof, masses, state, h, load, xb_old, xb_new, vb_new, poly, cvisc, jk,
             dq1 = -(j00 * r1 - j01 * r0) / det
         scale = 1.0
         accepted = False
+        trial0 = q0
+        trial1 = q1
+        new_norm = rnorm
         for _ in range(40):
             trial0 = q0 + scale * dq0
             trial1 = q1 + scale * dq1
             r0, r1, t0, t1, magnitude = _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, trial0, trial1, h,
-                                                  load, xb_old, xb_new, vb_new, poly, cvisc, jk, jfc, jforce, mk,
-                                                  mdecay, mgain, mstate, bw, bwz)
+                                                  load, xb_old, xb_new, vb_new, P, S)
             new_norm = math.sqrt(r0 * r0 + r1 * r1)
             if new_norm < rnorm or new_norm <= _RES_TOL * (magnitude + force_scale):
                 accepted = True
@@ -212,8 +270,7 @@ def _step(ndof, masses, state, h, load, xb_old, xb_new, vb_new, poly, cvisc, jk,
     v0 = c2 * (q0 - qn0) - vn0
     v1 = c2 * (q1 - qn1) - vn1 if ndof == 2 else 0.0
     # commit the internal states at the converged point
-    _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, poly, cvisc, jk, jfc, jforce, mk,
-            mdecay, mgain, mstate, bw, bwz, True)
+    _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, P, S, True)
     state[0] = q0
     state[2] = v0
     state[4] = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
@@ -226,32 +283,13 @@ def _step(ndof, masses, state, h, load, xb_old, xb_new, vb_new, poly, cvisc, jk,
             return FLAG_NON_FINITE
     for j in range(ndof):
         y = q0 - q1 if (ndof == 2 and j == 0) else (q0 if ndof == 1 else q1) - xb_new
-        if poly[j, 0] + y * (2.0 * poly[j, 1] + 3.0 * poly[j, 2] * y) < 0.0:
+        if P[j, 0, 0] + y * (2.0 * P[j, 0, 1] + 3.0 * P[j, 0, 2] * y) < 0.0:
             return FLAG_NEGATIVE_STIFFNESS
     return FLAG_OK
 
 
 @numba.njit(cache=True)
-def _prepare_maxwell(mrate, h, mdecay, mgain):
-    for j in range(mrate.shape[0]):
-        for i in range(mrate.shape[1]):
-            x = mrate[j, i] * h
-            mdecay[j, i] = math.exp(-x)
-            mgain[j, i] = -math.expm1(-x) / x if x > 0.0 else 1.0
-
-
-@numba.njit(cache=True)
-def _initial_acceleration(ndof, masses, state, load, xb, vb, poly, cvisc, jk, jforce, mk, mstate, bw, bwz):
-    """Accelerations ``state[4:6]`` from equilibrium at t = 0 with the given internal states."""
-    frc = np.zeros(2)
-    _isolator_forces_now(ndof, state, xb, vb, poly, cvisc, jk, jforce, mk, mstate, bw, bwz, frc)
-    state[4] = -frc[0] / masses[0] - load
-    if ndof == 2:
-        state[5] = (frc[0] - frc[1]) / masses[1] - load
-
-
-@numba.njit(cache=True)
-def _isolator_forces_now(ndof, state, xb, vb, poly, cvisc, jk, jforce, mk, mstate, bw, bwz, out):
+def _isolator_forces_now(ndof, state, xb, vb, P, S, out):
     """Isolator forces (N) of the current ``state = [q0, q1, v0, v1, a0, a1]``."""
     for j in range(ndof):
         if ndof == 2 and j == 0:
@@ -260,14 +298,25 @@ def _isolator_forces_now(ndof, state, xb, vb, poly, cvisc, jk, jforce, mk, mstat
         else:
             y = state[j] - xb
             vr = state[2 + j] - vb
-        f = y * (poly[j, 0] + y * (poly[j, 1] + y * poly[j, 2])) + cvisc[j] * vr
-        for i in range(jk.shape[1]):
-            f += jforce[j, i]
-        for i in range(mk.shape[1]):
-            f += mk[j, i] * mstate[j, i]
-        if bw[j, 0] != 0.0:
-            f += bw[j, 8] ** (bw[j, 9] * y) * (y * (bw[j, 1] + bw[j, 2] * abs(y) + bw[j, 3] * y * y) + bwz[j])
+        f = y * (P[j, 0, 0] + y * (P[j, 0, 1] + y * P[j, 0, 2])) + P[j, 0, 3] * vr
+        for i in range(int(P[j, 0, _NJ])):
+            f += S[j, 0, i]
+        for i in range(int(P[j, 0, _NM])):
+            f += P[j, 3, i] * S[j, 1, i]
+        if P[j, 0, _BW] != 0.0:
+            f += P[j, 0, _BW + 8] ** (P[j, 0, _BW + 9] * y) * (
+                y * (P[j, 0, _BW + 1] + P[j, 0, _BW + 2] * abs(y) + P[j, 0, _BW + 3] * y * y) + S[j, 2, 0])
         out[j] = f
+
+
+@numba.njit(cache=True)
+def _initial_acceleration(ndof, masses, state, load, xb, vb, P, S):
+    """Accelerations ``state[4:6]`` from equilibrium at t = 0 with the given internal states."""
+    frc = np.zeros(2)
+    _isolator_forces_now(ndof, state, xb, vb, P, S, frc)
+    state[4] = -frc[0] / masses[0] - load
+    if ndof == 2:
+        state[5] = (frc[0] - frc[1]) / masses[1] - load
 
 
 @numba.njit(cache=True, nogil=True)
@@ -290,6 +339,8 @@ def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, h, base_disp, ba
     """
     batch = q0.shape[0]
     ndof = masses.shape[0]
+    m0 = masses[0]
+    m1 = masses[1] if ndof == 2 else 1.0
     n_steps = base_disp.shape[1] - 1
     n_records = n_steps // record_every + 1
     rec_q = np.full((batch, ndof, n_records), np.nan)
@@ -298,40 +349,32 @@ def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, h, base_disp, ba
     rec_f = np.full((batch, ndof, n_records), np.nan)
     flags = np.zeros(batch, dtype=np.int64)
     flag_step = np.full(batch, -1, dtype=np.int64)
-    mdecay = np.empty(mrate.shape)
-    mgain = np.empty(mrate.shape)
-    _prepare_maxwell(mrate, h, mdecay, mgain)
+    P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, h)
+    frc = np.zeros(2)
     for b in range(batch):
         row = np.int64(b) if base_disp.shape[0] > 1 else np.int64(0)
         state = np.zeros(6)
         for d in range(ndof):
             state[d] = q0[b, d]
             state[2 + d] = v0[b, d]
-        jforce = jforce0[b].copy()
-        mstate = mstate0[b].copy()
-        bwz = bwz0[b].copy()
-        frc = np.zeros(2)
-        _initial_acceleration(ndof, masses, state, gravity, base_disp[row, 0], base_vel[row, 0], poly, cvisc, jk,
-                              jforce, mk, mstate, bw, bwz)
-        _isolator_forces_now(ndof, state, base_disp[row, 0], base_vel[row, 0], poly, cvisc, jk, jforce, mk,
-                             mstate, bw, bwz, frc)
+        S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
+        _initial_acceleration(ndof, masses, state, gravity, base_disp[row, 0], base_vel[row, 0], P, S)
+        _isolator_forces_now(ndof, state, base_disp[row, 0], base_vel[row, 0], P, S, frc)
         for d in range(ndof):
             rec_q[b, d, 0] = state[d]
             rec_v[b, d, 0] = state[2 + d]
             rec_a[b, d, 0] = state[4 + d]
             rec_f[b, d, 0] = frc[d]
         for n in range(1, n_steps + 1):
-            flag = _step(ndof, masses, state, h, gravity, base_disp[row, n - 1], base_disp[row, n],
-                         base_vel[row, n], poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate, bw, bwz,
-                         force_scale)
+            flag = _step(ndof, m0, m1, state, h, gravity, base_disp[row, n - 1], base_disp[row, n],
+                         base_vel[row, n], P, S, force_scale)
             if flag != FLAG_OK:
                 flags[b] = flag
                 flag_step[b] = n
                 break
             if n % record_every == 0:
                 r = n // record_every
-                _isolator_forces_now(ndof, state, base_disp[row, n], base_vel[row, n], poly, cvisc, jk, jforce,
-                                     mk, mstate, bw, bwz, frc)
+                _isolator_forces_now(ndof, state, base_disp[row, n], base_vel[row, n], P, S, frc)
                 for d in range(ndof):
                     rec_q[b, d, r] = state[d]
                     rec_v[b, d, r] = state[2 + d]
@@ -345,11 +388,12 @@ def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplit
                        n_coeff, tolerance, min_windows, max_windows, force_scale):
     """Run harmonic base displacement ``A sin(2 pi f t)`` to steady state, per member.
 
-    From zero initial state (masses at rest, isolators unloaded; thesis 3.4). Every window of two excitation periods, the Fourier
-    coefficients of the absolute top displacement at multiples ``m/2`` of
-    ``f`` (``m = 0 .. n_coeff-1``) are computed; the run stops when the change
-    between consecutive windows, relative to the first-harmonic amplitude, and
-    its geometric extrapolation to infinity are both below ``tolerance``.
+    From zero initial state (masses at rest, isolators unloaded; thesis 3.4).
+    Every window of two excitation periods, the Fourier coefficients of the
+    absolute top displacement at multiples ``m/2`` of ``f`` (``m = 0 .. n_coeff-1``)
+    are computed; the run stops when the change between consecutive windows,
+    relative to the first-harmonic amplitude, and its geometric extrapolation to
+    infinity are both below ``tolerance``.
 
     Returns
     -------
@@ -362,6 +406,8 @@ def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplit
     """
     batch = freq.shape[0]
     ndof = masses.shape[0]
+    m0 = masses[0]
+    m1 = masses[1] if ndof == 2 else 1.0
     coeff = np.zeros((batch, n_coeff), dtype=np.complex128)
     dcoeff = np.zeros((batch, n_coeff), dtype=np.complex128)
     half_range = np.full(batch, np.nan)
@@ -375,15 +421,10 @@ def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplit
         n_per = steps_per_period[b]
         h = 1.0 / (freq[b] * n_per)
         amp = amplitude[b]
-        mdecay = np.empty(mrate.shape)
-        mgain = np.empty(mrate.shape)
-        _prepare_maxwell(mrate, h, mdecay, mgain)
+        P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, h)
         state = np.zeros(6)  # absolute rest at t = 0
-        jforce = np.zeros(jk.shape)
-        mstate = np.zeros(mk.shape)
-        bwz = np.zeros(ndof)
-        _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, poly, cvisc, jk, jforce, mk, mstate,
-                              bw, bwz)
+        S = _pack_states(P, np.zeros(jk.shape), np.zeros(mk.shape), np.zeros(ndof))
+        _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
         window = 2 * n_per
         # twiddle factors for the window
         cos_t = np.empty((n_coeff, window))
@@ -419,8 +460,8 @@ def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplit
                 apeak = max(apeak, abs(state[4]))
                 step += 1
                 phase = omega * step * h
-                flag = _step(ndof, masses, state, h, 0.0, base, amp * math.sin(phase), amp * omega * math.cos(phase),
-                             poly, cvisc, jk, jfc, jforce, mk, mdecay, mgain, mstate, bw, bwz, force_scale)
+                flag = _step(ndof, m0, m1, state, h, 0.0, base, amp * math.sin(phase), amp * omega * math.cos(phase),
+                             P, S, force_scale)
                 if flag != FLAG_OK:
                     break
             if flag != FLAG_OK:
