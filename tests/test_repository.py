@@ -18,10 +18,11 @@ LAYERS = {
     "simulate": {"models", "simulate"},
     "io": {"io"},
     "analysis": {"models", "simulate", "io", "analysis"},
+    "synth": {"models", "simulate", "io", "analysis", "synth"},
     "fit": {"models", "simulate", "io", "analysis", "fit"},
     "validate": {"models", "simulate", "io", "analysis", "fit", "validate"},
     "plot": {"models", "simulate", "io", "analysis", "fit", "validate", "plot"},
-    "report": {"models", "simulate", "io", "analysis", "fit", "validate", "plot", "report"},
+    "report": {"models", "simulate", "io", "analysis", "synth", "fit", "validate", "plot", "report"},
 }
 CORE = {"errors", "params"}
 
@@ -42,7 +43,10 @@ def test_readme_has_exactly_two_setup_commands_and_ci_runs_the_test_one():
 @pytest.mark.parametrize("layer", sorted(LAYERS))
 def test_imports_flow_one_way(layer):
     offenders = []
-    for path in (ROOT / "idkit" / layer).rglob("*.py"):
+    folder = ROOT / "idkit" / layer
+    if not folder.exists():
+        pytest.skip(f"layer {layer} has no code yet")
+    for path in folder.rglob("*.py"):
         tree = ast.parse(path.read_text())
         for node in ast.walk(tree):
             names = []
@@ -60,7 +64,7 @@ def test_imports_flow_one_way(layer):
 
 
 def test_computation_modules_never_import_pyplot():
-    for layer in ("models", "simulate", "io", "analysis", "fit"):
+    for layer in ("models", "simulate", "io", "analysis", "synth", "fit"):
         for path in (ROOT / "idkit" / layer).rglob("*.py"):
             assert "matplotlib" not in path.read_text(), path
 

@@ -167,7 +167,27 @@ def build_parser() -> argparse.ArgumentParser:
     drop.add_argument("--gravity", action="store_true", help="include gravity")
     drop.add_argument("-o", "--output", help="CSV or JSON file (default: print a table)")
     drop.set_defaults(handler=_cmd_simulate_drop)
+    _register_command_modules(commands)
     return parser
+
+
+def _register_command_modules(commands) -> None:
+    """Add the sub-commands of every ``idkit.cli`` module that defines ``register(commands)``.
+
+    Each command family lives in its own module (``idkit/cli/<name>.py``) with
+    ``register(subparsers)`` adding its parsers and ``set_defaults(handler=...)``.
+    """
+    import importlib
+    import pkgutil
+
+    import idkit.cli
+
+    for info in sorted(pkgutil.iter_modules(idkit.cli.__path__), key=lambda item: item.name):
+        if info.name in {"main", "progress"}:
+            continue
+        module = importlib.import_module(f"idkit.cli.{info.name}")
+        if hasattr(module, "register"):
+            module.register(commands)
 
 
 def main(argv=None) -> int:
