@@ -29,3 +29,7 @@ class SimulationError(IdkitError, ValueError):
 
 class FitError(IdkitError, ValueError):
     """Fit inputs are unusable (too few points, no reversals, NaN in a response)."""
+
+
+class ValidationError(IdkitError, ValueError):
+    """Validation inputs are unusable (no measurements, missing masses, unknown thresholds)."""

@@ -1,0 +1,70 @@
+"""Typed validation results: a metrics table, scalar metrics, thresholds, pass/fail."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from idkit.errors import ValidationError
+
+__all__ = ["ValidationResult", "check_thresholds"]
+
+
+def check_thresholds(defaults: dict[str, float], thresholds: dict[str, float] | None) -> dict[str, float]:
+    """Merge user thresholds into the defaults; unknown names are an error."""
+    merged = dict(defaults)
+    for name, value in (thresholds or {}).items():
+        if name not in defaults:
+            raise ValidationError(f"thresholds: found unknown name {name!r}, expected some of {sorted(defaults)}")
+        if not (np.isfinite(value) and value > 0):
+            raise ValidationError(f"thresholds[{name!r}]: found {value!r}, expected a positive number")
+        merged[name] = float(value)
+    return merged
+
+
+@dataclass(frozen=True)
+class ValidationResult:
+    """Outcome of validating a model against held-out measurements.
+
+    Attributes
+    ----------
+    name : str
+        What was validated (e.g. ``"harmonic sweep, wire rope"``).
+    metrics : pandas.DataFrame
+        One row per measurement point (units in the column names).
+    summary : dict
+        Scalar metrics; every key of ``thresholds`` is one of them.
+    thresholds : dict
+        Upper limits of the summary metrics (documented defaults, user-settable).
+    details : dict
+        Further tables (e.g. resonance per amplitude), by name.
+    """
+
+    name: str
+    metrics: pd.DataFrame
+    summary: dict
+    thresholds: dict
+    details: dict = field(default_factory=dict)
+
+    @property
+    def checks(self) -> dict[str, bool]:
+        """Each thresholded metric: True if within its limit (NaN fails)."""
+        return {key: bool(np.isfinite(self.summary[key]) and self.summary[key] <= limit)
+                for key, limit in self.thresholds.items()}
+
+    @property
+    def passed(self) -> bool:
+        return all(self.checks.values())
+
+    def report(self) -> str:
+        """Readable summary with PASS/FAIL per metric."""
+        lines = [f"{self.name}: {'PASS' if self.passed else 'FAIL'} ({len(self.metrics)} points)"]
+        for key, value in self.summary.items():
+            if key in self.thresholds:
+                verdict = "ok" if self.checks[key] else "FAIL"
+                lines.append(f"  {key:40s} {value:10.4g}  (limit {self.thresholds[key]:g}) {verdict}")
+            else:
+                lines.append(f"  {key:40s} {value:10.4g}" if isinstance(value, (int, float)) else f"  {key}: {value}")
+        return "\n".join(lines)
