@@ -131,3 +131,15 @@ def test_threshold_overrides_are_checked(stepped_sine_points):
     strict = validate_harmonic(stepped_sine_points, isolator=wire_rope(),
                                thresholds={"rms_log_magnitude_error_db": 1e-6})
     assert not strict.passed and not strict.checks["rms_log_magnitude_error_db"]
+
+
+def test_validation_plots_draw_every_series(stepped_sine_points, drops):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from idkit.plot.validation import plot_drop_validation, plot_harmonic_validation
+
+    harmonic_axes = plot_harmonic_validation(validate_harmonic(stepped_sine_points, isolator=wire_rope()))
+    assert len(harmonic_axes[0].lines) == 4  # two levels x (model, measured)
+    drop_axes = plot_drop_validation(validate_drops(drops, isolator=wire_rope()))
+    assert len(drop_axes[0].lines) == 4 and len(drop_axes[1].lines) == 2
