@@ -1,6 +1,6 @@
 """Array-level signal processing of isolator measurements and simulations.
 
-Pure numpy/scipy functions (no plotting, no model imports), one concept per module:
+Pure numpy/scipy functions (no plotting), one concept per module:
 
 - :mod:`~idkit.analysis.cycles` - quasi-static loops: reversals, cycles, resampling (SPEC 4);
 - :mod:`~idkit.analysis.harmonics` - stepped sine: harmonics, subharmonic, bias, HOSIDF (SPEC 5);
@@ -8,6 +8,13 @@ Pure numpy/scipy functions (no plotting, no model imports), one concept per modu
 - :mod:`~idkit.analysis.drop` - drop tests: impact, shock peaks, peak deflection (SPEC 3, 5);
 - :mod:`~idkit.analysis.srs` - shock response spectrum (Smallwood filter);
 - :mod:`~idkit.analysis.psd` - random vibration: PSD profiles, synthesis, Welch, RMS (SPEC 5).
+
+Model responses (these import :mod:`idkit.models` and :mod:`idkit.simulate`):
+
+- :mod:`~idkit.analysis.harmonic_map` - frequency-amplitude maps of steady states, HOSIDF (SPEC 5);
+- :mod:`~idkit.analysis.linear` - complex stiffness, loss factor, transmissibility, damping ratios;
+- :mod:`~idkit.analysis.shock` - conditioned free-fall sweeps, rest shock level, SRS;
+- :mod:`~idkit.analysis.random_vibration` - random floor vibration, output PSDs.
 """
 
 from idkit.analysis.cycles import (
@@ -26,6 +33,7 @@ from idkit.analysis.drop import (
     zero_phase_moving_average,
 )
 from idkit.analysis.frf import FrfEstimate, estimate_frf
+from idkit.analysis.harmonic_map import HarmonicMap, harmonic_map, parabolic_peak
 from idkit.analysis.harmonics import (
     HarmonicFit,
     HosidfResult,
@@ -33,6 +41,17 @@ from idkit.analysis.harmonics import (
     fit_harmonics,
     hosidf,
     input_flatness,
+)
+from idkit.analysis.linear import (
+    LinearFrf,
+    LinearResonance,
+    StiffnessResponse,
+    complex_stiffness,
+    effective_stiffness,
+    linear_frf,
+    linear_resonance,
+    loss_factor,
+    stiffness_response,
 )
 from idkit.analysis.psd import (
     PsdEstimate,
@@ -43,6 +62,15 @@ from idkit.analysis.psd import (
     synthesize_random,
     welch_psd,
 )
+from idkit.analysis.random_vibration import (
+    FLAT_LEVELS,
+    RandomResponse,
+    flat_input_psds,
+    is_linear_system,
+    linear_output_psd,
+    random_response,
+)
+from idkit.analysis.shock import ShockSweep, default_shock_grid, shock_sweep
 from idkit.analysis.srs import (
     ShockResponseSpectrum,
     shock_response_spectrum,
@@ -50,6 +78,27 @@ from idkit.analysis.srs import (
 )
 
 __all__ = [
+    "FLAT_LEVELS",
+    "HarmonicMap",
+    "LinearFrf",
+    "LinearResonance",
+    "RandomResponse",
+    "ShockSweep",
+    "StiffnessResponse",
+    "complex_stiffness",
+    "default_shock_grid",
+    "effective_stiffness",
+    "flat_input_psds",
+    "harmonic_map",
+    "is_linear_system",
+    "linear_frf",
+    "linear_output_psd",
+    "linear_resonance",
+    "loss_factor",
+    "parabolic_peak",
+    "random_response",
+    "shock_sweep",
+    "stiffness_response",
     "STANDARD_GRAVITY",
     "CycleSplit",
     "DropResult",

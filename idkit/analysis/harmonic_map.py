@@ -1,0 +1,324 @@
+"""Frequency-amplitude maps of the steady-state harmonic response (SPEC 5, thesis 3.4.1-3.4.2, 5.3).
+
+A grid of harmonic base excitations ``x_b = A sin(2 pi f t)`` (frequency axis in Hz times
+amplitude axis in m) is run to steady state by :func:`idkit.simulate.harmonic_response`,
+and reduced per point to
+
+- peak-peak/2 of the top-mass displacement and its ratio to the base amplitude,
+- the higher-order sinusoidal input describing functions (HOSIDF) of orders 1/2, 1, ..., K:
+  the k-th harmonic of the top velocity over the first harmonic of the base velocity,
+  ``k X_k / X_b1`` (magnitude and phase; order 1 of a linear system = transmissibility),
+- the bias (mean isolator deflection over the last window, m).
+
+Steady-state criterion (the simulator's, ``docs/simulator.md``): over consecutive windows
+of two excitation periods, the largest change of any Fourier coefficient relative to the
+first harmonic, and its geometric extrapolation ``change r / (1 - r)``, are both below
+``tolerance``; points that reach ``max_periods`` without meeting it keep their last
+window's values and are marked ``converged = False``. Points where the model left its valid
+range (negative local stiffness, non-finite state) carry a non-zero ``flag`` and a reason.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+
+from idkit.errors import SimulationError
+from idkit.simulate import harmonic_response
+
+__all__ = ["HarmonicMap", "harmonic_map", "parabolic_peak"]
+
+
+def _check_axis(values: ArrayLike, name: str, unit: str) -> NDArray[np.float64]:
+    axis = np.atleast_1d(np.asarray(values, dtype=float))
+    if axis.ndim != 1 or axis.size == 0:
+        raise SimulationError(f"{name}: found shape {np.shape(values)}, expected a non-empty 1-D axis in {unit}")
+    if not np.all(np.isfinite(axis) & (axis > 0)):
+        bad = axis[~(np.isfinite(axis) & (axis > 0))][0]
+        raise SimulationError(f"{name}: found {bad!r}, expected positive finite values in {unit}")
+    if np.any(np.diff(axis) <= 0):
+        index = int(np.flatnonzero(np.diff(axis) <= 0)[0]) + 1
+        raise SimulationError(
+            f"{name}: found {axis[index]!r} at index {index} not above its predecessor, "
+            f"expected a strictly increasing axis in {unit}"
+        )
+    return axis
+
+
+def parabolic_peak(x: ArrayLike, y: ArrayLike) -> tuple[float, float, int]:
+    """Location and height of the maximum of sampled ``y(x)``, refined by a parabola.
+
+    The parabola passes through the largest sample and its two neighbours (any spacing).
+
+    Parameters
+    ----------
+    x, y : array_like, shape (n,)
+        Abscissae (increasing) and values; NaN values are ignored.
+
+    Returns
+    -------
+    x_peak, y_peak : float
+        Vertex of the parabola; the sample itself if the maximum lies at an end of the
+        axis (then ``index`` is 0 or n-1) or the vertex is outside the bracket.
+    index : int
+        Index of the largest sample (-1 if every value is NaN).
+
+    Examples
+    --------
+    >>> x = np.array([0.0, 1.0, 2.0, 3.0])
+    >>> x_peak, y_peak, index = parabolic_peak(x, -(x - 1.3) ** 2)
+    >>> round(x_peak, 12), index
+    (1.3, 1)
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if not np.any(np.isfinite(y)):
+        return float("nan"), float("nan"), -1
+    index = int(np.nanargmax(y))
+    if index == 0 or index == y.size - 1 or not np.all(np.isfinite(y[index - 1:index + 2])):
+        return float(x[index]), float(y[index]), index
+    x0, x1, x2 = x[index - 1:index + 2]
+    y0, y1, y2 = y[index - 1:index + 2]
+    # Newton divided differences: y = y1 + b (x - x1) + c (x - x1)(x - x0) ...
+    d01 = (y1 - y0) / (x1 - x0)
+    d12 = (y2 - y1) / (x2 - x1)
+    curvature = (d12 - d01) / (x2 - x0)
+    if curvature >= 0:
+        return float(x1), float(y1), index
+    slope_at_x1 = d01 + curvature * (x1 - x0)
+    shift = -slope_at_x1 / (2.0 * curvature)
+    vertex = x1 + shift
+    if not (x0 <= vertex <= x2):
+        return float(x1), float(y1), index
+    return float(vertex), float(y1 + slope_at_x1 * shift + curvature * shift**2), index
+
+
+@dataclass(frozen=True)
+class HarmonicMap:
+    """Steady-state harmonic response over a (frequency x amplitude) grid.
+
+    Every grid array has shape ``(n_freq, n_amp)``: rows follow :attr:`freq`, columns
+    :attr:`amplitude`.
+
+    Attributes
+    ----------
+    freq : ndarray, shape (n_freq,)
+        Excitation frequencies, Hz.
+    amplitude : ndarray, shape (n_amp,)
+        Base displacement amplitudes, m.
+    orders : tuple of float
+        HOSIDF orders held in :attr:`hosidf_values`: 0.5, 1, 2, ..., K.
+    hosidf_values : ndarray, complex, shape (n_orders, n_freq, n_amp)
+        HOSIDF of each order, dimensionless (use :meth:`hosidf`).
+    half_range : ndarray, shape (n_freq, n_amp)
+        Peak-peak/2 of the top-mass displacement over the last window, m.
+    bias : ndarray, shape (n_freq, n_amp)
+        Mean deflection of the isolator stack (top mass relative to base), m.
+    peak_acceleration : ndarray, shape (n_freq, n_amp)
+        Largest |absolute top acceleration| over the last window, m/s^2.
+    periods : ndarray, shape (n_freq, n_amp)
+        Excitation periods simulated.
+    change : ndarray, shape (n_freq, n_amp)
+        Last window-to-window change relative to the first harmonic.
+    converged : ndarray of bool, shape (n_freq, n_amp)
+        Steady-state criterion met (see module docstring).
+    flags : ndarray of int, shape (n_freq, n_amp)
+        0 when the run stayed valid; else a simulator code, explained by :attr:`reasons`.
+    reasons : ndarray of str, shape (n_freq, n_amp)
+        Text of each point's flag ("ok" when valid).
+    tolerance : float
+        Steady-state tolerance used.
+    """
+
+    freq: NDArray[np.float64]
+    amplitude: NDArray[np.float64]
+    orders: tuple[float, ...]
+    hosidf_values: NDArray[np.complex128]
+    half_range: NDArray[np.float64]
+    bias: NDArray[np.float64]
+    peak_acceleration: NDArray[np.float64]
+    periods: NDArray[np.float64]
+    change: NDArray[np.float64]
+    converged: NDArray[np.bool_]
+    flags: NDArray[np.int64]
+    reasons: NDArray[np.str_]
+    tolerance: float
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(n_freq, n_amp)``."""
+        return (self.freq.size, self.amplitude.size)
+
+    @property
+    def n_harmonics(self) -> int:
+        """Highest harmonic order K."""
+        return int(max(self.orders))
+
+    @property
+    def amplitude_ratio(self) -> NDArray[np.float64]:
+        """Peak-peak/2 of the top mass over the base amplitude, ``x_m / x_b`` (thesis fig. 3.7)."""
+        return self.half_range / self.amplitude[None, :]
+
+    @property
+    def valid(self) -> NDArray[np.bool_]:
+        """Points that converged and stayed inside the model's valid range."""
+        return self.converged & (self.flags == 0)
+
+    def hosidf(self, order: float) -> NDArray[np.complex128]:
+        """Complex HOSIDF of ``order`` (0.5, 1, ..., K), shape (n_freq, n_amp), dimensionless."""
+        for index, held in enumerate(self.orders):
+            if abs(held - order) < 1e-9:
+                return self.hosidf_values[index]
+        raise SimulationError(f"order: found {order!r}, expected one of {list(self.orders)}")
+
+    def magnitude(self, order: float) -> NDArray[np.float64]:
+        """``|HOSIDF|`` of ``order``, shape (n_freq, n_amp)."""
+        return np.abs(self.hosidf(order))
+
+    def phase(self, order: float, *, unwrap: bool = True) -> NDArray[np.float64]:
+        """Phase of the HOSIDF of ``order`` in rad, unwrapped along frequency by default."""
+        angle = np.angle(self.hosidf(order))
+        return np.unwrap(angle, axis=0) if unwrap else angle
+
+    def amplitude_index(self, amplitude: float) -> int:
+        """Index of the grid amplitude nearest (in log) to ``amplitude`` (m)."""
+        if not (np.isfinite(amplitude) and amplitude > 0):
+            raise SimulationError(f"amplitude: found {amplitude!r}, expected a positive value in m")
+        return int(np.argmin(np.abs(np.log(self.amplitude / amplitude))))
+
+    def resonance_frequency(self, order: float = 1) -> NDArray[np.float64]:
+        """Frequency (Hz) of the peak of ``|HOSIDF_order|`` at every amplitude.
+
+        The peak sample of ``log |H|`` versus ``log f`` and its two neighbours are fitted
+        by a parabola (:func:`parabolic_peak`); its vertex is the resonance. Points that
+        did not converge or carry a flag are ignored. NaN where the maximum lies at an end
+        of the frequency axis (the resonance is outside the grid).
+
+        Returns
+        -------
+        ndarray, shape (n_amp,)
+        """
+        log_f = np.log(self.freq)
+        with np.errstate(divide="ignore"):
+            log_magnitude = np.where(self.valid, np.log(self.magnitude(order)), np.nan)
+        result = np.full(self.amplitude.size, np.nan)
+        for column in range(self.amplitude.size):
+            peak, _, index = parabolic_peak(log_f, log_magnitude[:, column])
+            if 0 < index < self.freq.size - 1:
+                result[column] = np.exp(peak)
+        return result
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """Long table: one row per (freq, amplitude, order).
+
+        Columns: ``freq_Hz``, ``amplitude_m``, ``order``, ``magnitude`` (|HOSIDF|, -),
+        ``phase_deg`` (wrapped), and per point ``half_range_m``, ``amplitude_ratio``,
+        ``bias_m``, ``peak_acceleration_m_s2``, ``periods``, ``converged``, ``flag``,
+        ``status``.
+        """
+        grid_freq, grid_amp = np.meshgrid(self.freq, self.amplitude, indexing="ij")
+        point_columns = {
+            "half_range_m": self.half_range.ravel(),
+            "amplitude_ratio": self.amplitude_ratio.ravel(),
+            "bias_m": self.bias.ravel(),
+            "peak_acceleration_m_s2": self.peak_acceleration.ravel(),
+            "periods": self.periods.ravel(),
+            "converged": self.converged.ravel(),
+            "flag": self.flags.ravel(),
+            "status": self.reasons.ravel(),
+        }
+        frames = []
+        for index, order in enumerate(self.orders):
+            value = self.hosidf_values[index].ravel()
+            frames.append(pd.DataFrame({
+                "freq_Hz": grid_freq.ravel(), "amplitude_m": grid_amp.ravel(), "order": order,
+                "magnitude": np.abs(value), "phase_deg": np.degrees(np.angle(value)), **point_columns,
+            }))
+        return pd.concat(frames, ignore_index=True)
+
+    def report(self) -> str:
+        """A few lines for people: grid, convergence, resonance per amplitude."""
+        n_points = self.freq.size * self.amplitude.size
+        lines = [
+            f"HarmonicMap: {self.freq.size} frequencies {self.freq[0]:g}-{self.freq[-1]:g} Hz x "
+            f"{self.amplitude.size} amplitudes {self.amplitude[0]:.3g}-{self.amplitude[-1]:.3g} m, "
+            f"orders {', '.join(f'{o:g}' for o in self.orders)}",
+            f"  steady state (tolerance {self.tolerance:g}): {int(self.converged.sum())}/{n_points} converged, "
+            f"{int((self.flags != 0).sum())} flagged outside the valid range",
+            "  amplitude [m]  resonance [Hz]  max |H1|",
+        ]
+        resonance = self.resonance_frequency()
+        peak = np.nanmax(np.where(self.valid, self.magnitude(1), np.nan), axis=0, initial=0.0)
+        for amplitude, freq, height in zip(self.amplitude, resonance, peak):
+            lines.append(f"  {amplitude:13.3g}  {freq:14.4g}  {height:8.4g}")
+        return "\n".join(lines)
+
+    summary = report
+
+
+def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_harmonics: int = 3,
+                 tolerance: float = 1e-3, workers: int | None = None, executor=None, progress=None,
+                 steps_per_period=None, max_periods: int = 4000) -> HarmonicMap:
+    """Steady-state harmonic response on a frequency x amplitude grid (SPEC 5).
+
+    Parameters
+    ----------
+    system : SDOFSystem or HybridSystem
+        The base-excited system.
+    freq_axis : array_like, shape (n_freq,)
+        Excitation frequencies in Hz, strictly increasing (1-100 Hz in the thesis).
+    amplitude_axis : array_like, shape (n_amp,)
+        Base displacement amplitudes in m, strictly increasing.
+    n_harmonics : int, default 3
+        Highest harmonic K; orders 1/2, 1, ..., K are kept.
+    tolerance : float, default 1e-3
+        Steady-state tolerance (module docstring).
+    workers : int, optional
+        Threads (default: all usable cores).
+    executor : Executor-like, optional
+        Runs chunks of points instead of the local pool (e.g. a Dask ``Client``).
+    progress : callable(done, total), optional
+        Called as chunks of points finish.
+    steps_per_period : int or array_like, optional
+        Integration steps per period; default of :func:`idkit.simulate.default_steps_per_period`.
+    max_periods : int, default 4000
+        Cap on simulated periods per point.
+
+    Returns
+    -------
+    HarmonicMap
+
+    Examples
+    --------
+    >>> from idkit.models import library
+    >>> result = harmonic_map(library.get("system_b1_medium"), [2.0, 5.0, 20.0], [1e-4, 1e-3])
+    >>> result.shape, bool(result.converged.all())
+    ((3, 2), True)
+    """
+    freq = _check_axis(freq_axis, "freq_axis", "Hz")
+    amplitude = _check_axis(amplitude_axis, "amplitude_axis", "m")
+    if int(n_harmonics) != n_harmonics or n_harmonics < 1:
+        raise SimulationError(f"n_harmonics: found {n_harmonics!r}, expected an integer >= 1")
+    if not (np.isfinite(tolerance) and tolerance > 0):
+        raise SimulationError(f"tolerance: found {tolerance!r}, expected a positive relative change")
+    grid_freq, grid_amp = np.meshgrid(freq, amplitude, indexing="ij")
+    response = harmonic_response(
+        system, grid_freq.ravel(), grid_amp.ravel(), n_harmonics=int(n_harmonics), tolerance=tolerance,
+        steps_per_period=steps_per_period, max_periods=max_periods, progress=progress, workers=workers,
+        executor=executor,
+    )
+    shape = grid_freq.shape
+    orders = (0.5,) + tuple(float(k) for k in range(1, int(n_harmonics) + 1))
+    hosidf_values = np.stack([response.hosidf(order).reshape(shape) for order in orders])
+    return HarmonicMap(
+        freq=freq, amplitude=amplitude, orders=orders, hosidf_values=hosidf_values,
+        half_range=response.half_range.reshape(shape), bias=response.bias.reshape(shape),
+        peak_acceleration=response.peak_acceleration.reshape(shape),
+        periods=np.asarray(response.periods, dtype=float).reshape(shape),
+        change=response.change.reshape(shape), converged=response.converged.reshape(shape).astype(bool),
+        flags=np.asarray(response.flags, dtype=np.int64).reshape(shape),
+        reasons=np.asarray(response.reasons, dtype=str).reshape(shape), tolerance=float(tolerance),
+    )

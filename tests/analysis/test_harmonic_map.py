@@ -1,0 +1,111 @@
+"""Frequency-amplitude maps: linear invariants, symmetry, amplitude-dependent resonance (SPEC 5)."""
+
+import numpy as np
+import pytest
+
+from idkit.analysis import HarmonicMap, harmonic_map, parabolic_peak
+from idkit.errors import SimulationError
+from idkit.models import SDOFSystem, VoigtModel, library
+
+# Tight steady-state tolerance for the invariant tests: the residual start-up transient in any
+# coefficient is then ~1e-5 of the first harmonic; the integrator's own error at the default
+# >= 128 steps per period is ~(2 pi / 128)^2 / 12 = 2e-4 (docs/simulator.md).
+STEADY_TOLERANCE = 1e-5
+H1_RELATIVE_TOLERANCE = 2e-3  # |H1 - H_analytic| / |H_analytic|
+HIGHER_HARMONIC_TOLERANCE = 1e-3  # |H_k| / |H1| for harmonics that must vanish
+RESONANCE_RELATIVE_TOLERANCE = 5e-3  # low-amplitude resonance vs stuck-stiffness value
+
+
+def _voigt_system():
+    mass, omega0, zeta = 5.0, 2 * np.pi * 5.0, 0.05
+    return SDOFSystem(mass, VoigtModel(k=mass * omega0**2, damping=2 * zeta * mass * omega0))
+
+
+def test_linear_first_hosidf_is_the_transmissibility_and_higher_harmonics_vanish():
+    system = _voigt_system()
+    freq = np.geomspace(1.0, 100.0, 9)
+    result = harmonic_map(system, freq, [1e-4, 1e-2], tolerance=STEADY_TOLERANCE)
+    assert result.converged.all()
+    stiffness = system.isolator.k + 2j * np.pi * freq * system.isolator.damping
+    analytic = stiffness / (stiffness - system.mass * (2 * np.pi * freq) ** 2)
+    for column in range(2):
+        error = np.abs(result.hosidf(1)[:, column] - analytic) / np.abs(analytic)
+        assert error.max() < H1_RELATIVE_TOLERANCE
+        # amplitude ratio (peak-peak/2 over base amplitude) is |H| for a linear system
+        assert np.allclose(result.amplitude_ratio[:, column], np.abs(analytic), rtol=H1_RELATIVE_TOLERANCE)
+    for order in (0.5, 2, 3):
+        assert (result.magnitude(order) / result.magnitude(1)).max() < HIGHER_HARMONIC_TOLERANCE
+    assert np.abs(result.bias).max() < 1e-3 * 1e-4
+
+
+def test_symmetric_iwan_even_harmonics_vanish_asymmetric_do_not():
+    freq = np.geomspace(2.0, 20.0, 7)
+    amplitude = [1e-4, 1e-3, 1e-2]
+    symmetric = harmonic_map(library.get("system_a1_symmetric"), freq, amplitude, tolerance=STEADY_TOLERANCE)
+    asymmetric = harmonic_map(library.get("system_a1_asymmetric"), freq, amplitude, tolerance=STEADY_TOLERANCE)
+    assert symmetric.valid.all()
+    assert asymmetric.valid.sum() >= asymmetric.valid.size - 2  # a point near resonance may keep drifting
+    even_sym = symmetric.magnitude(2) / symmetric.magnitude(1)
+    assert even_sym.max() < HIGHER_HARMONIC_TOLERANCE
+    # the symmetric model is non-linear: odd harmonics appear where the sliders slip
+    assert (symmetric.magnitude(3) / symmetric.magnitude(1)).max() > 10 * HIGHER_HARMONIC_TOLERANCE
+    # the asymmetric model has clear even harmonics (a symmetric hysteretic one may keep a
+    # bias from its start-up, so the bias is no symmetry test)
+    even_asym = np.where(asymmetric.valid, asymmetric.magnitude(2) / asymmetric.magnitude(1), np.nan)
+    assert np.nanmax(even_asym) > 10 * HIGHER_HARMONIC_TOLERANCE
+
+
+@pytest.mark.parametrize("name", ["system_a1_symmetric", "system_a1_asymmetric"])
+def test_low_amplitude_resonance_is_the_stuck_value_and_falls_with_amplitude(name):
+    system = library.get(name)
+    stuck = np.sqrt((system.isolator.g1 + system.isolator.k.sum()) / system.mass) / (2 * np.pi)
+    # coarse log axis 2-8 Hz plus a fine one around the sharp (0.24 % damped) stuck peak
+    freq = np.unique(np.concatenate([np.geomspace(2.0, 8.0, 25), np.geomspace(5.2, 5.5, 21)]))
+    amplitude = [1e-5, 1e-4, 1e-3, 3e-3]
+    result = harmonic_map(system, freq, amplitude)
+    assert result.valid.all()
+    resonance = result.resonance_frequency()
+    assert abs(resonance[0] / stuck - 1) < RESONANCE_RELATIVE_TOLERANCE
+    assert np.all(np.diff(resonance) < 0), resonance
+    assert resonance[-1] < 0.95 * stuck
+    # the map's peak-peak/2 peak agrees with the first harmonic at low amplitude (near linear)
+    column = 0
+    assert np.allclose(result.amplitude_ratio[:, column], result.magnitude(1)[:, column], rtol=1e-2)
+
+
+def test_table_and_report():
+    result = harmonic_map(library.get("system_b1_medium"), [2.0, 5.0, 20.0], [1e-4, 1e-3], n_harmonics=2)
+    assert isinstance(result, HarmonicMap)
+    assert result.orders == (0.5, 1.0, 2.0)
+    table = result.to_dataframe()
+    assert len(table) == 3 * 2 * 3
+    assert {"freq_Hz", "amplitude_m", "order", "magnitude", "phase_deg", "half_range_m", "converged"} <= set(table)
+    first = table[table.order == 1.0]
+    assert np.allclose(first.magnitude.to_numpy(), result.magnitude(1).ravel())
+    assert "3/... converged" not in result.report() and "6/6 converged" in result.report()
+    with pytest.raises(SimulationError, match="order"):
+        result.hosidf(4)
+
+
+def test_parabolic_peak_is_exact_for_a_parabola_on_an_uneven_axis():
+    x = np.array([0.0, 0.7, 1.1, 2.5, 3.0])
+    x_peak, y_peak, index = parabolic_peak(x, 2.0 - 3.0 * (x - 1.234) ** 2)
+    assert index == 2 and x_peak == pytest.approx(1.234, abs=1e-12) and y_peak == pytest.approx(2.0, abs=1e-12)
+    # maximum at the edge: no extrapolation
+    assert parabolic_peak(x, x)[0] == 3.0
+
+
+@pytest.mark.parametrize("axis, message", [([5.0, 2.0], "strictly increasing"), ([0.0, 2.0], "positive")])
+def test_bad_axes_are_refused(axis, message):
+    with pytest.raises(SimulationError, match=message):
+        harmonic_map(_voigt_system(), axis, [1e-3])
+
+
+@pytest.mark.parametrize("name", ["harmonic_map", "linear", "shock", "random_vibration"])
+def test_docstring_examples_of_the_response_modules(name):
+    import doctest
+    import importlib
+
+    module = importlib.import_module(f"idkit.analysis.{name}")
+    failures, attempted = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
+    assert attempted > 0 and failures == 0

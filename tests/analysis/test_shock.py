@@ -1,0 +1,97 @@
+"""Conditioned free-fall sweeps: analytic linear values, symmetry, phases, relaxation, SRS."""
+
+import numpy as np
+import pytest
+
+from idkit.analysis import ShockSweep, default_shock_grid, shock_sweep
+from idkit.errors import SimulationError
+from idkit.models import SDOFSystem, VoigtModel, library
+from idkit.simulate import STANDARD_GRAVITY
+
+LINEAR_PEAK_TOLERANCE = 1e-5  # relative; sampling at 2000 steps per period costs ~1e-6
+MIRROR_TOLERANCE = 1e-9  # relative; v0 -> -v0 of a symmetric system mirrors the response
+
+
+def _undamped(mass=8.0, freq=5.0):
+    omega0 = 2 * np.pi * freq
+    return SDOFSystem(mass, VoigtModel(k=mass * omega0**2, damping=0.0)), omega0
+
+
+def test_undamped_linear_drop_matches_energy_balance():
+    system, omega0 = _undamped()
+    speed = np.array([0.05, 0.4, 1.5])
+    sweep = shock_sweep(system, impact_velocity=-speed)
+    assert isinstance(sweep, ShockSweep) and sweep.ok.all()
+    assert np.allclose(sweep.rest_shock_level, omega0 * speed, rtol=LINEAR_PEAK_TOLERANCE)  # eq. 3.23
+    assert np.allclose(sweep.peak_compression[:, 0], speed / omega0, rtol=LINEAR_PEAK_TOLERANCE)  # eq. 3.21
+    # symmetric and lossless: equal peaks in compression and in the following tension
+    assert np.allclose(sweep.peak_acceleration_compression, sweep.peak_acceleration_tension,
+                       rtol=LINEAR_PEAK_TOLERANCE)
+    assert np.allclose(sweep.peak_tension[:, 0], sweep.peak_compression[:, 0], rtol=LINEAR_PEAK_TOLERANCE)
+
+
+def test_drop_height_gives_the_free_fall_velocity():
+    system, omega0 = _undamped()
+    heights = np.array([0.01, 0.05])
+    sweep = shock_sweep(system, drop_height=heights)
+    assert np.allclose(sweep.impact_velocity, -np.sqrt(2 * STANDARD_GRAVITY * heights), rtol=1e-15)
+    assert np.allclose(sweep.drop_height, heights, rtol=1e-12)
+    assert np.allclose(sweep.rest_shock_level, omega0 * np.sqrt(2 * STANDARD_GRAVITY * heights),
+                       rtol=LINEAR_PEAK_TOLERANCE)
+
+
+def test_symmetric_wire_rope_mirrors_compression_and_tension():
+    system = library.get("system_a1_symmetric")
+    speed = np.array([0.1, 0.5, 1.2])
+    down = shock_sweep(system, impact_velocity=-speed)
+    up = shock_sweep(system, impact_velocity=speed)
+    assert np.allclose(down.peak_acceleration_compression, up.peak_acceleration_tension, rtol=MIRROR_TOLERANCE)
+    assert np.allclose(down.peak_acceleration_tension, up.peak_acceleration_compression, rtol=MIRROR_TOLERANCE)
+    assert np.allclose(down.peak_compression, up.peak_tension, rtol=MIRROR_TOLERANCE)
+    # friction dissipates during compression: the following tension peak is lower
+    assert np.all(down.peak_acceleration_tension < down.peak_acceleration_compression)
+    assert list(down.governing_phase) == ["compression"] * 3
+
+
+def test_asymmetric_wire_rope_tension_governs_at_high_speed():
+    # thesis fig. 3.21b: compression critical below about 0.9 m/s, tension above
+    sweep = shock_sweep(library.get("system_a1_asymmetric"), impact_velocity=[-0.3, -0.6, -1.5, -2.0])
+    assert list(sweep.governing_phase) == ["compression", "compression", "tension", "tension"]
+    assert np.allclose(sweep.rest_shock_level,
+                       np.maximum(sweep.peak_acceleration_compression, sweep.peak_acceleration_tension))
+
+
+def test_hybrid_reports_both_components():
+    sweep = shock_sweep(library.get("hybrid_asymmetric"), impact_velocity=[-0.2, -1.0])
+    assert sweep.isolator_names == ("upper", "lower")
+    assert sweep.peak_compression.shape == (2, 2) and np.all(sweep.peak_compression > 0)
+    table = sweep.to_dataframe()
+    assert {"max_compression_upper_m", "max_tension_lower_m", "governing_phase"} <= set(table)
+    duration, step = default_shock_grid(library.get("hybrid_asymmetric"))
+    assert sweep.duration == duration and sweep.time_step == step
+
+
+def test_relaxation_starts_from_the_static_elongation():
+    system, omega0 = _undamped()
+    sweep = shock_sweep(system, impact_velocity=[-0.3], relaxation=True)
+    static = system.mass * STANDARD_GRAVITY / system.isolator.k
+    assert sweep.initial_deflection[0] == pytest.approx(static, rel=1e-9)
+    # energy: the spring's stored m g^2/(2 k) adds to the kinetic energy -> amplitude sqrt(x_s^2 + (v/w)^2)
+    amplitude = np.hypot(static, 0.3 / omega0)
+    assert sweep.rest_shock_level[0] == pytest.approx(omega0**2 * amplitude, rel=LINEAR_PEAK_TOLERANCE)
+
+
+def test_srs_of_the_top_acceleration_tends_to_its_peak_at_high_frequency():
+    system, omega0 = _undamped(freq=5.0)
+    sweep = shock_sweep(system, impact_velocity=[-0.5])
+    srs = sweep.srs(0, [100.0, 200.0], damping_ratio=0.05)
+    # far above 5 Hz the oscillator follows its input: SRS -> max |a| (within 2 %, quasi-static)
+    assert np.allclose(srs.maximax, sweep.rest_shock_level[0], rtol=2e-2)
+
+
+def test_input_checks():
+    system, _ = _undamped()
+    with pytest.raises(SimulationError, match="exactly one"):
+        shock_sweep(system)
+    with pytest.raises(SimulationError, match="impact_velocity"):
+        shock_sweep(system, impact_velocity=[0.0])
