@@ -11,4 +11,21 @@ from idkit.plot.basic import (
     save_figure,
 )
 
-__all__ = ["plot_loops", "plot_bode", "plot_harmonic_cross_sections", "plot_shock_levels", "save_figure"]
+from idkit.plot.responses import (
+    plot_complex_stiffness,
+    plot_map_cross_sections,
+    plot_map_surface,
+    plot_map_top_view,
+    plot_output_psd,
+    plot_resonance_vs_amplitude,
+    plot_shock_deflection,
+    plot_shock_sweep,
+    plot_transmissibility,
+)
+
+__all__ = [
+    "plot_loops", "plot_bode", "plot_harmonic_cross_sections", "plot_shock_levels", "save_figure",
+    "plot_map_surface", "plot_map_top_view", "plot_map_cross_sections", "plot_resonance_vs_amplitude",
+    "plot_complex_stiffness", "plot_transmissibility", "plot_shock_sweep", "plot_shock_deflection",
+    "plot_output_psd",
+]
