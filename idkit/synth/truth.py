@@ -1,0 +1,132 @@
+"""The "true" isolators behind the bundled synthetic data (richer than the fitted models).
+
+The truth is deliberately **not** a member of the model families idkit fits, so that a fit
+on the bundled data is an identification with a model error, not an echo of the generator:
+
+* :class:`WireRopeTruth` - Iwan model of order 30 with a log-normal mixture of slip
+  displacements (two families near 0.1 mm and 1.1 mm, as the two elements of Table 7.1),
+  the Table 7.1 polynomial spring plus a bottoming stiffener below -18 mm, and slip forces
+  scaled by ``s(y) = 1 + beta tanh(-y / y_ref)`` (wider loops in compression, narrower in
+  tension);
+* :class:`ElastomerTruth` - generalized Maxwell of order 8 (rates 3 - 7000 1/s) about 15 %
+  stiffer than the catalogue 12e3 N/m quasi-statically, within 5 % of Table 7.3 over
+  1-100 Hz, split into two halves (each twice as stiff) with an internal elastomer mass
+  between them that gives an internal mode near 200 Hz, plus a softening
+  ``1 - alpha tanh^2(y / y_soft)`` of the static spring in compression only.
+
+All values SI. ``to_dict()`` gives the JSON written to the truth files.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from idkit.synth.chain import LINK_ELASTOMER, LINK_WIRE_ROPE
+
+__all__ = ["ElastomerTruth", "WireRopeTruth", "default_elastomer", "default_wire_rope"]
+
+
+def _wire_rope_elements(order: int) -> tuple[list[float], list[float]]:
+    """Slip forces (N) and stiffnesses (N/m) of the wire-rope Jenkin elements.
+
+    Slip displacements ``delta_i = fc_i / k_i`` are log-spaced from 10 um to 5 mm; the slip
+    force per element follows a two-hump log-normal density (15.5 N around 0.1 mm and
+    10.3 N around 1.1 mm in total, the two elements of Table 7.1) plus 0.01 N each.
+    """
+    delta = np.geomspace(1e-5, 5e-3, order)
+    log_d = np.log(delta)
+    hump_small = np.exp(-0.5 * ((log_d - np.log(0.1e-3)) / 0.7) ** 2)
+    hump_large = np.exp(-0.5 * ((log_d - np.log(1.1e-3)) / 0.6) ** 2)
+    fc = 15.5 * hump_small / hump_small.sum() + 10.3 * hump_large / hump_large.sum() + 0.01
+    k = fc / delta
+    return [float(v) for v in np.round(fc, 4)], [float(v) for v in np.round(k, 1)]
+
+
+@dataclass(frozen=True)
+class WireRopeTruth:
+    """True wire-rope isolator (see the module docstring); forces in N, deflection in m."""
+
+    g1: float = 1.84e4
+    g2: float = 2.45e5
+    g3: float = -4.57e5
+    k_bottom: float = 2.0e7  # N/m^3, stiffener below -y_bottom
+    y_bottom: float = 0.018
+    c_visc: float = 5.0  # N s/m
+    beta: float = 0.35  # slip-force scale amplitude
+    y_ref: float = 0.006  # m
+    fc: list[float] = field(default_factory=lambda: _wire_rope_elements(30)[0])
+    k: list[float] = field(default_factory=lambda: _wire_rope_elements(30)[1])
+    mass_kg: float = 0.21
+
+    def link(self):
+        """Kernel link tuple ``(kind, scalars, k, fc)``."""
+        scalars = [self.g1, self.g2, self.g3, self.c_visc, self.k_bottom, self.y_bottom,
+                   self.beta, self.y_ref]
+        return (LINK_WIRE_ROPE, scalars, list(self.k), list(self.fc))
+
+    @property
+    def stuck_stiffness(self) -> float:
+        """``g1 + sum k_i`` in N/m."""
+        return self.g1 + float(np.sum(self.k))
+
+    def to_dict(self) -> dict:
+        out = {"model": "iwan_deflection_scaled_slip", **asdict(self)}
+        out["order"] = len(self.k)
+        out["stuck_stiffness_N_per_m"] = self.stuck_stiffness
+        out["description"] = (
+            "F = g1 y + g2 y^2 + g3 y^3 - k_bottom max(0, -y - y_bottom)^3 + sum_i F_i + c_visc ydot; "
+            "F_i by the stop operator with slip force s(y) fc_i, s(y) = 1 + beta tanh(-y / y_ref); "
+            "y = deflection (m, positive = tension)"
+        )
+        return out
+
+
+@dataclass(frozen=True)
+class ElastomerTruth:
+    """True elastomer isolator: two generalized-Maxwell halves and an internal mass."""
+
+    k0: float = 13.8e3  # N/m, whole isolator (quasi-static stiffness ~ 1.15 x 12e3)
+    k: list[float] = field(default_factory=lambda: [350.0, 600.0, 1300.0, 1700.0, 2600.0,
+                                                    5200.0, 4200.0, 3000.0])
+    rate: list[float] = field(default_factory=lambda: [3.0, 10.0, 30.0, 90.0, 270.0, 800.0,
+                                                       2400.0, 7000.0])
+    alpha: float = 0.15  # softening depth in compression
+    y_soft: float = 0.010  # m, softening length of the whole isolator
+    internal_mass_kg: float = 0.065  # between the halves: internal mode near 200 Hz
+    moving_mass_kg: float = 0.10  # elastomer mass moving with the top mass
+    mass_kg: float = 0.53
+
+    def half_link(self):
+        """Kernel link of one half: every stiffness doubled, softening length halved."""
+        scalars = [2.0 * self.k0, self.alpha, 0.5 * self.y_soft]
+        return (LINK_ELASTOMER, scalars, [2.0 * v for v in self.k], list(self.rate))
+
+    def complex_stiffness(self, freq) -> np.ndarray:
+        """Small-amplitude complex stiffness of the whole isolator without the internal
+        mass (N/m): ``k0 + sum k_i s / (s + rate_i)``."""
+        s = 2j * np.pi * np.asarray(freq, dtype=float)
+        return self.k0 + np.sum(np.asarray(self.k) * s[..., None]
+                                / (s[..., None] + np.asarray(self.rate)), axis=-1)
+
+    def to_dict(self) -> dict:
+        out = {"model": "two_maxwell_halves_with_internal_mass", **asdict(self)}
+        out["order"] = len(self.k)
+        out["description"] = (
+            "whole-isolator generalized Maxwell k0, k_i, rate_i (1/s) split into two halves in "
+            "series (each 2 k0, 2 k_i, same rates) with internal_mass_kg between them; static "
+            "spring of a half 2 k0 y (1 - alpha tanh^2(min(y, 0) / (y_soft / 2))); "
+            "moving_mass_kg is added to the top mass"
+        )
+        return out
+
+
+def default_wire_rope() -> WireRopeTruth:
+    """The wire-rope truth of the bundled data."""
+    return WireRopeTruth()
+
+
+def default_elastomer() -> ElastomerTruth:
+    """The elastomer truth of the bundled data."""
+    return ElastomerTruth()
