@@ -194,7 +194,7 @@ def process_quasi_static(measurement: QuasiStaticMeasurement, *,
     >>> x = 2e-3 * np.sin(2 * np.pi * t / 10)
     >>> result = process_quasi_static(QuasiStaticMeasurement(time=t, deflection=x, force=1e4 * x))
     >>> result.n_cycles, round(float(result.amplitude[0]) * 1e3, 3)
-    (1, 2.0)
+    (3, 2.0)
     """
     _require(measurement, QuasiStaticMeasurement, "process_quasi_static")
     x = measurement.deflection

@@ -207,3 +207,12 @@ def test_mr_damper_cycle_count_matches_the_documented_excitation():
     periods = np.diff(loops.time[result.cycles.cycle_start])
     assert np.median(periods) == pytest.approx(1 / documented_freq, rel=0.02)
     assert 2 * np.median(result.amplitude) == pytest.approx(documented_stroke, rel=0.03)
+
+
+def test_docstring_examples_of_measurements_run():
+    import doctest
+
+    import idkit.analysis.measurements as module
+
+    failures, attempted = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
+    assert attempted >= 3 and failures == 0
