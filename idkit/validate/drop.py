@@ -13,10 +13,12 @@ from idkit.validate.systems import system_for
 
 __all__ = ["validate_drops", "DROP_THRESHOLDS", "relaxation_deflection"]
 
-#: Default limits on the median relative errors over all drops.
+#: Default limits on the median relative errors over the drops the model could simulate,
+#: and on the fraction of drops that left the model's valid range (flagged runs).
 DROP_THRESHOLDS = {
     "median_peak_acceleration_error": 0.25,
     "median_peak_compression_error": 0.25,
+    "invalid_run_fraction": 0.0,
 }
 
 
@@ -85,13 +87,22 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
     table["peak acceleration error [-]"] = simulated_peak / measured_peak - 1
     table["peak compression error [-]"] = (table["peak compression simulated [m]"]
                                            / table["peak compression measured [m]"] - 1)
-    by_height = table.groupby(["top mass [kg]", "drop height [m]"])[
-        ["peak acceleration error [-]", "peak compression error [-]"]].mean().reset_index()
+    valid = table["status"] == "ok"
+    table.loc[~valid, ["peak acceleration error [-]", "peak compression error [-]"]] = np.nan
+
+    def median_abs(column):
+        values = np.abs(table.loc[valid, column].to_numpy(float))
+        return float(np.median(values)) if values.size else np.nan
+
     summary = {
-        "median_peak_acceleration_error": float(np.median(np.abs(table["peak acceleration error [-]"]))),
-        "median_peak_compression_error": float(np.median(np.abs(table["peak compression error [-]"]))),
-        "max_peak_acceleration_error": float(np.max(np.abs(table["peak acceleration error [-]"]))),
+        "median_peak_acceleration_error": median_abs("peak acceleration error [-]"),
+        "median_peak_compression_error": median_abs("peak compression error [-]"),
+        "max_peak_acceleration_error": float(np.nanmax(np.abs(table["peak acceleration error [-]"])))
+        if valid.any() else np.nan,
+        "invalid_run_fraction": float(1.0 - valid.mean()),
         "relaxation": bool(relaxation),
     }
+    by_height = table.groupby(["top mass [kg]", "drop height [m]"])[
+        ["peak acceleration error [-]", "peak compression error [-]"]].mean().reset_index()
     return ValidationResult(name=name, metrics=table, summary=summary, thresholds=limits,
                             details={"by_height": by_height})

@@ -18,8 +18,8 @@ def check_thresholds(defaults: dict[str, float], thresholds: dict[str, float] | 
     for name, value in (thresholds or {}).items():
         if name not in defaults:
             raise ValidationError(f"thresholds: found unknown name {name!r}, expected some of {sorted(defaults)}")
-        if not (np.isfinite(value) and value > 0):
-            raise ValidationError(f"thresholds[{name!r}]: found {value!r}, expected a positive number")
+        if not (np.isfinite(value) and value >= 0):
+            raise ValidationError(f"thresholds[{name!r}]: found {value!r}, expected a finite number >= 0")
         merged[name] = float(value)
     return merged
 

@@ -143,3 +143,16 @@ def test_validation_plots_draw_every_series(stepped_sine_points, drops):
     assert len(harmonic_axes[0].lines) == 4  # two levels x (model, measured)
     drop_axes = plot_drop_validation(validate_drops(drops, isolator=wire_rope()))
     assert len(drop_axes[0].lines) == 4 and len(drop_axes[1].lines) == 2
+
+
+def test_runs_leaving_the_valid_range_fail_the_drop_validation(drops):
+    """Table 7.1 turns negative-stiff near -34 mm: a soft, heavy system bottoms out and is flagged."""
+    fragile = library.get("table_7_1_wire_rope")
+    heavy = [DropMeasurement(time=d.time, deflection=d.deflection, a_top_1=d.a_top_1, a_top_2=d.a_top_2,
+                             v_rel=d.v_rel * 8, info=MeasurementInfo(id=d.info.id, top_mass_kg=200.0,
+                                                                    drop_height_m=d.info.drop_height_m))
+             for d in drops]
+    result = validate_drops(heavy, isolator=fragile)
+    assert result.summary["invalid_run_fraction"] > 0
+    assert not result.checks["invalid_run_fraction"]
+    assert (result.metrics["status"] != "ok").sum() == round(result.summary["invalid_run_fraction"] * len(heavy))
