@@ -113,8 +113,13 @@ def _figure(nrows=1, ncols=1, *, figsize=(6.4, 4.8), **kwargs):
 
 
 def _first_tension_speed(sweep) -> float | None:
-    tension = np.flatnonzero(sweep.governing_phase == "tension")
-    return float(sweep.impact_speed[tension[0]]) if tension.size else None
+    """Lowest speed from which on tension governs every faster drop (None if it never does)."""
+    order = np.argsort(sweep.impact_speed)
+    compression = np.flatnonzero(sweep.governing_phase[order] != "tension")
+    if compression.size and compression[-1] == order.size - 1:
+        return None
+    start = compression[-1] + 1 if compression.size else 0
+    return float(sweep.impact_speed[order][start])
 
 
 def _map_case(folder: Path, case: str, system, amplitude, grid: _Grid, cross_amplitudes, progress, workers,
