@@ -8,12 +8,21 @@
   global cross-check; :func:`fit_voigt`, :func:`maxwell_order_table`,
   :func:`fit_complex_stiffness` (DMA / complex stiffness data),
   :func:`estimate_k0` (quasi-static slope around the origin).
+- :func:`fit_boucwen` - staged (elastic, loop shape), scaled, globally searched
+  fit of the modified Bouc-Wen model to the same loops; :func:`compare_loop_models`
+  tabulates Iwan against Bouc-Wen set by set.
+- :mod:`idkit.fit.measurements` - the same fits on measurement sets
+  (:func:`fit_iwan_measurements`, :func:`fit_maxwell_measurements`,
+  :func:`fit_boucwen_measurements`) with provenance and model files.
+- :mod:`idkit.fit.bootstrap` - parameter spread by refitting per repetition or
+  on seeded resamples.
 
 Every fit returns a typed result (:mod:`idkit.fit.result`) with lmfit
 ``Parameters`` and a ``report()``. Fitters work on arrays; loading files is
 :mod:`idkit.io`'s job.
 """
 
+from idkit.fit.boucwen import boucwen_set_errors, boucwen_set_forces, fit_boucwen
 from idkit.fit.iwan import LoopSet, fit_iwan, iwan_set_errors, iwan_start, prepare_loops
 from idkit.fit.maxwell import (
     K0Estimate,
@@ -25,7 +34,22 @@ from idkit.fit.maxwell import (
     maxwell_objective,
     maxwell_order_table,
 )
+from idkit.fit.measurements import (
+    SMALL_THRESHOLD,
+    DataProvenance,
+    K0FromLoops,
+    LoopData,
+    MeasurementFit,
+    fit_boucwen_measurements,
+    fit_iwan_measurements,
+    fit_maxwell_measurements,
+    k0_from_measurements,
+    loop_sets,
+    transmissibility_sets,
+)
 from idkit.fit.result import (
+    BoucWenFitResult,
+    BoucWenFitSettings,
     CrossCheck,
     IwanFitResult,
     IwanFitSettings,
@@ -41,4 +65,8 @@ __all__ = [
     "TransmissibilitySet", "K0Estimate", "estimate_k0", "maxwell_objective", "fit_maxwell", "fit_voigt",
     "fit_complex_stiffness", "maxwell_order_table",
     "MaxwellFitResult", "MaxwellFitSettings", "CrossCheck",
+    "fit_boucwen", "boucwen_set_errors", "boucwen_set_forces", "BoucWenFitResult", "BoucWenFitSettings",
+    "SMALL_THRESHOLD", "DataProvenance", "LoopData", "K0FromLoops", "MeasurementFit", "loop_sets",
+    "transmissibility_sets", "k0_from_measurements", "fit_iwan_measurements", "fit_boucwen_measurements",
+    "fit_maxwell_measurements",
 ]

@@ -630,18 +630,21 @@ def _start_values(problem: _Problem, start) -> np.ndarray:
 
 def _lmfit_view(problem: _Problem, z, at_bound):
     """lmfit Parameters: stderr from the analytic Jacobian (parameters at a bound excluded)."""
+    # The covariance is formed in the scaled coordinates z (columns of comparable size;
+    # in SI units k ~ 1e4 N/m and m_eff ~ 0.1 kg make J^T J look singular) and mapped
+    # to physical units by the chain rule: stderr(p) = |dp/dz| stderr(z).
     rho, jacobian_z = problem.residuals(z)
     chain = problem.chain(z)
-    jacobian = jacobian_z / chain[None, :]  # physical parameters
     root_w = np.sqrt(problem.weights)
     free = [i for i, name in enumerate(problem.names) if name not in at_bound]
-    stacked_j = np.vstack([(root_w[:, None] * jacobian[:, free]).real, (root_w[:, None] * jacobian[:, free]).imag])
+    weighted = root_w[:, None] * jacobian_z[:, free]
+    stacked_j = np.vstack([weighted.real, weighted.imag])
     stacked_r = np.concatenate([(root_w * rho).real, (root_w * rho).imag])
     covariance = gauss_newton_covariance(stacked_j, stacked_r) if free else None
     stderr = [None] * len(problem.names)
     if covariance is not None:
         for position, i in enumerate(free):
-            stderr[i] = float(math.sqrt(max(covariance[position, position], 0.0)))
+            stderr[i] = float(abs(chain[i]) * math.sqrt(max(covariance[position, position], 0.0)))
     values = problem.physical(z)
     names, units = list(problem.names), [t.unit for t in problem.transforms]
     lower, upper = [t.lower for t in problem.transforms], [t.upper for t in problem.transforms]

@@ -14,7 +14,7 @@ import lmfit
 import numpy as np
 import pandas as pd
 
-from idkit.models import GeneralizedMaxwell, IwanModel, VoigtModel
+from idkit.models import BoucWenModel, GeneralizedMaxwell, IwanModel, VoigtModel
 
 __all__ = [
     "IwanFitSettings",
@@ -24,6 +24,8 @@ __all__ = [
     "MaxwellFitSettings",
     "CrossCheck",
     "MaxwellFitResult",
+    "BoucWenFitSettings",
+    "BoucWenFitResult",
 ]
 
 
@@ -325,5 +327,130 @@ class MaxwellFitResult:
                 f"gap {100 * c.gap:.4f} % (tolerance {100 * c.tolerance:.4f} %)"
             )
         lines.append("[[Variables]]")
+        lines.extend(_parameter_lines(self.parameters))
+        return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------- Bouc-Wen
+
+
+@dataclass(frozen=True)
+class BoucWenFitSettings:
+    """Algorithm settings of a Bouc-Wen loop fit (recorded for provenance).
+
+    ``bounds`` are the physical bounds of the scaled box (name -> (lower, upper)).
+    """
+
+    backend: str
+    points_per_set: int | None
+    global_search: bool
+    global_method: str | None
+    global_max_evals: int
+    max_evals: int
+    xtol: float
+    restarts: int
+    initial_step: float
+    initial_state: str
+    seed: int
+    bounds: dict
+
+
+@dataclass(frozen=True)
+class BoucWenFitResult:
+    """Result of :func:`idkit.fit.fit_boucwen` (three stages: elastic, loop shape, global + polish).
+
+    Attributes
+    ----------
+    model : BoucWenModel
+        Identified model (``b = e``, so the asymmetry factor is ``exp(c x)``; ``c_visc = 0``).
+    stages : tuple of StageResult
+        ``elastic``, ``loop shape``, ``global``; ``set_errors`` over small then large sets.
+    small_errors, large_errors : ndarray
+        Per-set errors (7.1, fractions) of the final model.
+    small_names, large_names : tuple of str
+    settings : BoucWenFitSettings
+    parameters : lmfit.Parameters
+        ``k1 .. c`` (varied) with stderr by the delta method; ``z_max``, ``shape``
+        (derived loop-shape parameters, listed as fixed) and ``b``, ``c_visc`` (fixed).
+    conditioning : dict
+        Condition number of ``J^T J`` in the scaled coordinates (``"scaled"``)
+        and in SI parameters ``k1, k2, k3, alpha, beta, gamma, n, c`` (``"si"``).
+    at_bound : tuple of str
+        Scaled parameters at a bound of the box.
+    global_search : dict or None
+        ``method``, ``error`` (best of the population search), ``evaluations``,
+        ``stage2_error``.
+    elapsed_s : float
+    """
+
+    model: BoucWenModel
+    stages: tuple[StageResult, ...]
+    small_errors: np.ndarray
+    large_errors: np.ndarray
+    small_names: tuple[str, ...]
+    large_names: tuple[str, ...]
+    settings: BoucWenFitSettings
+    parameters: lmfit.Parameters = field(repr=False)
+    conditioning: dict
+    at_bound: tuple[str, ...]
+    global_search: dict | None
+    elapsed_s: float
+
+    n_params = 8  # k1, k2, k3, alpha, beta, gamma, n, c (b fixed)
+
+    @property
+    def error_small(self) -> float:
+        """Mean relative RMS error (fraction) on the small sets."""
+        return float(np.mean(self.small_errors))
+
+    @property
+    def error_large(self) -> float:
+        """Mean relative RMS error (fraction) on the large sets."""
+        return float(np.mean(self.large_errors))
+
+    @property
+    def evaluations(self) -> int:
+        """Objective evaluations over all stages."""
+        return int(sum(stage.evaluations for stage in self.stages))
+
+    @property
+    def success(self) -> bool:
+        """True if no stage stopped on its evaluation limit."""
+        return all("max_evals" not in stage.message for stage in self.stages)
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per (stage, set) plus ``final`` rows: error in %."""
+        rows = []
+        for stage in self.stages:
+            for name, error in zip(stage.set_names, stage.set_errors):
+                rows.append({"stage": stage.name, "set": name, "error_percent": 100.0 * error,
+                             "evaluations": stage.evaluations})
+        for data, names, errors in (("small", self.small_names, self.small_errors),
+                                    ("large", self.large_names, self.large_errors)):
+            for name, error in zip(names, errors):
+                rows.append({"stage": "final", "set": name, "error_percent": 100.0 * error, "evaluations": 0})
+        return pd.DataFrame(rows)
+
+    def report(self) -> str:
+        """Readable summary: stages, conditioning, parameters with stderr."""
+        s = self.settings
+        lines = [
+            f"[[Bouc-Wen fit, three stages (elastic, loop shape, global + polish), local {s.backend} Nelder-Mead]]",
+            f"    evaluations {self.evaluations}, wall time {self.elapsed_s:.3f} s, success {self.success}, "
+            f"seed {s.seed}",
+            f"    mean error (7.1): small sets {100 * self.error_small:.3f} %, "
+            f"large sets {100 * self.error_large:.3f} %",
+            f"    conditioning of J^T J: {self.conditioning['si']:.3g} in SI parameters, "
+            f"{self.conditioning['scaled']:.3g} in the scaled ones",
+            f"    at a bound of the box: {', '.join(self.at_bound) if self.at_bound else 'none'}",
+            "[[Stages]]",
+        ]
+        for stage in self.stages:
+            lines.append(f"    {stage.name} (free {', '.join(stage.free)}): {100 * stage.start_error:.3f} % -> "
+                         f"{100 * stage.mean_error:.3f} %, {stage.evaluations} evaluations, {stage.message}")
+        for data, names, errors in (("small", self.small_names, self.small_errors),
+                                    ("large", self.large_names, self.large_errors)):
+            lines.append(f"    final {data} per set [%]: " + ", ".join(f"{n}: {100 * e:.2f}" for n, e in zip(names, errors)))
+        lines.append("[[Variables]] (z_max, shape: derived loop-shape parameters; b fixed: only c ln b matters)")
         lines.extend(_parameter_lines(self.parameters))
         return "\n".join(lines)
