@@ -77,6 +77,25 @@ from idkit.analysis.srs import (
     smallwood_coefficients,
 )
 
+from idkit.analysis.measurements import (
+    DropMeasurementResult,
+    InspectionWarning,
+    MeasurementSummary,
+    QuasiStaticResult,
+    SteppedSinePoint,
+    SteppedSineSweep,
+    WhiteNoiseFrf,
+    find_clipping,
+    frf_from_white_noise,
+    hosidf_from_stepped_sine,
+    noise_level,
+    process_drop_measurement,
+    process_quasi_static,
+    stepped_sine_sweep,
+    summarize_measurements,
+)
+from idkit.analysis.transport import RK_VALUES, TransportSystem, transport_systems, tuning_table
+
 __all__ = [
     "FLAT_LEVELS",
     "HarmonicMap",
@@ -128,4 +147,23 @@ __all__ = [
     "synthesize_random",
     "welch_psd",
     "zero_phase_moving_average",
+    "DropMeasurementResult",
+    "InspectionWarning",
+    "MeasurementSummary",
+    "QuasiStaticResult",
+    "SteppedSinePoint",
+    "SteppedSineSweep",
+    "WhiteNoiseFrf",
+    "find_clipping",
+    "frf_from_white_noise",
+    "hosidf_from_stepped_sine",
+    "noise_level",
+    "process_drop_measurement",
+    "process_quasi_static",
+    "stepped_sine_sweep",
+    "summarize_measurements",
+    "RK_VALUES",
+    "TransportSystem",
+    "transport_systems",
+    "tuning_table",
 ]

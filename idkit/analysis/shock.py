@@ -27,7 +27,7 @@ intermediate mass on both isolators' small-amplitude stiffness (hybrid only). A 
 sampled at 2000 points per period is within ``1 - cos(pi / 2000) ~ 1e-6`` of the true one.
 
 Relaxation (``relaxation=True``, SPEC 5 validation reading): every isolator starts elongated
-by the static deflection (:func:`idkit.simulate.static_deflection`) under the weight of
+by the static deflection (:func:`idkit.simulate.relaxation_deflection`) under the weight of
 the masses it carries (top isolator: top mass; hybrid lower isolator: top plus
 intermediate mass), i.e. the spring has relaxed from its resting compression to tension
 during the fall.
@@ -44,7 +44,7 @@ from numpy.typing import ArrayLike, NDArray
 from idkit.analysis.srs import ShockResponseSpectrum, shock_response_spectrum
 from idkit.errors import SimulationError
 from idkit.models import HybridSystem, SDOFSystem
-from idkit.simulate import STANDARD_GRAVITY, free_fall, small_amplitude_resonance, static_deflection
+from idkit.simulate import STANDARD_GRAVITY, free_fall, relaxation_deflection, small_amplitude_resonance
 
 __all__ = ["ShockSweep", "shock_sweep", "default_shock_grid"]
 
@@ -182,11 +182,6 @@ class ShockSweep:
         return "\n".join(lines)
 
 
-def _masses_carried(system) -> list[float]:
-    masses = np.asarray(system.masses, dtype=float)
-    return [float(masses[: j + 1].sum()) for j in range(masses.size)]
-
-
 def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height: ArrayLike | None = None,
                 duration: float | None = None, time_step: float | None = None, gravity: bool | float = False,
                 relaxation: bool = False, workers: int | None = None, executor=None) -> ShockSweep:
@@ -239,13 +234,7 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
     time_step = auto_step if time_step is None else float(time_step)
     g = STANDARD_GRAVITY if gravity is True else float(gravity or 0.0)
     n_isolators = len(system.isolators)
-    if relaxation:
-        initial = np.array([
-            static_deflection(isolator, carried * STANDARD_GRAVITY)
-            for isolator, carried in zip(system.isolators, _masses_carried(system))
-        ])
-    else:
-        initial = np.zeros(n_isolators)
+    initial = relaxation_deflection(system) if relaxation else np.zeros(n_isolators)
     response = free_fall(system, impact_velocity=velocity, duration=duration, time_step=time_step, gravity=g,
                          initial_deflection=initial if relaxation else None, workers=workers, executor=executor)
     accel = response.acceleration[:, 0, :]

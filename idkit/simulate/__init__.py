@@ -16,10 +16,17 @@ from idkit.simulate.harmonic import (
     harmonic_response,
     small_amplitude_resonance,
 )
-from idkit.simulate.time_response import TimeResponse, free_fall, initial_states, simulate, static_deflection
+from idkit.simulate.time_response import (
+    TimeResponse,
+    free_fall,
+    initial_states,
+    relaxation_deflection,
+    simulate,
+    static_deflection,
+)
 
 __all__ = [
-    "BaseMotion", "TimeResponse", "simulate", "free_fall", "static_deflection", "initial_states",
+    "BaseMotion", "TimeResponse", "simulate", "free_fall", "static_deflection", "initial_states", "relaxation_deflection",
     "HarmonicResponse", "harmonic_response", "default_steps_per_period", "small_amplitude_resonance",
     "STANDARD_GRAVITY", "solve_ivp_reference", "harmonic_reference", "ReferenceResponse", "ReferenceHarmonic",
     "moreau_coulomb_spring", "MoreauResponse",

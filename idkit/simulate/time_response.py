@@ -14,7 +14,7 @@ from idkit.simulate._kernel import FLAG_REASONS, run_time_batch
 from idkit.simulate._parallel import run_chunked
 from idkit.simulate.base_motion import BaseMotion, integrate_acceleration
 
-__all__ = ["TimeResponse", "simulate", "free_fall", "static_deflection", "initial_states"]
+__all__ = ["TimeResponse", "simulate", "free_fall", "static_deflection", "initial_states", "relaxation_deflection"]
 
 
 @dataclass(frozen=True)
@@ -93,6 +93,18 @@ def static_deflection(isolator: IsolatorModel, load: float, *, tolerance: float 
         else:
             high = middle
     return 0.5 * (low + high)
+
+
+def relaxation_deflection(system) -> np.ndarray:
+    """Initial isolator elongations (m) for the relaxation reading of a drop (SPEC 5).
+
+    Each isolator starts stretched by its static deflection under the weight it
+    carries: the top isolator ``m_top g``, a hybrid's lower isolator also the
+    intermediate mass (masses include ``m_eff``). Positive = tension.
+    """
+    system = resolve_system(system)
+    carried = np.cumsum(np.asarray(system.masses, dtype=float)) * STANDARD_GRAVITY
+    return np.array([static_deflection(isolator, load) for isolator, load in zip(system.isolators, carried)])
 
 
 def initial_states(system, deflections):

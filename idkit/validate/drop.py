@@ -7,11 +7,11 @@ import pandas as pd
 
 from idkit.analysis.drop import process_drop
 from idkit.errors import ValidationError
-from idkit.simulate import STANDARD_GRAVITY, free_fall, small_amplitude_resonance, static_deflection
+from idkit.simulate import free_fall, relaxation_deflection, small_amplitude_resonance
 from idkit.validate.result import ValidationResult, check_thresholds
 from idkit.validate.systems import system_for
 
-__all__ = ["validate_drops", "DROP_THRESHOLDS", "relaxation_deflection"]
+__all__ = ["validate_drops", "DROP_THRESHOLDS"]
 
 #: Default limits on the median relative errors over the drops the model could simulate,
 #: and on the fraction of drops that left the model's valid range (flagged runs).
@@ -20,17 +20,6 @@ DROP_THRESHOLDS = {
     "median_peak_compression_error": 0.25,
     "invalid_run_fraction": 0.0,
 }
-
-
-def relaxation_deflection(system) -> np.ndarray:
-    """Initial isolator elongations (m) carrying the weight below them (SPEC 5, relaxation reading).
-
-    The isolator under the top mass carries ``m_top g``; in a hybrid the lower one also
-    carries the intermediate mass. Positive = tension.
-    """
-    masses = np.asarray(system.masses, dtype=float)
-    loads = np.cumsum(masses) * STANDARD_GRAVITY
-    return np.array([static_deflection(isolator, load) for isolator, load in zip(system.isolators, loads)])
 
 
 def validate_drops(measurements, *, system=None, isolator=None, upper=None, lower=None, relaxation: bool = False,
@@ -42,7 +31,7 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
     impact from the relative-velocity step, see :func:`idkit.analysis.drop.process_drop`);
     the model is dropped at the *measured* impact velocity (conditioned free fall,
     base fixed), with ``relaxation`` adding the initial elongation of
-    :func:`relaxation_deflection`.
+    :func:`idkit.simulate.relaxation_deflection`.
     """
     limits = check_thresholds(DROP_THRESHOLDS, thresholds)
     measurements = list(measurements)

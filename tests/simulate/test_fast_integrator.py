@@ -108,3 +108,15 @@ def test_base_quantities_are_consistent():
     for run in runs[1:]:
         # velocity/acceleration integrated by the trapezoidal rule: O((w h)^2) ~ 4e-6 relative
         assert np.max(np.abs(run.deflection[0, 0] - reference)) < 1e-4 * np.max(np.abs(reference))
+
+
+def test_relaxation_deflection_carries_the_weight_above():
+    """Linear parts: y = (masses carried) g / k; the lower hybrid isolator carries both masses."""
+    from idkit.models import HybridSystem
+    from idkit.simulate import STANDARD_GRAVITY, relaxation_deflection
+
+    sdof = SDOFSystem(4.0, VoigtModel(k=2e4, damping=5.0))
+    assert relaxation_deflection(sdof) == pytest.approx([4.0 * STANDARD_GRAVITY / 2e4], rel=1e-9)
+    hybrid = HybridSystem(2.0, VoigtModel(k=1e4, damping=1.0), 0.5, VoigtModel(k=3e4, damping=1.0))
+    expected = [2.0 * STANDARD_GRAVITY / 1e4, 2.5 * STANDARD_GRAVITY / 3e4]
+    assert relaxation_deflection(hybrid) == pytest.approx(expected, rel=1e-9)
