@@ -22,8 +22,17 @@ Every fit returns a typed result (:mod:`idkit.fit.result`) with lmfit
 :mod:`idkit.io`'s job.
 """
 
+from idkit.fit.bootstrap import (
+    BootstrapResult,
+    bootstrap_fit,
+    bootstrap_loops,
+    bootstrap_measurements,
+    bootstrap_transmissibility,
+)
 from idkit.fit.boucwen import boucwen_set_errors, boucwen_set_forces, fit_boucwen
-from idkit.fit.iwan import LoopSet, fit_iwan, iwan_set_errors, iwan_start, prepare_loops
+from idkit.fit.compare import LoopModelComparison, compare_loop_models
+from idkit.fit.iwan import LoopSet, fit_iwan, iwan_set_errors, iwan_set_forces, iwan_start, prepare_loops
+from idkit.fit.landscape import ErrorLandscape, maxwell_error_landscape
 from idkit.fit.maxwell import (
     K0Estimate,
     TransmissibilitySet,
@@ -60,7 +69,7 @@ from idkit.fit.result import (
 )
 
 __all__ = [
-    "LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "fit_iwan",
+    "LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "iwan_set_forces", "fit_iwan",
     "IwanFitResult", "IwanFitSettings", "IwanStart", "StageResult",
     "TransmissibilitySet", "K0Estimate", "estimate_k0", "maxwell_objective", "fit_maxwell", "fit_voigt",
     "fit_complex_stiffness", "maxwell_order_table",
@@ -69,4 +78,6 @@ __all__ = [
     "SMALL_THRESHOLD", "DataProvenance", "LoopData", "K0FromLoops", "MeasurementFit", "loop_sets",
     "transmissibility_sets", "k0_from_measurements", "fit_iwan_measurements", "fit_boucwen_measurements",
     "fit_maxwell_measurements",
+    "BootstrapResult", "bootstrap_fit", "bootstrap_loops", "bootstrap_transmissibility", "bootstrap_measurements",
+    "LoopModelComparison", "compare_loop_models", "ErrorLandscape", "maxwell_error_landscape",
 ]

@@ -51,7 +51,7 @@ from idkit.fit._params import Transform, central_jacobian, gauss_newton_covarian
 from idkit.fit.result import IwanFitResult, IwanFitSettings, IwanStart, StageResult
 from idkit.models import IwanModel
 
-__all__ = ["LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "fit_iwan"]
+__all__ = ["LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "iwan_set_forces", "fit_iwan"]
 
 MIN_POINTS = 20  # per set, after resampling: fewer cannot resolve slip onset and loop height
 _BACKENDS = ("nlopt", "scipy")
@@ -290,6 +290,15 @@ def iwan_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_state:
     """
     packed = _Packed(list(sets), _check_state(initial_state))
     return packed.set_errors(model.g1, model.g2, model.g3, np.asarray(model.k, float), np.asarray(model.fc, float))
+
+
+def iwan_set_forces(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "cycled") -> list[np.ndarray]:
+    """Model force (N) along each prepared set, with the initial element state used by the fit."""
+    packed = _Packed(list(sets), _check_state(initial_state))
+    forces = np.empty_like(packed.x)
+    _iwan_set_forces(packed.x, packed.offsets, model.g1, model.g2, model.g3, np.asarray(model.k, float),
+                     np.asarray(model.fc, float), packed.cycled, forces)
+    return [forces[a:b].copy() for a, b in zip(packed.offsets[:-1], packed.offsets[1:])]
 
 
 def _check_state(initial_state: str) -> bool:

@@ -149,6 +149,10 @@ class MeasurementFit:
     provenance : DataProvenance
     k0 : K0FromLoops or None
         Maxwell fits: the static stiffness used.
+    options : dict
+        Options of the measurement-level call (recorded in the provenance).
+    repetitions : tuple
+        Maxwell fits: repetition number of each transmissibility set (for the bootstrap).
     """
 
     kind: str
@@ -157,6 +161,7 @@ class MeasurementFit:
     provenance: DataProvenance
     k0: K0FromLoops | None = None
     options: dict = field(default_factory=dict)
+    repetitions: tuple = ()
 
     @property
     def model(self):
@@ -440,7 +445,7 @@ def fit_iwan_measurements(
     result = fit_iwan(list(data.small), list(data.large), order=order, backend=backend, seed=seed, **options)
     return MeasurementFit(kind="iwan", result=result, data=data, provenance=data.provenance,
                           options={"small_threshold": small_threshold, "points_per_set": points_per_set,
-                                   "order": order, **options})
+                                   "order": order, "backend": backend, **options})
 
 
 def fit_boucwen_measurements(
@@ -459,7 +464,8 @@ def fit_boucwen_measurements(
                      points_per_set=points_per_set)
     result = fit_boucwen(list(data.small), list(data.large), backend=backend, seed=seed, **options)
     return MeasurementFit(kind="boucwen", result=result, data=data, provenance=data.provenance,
-                          options={"small_threshold": small_threshold, "points_per_set": points_per_set, **options})
+                          options={"small_threshold": small_threshold, "points_per_set": points_per_set,
+                                   "backend": backend, **options})
 
 
 def fit_maxwell_measurements(
@@ -509,6 +515,10 @@ def fit_maxwell_measurements(
                          seed=seed, **options)
     if k0_info is not None and "k0" in result.parameters:
         result.parameters["k0"].stderr = k0_info.stderr  # fixed in the fit, uncertain from the loops
+    records, _ = _select(measurements, kind="white_noise", isolator=isolator, split=_split_option(split))
+    repetitions = tuple(r.info.repetition if r.info.repetition is not None else i
+                        for i, r in enumerate(records, start=1))
     return MeasurementFit(kind="maxwell", result=result, data=frfs, provenance=provenance, k0=k0_info,
                           options={"order": order, "k0_window": k0_window, "resolution_hz": resolution_hz,
-                                   "band": list(band), **options})
+                                   "band": list(band), "backend": backend, "cross_check": cross_check, **options},
+                          repetitions=repetitions)

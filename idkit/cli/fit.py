@@ -1,0 +1,139 @@
+"""``idkit fit iwan|maxwell|boucwen DATASET -o MODEL.json``: identify a model from a measurement set.
+
+Parses arguments and calls :mod:`idkit.fit`; prints the fit report; writes the
+model file (with provenance) and, on request, the figures. Existing outputs are
+never replaced: the command stops before fitting (exit code 2).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from idkit.errors import IdkitError
+
+_PLOT_NAMES = {"iwan": ["loops.png"], "boucwen": ["loops.png"],
+               "maxwell": ["frf.png", "complex_stiffness.png", "landscape.png"]}
+
+
+def _check_outputs(kind: str, output: str, plots: str | None) -> None:
+    output = Path(output)
+    if output.exists():
+        raise FileExistsError(f"{output}: exists; refusing to overwrite (choose another name)")
+    if not output.parent.is_dir():
+        raise IdkitError(f"-o {output}: folder {output.parent} does not exist")
+    if plots is not None:
+        existing = [str(Path(plots) / f"{kind}_{name}") for name in _PLOT_NAMES[kind]
+                    if (Path(plots) / f"{kind}_{name}").exists()]
+        if existing:
+            raise FileExistsError(f"refusing to overwrite existing plot(s): {', '.join(existing)}")
+
+
+def _load(dataset: str):
+    from idkit.io import load_measurement_set
+
+    folder = Path(dataset)
+    if not folder.is_dir():
+        raise IdkitError(f"DATASET {dataset}: not a folder; expected a measurement set (folder with manifest.json)")
+    return load_measurement_set(folder)
+
+
+def _finish(fit, args) -> None:
+    print(fit.report())
+    fit.save(args.output)
+    print(f"wrote {args.output}", file=sys.stderr)
+    if args.plots is not None:
+        from idkit.plot.fits import save_fit_plots
+
+        for path in save_fit_plots(fit, args.plots):
+            print(f"wrote {path}", file=sys.stderr)
+
+
+def _split(value: str):
+    return None if value == "all" else value
+
+
+def _cmd_iwan(args) -> None:
+    from idkit.fit import fit_iwan_measurements
+
+    if args.order < 1:
+        raise IdkitError(f"--order: found {args.order}, expected an integer >= 1")
+    _check_outputs("iwan", args.output, args.plots)
+    fit = fit_iwan_measurements(_load(args.dataset), order=args.order, small_threshold=args.small_threshold,
+                                isolator=args.isolator, split=_split(args.split), backend=args.backend,
+                                seed=args.seed)
+    _finish(fit, args)
+
+
+def _cmd_boucwen(args) -> None:
+    from idkit.fit import compare_loop_models, fit_boucwen_measurements, fit_iwan_measurements
+
+    _check_outputs("boucwen", args.output, args.plots)
+    data = _load(args.dataset)
+    options = {"small_threshold": args.small_threshold, "isolator": args.isolator, "split": _split(args.split),
+               "backend": args.backend, "seed": args.seed}
+    fit = fit_boucwen_measurements(data, global_max_evals=args.global_evals, **options)
+    if args.compare:
+        iwan = fit_iwan_measurements(data, order=2, **options)
+        print(compare_loop_models({"iwan order 2": iwan.result, "bouc-wen": fit.result}).report())
+    _finish(fit, args)
+
+
+def _cmd_maxwell(args) -> None:
+    from idkit.fit import fit_maxwell_measurements, maxwell_order_table, transmissibility_sets
+
+    if args.order < 1:
+        raise IdkitError(f"--order: found {args.order}, expected an integer >= 1")
+    _check_outputs("maxwell", args.output, args.plots)
+    data = _load(args.dataset)
+    fit = fit_maxwell_measurements(data, order=args.order, k0=args.k0, isolator=args.isolator,
+                                   split=_split(args.split), band=tuple(args.band), backend=args.backend,
+                                   cross_check=args.cross_check, seed=args.seed)
+    if args.order_table:
+        frfs, _ = transmissibility_sets(data, isolator=args.isolator, split=_split(args.split), band=tuple(args.band))
+        table = maxwell_order_table(list(frfs), k0=fit.model.k0, band=tuple(args.band), backend=args.backend,
+                                    seed=args.seed)
+        print("[[Order selection]]\n" + table.to_string(index=False))
+    _finish(fit, args)
+
+
+def _common(parser, *, loops: bool) -> None:
+    parser.add_argument("dataset", help="measurement set folder (with manifest.json)")
+    parser.add_argument("-o", "--output", required=True, help="model file to write (JSON); never overwritten")
+    parser.add_argument("--plots", help="folder for figures (PNG; existing files are not overwritten)")
+    parser.add_argument("--backend", choices=["nlopt", "scipy"], default="nlopt")
+    parser.add_argument("--seed", type=int, default=0, help="seed of every random choice (default 0)")
+    parser.add_argument("--split", choices=["fit", "validation", "all"], default="fit",
+                        help="which measurements to fit (default: the fit split)")
+    parser.add_argument("--isolator", default="wire_rope" if loops else "elastomer",
+                        help="isolator name in the manifest (default %(default)s)")
+    if loops:
+        parser.add_argument("--small-threshold", type=float, default=8e-3,
+                            help="amplitude in m separating small- from large-loop records (default 8e-3)")
+
+
+def register(subparsers) -> None:
+    """Add ``idkit fit iwan|maxwell|boucwen``."""
+    fit = subparsers.add_parser("fit", help="identify a model from a measurement set")
+    kinds = fit.add_subparsers(dest="fit_kind", required=True)
+
+    iwan = kinds.add_parser("iwan", help="three-stage Iwan fit to the quasi-static wire-rope loops")
+    _common(iwan, loops=True)
+    iwan.add_argument("--order", type=int, default=2, help="number of Jenkin elements (default 2)")
+    iwan.set_defaults(handler=_cmd_iwan)
+
+    maxwell = kinds.add_parser("maxwell", help="generalized Maxwell fit: k0 from the loops, the rest from the FRFs")
+    _common(maxwell, loops=False)
+    maxwell.add_argument("--order", type=int, default=2, help="number of Maxwell elements (default 2)")
+    maxwell.add_argument("--k0", type=float, help="static stiffness in N/m (default: from the quasi-static loops)")
+    maxwell.add_argument("--band", type=float, nargs=2, default=[1.0, 100.0], metavar=("F_LOW", "F_HIGH"),
+                         help="frequency band in Hz (default 1 100)")
+    maxwell.add_argument("--cross-check", action="store_true", help="run the seeded global cross-check")
+    maxwell.add_argument("--order-table", action="store_true", help="also print errors for orders 1-4 and Voigt")
+    maxwell.set_defaults(handler=_cmd_maxwell)
+
+    boucwen = kinds.add_parser("boucwen", help="Bouc-Wen fit (staged, scaled, global search) to the same loops")
+    _common(boucwen, loops=True)
+    boucwen.add_argument("--global-evals", type=int, default=1000, help="budget of the global search (default 1000)")
+    boucwen.add_argument("--compare", action="store_true", help="also fit Iwan order 2 and print the comparison")
+    boucwen.set_defaults(handler=_cmd_boucwen)
