@@ -123,6 +123,11 @@ def test_drop_validation_passes_on_own_data_and_fails_when_stiffness_doubles(dro
     assert not wrong.passed
     relaxed = validate_drops(drops, isolator=wire_rope(), relaxation=True)
     assert relaxed.summary["relaxation"] is True
+    # these records start at impact, so the measured impact velocity is the true one too
+    measured = validate_drops(drops, isolator=wire_rope(), impact_velocity="measured")
+    assert measured.passed, measured.report()
+    with pytest.raises(ValueError, match="impact_velocity"):
+        validate_drops(drops, isolator=wire_rope(), impact_velocity="guess")
 
 
 def test_threshold_overrides_are_checked(stepped_sine_points):
