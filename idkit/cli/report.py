@@ -1,0 +1,32 @@
+"""``idkit report [DATA_DIR] [-o OUT_DIR]``: the main job (fit, validate, study, HTML)."""
+
+from __future__ import annotations
+
+import sys
+
+__all__ = ["register"]
+
+
+def _cmd_report(args) -> None:
+    from idkit.cli.progress import say
+    from idkit.report.main_report import run_report
+
+    summary = run_report(args.data_dir, args.output, force=args.force, quick=args.quick, seed=args.seed,
+                         workers=args.workers, progress=lambda message: say(message, enabled=not args.quiet))
+    for name, passed in summary.validation_passed.items():
+        print(f"{'PASS' if passed else 'FAIL'}  {name}")
+    print(f"report written to {summary.html}", file=sys.stderr)
+
+
+def register(commands) -> None:
+    """Add ``idkit report``."""
+    parser = commands.add_parser("report", help="fit, validate and study a data set; write an HTML report")
+    parser.add_argument("data_dir", nargs="?", default=None,
+                        help="folder of measurement sets (default: ./data, the bundled synthetic data)")
+    parser.add_argument("-o", "--output", default="idkit-report", help="output folder (default: idkit-report)")
+    parser.add_argument("--force", action="store_true", help="replace an existing output folder")
+    parser.add_argument("--quick", action="store_true", help="smaller study and validation (seconds, for tests)")
+    parser.add_argument("--seed", type=int, default=2026, help="seed of every stochastic step (default 2026)")
+    parser.add_argument("--workers", type=int, default=None, help="simulation threads (default: all cores)")
+    parser.add_argument("--quiet", action="store_true", help="no progress lines")
+    parser.set_defaults(handler=_cmd_report)

@@ -1,0 +1,58 @@
+"""``idkit study transport``: the transport-tool study of SPEC 6 (thesis chapter 8)."""
+
+from __future__ import annotations
+
+import sys
+
+from idkit.cli.study import add_common_study_options, study_subparsers
+
+__all__ = ["register"]
+
+
+def _identified_models(args):
+    """Model files if given, else the parts identified from the bundled data (fit split)."""
+    from idkit.cli.progress import say
+    from idkit.errors import IdkitError
+    from idkit.models import GeneralizedMaxwell, IwanModel, load_model
+
+    if (args.wire_rope is None) != (args.elastomer is None):
+        raise IdkitError("give both --wire-rope and --elastomer model files, or neither (bundled data)")
+    if args.wire_rope is not None:
+        wire_rope, elastomer = load_model(args.wire_rope), load_model(args.elastomer)
+        if not isinstance(wire_rope, IwanModel) or not isinstance(elastomer, GeneralizedMaxwell):
+            raise IdkitError(f"expected an Iwan wire rope ({args.wire_rope}) and a generalized Maxwell "
+                             f"elastomer ({args.elastomer}), found {type(wire_rope).__name__} and "
+                             f"{type(elastomer).__name__}")
+        return wire_rope, elastomer
+    from idkit.fit.measurements import fit_iwan_measurements, fit_maxwell_measurements
+    from idkit.report.main_report import default_data_dir, find_measurement_sets
+
+    say("identifying the wire rope and the elastomer from the bundled data", enabled=not args.quiet)
+    sets = find_measurement_sets(args.data_dir or default_data_dir())
+    return (fit_iwan_measurements(sets["wire_rope"], seed=args.seed).model,
+            fit_maxwell_measurements(sets["elastomer"], seed=args.seed).model)
+
+
+def _cmd_transport(args) -> None:
+    from idkit.cli.progress import ProgressBar
+    from idkit.report.transport import run_transport_study
+
+    wire_rope, elastomer = _identified_models(args)
+    study = run_transport_study(args.output, force=args.force, quick=args.quick, wire_rope=wire_rope,
+                                elastomer=elastomer, seed=args.seed, workers=args.workers,
+                                progress=ProgressBar("study transport", enabled=not args.quiet))
+    print(study.tuning[["system", "top mass [kg]", "intermediate mass [kg]"]].to_string(index=False))
+    print(study.summary_table().to_string(float_format=lambda value: f"{value:.4g}"))
+    print(f"figures, CSV tables and summary.json written to {args.output}", file=sys.stderr)
+
+
+def register(commands) -> None:
+    """Add ``idkit study transport``."""
+    parser = study_subparsers(commands).add_parser(
+        "transport", help="chapter 8: reference, elastomer, wire rope and hybrids tuned to 5 Hz (PSDs, shock)")
+    add_common_study_options(parser, "transport")
+    parser.add_argument("--wire-rope", help="Iwan model file (default: identified from the bundled data)")
+    parser.add_argument("--elastomer", help="generalized Maxwell model file (default: identified from the bundled data)")
+    parser.add_argument("--data-dir", help="data folder to identify the parts from (default: ./data)")
+    parser.add_argument("--seed", type=int, default=2026, help="seed of the random floor signals")
+    parser.set_defaults(handler=_cmd_transport)

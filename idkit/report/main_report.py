@@ -1,0 +1,362 @@
+"""``idkit report``: the whole job on a data set, as one self-contained HTML page.
+
+Stages (each timed and listed under *Provenance*):
+
+1. load and inspect every measurement set under the data folder (one folder with a
+   ``manifest.json`` per isolator: ``wire_rope``, ``elastomer``, ``hybrid``);
+2. fit the wire rope (three-stage Iwan; Bouc-Wen for comparison) and the elastomer
+   (bounded SQP with a global cross-check; order table n = 1..4 and Voigt) on the
+   ``fit`` split, with a bootstrap over repetitions;
+3. validate both on the ``validation`` split and the hybrid built from them on all
+   hybrid sweeps and drops (nothing was fitted to the hybrid);
+4. run the transport-tool study with the identified parts;
+5. write ``report.html`` (figures embedded), ``models/*.json`` (with provenance),
+   ``tables/*.csv`` and ``provenance.json`` into an output folder that appears whole
+   or not at all and is never replaced without ``force``.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from idkit import __version__
+from idkit.analysis import summarize_measurements
+from idkit.errors import DataError
+from idkit.fit import maxwell_order_table
+from idkit.fit.measurements import (
+    fit_boucwen_measurements,
+    fit_iwan_measurements,
+    fit_maxwell_measurements,
+    transmissibility_sets,
+)
+from idkit.io import load_measurement_set
+from idkit.models import HybridSystem, save_model
+from idkit.plot.validation import plot_drop_validation, plot_frf_validation, plot_harmonic_validation
+from idkit.report.html import HtmlReport
+from idkit.report.output import atomic_output_folder
+from idkit.report.transport import compute_transport_study, write_transport_figures, write_transport_tables
+from idkit.validate import validate_drops, validate_frf, validate_harmonic
+
+__all__ = ["run_report", "ReportSummary", "find_measurement_sets", "default_data_dir", "REPORT_SECTIONS"]
+
+REPORT_SECTIONS = (
+    "Summary", "Data", "Wire rope fit", "Elastomer fit", "Validation: wire rope", "Validation: elastomer",
+    "Validation: hybrid", "Transport study", "Provenance",
+)
+
+
+@dataclass(frozen=True)
+class ReportSummary:
+    """What ``run_report`` wrote and found."""
+
+    out_dir: Path
+    html: Path
+    sections: tuple[str, ...]
+    validation_passed: dict
+    timings_s: dict
+
+
+def default_data_dir() -> Path:
+    """``./data`` if it exists (the README runs from the repository root), else the source tree's ``data``."""
+    local = Path("data")
+    if (local / "README.md").exists() or any(local.glob("*/manifest.json")):
+        return local
+    return Path(__file__).resolve().parents[2] / "data"
+
+
+def find_measurement_sets(data_dir) -> dict:
+    """Load every measurement set below ``data_dir``, keyed by the isolator its records name."""
+    data_dir = Path(data_dir)
+    if not data_dir.is_dir():
+        raise DataError(f"{data_dir}: not a folder, expected a data folder holding measurement sets")
+    folders = sorted({path.parent for path in data_dir.glob("*/manifest.json")})
+    if (data_dir / "manifest.json").exists():
+        folders.insert(0, data_dir)
+    if not folders:
+        raise DataError(f"{data_dir}: no manifest.json in it or its sub-folders, expected measurement sets "
+                        "(see docs/data-format.md)")
+    sets = {}
+    for folder in folders:
+        measurement_set = load_measurement_set(folder)
+        for isolator in sorted({m.info.isolator for m in measurement_set.measurements if m.info.isolator}):
+            if isolator in sets:
+                raise DataError(f"{folder}: isolator {isolator!r} also found in {sets[isolator].folder}; "
+                                "expected one set per isolator")
+            sets[isolator] = measurement_set
+    for required in ("wire_rope", "elastomer"):
+        if required not in sets:
+            raise DataError(f"{data_dir}: no measurements of isolator {required!r} found, expected "
+                            "wire_rope and elastomer sets (hybrid optional)")
+    return sets
+
+
+def _figure(*args, **kwargs):
+    from matplotlib.figure import Figure
+
+    return Figure(*args, layout="constrained", **kwargs)
+
+
+def _loop_figure(fit, title):
+    figure = _figure(figsize=(11, 4))
+    axes = figure.subplots(1, 2)
+    model = fit.model
+    for ax, (label, sets) in zip(axes, (("small loops", fit.data.small), ("large loops", fit.data.large))):
+        for loop in sets:
+            ax.plot(loop.deflection * 1e3, loop.force, ".", markersize=2, color="0.5")
+            # the fitters start each set from a cycled state: run the set twice, draw the second pass
+            twice = np.concatenate([loop.deflection, loop.deflection])
+            force = model.force(twice)[loop.deflection.size:]
+            ax.plot(loop.deflection * 1e3, force, linewidth=1.0, label=loop.name)
+        ax.set_title(f"{title}: {label} (grey: measured, resampled)", fontsize="small")
+        ax.set_xlabel("deflection [mm] (+ tension)")
+        ax.set_ylabel("force [N]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize="xx-small")
+    return figure
+
+
+def _frf_figure(fit):
+    figure = _figure(figsize=(10, 6))
+    magnitude_ax, phase_ax = figure.subplots(2, 1, sharex=True)
+    from idkit.models import SDOFSystem
+
+    for data in fit.data:
+        model_h = SDOFSystem(data.mass, fit.model).transmissibility(data.freq)
+        (line,) = magnitude_ax.loglog(data.freq, np.abs(model_h), linewidth=1.0)
+        magnitude_ax.loglog(data.freq, np.abs(data.transmissibility), ".", markersize=1.5, color=line.get_color())
+        phase_ax.semilogx(data.freq, np.degrees(np.angle(model_h)), linewidth=1.0, color=line.get_color())
+        phase_ax.semilogx(data.freq, np.degrees(np.angle(data.transmissibility)), ".", markersize=1.5,
+                          color=line.get_color())
+    magnitude_ax.set_ylabel("|T| [-]")
+    phase_ax.set_ylabel("phase [deg]")
+    phase_ax.set_xlabel("frequency [Hz] (dots: measured H1, lines: fitted model)")
+    for ax in (magnitude_ax, phase_ax):
+        ax.grid(True, which="both", alpha=0.3)
+    return figure
+
+
+def _stiffness_figure(model):
+    figure = _figure(figsize=(10, 4))
+    stiffness_ax, loss_ax = figure.subplots(1, 2)
+    freq = np.logspace(-1, 3, 400)
+    stiffness = model.complex_stiffness(freq)
+    stiffness_ax.loglog(freq, np.abs(stiffness), label="|k*|")
+    stiffness_ax.loglog(freq, stiffness.real, "--", label="storage")
+    stiffness_ax.loglog(freq, stiffness.imag, ":", label="loss")
+    stiffness_ax.set_ylabel("stiffness [N/m]")
+    stiffness_ax.legend(fontsize="small")
+    loss_ax.semilogx(freq, model.loss_factor(freq))
+    loss_ax.set_ylabel("loss factor [-]")
+    for ax in (stiffness_ax, loss_ax):
+        ax.set_xlabel("frequency [Hz]")
+        ax.grid(True, which="both", alpha=0.3)
+    return figure
+
+
+def _parameters_table(fit) -> pd.DataFrame:
+    rows = []
+    for name, parameter in fit.result.parameters.items():
+        unit = (parameter.user_data or {}).get("unit", "") if isinstance(parameter.user_data, dict) else ""
+        rows.append({"parameter": name, "value": parameter.value, "stderr": parameter.stderr,
+                     "unit": unit, "fitted": parameter.vary})
+    return pd.DataFrame(rows)
+
+
+def _validation_section(report: HtmlReport, result, plot, tables_dir: Path, stem: str) -> bool:
+    report.verdict(result.name, result.passed)
+    report.preformatted(result.report())
+    summary_rows = [{"metric": key, "value": value, "limit": result.thresholds.get(key, np.nan),
+                     "ok": result.checks.get(key, "")} for key, value in result.summary.items()]
+    report.table(pd.DataFrame(summary_rows), caption="metrics (limits are the documented defaults)")
+    axes = plot(result)
+    report.figure(axes[0].figure, caption=result.name)
+    metrics = result.metrics.copy()
+    for column in metrics.columns:
+        if metrics[column].dtype == complex:
+            metrics[column] = metrics[column].astype(str)
+    metrics.to_csv(tables_dir / f"{stem}.csv", index=False)
+    return result.passed
+
+
+def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, quick: bool = False,
+               seed: int = 2026, workers=None, progress=None) -> ReportSummary:
+    """Inspect, fit, validate, study and write the HTML report (module docstring).
+
+    Parameters
+    ----------
+    data_dir : path, optional
+        Folder of measurement sets; default :func:`default_data_dir` (the bundled data).
+    out_dir : path
+        Output folder; refused if it exists unless ``force``.
+    quick : bool
+        Smaller transport study and fewer validation points (for tests); the
+        fits and checks are the same.
+    seed : int
+        Seed of every stochastic step (fits' global search, bootstrap, random vibration).
+    progress : callable(message: str), optional
+        Receives one line per stage.
+    """
+    say = progress or (lambda message: None)
+    timings: dict[str, float] = {}
+    data_dir = Path(data_dir) if data_dir is not None else default_data_dir()
+
+    def stage(name):
+        timings[name] = time.perf_counter()
+        say(name)
+
+    def done(name):
+        timings[name] = round(time.perf_counter() - timings[name], 3)
+
+    stage("loading and inspecting the data")
+    sets = find_measurement_sets(data_dir)
+    inspections = {isolator: summarize_measurements(s.measurements) for isolator, s in sets.items()}
+    done("loading and inspecting the data")
+
+    with atomic_output_folder(out_dir, force=force) as folder:
+        models_dir = folder / "models"
+        tables_dir = folder / "tables"
+        models_dir.mkdir()
+        tables_dir.mkdir()
+        report = HtmlReport(f"idkit report: {data_dir}")
+
+        stage("fitting the wire rope (three-stage Iwan, Bouc-Wen comparison)")
+        wire_rope = sets["wire_rope"]
+        iwan = fit_iwan_measurements(wire_rope, seed=seed)
+        boucwen = fit_boucwen_measurements(wire_rope, seed=seed, **({"global_max_evals": 800} if quick else {}))
+        iwan.save(models_dir / "wire_rope_iwan.json")
+        boucwen.save(models_dir / "wire_rope_bouc_wen.json")
+        done("fitting the wire rope (three-stage Iwan, Bouc-Wen comparison)")
+
+        stage("fitting the elastomer (SQP, global cross-check, order table)")
+        elastomer = sets["elastomer"]
+        maxwell = fit_maxwell_measurements(elastomer, cross_check=True, seed=seed,
+                                           **({"global_max_evals": 2000} if quick else {}))
+        maxwell.save(models_dir / "elastomer_maxwell.json")
+        frfs, _ = transmissibility_sets(elastomer)
+        order_table = maxwell_order_table(list(frfs), k0=maxwell.k0.k0, orders=(1, 2) if quick else (1, 2, 3, 4))
+        order_table.to_csv(tables_dir / "maxwell_order_table.csv", index=False)
+        done("fitting the elastomer (SQP, global cross-check, order table)")
+
+        wire_model, elastomer_model = iwan.model, maxwell.model
+        validations = {}
+        stage("validating on held-out data")
+        limit = 8 if quick else None
+
+        def held_out(measurement_set, kind, split="validation"):
+            chosen = measurement_set.select(kind=kind, split=split)
+            return list(chosen)[:limit] if limit else list(chosen)
+
+        validations["wire rope sweeps"] = validate_harmonic(held_out(wire_rope, "stepped_sine"), isolator=wire_model,
+                                                            name="wire rope: harmonic sweeps (validation split)")
+        validations["wire rope drops"] = validate_drops(held_out(wire_rope, "drop"), isolator=wire_model,
+                                                        name="wire rope: drops (validation split)")
+        validations["wire rope drops, relaxation"] = validate_drops(
+            held_out(wire_rope, "drop"), isolator=wire_model, relaxation=True,
+            name="wire rope: drops with relaxation (validation split)")
+        validations["elastomer FRF"] = validate_frf(held_out(elastomer, "white_noise"), isolator=elastomer_model,
+                                                    name="elastomer: white-noise FRFs (validation split)")
+        validations["elastomer sweeps"] = validate_harmonic(held_out(elastomer, "stepped_sine"),
+                                                            isolator=elastomer_model,
+                                                            name="elastomer: harmonic sweeps (validation split)")
+        validations["elastomer drops"] = validate_drops(held_out(elastomer, "drop"), isolator=elastomer_model,
+                                                        name="elastomer: drops (validation split)")
+        hybrid_set = sets.get("hybrid")
+        if hybrid_set is not None:
+            validations["hybrid sweeps"] = validate_harmonic(held_out(hybrid_set, "stepped_sine", None),
+                                                             upper=elastomer_model, lower=wire_model,
+                                                             name="hybrid: harmonic sweeps (all; not fitted)")
+            validations["hybrid drops"] = validate_drops(held_out(hybrid_set, "drop", None), upper=elastomer_model,
+                                                         lower=wire_model, name="hybrid: drops (all; not fitted)")
+            sweep = next(iter(hybrid_set.select(kind="stepped_sine")))
+            hybrid = HybridSystem(sweep.info.top_mass_kg, elastomer_model, sweep.info.intermediate_mass_kg, wire_model)
+            save_model(hybrid, models_dir / "hybrid.json",
+                       provenance={"built_from": ["wire_rope_iwan.json", "elastomer_maxwell.json"],
+                                   "masses_from": sweep.info.id, "idkit_version": __version__})
+        done("validating on held-out data")
+
+        stage("transport-tool study")
+        options = dict(levels=(1e-6, 1e-3), n_realizations=4, r_k_values=(0.2, 1.0),
+                       speeds=np.linspace(0.02, 0.6, 8), heights=np.linspace(0.01, 0.12, 6)) if quick else {}
+        transport = compute_transport_study(wire_rope=wire_model, elastomer=elastomer_model, seed=seed,
+                                            workers=workers, **options)
+        figures = write_transport_figures(transport, folder)
+        write_transport_tables(transport, tables_dir)
+        done("transport-tool study")
+
+        stage("writing the report")
+        passed = {name: result.passed for name, result in validations.items()}
+        report.section("Summary", "summary")
+        report.paragraph(f"Data: {data_dir} ({sum(len(s.measurements) for s in set(sets.values()))} measurements). "
+                         f"idkit {__version__}, seed {seed}{', quick mode' if quick else ''}.")
+        report.table(pd.DataFrame([
+            {"item": "wire rope (Iwan, order 2)", "result": f"small {100 * iwan.result.error_small:.2f} %, "
+                                                            f"large {100 * iwan.result.error_large:.2f} % (eq. 7.1)"},
+            {"item": "wire rope (Bouc-Wen)", "result": f"small {100 * boucwen.result.error_small:.2f} %, "
+                                                       f"large {100 * boucwen.result.error_large:.2f} %"},
+            {"item": "elastomer (Maxwell, order 2)", "result": f"{100 * maxwell.result.error:.2f} % (eq. 7.5)"},
+            *({"item": name, "result": "PASS" if ok else "FAIL"} for name, ok in passed.items()),
+        ]), caption="identification errors and validation verdicts")
+
+        report.section("Data", "data")
+        for isolator, inspection in inspections.items():
+            report.paragraph(f"{isolator}: {sets[isolator].folder}")
+            report.preformatted(inspection.report())
+
+        report.section("Wire rope fit", "wire-rope-fit")
+        report.preformatted(iwan.report())
+        report.table(_parameters_table(iwan), caption="Iwan parameters (stderr from the residual Jacobian)")
+        report.figure(_loop_figure(iwan, "Iwan"), caption="measured and fitted loops (Iwan)")
+        report.preformatted(boucwen.report())
+        report.figure(_loop_figure(boucwen, "Bouc-Wen"), caption="measured and fitted loops (Bouc-Wen)")
+
+        report.section("Elastomer fit", "elastomer-fit")
+        report.preformatted(maxwell.report())
+        report.table(_parameters_table(maxwell), caption="Maxwell parameters (k0 from the quasi-static loops)")
+        report.table(order_table, caption="order selection: error (7.5) for n = 1..4 and the Voigt model")
+        report.figure(_frf_figure(maxwell), caption="measured H1 and fitted transmissibility per top mass")
+        report.figure(_stiffness_figure(elastomer_model), caption="complex stiffness and loss factor")
+
+        plots = {"sweeps": plot_harmonic_validation, "FRF": plot_frf_validation, "drops": plot_drop_validation}
+        for title, anchor, prefix in (("Validation: wire rope", "validation-wire-rope", "wire rope"),
+                                      ("Validation: elastomer", "validation-elastomer", "elastomer"),
+                                      ("Validation: hybrid", "validation-hybrid", "hybrid")):
+            report.section(title, anchor)
+            chosen = {name: result for name, result in validations.items() if name.startswith(prefix)}
+            if not chosen:
+                report.paragraph("no measurements of this isolator in the data set")
+            for name, result in chosen.items():
+                plot = next(function for key, function in plots.items() if key in name)
+                _validation_section(report, result, plot, tables_dir, name.replace(" ", "_").replace(",", ""))
+
+        report.section("Transport study", "transport-study")
+        report.table(transport.tuning, caption="systems tuned to a 5 Hz small-amplitude resonance (SPEC 6)")
+        report.table(transport.summary_table(), index=True,
+                     caption="RMS top acceleration [m/s^2] per floor level and rest shock per drop height")
+        for path in figures:
+            report.image_file(path, caption=path.stem.replace("_", " "))
+
+        provenance = {
+            "idkit_version": __version__, "seed": seed, "quick": quick, "data_dir": str(data_dir),
+            "data_files_sha256": {isolator: s.hashes() for isolator, s in sets.items()},
+            "timings_s": timings, "models": sorted(p.name for p in models_dir.iterdir()),
+        }
+        report.section("Provenance", "provenance")
+        report.paragraph(f"idkit {__version__}; seed {seed}; models in models/, tables in tables/.")
+        report.table(pd.DataFrame([{"stage": k, "seconds": v} for k, v in timings.items()]), caption="timings")
+        hashes = [{"isolator": isolator, "file": name, "sha256": digest}
+                  for isolator, digests in provenance["data_files_sha256"].items() for name, digest in digests.items()]
+        report.table(pd.DataFrame(hashes), caption="data files and their SHA-256")
+        done("writing the report")
+        (folder / "provenance.json").write_text(json.dumps(provenance, indent=1, default=str) + "\n")
+        html_path = folder / "report.html"
+        html_path.write_text(report.render(), encoding="utf-8")
+        sections = tuple(report.section_titles)
+    out_dir = Path(out_dir)
+    return ReportSummary(out_dir=out_dir, html=out_dir / "report.html", sections=sections,
+                         validation_passed=passed, timings_s=timings)
