@@ -37,6 +37,8 @@ from idkit.fit.measurements import (
 )
 from idkit.io import load_measurement_set
 from idkit.models import HybridSystem, save_model
+from idkit.plot.fits import plot_complex_stiffness as plot_elastomer_stiffness
+from idkit.plot.fits import plot_frf_fit, plot_loop_fit
 from idkit.plot.validation import plot_drop_validation, plot_frf_validation, plot_harmonic_validation
 from idkit.report.html import HtmlReport
 from idkit.report.output import atomic_output_folder
@@ -104,58 +106,19 @@ def _figure(*args, **kwargs):
 
 def _loop_figure(fit, title):
     figure = _figure(figsize=(11, 4))
-    axes = figure.subplots(1, 2)
-    model = fit.model
-    for ax, (label, sets) in zip(axes, (("small loops", fit.data.small), ("large loops", fit.data.large))):
-        for loop in sets:
-            ax.plot(loop.deflection * 1e3, loop.force, ".", markersize=2, color="0.5")
-            # the fitters start each set from a cycled state: run the set twice, draw the second pass
-            twice = np.concatenate([loop.deflection, loop.deflection])
-            force = model.force(twice)[loop.deflection.size:]
-            ax.plot(loop.deflection * 1e3, force, linewidth=1.0, label=loop.name)
-        ax.set_title(f"{title}: {label} (grey: measured, resampled)", fontsize="small")
-        ax.set_xlabel("deflection [mm] (+ tension)")
-        ax.set_ylabel("force [N]")
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize="xx-small")
+    plot_loop_fit(fit.model, fit.data.small, fit.data.large, axes=figure.subplots(1, 2), label=title)
     return figure
 
 
 def _frf_figure(fit):
     figure = _figure(figsize=(10, 6))
-    magnitude_ax, phase_ax = figure.subplots(2, 1, sharex=True)
-    from idkit.models import SDOFSystem
-
-    for data in fit.data:
-        model_h = SDOFSystem(data.mass, fit.model).transmissibility(data.freq)
-        (line,) = magnitude_ax.loglog(data.freq, np.abs(model_h), linewidth=1.0)
-        magnitude_ax.loglog(data.freq, np.abs(data.transmissibility), ".", markersize=1.5, color=line.get_color())
-        phase_ax.semilogx(data.freq, np.degrees(np.angle(model_h)), linewidth=1.0, color=line.get_color())
-        phase_ax.semilogx(data.freq, np.degrees(np.angle(data.transmissibility)), ".", markersize=1.5,
-                          color=line.get_color())
-    magnitude_ax.set_ylabel("|T| [-]")
-    phase_ax.set_ylabel("phase [deg]")
-    phase_ax.set_xlabel("frequency [Hz] (dots: measured H1, lines: fitted model)")
-    for ax in (magnitude_ax, phase_ax):
-        ax.grid(True, which="both", alpha=0.3)
+    plot_frf_fit(fit.model, list(fit.data), axes=figure.subplots(2, 1, sharex=True))
     return figure
 
 
 def _stiffness_figure(model):
-    figure = _figure(figsize=(10, 4))
-    stiffness_ax, loss_ax = figure.subplots(1, 2)
-    freq = np.logspace(-1, 3, 400)
-    stiffness = model.complex_stiffness(freq)
-    stiffness_ax.loglog(freq, np.abs(stiffness), label="|k*|")
-    stiffness_ax.loglog(freq, stiffness.real, "--", label="storage")
-    stiffness_ax.loglog(freq, stiffness.imag, ":", label="loss")
-    stiffness_ax.set_ylabel("stiffness [N/m]")
-    stiffness_ax.legend(fontsize="small")
-    loss_ax.semilogx(freq, model.loss_factor(freq))
-    loss_ax.set_ylabel("loss factor [-]")
-    for ax in (stiffness_ax, loss_ax):
-        ax.set_xlabel("frequency [Hz]")
-        ax.grid(True, which="both", alpha=0.3)
+    figure = _figure(figsize=(8, 6))
+    plot_elastomer_stiffness(model, axes=figure.subplots(2, 1, sharex=True))
     return figure
 
 
