@@ -1,0 +1,139 @@
+"""Fits on the bundled synthetic data (data/, richer truth than the fitted models).
+
+Stated errors and why:
+
+* Iwan order 2 (7.1), fit split: large loops <= 6 %, small loops <= 11 % (reached:
+  5.1 % and 9.9 %). The truth is an order-30 Iwan model with slip forces that change
+  with deflection (loops wider in compression) and a bottoming stiffener; two
+  elements cannot follow that, and the thesis reached 7.1 % / 7.7 % on real loops.
+  The truth's force noise (0.05 N on loops of 100-600 N) alone is below 0.1 %.
+* Maxwell (7.5) over 1-100 Hz, all 8 masses x 2 repetitions: order 2 <= 13 %
+  (reached 12.1 %), order 3 <= 11.5 % (10.8 %). The truth has an internal 65 g mass
+  between two elastomer halves (a mode near 200 Hz) which bends the FRFs above
+  50 Hz by up to 20 %: no single-node Maxwell model reaches below ~10 %, which is
+  why the table flattens there (thesis on real data: 12.0, 9.4, 8.8, 8.8 and 22.0 %).
+"""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from idkit.fit import (
+    bootstrap_measurements,
+    fit_iwan_measurements,
+    fit_maxwell_measurements,
+    k0_from_measurements,
+    maxwell_order_table,
+    transmissibility_sets,
+)
+from idkit.io import load_measurement_set
+from idkit.models import load_model, load_model_document
+
+DATA = Path(__file__).resolve().parents[2] / "data"
+IWAN_LARGE_MAX = 0.06
+IWAN_SMALL_MAX = 0.11
+MAXWELL_2_MAX = 0.13
+MAXWELL_3_MAX = 0.115
+K0_TRUE = 13.8e3  # N/m, truth file: static stiffness of the elastomer
+K0_TOL = 0.01  # k0 from the loops within 1 % (the truth softens in compression only, beyond 1 mm)
+
+pytestmark = pytest.mark.skipif(not (DATA / "wire_rope" / "manifest.json").exists(),
+                                reason="bundled data set data/ not generated in this checkout")
+
+
+@pytest.fixture(scope="module")
+def wire_rope():
+    return load_measurement_set(DATA / "wire_rope").select(kind="quasi_static")
+
+
+@pytest.fixture(scope="module")
+def elastomer():
+    full = load_measurement_set(DATA / "elastomer")
+    return [m for m in full if m.kind in ("quasi_static", "white_noise")]
+
+
+@pytest.fixture(scope="module")
+def iwan_fit(wire_rope):
+    return fit_iwan_measurements(wire_rope)
+
+
+@pytest.fixture(scope="module")
+def maxwell_fit(elastomer):
+    return fit_maxwell_measurements(elastomer)
+
+
+def test_iwan_fit_reaches_the_stated_errors_on_the_fit_split(iwan_fit):
+    result = iwan_fit.result
+    assert [s.name for s in iwan_fit.data.small] == ["qs_wr_small_1", "qs_wr_small_2"]
+    assert [s.name for s in iwan_fit.data.large] == ["qs_wr_large_1", "qs_wr_large_2"]
+    assert result.error_large <= IWAN_LARGE_MAX
+    assert result.error_small <= IWAN_SMALL_MAX
+    assert result.success
+
+
+def test_k0_from_the_elastomer_loops(elastomer):
+    k0 = k0_from_measurements(elastomer)
+    assert k0.k0 == pytest.approx(K0_TRUE, rel=K0_TOL)
+    assert 0 < k0.stderr < 0.01 * k0.k0
+    assert set(k0.per_record) == {"qs_el_loops_1", "qs_el_loops_2"}  # fit split only
+
+
+def test_maxwell_fit_and_order_table(maxwell_fit, elastomer):
+    result = maxwell_fit.result
+    assert len(maxwell_fit.data) == 16  # 8 masses x repetitions 1-2
+    assert result.error <= MAXWELL_2_MAX
+    assert all(result.parameters[name].stderr is not None for name in ("k_1", "k_2", "rate_1", "rate_2", "m_eff"))
+    table = maxwell_order_table(list(maxwell_fit.data), k0=maxwell_fit.model.k0).set_index("model", append=True)
+    errors = table["error_percent"].to_numpy()
+    maxwell, voigt = errors[:4], errors[4]
+    assert maxwell[1] < 0.6 * maxwell[0]  # falls ...
+    assert maxwell[2] <= 100 * MAXWELL_3_MAX
+    assert maxwell[3] >= maxwell[2] - 0.2  # ... then flattens (order 4 gains < 0.2 points)
+    assert voigt > 2 * maxwell[1]  # Voigt clearly worse
+
+
+def test_model_file_carries_the_provenance(iwan_fit, wire_rope, tmp_path):
+    path = iwan_fit.save(tmp_path / "wr.json")
+    model = load_model(path)
+    assert model.params() == pytest.approx(iwan_fit.model.params())
+    provenance = load_model_document(path)["provenance"]
+    files = provenance["data"]["files"]
+    assert files == {"quasi_static/qs_wr_small_1.csv.gz": wire_rope.get("qs_wr_small_1").source.sha256,
+                     "quasi_static/qs_wr_small_2.csv.gz": wire_rope.get("qs_wr_small_2").source.sha256,
+                     "quasi_static/qs_wr_large_1.csv.gz": wire_rope.get("qs_wr_large_1").source.sha256,
+                     "quasi_static/qs_wr_large_2.csv.gz": wire_rope.get("qs_wr_large_2").source.sha256}
+    assert provenance["settings"]["seed"] == 0 and provenance["settings"]["backend"] == "nlopt"
+    assert provenance["idkit_version"] and provenance["options"]["small_threshold"] == 8e-3
+    json.dumps(provenance, allow_nan=False)
+    with pytest.raises(FileExistsError):
+        iwan_fit.save(path)
+
+
+@pytest.mark.parametrize("method", ["repetition", "resample"])
+def test_bootstrap_is_reproducible_and_brackets_the_fit(iwan_fit, method):
+    first = bootstrap_measurements(iwan_fit, method=method, n_resamples=6, seed=11)
+    second = bootstrap_measurements(iwan_fit, method=method, n_resamples=6, seed=11)
+    assert np.array_equal(first.samples, second.samples)  # bit for bit
+    assert first.samples.shape[0] == (2 if method == "repetition" else 6)
+    summary = first.summary().set_index("parameter")
+    fitted = iwan_fit.model.params()
+    for name in ("g1", "k_1", "fc_1", "fc_2"):
+        assert abs(summary.loc[name, "mean"] - fitted[name]) <= 4 * summary.loc[name, "std"] + 0.02 * fitted[name]
+        assert summary.loc[name, "p05"] <= summary.loc[name, "p95"]
+    assert "Bootstrap" in first.report()
+
+
+def test_maxwell_bootstrap_per_repetition(maxwell_fit):
+    spread = bootstrap_measurements(maxwell_fit)
+    assert spread.labels == ("repetition 1", "repetition 2")
+    summary = spread.summary().set_index("parameter")
+    assert summary.loc["rate_2", "relative_std"] < 0.05
+
+
+def test_transmissibility_sets_use_every_mass_and_repetition(elastomer):
+    frfs, provenance = transmissibility_sets(elastomer, split=None)
+    assert len(frfs) == 24 and len({f.mass for f in frfs}) == 8
+    assert frfs[0].freq.min() >= 1.0 and frfs[0].freq.max() <= 100.0
+    assert len(provenance.files) == 24
