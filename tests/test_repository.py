@@ -35,7 +35,7 @@ def readme_commands():
 def test_readme_has_exactly_two_setup_commands_and_ci_runs_the_test_one():
     commands = readme_commands()
     assert len(commands) == 2
-    assert "idkit demo" in commands[0] and "pytest" in commands[1]
+    assert "idkit report" in commands[0] and "pytest" in commands[1]
     ci_lines = (ROOT / ".ci" / "run").read_text().splitlines()
     assert commands[1] in ci_lines
 
@@ -115,3 +115,15 @@ def test_module_entry_point():
     completed = subprocess.run([sys.executable, "-m", "idkit", "--version"], capture_output=True, text=True,
                                check=True)
     assert completed.stdout.startswith("idkit ")
+
+
+def test_readme_python_example_runs(monkeypatch):
+    """The README's Python block runs as written from the repository root."""
+    text = (ROOT / "README.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    assert len(blocks) == 1
+    monkeypatch.chdir(ROOT)
+    namespace = {}
+    exec(compile(blocks[0].replace("print(", "str("), "README.md", "exec"), namespace)
+    assert namespace["grid"].converged.all()
+    assert namespace["check"].passed
