@@ -428,7 +428,8 @@ class BoucWenFitResult:
         for data, names, errors in (("small", self.small_names, self.small_errors),
                                     ("large", self.large_names, self.large_errors)):
             for name, error in zip(names, errors):
-                rows.append({"stage": "final", "set": name, "error_percent": 100.0 * error, "evaluations": 0})
+                rows.append({"stage": f"final ({data})", "set": name, "error_percent": 100.0 * error,
+                             "evaluations": 0})
         return pd.DataFrame(rows)
 
     def report(self) -> str:

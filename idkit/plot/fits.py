@@ -14,7 +14,7 @@ import numpy as np
 
 from idkit.plot.basic import save_figure
 
-__all__ = ["plot_loop_fit", "plot_frf_fit", "plot_complex_stiffness", "plot_error_landscape", "save_fit_plots"]
+__all__ = ["plot_loop_fit", "plot_frf_fit", "plot_storage_loss", "plot_error_landscape", "save_fit_plots"]
 
 
 def _figure(nrows=1, ncols=1, *, sharex=False, width=6.4, height=None):
@@ -125,7 +125,7 @@ def plot_frf_fit(model, frfs, *, band=(1.0, 100.0), axes=None):
     return lines
 
 
-def plot_complex_stiffness(model, freq=None, *, axes=None, label=None):
+def plot_storage_loss(model, freq=None, *, axes=None, label=None):
     """Storage and loss stiffness (N/m) and loss factor of an elastomer model.
 
     Parameters
@@ -218,7 +218,7 @@ def save_fit_plots(fit, folder, *, overwrite: bool = False) -> list[Path]:
     plot_frf_fit(fit.model, fit.data, band=band, axes=axes)
     written.append(save_figure(axes[0].figure, targets[0]))
     axes = _figure(2, 1, sharex=True)[:, 0]
-    plot_complex_stiffness(fit.model, axes=axes, label="identified")
+    plot_storage_loss(fit.model, axes=axes, label="identified")
     written.append(save_figure(axes[0].figure, targets[1]))
     landscape = maxwell_error_landscape(fit.data, k0=fit.model.k0, band=band, seed=fit.result.settings.seed)
     ax = _figure(1, 1, height=4.2)[0, 0]

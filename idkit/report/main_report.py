@@ -37,7 +37,7 @@ from idkit.fit.measurements import (
 )
 from idkit.io import load_measurement_set
 from idkit.models import HybridSystem, save_model
-from idkit.plot.fits import plot_complex_stiffness as plot_elastomer_stiffness
+from idkit.plot.fits import plot_storage_loss
 from idkit.plot.fits import plot_frf_fit, plot_loop_fit
 from idkit.plot.validation import plot_drop_validation, plot_frf_validation, plot_harmonic_validation
 from idkit.report.html import HtmlReport
@@ -118,7 +118,7 @@ def _frf_figure(fit):
 
 def _stiffness_figure(model):
     figure = _figure(figsize=(8, 6))
-    plot_elastomer_stiffness(model, axes=figure.subplots(2, 1, sharex=True))
+    plot_storage_loss(model, axes=figure.subplots(2, 1, sharex=True))
     return figure
 
 

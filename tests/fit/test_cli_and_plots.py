@@ -163,7 +163,7 @@ def test_plots_draw_and_return_artists(dataset):
 
     matplotlib.use("Agg")
     from idkit.io import load_measurement_set
-    from idkit.plot.fits import plot_complex_stiffness, plot_error_landscape, plot_frf_fit, plot_loop_fit
+    from idkit.plot.fits import plot_storage_loss, plot_error_landscape, plot_frf_fit, plot_loop_fit
 
     data = load_measurement_set(dataset)
     iwan = fit_iwan_measurements(data)
@@ -171,7 +171,7 @@ def test_plots_draw_and_return_artists(dataset):
     assert len(lines) == len(iwan.data.small) + len(iwan.data.large)
     frfs, _ = transmissibility_sets(data)
     assert len(plot_frf_fit(ELASTOMER, frfs)) == 3  # one model line per mass
-    storage, loss, eta = plot_complex_stiffness(ELASTOMER)
+    storage, loss, eta = plot_storage_loss(ELASTOMER)
     assert np.all(eta.get_ydata() > 0)
     landscape = maxwell_error_landscape(frfs, k0=ELASTOMER.k0, points=15)
     assert landscape.error.shape == (15, 15) and landscape.feasible.any()
