@@ -54,6 +54,7 @@ import scipy.optimize
 from idkit.errors import FitError
 from idkit.fit._params import Transform, central_jacobian, gauss_newton_covariance, to_lmfit
 from idkit.fit.iwan import LoopSet, _prepare_group, iwan_start
+from idkit.fit.iwan import _Packed as _PackedSets
 from idkit.fit.result import BoucWenFitResult, BoucWenFitSettings, StageResult
 from idkit.models import BoucWenModel
 from idkit.models._hysteresis import boucwen_z_step
@@ -132,17 +133,12 @@ def _bw_errors(x, f, offsets, norm2, k1, k2, k3, alpha, beta, gamma, n, c, cycle
         out[s] = math.sqrt(acc / norm2[s])
 
 
-class _Packed:
+class _Packed(_PackedSets):
+    """The Iwan fit's packed sets, with the Bouc-Wen force law."""
+
     def __init__(self, sets: Sequence[LoopSet], cycled: bool):
-        self.names = tuple(s.name for s in sets)
-        self.x = np.ascontiguousarray(np.concatenate([s.deflection for s in sets]))
-        self.f = np.ascontiguousarray(np.concatenate([s.force for s in sets]))
-        self.offsets = np.concatenate([[0], np.cumsum([s.deflection.size for s in sets])]).astype(np.int64)
-        self.norm = np.array([math.sqrt(float(np.sum(s.force**2))) for s in sets])
-        self.norm2 = self.norm**2
-        self.cycled = cycled
+        super().__init__(sets, cycled)
         self.scratch = np.empty_like(self.x)
-        self.errors = np.empty(len(sets))
 
     def set_errors(self, p: dict) -> np.ndarray:
         _bw_errors(self.x, self.f, self.offsets, self.norm2, p["k1"], p["k2"], p["k3"], p["alpha"], p["beta"],
