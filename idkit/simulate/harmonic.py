@@ -175,15 +175,22 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
     max_windows = max(1, int(np.ceil(max_periods / 2)))
     kernel_arrays = arrays.as_tuple()
 
+    # Deal the points out like cards so that every chunk mixes cheap and costly ones
+    # (a grid in order would hand one worker all the high frequencies).
+    order = np.argsort(np.arange(freq.size) % max(1, min(freq.size, 64)), kind="stable")
+    dealt_freq, dealt_amplitude = freq[order], amplitude[order]
+    dealt_steps = np.ascontiguousarray(steps[order])
+
     def task(part: slice):
         return run_harmonic_batch(
-            *kernel_arrays, freq[part], amplitude[part], np.ascontiguousarray(steps[part]), n_coeff,
+            *kernel_arrays, dealt_freq[part], dealt_amplitude[part], dealt_steps[part], n_coeff,
             float(tolerance), min_windows, max_windows, scale,
         )
 
-    coeff, half_range, peak, dcoeff, windows, change, converged, flags = run_chunked(
-        task, freq.size, workers=workers, chunk_size=chunk_size, progress=progress, executor=executor,
-    )
+    dealt = run_chunked(task, freq.size, workers=workers, chunk_size=chunk_size, progress=progress,
+                        executor=executor)
+    restore = np.argsort(order, kind="stable")
+    coeff, half_range, peak, dcoeff, windows, change, converged, flags = (field[restore] for field in dealt)
     return HarmonicResponse(
         freq=freq, amplitude=amplitude, coefficients=coeff, deflection_coefficients=dcoeff,
         half_range=half_range, peak_acceleration=peak, periods=2 * windows, change=change,
