@@ -385,10 +385,11 @@ def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, h, base_disp, ba
 
 @numba.njit(cache=True, nogil=True)
 def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplitude, steps_per_period,
-                       n_coeff, tolerance, min_windows, max_windows, force_scale):
+                       n_coeff, tolerance, min_windows, max_windows, force_scale, q0, v0, jforce0, mstate0, bwz0):
     """Run harmonic base displacement ``A sin(2 pi f t)`` to steady state, per member.
 
-    From zero initial state (masses at rest, isolators unloaded; thesis 3.4).
+    From the initial state ``q0, v0`` (batch, ndof; absolute m and m/s) and internal
+    states ``jforce0, mstate0, bwz0`` (zeros: at rest with unloaded isolators, thesis 3.4).
     Every window of two excitation periods, the Fourier coefficients of the
     absolute top displacement at multiples ``m/2`` of ``f`` (``m = 0 .. n_coeff-1``)
     are computed; the run stops when the change between consecutive windows,
@@ -422,8 +423,11 @@ def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplit
         h = 1.0 / (freq[b] * n_per)
         amp = amplitude[b]
         P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, h)
-        state = np.zeros(6)  # absolute rest at t = 0
-        S = _pack_states(P, np.zeros(jk.shape), np.zeros(mk.shape), np.zeros(ndof))
+        state = np.zeros(6)
+        for d in range(ndof):
+            state[d] = q0[b, d]
+            state[2 + d] = v0[b, d]
+        S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
         _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
         window = 2 * n_per
         # twiddle factors for the window
