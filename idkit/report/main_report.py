@@ -272,6 +272,10 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
             report.preformatted(inspection.report())
 
         report.section("Wire rope fit", "wire-rope-fit")
+        lower, upper = wire_model.valid_deflection_range()
+        report.paragraph(f"Valid range of the identified Iwan model: its parallel spring's local stiffness "
+                         f"g1 + 2 g2 x + 3 g3 x^2 stays >= 0 for {1e3 * lower:.1f} mm <= x <= {1e3 * upper:.1f} mm "
+                         f"(SPEC 1.2); simulations beyond it are flagged, and validations count them as failures.")
         report.preformatted(iwan.report())
         report.table(_parameters_table(iwan), caption="Iwan parameters (stderr from the residual Jacobian)")
         report.figure(_loop_figure(iwan, "Iwan"), caption="measured and fitted loops (Iwan)")

@@ -43,3 +43,8 @@ def test_report_on_a_folder_without_data_fails_clearly(tmp_path, capsys):
     assert main(["report", str(tmp_path), "-o", str(tmp_path / "out"), "--quiet"]) == 2
     assert "no manifest.json" in capsys.readouterr().err
     assert not (tmp_path / "out").exists()
+
+
+def test_report_states_the_valid_range_of_the_identified_wire_rope(quick_report):
+    html = (quick_report / "report.html").read_text(encoding="utf-8")
+    assert "Valid range of the identified Iwan model" in html
