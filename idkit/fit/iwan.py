@@ -583,6 +583,7 @@ def fit_iwan(
     initial_step: float = 0.3,
     initial_state: str = "cycled",
     seed: int = 0,
+    valid_range: tuple[float, float] | None = None,
 ) -> IwanFitResult:
     """Identify an order-``n`` modified Iwan model in three Nelder-Mead stages (SPEC 4).
 
@@ -617,6 +618,11 @@ def fit_iwan(
         Element forces at the first point of a set (module docstring).
     seed : int
         Seeds nlopt's generator (Nelder-Mead itself is deterministic); recorded.
+    valid_range : (float, float), optional
+        Deflections (m, ``x_min < 0 < x_max``) over which the fitted parallel spring must
+        keep a non-negative local stiffness ``g1 + 2 g2 x + 3 g3 x^2`` (SPEC 1.2): the
+        large-loop stage adds a barrier ``1 + violation / g1`` to the objective wherever it
+        turns negative there. Default: no constraint (the thesis's fit).
 
     Returns
     -------
@@ -660,6 +666,10 @@ def fit_iwan(
     nlopt.srand(int(seed))
     small_packed, large_packed = _Packed(small_sets, cycled), _Packed(large_sets, cycled)
     x_ref = max(float(np.max(np.abs(s.deflection))) for s in large_sets)
+    if valid_range is not None:
+        x_min, x_max = (float(v) for v in valid_range)
+        if not (np.isfinite(x_min) and np.isfinite(x_max) and x_min < 0.0 < x_max):
+            raise FitError(f"valid_range: found {valid_range!r}, expected (x_min, x_max) in m with x_min < 0 < x_max")
 
     current = {"g1": model0.g1, "g2": model0.g2, "g3": model0.g3,
                "k": np.array(model0.k, float), "fc": np.array(model0.fc, float)}
@@ -678,7 +688,12 @@ def fit_iwan(
             g1, g2, g3, k, fc = unpack(u)
             _iwan_set_errors(packed.x, packed.f, packed.offsets, packed.norm2, g1, g2, g3, k, fc,
                              packed.cycled, packed.errors)
-            return packed.errors.mean()
+            error = packed.errors.mean()
+            if valid_range is not None:
+                lowest = _lowest_spring_stiffness(g1, g2, g3, x_min, x_max)
+                if lowest < 0.0:
+                    error += 1.0 - lowest / g1
+            return error
 
         start_params = _flat_params(current)
         start_error = objective(u0)
@@ -699,13 +714,24 @@ def fit_iwan(
     parameters = _iwan_lmfit(model, small_packed, large_packed, x_ref)
     settings = IwanFitSettings(order=n, backend=backend, points_per_set=points_per_set, max_evals=max_evals,
                                xtol=xtol, ftol=ftol, restarts=restarts, initial_step=initial_step,
-                               initial_state=initial_state, seed=int(seed))
+                               initial_state=initial_state, seed=int(seed),
+                               valid_range=None if valid_range is None else (x_min, x_max))
     args = (model.g1, model.g2, model.g3, np.asarray(model.k, float), np.asarray(model.fc, float))
     return IwanFitResult(
         model=model, stages=tuple(stages),
         small_errors=small_packed.set_errors(*args), large_errors=large_packed.set_errors(*args),
         small_names=small_packed.names, large_names=large_packed.names, start=start_info,
         settings=settings, parameters=parameters, elapsed_s=elapsed)
+
+
+def _lowest_spring_stiffness(g1: float, g2: float, g3: float, x_min: float, x_max: float) -> float:
+    """Minimum of ``g1 + 2 g2 x + 3 g3 x^2`` (N/m) over ``[x_min, x_max]``."""
+    candidates = [x_min, x_max]
+    if g3 > 0.0:
+        vertex = -g2 / (3.0 * g3)
+        if x_min < vertex < x_max:
+            candidates.append(vertex)
+    return min(g1 + x * (2.0 * g2 + 3.0 * g3 * x) for x in candidates)
 
 
 def _stage_transforms(free: tuple[str, ...], n: int, x_ref: float, g1_ref: float) -> list[Transform]:

@@ -56,6 +56,7 @@ class IwanFitSettings:
     initial_step: float
     initial_state: str
     seed: int
+    valid_range: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
