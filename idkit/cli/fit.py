@@ -59,9 +59,10 @@ def _cmd_iwan(args) -> None:
     if args.order < 1:
         raise IdkitError(f"--order: found {args.order}, expected an integer >= 1")
     _check_outputs("iwan", args.output, args.plots)
+    options = {"valid_range": tuple(args.valid_range)} if args.valid_range else {}
     fit = fit_iwan_measurements(_load(args.dataset), order=args.order, small_threshold=args.small_threshold,
                                 isolator=args.isolator, split=_split(args.split), backend=args.backend,
-                                seed=args.seed)
+                                seed=args.seed, **options)
     _finish(fit, args)
 
 
@@ -120,6 +121,8 @@ def register(subparsers) -> None:
     iwan = kinds.add_parser("iwan", help="three-stage Iwan fit to the quasi-static wire-rope loops")
     _common(iwan, loops=True)
     iwan.add_argument("--order", type=int, default=2, help="number of Jenkin elements (default 2)")
+    iwan.add_argument("--valid-range", type=float, nargs=2, metavar=("X_MIN", "X_MAX"),
+                      help="deflections in m (X_MIN < 0 < X_MAX) over which the spring must stay non-negative-stiff")
     iwan.set_defaults(handler=_cmd_iwan)
 
     maxwell = kinds.add_parser("maxwell", help="generalized Maxwell fit: k0 from the loops, the rest from the FRFs")

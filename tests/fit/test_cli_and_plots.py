@@ -178,3 +178,14 @@ def test_plots_draw_and_return_artists(dataset):
     assert plot_error_landscape(landscape) is not None
     for artist in (lines[0], storage):
         artist.figure.clear()
+
+
+def test_cli_fit_iwan_valid_range(dataset, tmp_path):
+    output = tmp_path / "bounded.json"
+    assert main(["fit", "iwan", str(dataset), "-o", str(output), "--valid-range", "-0.05", "0.05"]) == 0
+    document = load_model_document(output)
+    assert document["provenance"]["settings"]["valid_range"] == [-0.05, 0.05]
+    from idkit.models import load_model
+
+    lower, upper = load_model(output).valid_deflection_range()
+    assert lower <= -0.05 and upper >= 0.05
