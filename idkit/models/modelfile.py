@@ -21,10 +21,9 @@ See ``docs/model-file.md``.
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from pathlib import Path
 
+from idkit.atomic import write_bytes_atomic
 from idkit.errors import ModelFileError, ParameterError
 from idkit.models.boucwen import BoucWenModel
 from idkit.models.iwan import IwanModel
@@ -90,8 +89,6 @@ def save_model(model, path, *, provenance: dict | None = None, overwrite: bool =
     from idkit import __version__
 
     path = Path(path)
-    if path.exists() and not overwrite:
-        raise FileExistsError(f"{path}: exists; pass overwrite=True to replace it")
     document = {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
@@ -100,14 +97,7 @@ def save_model(model, path, *, provenance: dict | None = None, overwrite: bool =
         "provenance": provenance or {},
     }
     text = json.dumps(document, indent=2, allow_nan=False)
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            stream.write(text + "\n")
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    write_bytes_atomic(path, (text + "\n").encode("utf-8"), overwrite=overwrite)
     return path
 
 

@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
+import io
 from pathlib import Path
 
 import numpy as np
+
+from idkit.atomic import write_bytes_atomic
 
 
 def _axes(ax, nrows=1):
@@ -70,15 +71,9 @@ def plot_shock_levels(impact_speed, peak_acceleration, *, label=None, ax=None):
     return line
 
 
-def save_figure(figure, path) -> Path:
-    """Save a figure atomically (temporary file in the same folder, then rename)."""
+def save_figure(figure, path, *, overwrite: bool = True) -> Path:
+    """Save a figure atomically (:func:`idkit.atomic.write_bytes_atomic`); the format follows the suffix."""
     path = Path(path)
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=path.suffix)
-    os.close(handle)
-    try:
-        figure.savefig(temporary, dpi=110)
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
-    return path
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format=path.suffix.lstrip(".") or "png", dpi=110)
+    return write_bytes_atomic(path, buffer.getvalue(), overwrite=overwrite)
