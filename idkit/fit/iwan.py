@@ -201,22 +201,33 @@ def _stop_step(state, stiffness, friction, step):
 
 
 @numba.njit(cache=True)
+def _start_state(state, stiffness, friction, x, a, b, cycled):
+    """Element forces at the first point of set ``x[a:b]``; returns their sum (N).
+
+    Unloaded at x = 0 and loaded to the first point; if ``cycled``, the set is run
+    once and closed back to its first point (module docstring).
+    """
+    for j in range(state.shape[0]):
+        state[j] = 0.0
+    _stop_step(state, stiffness, friction, x[a])
+    if cycled:
+        for i in range(a + 1, b):
+            _stop_step(state, stiffness, friction, x[i] - x[i - 1])
+        _stop_step(state, stiffness, friction, x[a] - x[b - 1])
+    jenkin = 0.0
+    for j in range(state.shape[0]):
+        jenkin += state[j]
+    return jenkin
+
+
+@numba.njit(cache=True)
 def _iwan_set_forces(x, offsets, g1, g2, g3, stiffness, friction, cycled, out):
     """Model force of every set of a concatenated path (``offsets`` delimit the sets)."""
     state = np.empty(stiffness.shape[0])
     for s in range(offsets.shape[0] - 1):
         a = offsets[s]
         b = offsets[s + 1]
-        for j in range(state.shape[0]):
-            state[j] = 0.0
-        _stop_step(state, stiffness, friction, x[a])  # unloaded at x = 0, loaded to the first point
-        if cycled:
-            for i in range(a + 1, b):
-                _stop_step(state, stiffness, friction, x[i] - x[i - 1])
-            _stop_step(state, stiffness, friction, x[a] - x[b - 1])
-        jenkin = 0.0
-        for j in range(state.shape[0]):
-            jenkin += state[j]
+        jenkin = _start_state(state, stiffness, friction, x, a, b, cycled)
         for i in range(a, b):
             if i > a:
                 jenkin = _stop_step(state, stiffness, friction, x[i] - x[i - 1])
@@ -231,16 +242,7 @@ def _iwan_set_errors(x, f, offsets, norm2, g1, g2, g3, stiffness, friction, cycl
     for s in range(offsets.shape[0] - 1):
         a = offsets[s]
         b = offsets[s + 1]
-        for j in range(state.shape[0]):
-            state[j] = 0.0
-        _stop_step(state, stiffness, friction, x[a])  # unloaded at x = 0, loaded to the first point
-        if cycled:
-            for i in range(a + 1, b):
-                _stop_step(state, stiffness, friction, x[i] - x[i - 1])
-            _stop_step(state, stiffness, friction, x[a] - x[b - 1])
-        jenkin = 0.0
-        for j in range(state.shape[0]):
-            jenkin += state[j]
+        jenkin = _start_state(state, stiffness, friction, x, a, b, cycled)
         acc = 0.0
         for i in range(a, b):
             if i > a:
