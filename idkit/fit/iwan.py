@@ -11,7 +11,22 @@ and a stage minimises the mean of ``e`` over its sets with Nelder-Mead (nlopt
 
 1. small loops: ``g1, k_i, fc_i`` free, ``g2 = g3 = 0``;
 2. large loops: all parameters free, started from stage 1;
-3. small loops: ``g1, g2, g3`` fixed at stage 2, ``k_i, fc_i`` refined.
+3. all loops: ``g1, g2, g3`` fixed at stage 2, ``k_i, fc_i`` refined.
+
+Stage 3 departs from SPEC 4 (which refines on the small loops only): an element
+whose slip travel ``2 fc_i / k_i`` exceeds the small loops never slips in them, so
+their error is flat in its ``fc_i`` (to 9 digits from 12.5 to 100 N in one case) and
+the simplex wandered along that direction, decided by rounding: the final model was
+up to 80x worse on the large loops than stage 2's and differed between CPUs. Scored
+on all loops every local parameter is seen by some data; on loops of a known model
+the slip force comes back to 0.1 % instead of 5-20 % (docs/fitting.md).
+
+**Search box and honesty.** Every parameter is searched inside a box set by the
+data (:data:`STIFFNESS_BOX` x the stuck stiffness, :data:`FRICTION_BOX` x the
+largest force, :data:`POLYNOMIAL_BOX` for ``g2``, ``g3``), so nothing overflows. A
+final parameter on the box, a stage stopped at the evaluation limit, or an element
+that never slips within the data (its slip force undetermined) makes
+``success=False`` with the reason in ``result.reasons``.
 
 **Positivity.** ``g1``, ``k_i`` and ``fc_i`` are optimised as their natural
 logarithms, so every stiffness and slip force stays strictly positive however
@@ -500,11 +515,14 @@ class _Tracked:
         return value
 
 
-def _nelder_mead_once(tracked: _Tracked, u0, step, *, backend, max_evals, xtol, ftol) -> str:
+def _nelder_mead_once(tracked: _Tracked, u0, step, bounds, *, backend, max_evals, xtol, ftol) -> str:
     n = u0.size
+    lower, upper = bounds
     if backend == "nlopt":
         opt = nlopt.opt(nlopt.LN_NELDERMEAD, n)
         opt.set_min_objective(tracked)
+        opt.set_lower_bounds(lower)
+        opt.set_upper_bounds(upper)
         opt.set_initial_step(np.full(n, step))
         opt.set_xtol_abs(xtol)
         # no ftol for nlopt: its Nelder-Mead stops on one small improvement of the best
@@ -518,9 +536,9 @@ def _nelder_mead_once(tracked: _Tracked, u0, step, *, backend, max_evals, xtol, 
         names = {nlopt.SUCCESS: "success", nlopt.FTOL_REACHED: "ftol reached",
                  nlopt.XTOL_REACHED: "xtol reached", nlopt.MAXEVAL_REACHED: "max_evals reached"}
         return "nlopt: " + names.get(code, f"code {code}")
-    simplex = np.vstack([u0, u0 + step * np.eye(n)])
+    simplex = np.clip(np.vstack([u0, u0 + step * np.eye(n)]), lower, upper)
     result = scipy.optimize.minimize(
-        tracked, u0, method="Nelder-Mead",
+        tracked, u0, method="Nelder-Mead", bounds=scipy.optimize.Bounds(lower, upper),
         options={"initial_simplex": simplex, "xatol": xtol, "fatol": ftol, "maxfev": int(max_evals)},
     )
     if result.nfev >= max_evals and not result.success:
@@ -528,17 +546,19 @@ def _nelder_mead_once(tracked: _Tracked, u0, step, *, backend, max_evals, xtol, 
     return "scipy: " + ("converged" if result.success else str(result.message))
 
 
-def _nelder_mead(function, u0, step, *, backend, max_evals, xtol, ftol, restarts):
-    """Nelder-Mead with restarts from the best point (a fresh simplex escapes stalls)."""
+def _nelder_mead(function, u0, step, bounds, *, backend, max_evals, xtol, ftol, restarts):
+    """Bounded Nelder-Mead with restarts from the best point (a fresh simplex escapes stalls)."""
     tracked = _Tracked(function)
-    message = _nelder_mead_once(tracked, u0, step, backend=backend, max_evals=max_evals, xtol=xtol, ftol=ftol)
+    u0 = np.clip(np.asarray(u0, dtype=float), *bounds)
+    message = _nelder_mead_once(tracked, u0, step, bounds, backend=backend, max_evals=max_evals,
+                                xtol=xtol, ftol=ftol)
     done = 0
     for _ in range(restarts):
         before = tracked.best_value
         remaining = max_evals - tracked.evaluations
         if remaining <= 0 or "max_evals" in message:
             break
-        message = _nelder_mead_once(tracked, tracked.best_u, step, backend=backend,
+        message = _nelder_mead_once(tracked, tracked.best_u, step, bounds, backend=backend,
                                     max_evals=remaining, xtol=xtol, ftol=ftol)
         done += 1
         if before - tracked.best_value <= ftol:
@@ -667,22 +687,31 @@ def fit_iwan(
     n = model0.order
     nlopt.srand(int(seed))
     small_packed, large_packed = _Packed(small_sets, cycled), _Packed(large_sets, cycled)
+    all_packed = _Packed(small_sets + large_sets, cycled)
     x_ref = max(float(np.max(np.abs(s.deflection))) for s in large_sets)
     if valid_range is not None:
         x_min, x_max = (float(v) for v in valid_range)
         if not (np.isfinite(x_min) and np.isfinite(x_max) and x_min < 0.0 < x_max):
             raise FitError(f"valid_range: found {valid_range!r}, expected (x_min, x_max) in m with x_min < 0 < x_max")
 
+    stiffness_ref = start_info.stuck_stiffness
+    force_ref = max(float(np.max(np.abs(s.force))) for s in small_sets + large_sets)
+    refs = {"g1": f"{STIFFNESS_BOX} x the stuck stiffness {stiffness_ref:.4g} N/m",
+            "k": f"{STIFFNESS_BOX} x the stuck stiffness {stiffness_ref:.4g} N/m",
+            "fc": f"{FRICTION_BOX} x the largest |force| {force_ref:.4g} N",
+            "g2": f"+-{POLYNOMIAL_BOX:g} x g1 / x_ref", "g3": f"+-{POLYNOMIAL_BOX:g} x g1 / x_ref^2"}
+
     current = {"g1": model0.g1, "g2": model0.g2, "g3": model0.g3,
                "k": np.array(model0.k, float), "fc": np.array(model0.fc, float)}
-    stages = []
-    for stage_name, data in (("stage 1", "small"), ("stage 2", "large"), ("stage 3", "small")):
+    stages, reasons = [], []
+    for stage_name, data in (("stage 1", "small"), ("stage 2", "large"), ("stage 3", "all")):
         t_stage = time.perf_counter()
-        packed = small_packed if data == "small" else large_packed
+        packed = {"small": small_packed, "large": large_packed, "all": all_packed}[data]
         if stage_name == "stage 1":
             current["g2"] = current["g3"] = 0.0
         g1_ref = current["g1"]
-        transforms = _stage_transforms(_STAGE_FREE[stage_name], n, x_ref, g1_ref)
+        transforms = _stage_transforms(_STAGE_FREE[stage_name], n, x_ref, g1_ref, stiffness_ref, force_ref)
+        bounds = _internal_bounds(transforms)
         u0 = _to_internal(current, transforms)
         unpack = _make_unpack(current, transforms, n)
 
@@ -698,22 +727,31 @@ def fit_iwan(
             return error
 
         start_params = _flat_params(current)
-        start_error = objective(u0)
+        start_error = objective(np.clip(u0, *bounds))
         best_u, _, evaluations, done, message = _nelder_mead(
-            objective, u0, initial_step, backend=backend, max_evals=max_evals,
+            objective, u0, initial_step, bounds, backend=backend, max_evals=max_evals,
             xtol=xtol, ftol=ftol, restarts=restarts)
         g1, g2, g3, k, fc = unpack(best_u)
         current = {"g1": float(g1), "g2": float(g2), "g3": float(g3), "k": k.copy(), "fc": fc.copy()}
         errors = packed.set_errors(g1, g2, g3, k, fc)
+        if "max_evals" in message:
+            reasons.append(f"{stage_name} stopped at the evaluation limit max_evals={max_evals}")
+        if stage_name != "stage 1":  # stage 1 only starts stage 2; its bounds are the final stages' too
+            reasons.extend(f"{stage_name}: {r}" for r in _bound_reasons(transforms, best_u, refs))
         stages.append(StageResult(
             name=stage_name, data=data, free=tuple(t.name for t in transforms), start=start_params,
             params=_flat_params(current), set_names=packed.names, set_errors=errors,
             mean_error=float(errors.mean()), start_error=float(start_error), evaluations=evaluations,
             restarts=done, message=message, elapsed_s=time.perf_counter() - t_stage))
     elapsed = time.perf_counter() - t0
+    travel = max(float(np.ptp(s.deflection)) for s in small_sets + large_sets)
+    for i, (k_i, fc_i) in enumerate(zip(current["k"], current["fc"]), start=1):
+        if 2.0 * fc_i / k_i > travel:
+            reasons.append(f"fc_{i} is not determined: element {i} never slips within the data (slip travel "
+                           f"2 fc/k = {1e3 * 2.0 * fc_i / k_i:.4g} mm > largest loop travel {1e3 * travel:.4g} mm)")
 
     model = IwanModel(g1=current["g1"], g2=current["g2"], g3=current["g3"], k=current["k"], fc=current["fc"])
-    parameters = _iwan_lmfit(model, small_packed, large_packed, x_ref)
+    parameters = _iwan_lmfit(model, small_packed, large_packed, x_ref, stiffness_ref, force_ref)
     settings = IwanFitSettings(order=n, backend=backend, points_per_set=points_per_set, max_evals=max_evals,
                                xtol=xtol, ftol=ftol, restarts=restarts, initial_step=initial_step,
                                initial_state=initial_state, seed=int(seed),
@@ -723,7 +761,7 @@ def fit_iwan(
         model=model, stages=tuple(stages),
         small_errors=small_packed.set_errors(*args), large_errors=large_packed.set_errors(*args),
         small_names=small_packed.names, large_names=large_packed.names, start=start_info,
-        settings=settings, parameters=parameters, elapsed_s=elapsed)
+        settings=settings, parameters=parameters, elapsed_s=elapsed, reasons=tuple(dict.fromkeys(reasons)))
 
 
 def _lowest_spring_stiffness(g1: float, g2: float, g3: float, x_min: float, x_max: float) -> float:
@@ -736,20 +774,52 @@ def _lowest_spring_stiffness(g1: float, g2: float, g3: float, x_min: float, x_ma
     return min(g1 + x * (2.0 * g2 + 3.0 * g3 * x) for x in candidates)
 
 
-def _stage_transforms(free: tuple[str, ...], n: int, x_ref: float, g1_ref: float) -> list[Transform]:
+# Search box of every parameter, relative to scales read off the data (see fit_iwan):
+STIFFNESS_BOX = (1e-6, 1e2)  # g1, k_i: x the stuck stiffness of the loops (N/m)
+FRICTION_BOX = (1e-6, 1e1)  # fc_i: x the largest |force| of the loops (N)
+POLYNOMIAL_BOX = 1e3  # |g2 x_ref| and |g3 x_ref^2|: x the stage-1 linear force g1 x_ref
+_AT_BOUND = 1e-3  # internal distance below which a parameter counts as sitting on its bound
+
+
+def _stage_transforms(free: tuple[str, ...], n: int, x_ref: float, g1_ref: float,
+                      stiffness_ref: float, force_ref: float) -> list[Transform]:
+    k_low, k_high = (b * stiffness_ref for b in STIFFNESS_BOX)
+    f_low, f_high = (b * force_ref for b in FRICTION_BOX)
+    g2_scale, g3_scale = g1_ref / x_ref, g1_ref / x_ref**2
     transforms = []
     for group in free:
         if group == "g1":
-            transforms.append(Transform("g1", "N/m", "log", 0.0))
+            transforms.append(Transform("g1", "N/m", "log", k_low, k_high))
         elif group == "g2":
-            transforms.append(Transform("g2", "N/m^2", "scaled", scale=g1_ref / x_ref))
+            bound = POLYNOMIAL_BOX * g2_scale
+            transforms.append(Transform("g2", "N/m^2", "scaled", -bound, bound, scale=g2_scale))
         elif group == "g3":
-            transforms.append(Transform("g3", "N/m^3", "scaled", scale=g1_ref / x_ref**2))
+            bound = POLYNOMIAL_BOX * g3_scale
+            transforms.append(Transform("g3", "N/m^3", "scaled", -bound, bound, scale=g3_scale))
         elif group == "k":
-            transforms.extend(Transform(f"k_{i}", "N/m", "log", 0.0) for i in range(1, n + 1))
+            transforms.extend(Transform(f"k_{i}", "N/m", "log", k_low, k_high) for i in range(1, n + 1))
         else:
-            transforms.extend(Transform(f"fc_{i}", "N", "log", 0.0) for i in range(1, n + 1))
+            transforms.extend(Transform(f"fc_{i}", "N", "log", f_low, f_high) for i in range(1, n + 1))
     return transforms
+
+
+def _internal_bounds(transforms: list[Transform]) -> tuple[np.ndarray, np.ndarray]:
+    lower = np.array([float(t.to_internal(t.lower)) for t in transforms])
+    upper = np.array([float(t.to_internal(t.upper)) for t in transforms])
+    return lower, upper
+
+
+def _bound_reasons(transforms: list[Transform], u: np.ndarray, refs: dict) -> list[str]:
+    """One sentence per parameter sitting on its search bound at internal point ``u``."""
+    reasons = []
+    lower, upper = _internal_bounds(transforms)
+    for t, value, low, high in zip(transforms, u, lower, upper):
+        for side, bound in (("lower", low), ("upper", high)):
+            if abs(value - bound) <= _AT_BOUND * max(1.0, abs(bound)):
+                reasons.append(
+                    f"{t.name} = {float(t.to_physical(value)):.4g} {t.unit} sits at its {side} search bound "
+                    f"({refs[t.name.split('_')[0]]}): the loops do not determine it")
+    return reasons
 
 
 def _to_internal(current: dict, transforms: list[Transform]) -> np.ndarray:
@@ -794,10 +864,11 @@ def _flat_params(current: dict) -> dict:
     return values
 
 
-def _iwan_lmfit(model: IwanModel, small: _Packed, large: _Packed, x_ref: float):
+def _iwan_lmfit(model: IwanModel, small: _Packed, large: _Packed, x_ref: float, stiffness_ref: float,
+                force_ref: float):
     """lmfit view of the final model with Gauss-Newton standard errors (see :func:`fit_iwan`)."""
     n = model.order
-    transforms = _stage_transforms(_STAGE_FREE["stage 2"], n, x_ref, model.g1)
+    transforms = _stage_transforms(_STAGE_FREE["stage 2"], n, x_ref, model.g1, stiffness_ref, force_ref)
     current = {"g1": model.g1, "g2": model.g2, "g3": model.g3,
                "k": np.array(model.k, float), "fc": np.array(model.fc, float)}
     u_opt = _to_internal(current, transforms)
@@ -819,8 +890,8 @@ def _iwan_lmfit(model: IwanModel, small: _Packed, large: _Packed, x_ref: float):
     parameters = to_lmfit(
         names + ["c_visc"], physical + [0.0],
         units=[specs[name].unit for name in names] + ["N s/m"],
-        lower=[specs[name].lower for name in names] + [0.0],
-        upper=[specs[name].upper for name in names] + [math.inf],
+        lower=[t.lower for t in transforms] + [0.0],
+        upper=[t.upper for t in transforms] + [math.inf],
         vary=[True] * len(names) + [False],
         stderr=stderr + [None],
     )

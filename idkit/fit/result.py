@@ -129,6 +129,10 @@ class IwanFitResult:
         Values, bounds and standard errors (see :func:`idkit.fit.fit_iwan`).
     elapsed_s : float
         Wall time of the three stages (s), excluding the standard-error estimate.
+    reasons : tuple of str
+        Why the fit is not a success (empty when it is): a stage stopped at the
+        evaluation limit, a parameter of stage 2 or 3 sits on its search bound, or
+        an element never slips within the data (its slip force is undetermined).
     """
 
     model: IwanModel
@@ -141,6 +145,7 @@ class IwanFitResult:
     settings: IwanFitSettings
     parameters: lmfit.Parameters = field(repr=False)
     elapsed_s: float
+    reasons: tuple[str, ...] = ()
 
     @property
     def error_small(self) -> float:
@@ -164,8 +169,8 @@ class IwanFitResult:
 
     @property
     def success(self) -> bool:
-        """True if no stage stopped on the evaluation limit."""
-        return all("max_evals" not in stage.message for stage in self.stages)
+        """True unless :attr:`reasons` names a problem (evaluation limit, parameter on a bound)."""
+        return not self.reasons
 
     def to_dataframe(self) -> pd.DataFrame:
         """One row per (stage, set) plus ``final`` rows: error in % and evaluations."""
@@ -188,6 +193,7 @@ class IwanFitResult:
             f"[[Iwan fit, order {s.order}, three stages, Nelder-Mead ({s.backend})]]",
             f"    evaluations {self.evaluations}, wall time {self.elapsed_s:.3f} s, "
             f"success {self.success}, initial state '{s.initial_state}', seed {s.seed}",
+            *(f"    not a success: {reason}" for reason in self.reasons),
             f"    mean error (7.1): small sets {100 * self.error_small:.3f} %, "
             f"large sets {100 * self.error_large:.3f} %",
             "[[Start (from the loops)]]",

