@@ -1,5 +1,10 @@
 """Shared fixtures: locations resolved from this file, never the working directory."""
 
+import os
+
+# headless backend for the tests, set before anything imports matplotlib (idkit never chooses one)
+os.environ.setdefault("MPLBACKEND", "Agg")
+
 from pathlib import Path
 
 import pytest

@@ -69,6 +69,62 @@ def test_computation_modules_never_import_pyplot():
             assert "matplotlib" not in path.read_text(), path
 
 
+def backend_switches(source):
+    """Lines of ``source`` that choose a matplotlib backend: ``matplotlib.use`` or ``pyplot.switch_backend``,
+    under any alias or imported by name, and ``%matplotlib`` magics other than ``inline``."""
+    lines = source.splitlines()
+    found = [number for number, line in enumerate(lines, 1)
+             if line.lstrip().startswith("%matplotlib") and line.split()[1:] != ["inline"]]
+    # IPython magics and shell lines are not Python: blank them, keeping the line numbers
+    tree = ast.parse("\n".join("" if line.lstrip().startswith(("%", "!")) else line for line in lines))
+    switches = {("matplotlib", "use"), ("matplotlib.pyplot", "switch_backend")}
+    modules, functions = {}, set()  # local name -> module; local names of the switch functions
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.asname:
+                    modules[alias.asname] = alias.name
+                else:
+                    modules[alias.name.split(".")[0]] = alias.name.split(".")[0]
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            for alias in node.names:
+                if (node.module, alias.name) in switches:
+                    functions.add(alias.asname or alias.name)
+                elif f"{node.module}.{alias.name}" == "matplotlib.pyplot":
+                    modules[alias.asname or alias.name] = "matplotlib.pyplot"
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Call):
+            continue
+        target = ast.unparse(node.func)
+        owner, _, name = target.rpartition(".")
+        if target in functions or (modules.get(owner, owner), name) in switches:
+            found.append(node.lineno)
+    return sorted(found)
+
+
+def test_backend_switch_guard_sees_aliases_and_magics():
+    assert backend_switches("import matplotlib as mpl\nmpl.use('Agg')") == [2]
+    assert backend_switches("from matplotlib import use\nuse('Agg')") == [2]
+    assert backend_switches("import matplotlib.pyplot as plt\nplt.switch_backend('Agg')") == [2]
+    assert backend_switches("%matplotlib agg\nimport matplotlib.pyplot as plt\nplt.plot([1])") == [1]
+    assert backend_switches("%matplotlib inline\nimport matplotlib\nprint(matplotlib.get_backend())") == []
+
+
+def test_library_and_notebooks_never_choose_the_matplotlib_backend():
+    """The backend is the user's (inline in Jupyter, MPLBACKEND elsewhere); idkit and its notebooks never force one."""
+    import nbformat
+
+    sources = {str(path.relative_to(ROOT)): path.read_text() for path in (ROOT / "idkit").rglob("*.py")}
+    notebooks = sorted((ROOT / "notebooks").glob("*.ipynb"))
+    assert notebooks
+    for path in notebooks:
+        for index, cell in enumerate(nbformat.read(path, as_version=4).cells):
+            if cell.cell_type == "code":
+                sources[f"{path.relative_to(ROOT)} cell {index}"] = cell.source
+    offenders = [f"{where} line {line}" for where, source in sources.items() for line in backend_switches(source)]
+    assert offenders == []
+
+
 def test_cli_version(capsys):
     with pytest.raises(SystemExit) as stop:
         main(["--version"])

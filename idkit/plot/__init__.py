@@ -1,6 +1,9 @@
 """Figures. Every function takes ``ax=None``, returns what it drew and never calls ``show``.
 
-pyplot is imported lazily so that computation never pulls in matplotlib.
+matplotlib is imported lazily so that computation never pulls it in. With ``ax=None`` a
+:class:`matplotlib.figure.Figure` is created directly (no pyplot, no figure registry to
+leak); pass axes from ``plt.subplots`` to draw into a figure pyplot/Jupyter displays.
+The backend is never chosen here: that is the caller's (``MPLBACKEND``, ``%matplotlib``).
 """
 
 from idkit.plot.basic import (

@@ -13,9 +13,6 @@ from idkit.atomic import write_bytes_atomic
 def _axes(ax, nrows=1):
     if ax is not None:
         return ax
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
     from matplotlib.figure import Figure
 
     figure = Figure(figsize=(6.4, 2.4 + 2.2 * nrows), layout="constrained")

@@ -18,9 +18,6 @@ __all__ = ["plot_loop_fit", "plot_frf_fit", "plot_storage_loss", "plot_error_lan
 
 
 def _figure(nrows=1, ncols=1, *, sharex=False, width=6.4, height=None):
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
     from matplotlib.figure import Figure
 
     figure = Figure(figsize=(width * max(1, ncols * 0.8), height or 2.6 + 2.2 * nrows), layout="constrained")

@@ -24,9 +24,6 @@ __all__ = [
 
 
 def _new_axes(nrows: int = 1, *, projection: str | None = None, figsize=None):
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
     from matplotlib.figure import Figure
 
     figure = Figure(figsize=figsize or (6.4, 2.4 + 2.2 * nrows), layout="constrained")

@@ -159,9 +159,6 @@ def test_bad_frfs_and_orders_raise_fit_error(dataset):
 
 
 def test_plots_draw_and_return_artists(dataset):
-    import matplotlib
-
-    matplotlib.use("Agg")
     from idkit.io import load_measurement_set
     from idkit.plot.fits import plot_storage_loss, plot_error_landscape, plot_frf_fit, plot_loop_fit
 

@@ -139,9 +139,6 @@ def test_threshold_overrides_are_checked(stepped_sine_points):
 
 
 def test_validation_plots_draw_every_series(stepped_sine_points, drops):
-    import matplotlib
-
-    matplotlib.use("Agg")
     from idkit.plot.validation import plot_drop_validation, plot_harmonic_validation
 
     harmonic_axes = plot_harmonic_validation(validate_harmonic(stepped_sine_points, isolator=wire_rope()))
