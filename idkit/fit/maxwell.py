@@ -910,14 +910,26 @@ def maxwell_order_table(frfs, *, k0: float, orders: Sequence[int] = (1, 2, 3, 4)
                         **options) -> pd.DataFrame:
     """Errors of Maxwell orders ``orders`` and of the Voigt model on the same data (SPEC 4).
 
+    Each order is fitted from its default start and, when the previous order of the
+    table is lower, also from that optimum extended by weak elements (stiffness at the
+    lower bound, rates in the widest gaps of log rate); the better fit is kept, so an
+    order never reports a worse error than the model it contains (a Sobol start alone
+    ended order 3 in a local minimum at 2.3 % against 1.0 % for order 2 on one seed in 12).
+
     Returns a DataFrame with one row per model: ``model``, ``order``, ``n_params``,
     ``error_percent`` (objective 7.5), ``at_bound`` (free parameters stuck at a
     bound, comma-separated, ``""`` if none), ``success``. ``options`` go to
     :func:`fit_maxwell` (and the common ones to :func:`fit_voigt`).
     """
-    rows = []
+    rows, previous = [], None
     for order in orders:
         result = fit_maxwell(frfs, k0=k0, order=order, **options)
+        if previous is not None and previous.model.order < order and "start" not in options:
+            nested = fit_maxwell(frfs, k0=k0, order=order, start=_nested_start(previous.model, order, k0, options),
+                                 **options)
+            if nested.error < result.error:
+                result = nested
+        previous = result
         rows.append({"model": "maxwell", "order": int(order), "n_params": 2 * int(order) + 1,
                      "error_percent": 100 * result.error, "at_bound": ", ".join(result.at_bound),
                      "success": result.success})
@@ -929,3 +941,19 @@ def maxwell_order_table(frfs, *, k0: float, orders: Sequence[int] = (1, 2, 3, 4)
         rows.append({"model": "voigt", "order": 0, "n_params": 3, "error_percent": 100 * result.error,
                      "at_bound": ", ".join(result.at_bound), "success": result.success})
     return pd.DataFrame(rows)
+
+
+def _nested_start(model: GeneralizedMaxwell, order: int, k0: float, options: dict) -> GeneralizedMaxwell:
+    """``model`` with weak elements added up to ``order``: at the stiffness lower bound,
+    each at the geometric middle of the widest gap of log rate (bounds included)."""
+    low_k = (options.get("stiffness_bounds") or (0.1 * k0, 10 * k0))[0]
+    rate_low, rate_high = options.get("rate_bounds", (1.0, 1e4))
+    k, rate = list(np.asarray(model.k, float)), list(np.asarray(model.rate, float))
+    while len(k) < order:
+        edges = np.log(np.sort(np.concatenate([[rate_low, rate_high], rate])))
+        widest = int(np.argmax(np.diff(edges)))
+        k.append(float(low_k))
+        rate.append(float(np.exp(0.5 * (edges[widest] + edges[widest + 1]))))
+    order_of_rates = np.argsort(rate)
+    return GeneralizedMaxwell(k0=k0, k=np.asarray(k)[order_of_rates], rate=np.asarray(rate)[order_of_rates],
+                              m_eff=model.m_eff)

@@ -37,27 +37,40 @@ def _warped(freq):
     return np.tan(np.pi * freq / FS) * FS / np.pi
 
 
-def test_h1_matches_the_analytic_transmissibility_within_the_random_error():
-    base, top = _simulate(2**18, output_noise=0.02, seed=7)
+# Bendat & Piersol random error of H1: eps = sqrt(1-g^2)/(|g| sqrt(2 n_d)) for |H|, and a
+# phase std of ~eps rad, so |H1 - H| / |H| is Rayleigh-distributed with scale eps:
+# P(> 3 eps) = exp(-4.5) = 1.1 % of the lines. Over 100 noise seeds the measured share was
+# 1.15 % on average and at most 2.6 % (neighbouring lines of overlapping Hann segments are
+# correlated, which widens the spread of the share, not its mean); the maximum over the
+# 811 lines reached 6.3 eps, so a bound on the maximum must sit well above 5 eps.
+SHARE_BEYOND_3_EPS = 0.04  # ~3.5x the Rayleigh share
+MAX_IN_EPS = 8.0  # Rayleigh: P(> 8 eps) = 1e-14 per line
+BIAS = 0.005  # Hann resolution bias at the peak: (1/3)(1.5 x 0.122 Hz / 2 Hz)^2 = 0.28 %
+# Coherence estimate std (Bendat & Piersol 9.73): sqrt(2) |g| (1 - g^2) / sqrt(n_d), plus
+# 0.01 for its small positive bias: Gaussian share beyond 3 std 0.27 %; measured at most
+# 0.6 % over 100 seeds, maximum 5.7 std.
+COHERENCE_SHARE_BEYOND_3_STD = 0.02
+COHERENCE_MAX_IN_STD = 8.0
+
+
+@pytest.mark.parametrize("seed", [7, 9, 27])
+def test_h1_matches_the_analytic_transmissibility_within_the_random_error(seed):
+    base, top = _simulate(2**18, output_noise=0.02, seed=seed)
     est = estimate_frf(base, top, fs=FS, nperseg=8192, f_lo=1.0, f_hi=100.0)
     exact = _transmissibility(_warped(est.freq))
-    relative_error = np.abs(est.h1 - exact) / np.abs(exact)
-    # Bendat & Piersol random error eps = sqrt(1-g^2)/(|g| sqrt(2 n_d)) for |H| (and phase
-    # std ~ eps rad), so the complex error is ~ Rayleigh with scale eps; 5 eps is exceeded
-    # with p ~ 4e-6 per line. Bias allowance 0.5 %: Hann resolution bias at the peak is
-    # (1/3)(B_e/B_r)^2 = (1/3)(1.5 * 0.122 Hz / 2 Hz)^2 = 0.28 %; overlapping segments make
-    # n_d slightly optimistic, which the factor 5 absorbs.
     assert est.n_segments == 63
-    assert np.all(relative_error < 5 * est.random_error + 0.005)
-    # ...and the bound is not vacuous: typical errors are about eps
-    assert 0.3 < np.median(relative_error / est.random_error) < 2.0
+    in_eps = (np.abs(est.h1 - exact) / np.abs(exact) - BIAS) / est.random_error
+    assert np.mean(in_eps > 3.0) < SHARE_BEYOND_3_EPS
+    assert np.max(in_eps) < MAX_IN_EPS
+    # ...and the bound is not vacuous: the typical error is the Rayleigh median 1.18 eps
+    assert 0.8 < np.median(np.abs(est.h1 - exact) / np.abs(exact) / est.random_error) < 1.6
     # coherence falls where |H| drops below the output noise: g^2 = |H|^2/(|H|^2 + 0.02^2)
     expected_coherence = np.abs(exact) ** 2 / (np.abs(exact) ** 2 + 0.02**2)
-    # coherence estimate std (Bendat & Piersol eq. 9.73): sqrt(2) |g| (1 - g^2) / sqrt(n_d);
-    # 5 of those plus 0.01 for its small positive bias and overlap
     coherence_std = (np.sqrt(2 * expected_coherence) * (1 - expected_coherence)
                      / np.sqrt(est.n_segments))
-    assert np.all(np.abs(est.coherence - expected_coherence) < 5 * coherence_std + 0.01)
+    coherence_in_std = (np.abs(est.coherence - expected_coherence) - 0.01) / coherence_std
+    assert np.mean(coherence_in_std > 3.0) < COHERENCE_SHARE_BEYOND_3_STD
+    assert np.max(coherence_in_std) < COHERENCE_MAX_IN_STD
 
 
 def test_h1_is_coherence_times_h2_and_h2_is_biased_up_by_output_noise():

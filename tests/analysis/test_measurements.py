@@ -36,10 +36,17 @@ from idkit.simulate import STANDARD_GRAVITY, free_fall, simulate
 DATA = Path(__file__).resolve().parents[2] / "data"
 
 
-def test_h1_of_a_simulated_linear_system_is_within_coherence_based_bounds():
+@pytest.mark.parametrize("seed", [3, 7])
+def test_h1_of_a_simulated_linear_system_is_within_coherence_based_bounds(seed):
     """Elastomer (Table 7.3) on 0.99 kg, random base acceleration, noise on the output only:
-    |H1 / H - 1| below 4 random errors (Bendat & Piersol 9.90) plus 3 % window bias."""
-    rng = np.random.default_rng(7)
+    |H1 / H - 1| below 6 random errors eps (Bendat & Piersol 9.90) plus a 3 % bias.
+
+    The bias is the time step's: the average-acceleration step at h = 1 ms shifts a
+    frequency by (w h)^2 / 12 = 3.3 % at 100 Hz. The random part is Rayleigh with scale
+    eps (P(> 6 eps) = 1.5e-8 per line); over 12 noise seeds the largest excess over the
+    bias was 4.3 eps, so 4 eps (the former bound) failed one seed in twelve.
+    """
+    rng = np.random.default_rng(seed)
     fs, seconds = 1000.0, 60.0
     time = np.arange(int(fs * seconds) + 1) / fs
     system = SDOFSystem(0.99, GeneralizedMaxwell(k0=1.40e4, k=[3.49e3, 1.07e4], rate=[46.6, 841.0],
@@ -58,7 +65,7 @@ def test_h1_of_a_simulated_linear_system_is_within_coherence_based_bounds():
     frf = frf_from_white_noise(run, band=(2.0, 100.0), nperseg=2000)
     exact = system.transmissibility(frf.freq)
     error = np.abs(frf.h1 / exact - 1)
-    assert np.all(error < 4 * frf.estimate.random_error + 0.03)
+    assert np.all(error < 6 * frf.estimate.random_error + 0.03)
     assert frf.min_coherence > 0.9 and frf.top_mass_kg == 0.99
 
 

@@ -152,12 +152,14 @@ def test_global_cross_check_confirms_a_good_sqp_optimum(clean_frfs, truth, backe
     assert result.cross_check.evaluations > 1000
 
 
-def test_order_table_falls_then_flattens_and_voigt_is_worse(noisy_frfs, truth):
-    table = maxwell_order_table(noisy_frfs[::3], k0=truth.k0, orders=(1, 2, 3))
+@pytest.mark.parametrize("seed", [0, 2])  # start seed 2 once put order 3 in a local minimum
+def test_order_table_falls_then_flattens_and_voigt_is_worse(noisy_frfs, truth, seed):
+    table = maxwell_order_table(noisy_frfs[::3], k0=truth.k0, orders=(1, 2, 3), seed=seed)
     errors = table.set_index("order")["error_percent"]
     assert list(table["model"]) == ["maxwell"] * 3 + ["voigt"]
     assert errors[1] > 5 * errors[2]  # one element cannot follow two relaxation rates
     assert errors[3] == pytest.approx(errors[2], rel=0.02)  # a third element adds nothing
+    assert errors[3] <= errors[2] <= errors[1]  # nested models: more elements never fit worse
     assert table.loc[table["model"] == "voigt", "error_percent"].iloc[0] > 5 * errors[2]
     assert table["at_bound"].map(bool).any()  # superfluous or misfitting parameters get flagged
 
