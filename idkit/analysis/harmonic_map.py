@@ -128,6 +128,7 @@ class HarmonicMap:
     flags : ndarray of int, shape (n_freq, n_amp)
         0 when the run stayed valid; else a simulator code, explained by :attr:`reasons`.
     reasons : ndarray of str, shape (n_freq, n_amp)
+        ``"ok"`` for a valid run that reached steady state, else why not.
         Text of each point's flag ("ok" when valid).
     tolerance : float
         Steady-state tolerance used.

@@ -194,11 +194,11 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        args.handler(args)
+        status = args.handler(args)
     except (IdkitError, FileExistsError, FileNotFoundError) as problem:
         print(f"idkit: error: {problem}", file=sys.stderr)
         return 2
-    return 0
+    return int(status or 0)
 
 
 if __name__ == "__main__":

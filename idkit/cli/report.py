@@ -7,15 +7,16 @@ import sys
 __all__ = ["register"]
 
 
-def _cmd_report(args) -> None:
+def _cmd_report(args) -> int:
     from idkit.cli.progress import say
     from idkit.report.main_report import run_report
 
     summary = run_report(args.data_dir, args.output, force=args.force, quick=args.quick, seed=args.seed,
                          workers=args.workers, progress=lambda message: say(message, enabled=not args.quiet))
-    for name, passed in summary.validation_passed.items():
-        print(f"{'PASS' if passed else 'FAIL'}  {name}")
+    for name, verdict in summary.validation_verdicts.items():
+        print(f"{verdict:12s}  {name}")
     print(f"report written to {summary.html}", file=sys.stderr)
+    return summary.exit_status
 
 
 def register(commands) -> None:

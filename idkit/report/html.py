@@ -23,7 +23,7 @@ table { border-collapse: collapse; font-size: 0.85em; margin: .6em 0; }
 th, td { border: 1px solid #ccd; padding: .2em .5em; text-align: right; }
 th { background: #eef; }
 pre { background: #f6f6f8; padding: .6em; overflow-x: auto; font-size: 0.85em; }
-.pass { color: #176b2c; font-weight: bold; } .fail { color: #a11; font-weight: bold; }
+.pass { color: #176b2c; font-weight: bold; } .fail { color: #a11; font-weight: bold; } .inconclusive { color: #8a5a00; font-weight: bold; }
 nav a { margin-right: 1em; } figure { margin: 1em 0; } figcaption { font-size: .85em; color: #555; }
 img { max-width: 100%; }
 """
@@ -48,9 +48,10 @@ class HtmlReport:
     def paragraph(self, text: str) -> None:
         self._add(f"<p>{html.escape(text)}</p>")
 
-    def verdict(self, label: str, passed: bool) -> None:
-        css = "pass" if passed else "fail"
-        self._add(f'<p>{html.escape(label)}: <span class="{css}">{"PASS" if passed else "FAIL"}</span></p>')
+    def verdict(self, label: str, verdict: str) -> None:
+        """One validation verdict: ``"PASS"``, ``"INCONCLUSIVE"`` or ``"FAIL"``."""
+        css = {"PASS": "pass", "FAIL": "fail"}.get(verdict, "inconclusive")
+        self._add(f'<p>{html.escape(label)}: <span class="{css}">{html.escape(verdict)}</span></p>')
 
     def preformatted(self, text: str) -> None:
         self._add(f"<pre>{html.escape(text)}</pre>")

@@ -62,6 +62,13 @@ class ReportSummary:
     sections: tuple[str, ...]
     validation_passed: dict
     timings_s: dict
+    validation_verdicts: dict
+
+    @property
+    def exit_status(self) -> int:
+        """0 when every validation passed, 1 when one failed, 3 when none failed but one is inconclusive."""
+        verdicts = set(self.validation_verdicts.values())
+        return 1 if "FAIL" in verdicts else 3 if "INCONCLUSIVE" in verdicts else 0
 
 
 def default_data_dir() -> Path:
@@ -132,7 +139,7 @@ def _parameters_table(fit) -> pd.DataFrame:
 
 
 def _validation_section(report: HtmlReport, result, plot, tables_dir: Path, stem: str) -> bool:
-    report.verdict(result.name, result.passed)
+    report.verdict(result.name, result.verdict)
     report.preformatted(result.report())
     summary_rows = [{"metric": key, "value": value, "limit": result.thresholds.get(key, np.nan),
                      "ok": result.checks.get(key, "")} for key, value in result.summary.items()]
@@ -258,6 +265,7 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
 
         stage("writing the report")
         passed = {name: result.passed for name, result in validations.items()}
+        verdicts = {name: result.verdict for name, result in validations.items()}
         report.section("Summary", "summary")
         report.paragraph(f"Data: {data_dir} ({sum(len(s.measurements) for s in set(sets.values()))} measurements). "
                          f"idkit {__version__}, seed {seed}{', quick mode' if quick else ''}.")
@@ -267,7 +275,7 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
             {"item": "wire rope (Bouc-Wen)", "result": f"small {100 * boucwen.result.error_small:.2f} %, "
                                                        f"large {100 * boucwen.result.error_large:.2f} %"},
             {"item": "elastomer (Maxwell, order 2)", "result": f"{100 * maxwell.result.error:.2f} % (eq. 7.5)"},
-            *({"item": name, "result": "PASS" if ok else "FAIL"} for name, ok in passed.items()),
+            *({"item": name, "result": verdict} for name, verdict in verdicts.items()),
         ]), caption="identification errors and validation verdicts")
 
         report.section("Data", "data")
@@ -333,4 +341,4 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
         sections = tuple(report.section_titles)
     out_dir = Path(out_dir)
     return ReportSummary(out_dir=out_dir, html=out_dir / "report.html", sections=sections,
-                         validation_passed=passed, timings_s=timings)
+                         validation_passed=passed, timings_s=timings, validation_verdicts=verdicts)

@@ -9,7 +9,7 @@ import pandas as pd
 
 from idkit.errors import SimulationError
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
-from idkit.simulate._kernel import FLAG_REASONS, run_harmonic_batch
+from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS, run_harmonic_batch
 from idkit.simulate._parallel import run_chunked
 
 __all__ = ["HarmonicResponse", "harmonic_response", "default_steps_per_period", "small_amplitude_resonance",
@@ -35,7 +35,8 @@ class HarmonicResponse:
     peak_acceleration : (n_points,) max |top acceleration| in the last window, m/s^2
     periods : (n_points,) excitation periods simulated
     change : (n_points,) last window-to-window change relative to the first harmonic
-    converged : (n_points,) bool; flags, reasons: validity of each run
+    converged : (n_points,) bool; flags, reasons: validity of each run (``reasons`` is
+        ``"ok"`` only for a valid run that reached steady state)
     steps_per_period : (n_points,)
     """
 
@@ -157,6 +158,20 @@ def default_steps_per_period(system, freq, *, per_period: int = 128, per_resonan
     return (2 * np.ceil(steps / 2)).astype(np.int64)
 
 
+def _reasons(flags, converged, periods, change, tolerance) -> tuple[str, ...]:
+    """Why each point is not a steady state ("ok" only for a valid, settled run)."""
+    reasons = []
+    for flag, settled, count, last in zip(flags, converged, periods, change):
+        if flag != FLAG_OK:
+            reasons.append(FLAG_REASONS[int(flag)])
+        elif not settled:
+            reasons.append(f"not settled after {int(count)} periods (window change {last:.2g}, "
+                           f"tolerance {float(tolerance):g})")
+        else:
+            reasons.append(FLAG_REASONS[FLAG_OK])
+    return tuple(reasons)
+
+
 def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, tolerance: float = 1e-3,
                       steps_per_period=None, min_periods: int = 8, max_periods: int = 4000,
                       progress=None, workers: int | None = None, executor=None,
@@ -254,6 +269,6 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
     return HarmonicResponse(
         freq=freq, amplitude=amplitude, coefficients=coeff, deflection_coefficients=dcoeff,
         half_range=half_range, peak_acceleration=peak, periods=2 * windows, change=change,
-        converged=converged, flags=flags, reasons=tuple(FLAG_REASONS[int(f)] for f in flags),
+        converged=converged, flags=flags, reasons=_reasons(flags, converged, 2 * windows, change, tolerance),
         steps_per_period=steps,
     )

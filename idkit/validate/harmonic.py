@@ -11,7 +11,13 @@ from idkit.simulate import harmonic_response
 from idkit.validate.result import ValidationResult, check_thresholds
 from idkit.validate.systems import system_for
 
-__all__ = ["validate_harmonic", "HARMONIC_THRESHOLDS"]
+__all__ = ["validate_harmonic", "HARMONIC_THRESHOLDS", "MAX_UNSETTLED_FRACTION"]
+
+#: Largest share of measured points whose simulation may fail to reach steady state
+#: (or go invalid) before the verdict is INCONCLUSIVE: such points are left out of
+#: every metric, and with more than a tenth of the grid missing the resonance and peak
+#: of a level can no longer be located from the rest.
+MAX_UNSETTLED_FRACTION = 0.10
 
 #: Default limits: RMS of 20 log10(|H1 sim| / |H1 meas|) over the grid (dB), the largest
 #: relative error of the resonance frequency per amplitude level, and of the peak magnitude.
@@ -39,7 +45,7 @@ def _peak(freq: np.ndarray, magnitude: np.ndarray) -> tuple[float, float]:
 
 
 def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, lower=None, n_harmonics: int = 3,
-                      thresholds: dict | None = None, tolerance: float = 1e-3, workers=None,
+                      thresholds: dict | None = None, tolerance: float = 1e-3, max_periods: int = 4000, workers=None,
                       name: str = "harmonic sweep") -> ValidationResult:
     """Compare the simulated and measured first-order HOSIDF over the measured grid.
 
@@ -48,6 +54,11 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
     driven by a pure sine with the measured first-harmonic base amplitude (the
     measured distortion is reported, not reproduced). Points are grouped into
     amplitude levels by their nominal excitation amplitude.
+
+    A simulated point that does not reach a valid steady state (its status is not
+    ``"ok"``) is left out of every metric and counted in ``points_not_converged``;
+    with more than :data:`MAX_UNSETTLED_FRACTION` of the points left out the verdict
+    is INCONCLUSIVE, never PASS.
 
     Parameters
     ----------
@@ -58,6 +69,8 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
         the two hybrid components (see :func:`idkit.validate.systems.system_for`).
     thresholds : dict, optional
         Overrides of :data:`HARMONIC_THRESHOLDS`.
+    tolerance, max_periods :
+        Steady-state criterion and period limit of :func:`idkit.simulate.harmonic_response`.
     """
     limits = check_thresholds(HARMONIC_THRESHOLDS, thresholds)
     measurements = list(measurements)
@@ -93,7 +106,7 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
         members = [index for index, other in enumerate(keys) if other == key]
         response = harmonic_response(table["_system"].iloc[members[0]], table["freq [Hz]"].to_numpy()[members],
                                      table["base amplitude [m]"].to_numpy()[members], n_harmonics=n_harmonics,
-                                     tolerance=tolerance, workers=workers)
+                                     tolerance=tolerance, max_periods=max_periods, workers=workers)
         simulated[members] = response.hosidf(1)
         converged[members] = response.converged
         for member, reason in zip(members, response.reasons):
@@ -109,9 +122,10 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
     if table["level"].isna().all():
         # no nominal levels: group by the measured base velocity rounded to 2 significant digits
         table["level"] = [float(f"{value:.1e}") for value in table["base velocity amplitude [m/s]"]]
+    settled = table[table["converged"]]  # an unsettled point has no steady state to compare
 
     resonance_rows = []
-    for level, group in table.groupby("level"):
+    for level, group in settled.groupby("level"):
         if len(group) < 3:
             continue
         f_meas, peak_meas = _peak(group["freq [Hz]"].to_numpy(), group["|H1| measured [-]"].to_numpy())
@@ -122,15 +136,23 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
             "peak simulated [-]": peak_sim, "peak error [dB]": 20 * np.log10(peak_sim / peak_meas),
         })
     resonance = pd.DataFrame(resonance_rows)
-    errors = table["magnitude error [dB]"].to_numpy()
+    errors = settled["magnitude error [dB]"].to_numpy()
+    unsettled = int((~converged).sum())
     summary = {
-        "rms_log_magnitude_error_db": float(np.sqrt(np.mean(errors**2))) if np.all(np.isfinite(errors)) else np.inf,
+        "rms_log_magnitude_error_db": (np.nan if errors.size == 0 else float(np.sqrt(np.mean(errors**2)))
+                                       if np.all(np.isfinite(errors)) else np.inf),
         "max_resonance_frequency_error": float(np.max(np.abs(resonance["resonance error [-]"])))
         if len(resonance) else np.nan,
         "max_peak_magnitude_error_db": float(np.max(np.abs(resonance["peak error [dB]"]))) if len(resonance) else np.nan,
-        "rms_phase_error_deg": float(np.sqrt(np.mean(table["phase error [deg]"] ** 2))),
+        "rms_phase_error_deg": float(np.sqrt(np.mean(settled["phase error [deg]"] ** 2))) if len(settled) else np.nan,
         "max_input_distortion": float(table[["input distortion h2 [-]", "input distortion h3 [-]"]].to_numpy().max()),
-        "points_not_converged": int((~converged).sum()),
+        "points_not_converged": unsettled,
     }
+    inconclusive = ()
+    if unsettled > MAX_UNSETTLED_FRACTION * len(table):
+        causes = sorted(set(status[i] for i in np.flatnonzero(~converged)))
+        inconclusive = (f"{unsettled} of {len(table)} simulated points did not reach a valid steady state "
+                        f"(limit {MAX_UNSETTLED_FRACTION:.0%}; {'; '.join(causes)}); they are left out of "
+                        "every metric",)
     return ValidationResult(name=name, metrics=table, summary=summary, thresholds=limits,
-                            details={"resonance": resonance})
+                            details={"resonance": resonance}, inconclusive=inconclusive)

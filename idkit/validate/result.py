@@ -9,7 +9,10 @@ import pandas as pd
 
 from idkit.errors import ValidationError
 
-__all__ = ["ValidationResult", "check_thresholds"]
+__all__ = ["ValidationResult", "check_thresholds", "VERDICTS"]
+
+#: The three verdicts, from best to worst trust in the model.
+VERDICTS = ("PASS", "INCONCLUSIVE", "FAIL")
 
 
 def check_thresholds(defaults: dict[str, float], thresholds: dict[str, float] | None) -> dict[str, float]:
@@ -40,6 +43,10 @@ class ValidationResult:
         Upper limits of the summary metrics (documented defaults, user-settable).
     details : dict
         Further tables (e.g. resonance per amplitude), by name.
+    inconclusive : tuple of str
+        Why the metrics cannot carry a PASS even where they are within their limits
+        (e.g. too many simulated points that never reached steady state); empty when
+        the validation is complete.
     """
 
     name: str
@@ -47,6 +54,7 @@ class ValidationResult:
     summary: dict
     thresholds: dict
     details: dict = field(default_factory=dict)
+    inconclusive: tuple[str, ...] = ()
 
     @property
     def checks(self) -> dict[str, bool]:
@@ -55,15 +63,32 @@ class ValidationResult:
                 for key, limit in self.thresholds.items()}
 
     @property
+    def unmeasured(self) -> tuple[str, ...]:
+        """Thresholded metrics that could not be computed (NaN): nothing to judge them by."""
+        return tuple(key for key in self.thresholds if np.isnan(self.summary[key]))
+
+    @property
+    def verdict(self) -> str:
+        """``"FAIL"`` if a metric exceeds its limit (an infinite error does); else
+        ``"INCONCLUSIVE"`` if a metric could not be computed or :attr:`inconclusive`
+        names a reason; else ``"PASS"``."""
+        if any(not ok and key not in self.unmeasured for key, ok in self.checks.items()):
+            return "FAIL"
+        return "INCONCLUSIVE" if self.inconclusive or self.unmeasured else "PASS"
+
+    @property
     def passed(self) -> bool:
-        return all(self.checks.values())
+        """True only for the verdict ``"PASS"``."""
+        return self.verdict == "PASS"
 
     def report(self) -> str:
-        """Readable summary with PASS/FAIL per metric."""
-        lines = [f"{self.name}: {'PASS' if self.passed else 'FAIL'} ({len(self.metrics)} points)"]
+        """Readable summary: the verdict, why it is inconclusive if it is, each metric against its limit."""
+        lines = [f"{self.name}: {self.verdict} ({len(self.metrics)} points)"]
+        lines.extend(f"  inconclusive: {reason}" for reason in self.inconclusive)
+        lines.extend(f"  inconclusive: {key} could not be computed" for key in self.unmeasured)
         for key, value in self.summary.items():
             if key in self.thresholds:
-                verdict = "ok" if self.checks[key] else "FAIL"
+                verdict = "ok" if self.checks[key] else "n/a" if key in self.unmeasured else "FAIL"
                 lines.append(f"  {key:40s} {value:10.4g}  (limit {self.thresholds[key]:g}) {verdict}")
             else:
                 lines.append(f"  {key:40s} {value:10.4g}" if isinstance(value, (int, float)) else f"  {key}: {value}")

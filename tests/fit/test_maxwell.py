@@ -86,6 +86,16 @@ def test_backends_agree(fits):
         assert a[name] == pytest.approx(b[name], rel=BACKEND_REL_TOL), name
 
 
+@pytest.mark.parametrize("backend", ["nlopt", "scipy"])
+def test_data_perturbed_by_one_ulp_give_the_same_parameters(fits, noisy_frfs, truth, backend):
+    """A fit that rounding can steer differs between CPUs (numpy's SIMD paths differ by an ulp)."""
+    perturbed = [TransmissibilitySet(f.mass, f.freq, np.nextafter(f.transmissibility.real, np.inf)
+                                     + 1j * f.transmissibility.imag, f.name) for f in noisy_frfs]
+    result = fit_maxwell(perturbed, k0=truth.k0, order=2, backend=backend)
+    for name, value in fits[backend].model.params().items():
+        assert result.model.params()[name] == pytest.approx(value, rel=1e-3), name
+
+
 def test_fitted_loss_factor_is_non_decreasing_in_the_band(fits):
     freq = np.geomspace(1, 100, 200)
     assert np.all(np.diff(fits["nlopt"].model.loss_factor(freq)) >= -1e-6)
@@ -159,7 +169,8 @@ def test_order_table_falls_then_flattens_and_voigt_is_worse(noisy_frfs, truth, s
     assert list(table["model"]) == ["maxwell"] * 3 + ["voigt"]
     assert errors[1] > 5 * errors[2]  # one element cannot follow two relaxation rates
     assert errors[3] == pytest.approx(errors[2], rel=0.02)  # a third element adds nothing
-    assert errors[3] <= errors[2] <= errors[1]  # nested models: more elements never fit worse
+    # nested models: more elements never fit worse (up to the solver's ftol 1e-12, relative)
+    assert errors[3] <= errors[2] * (1 + 1e-9) and errors[2] <= errors[1]
     assert table.loc[table["model"] == "voigt", "error_percent"].iloc[0] > 5 * errors[2]
     assert table["at_bound"].map(bool).any()  # superfluous or misfitting parameters get flagged
 

@@ -19,6 +19,21 @@ def wire_rope(stiffness_factor=1.0):
                      fc=[8.3, 14.6], c_visc=20.0)
 
 
+def test_points_that_never_settle_are_left_out_and_make_the_verdict_inconclusive(stepped_sine_points):
+    """Eight periods cannot settle a 4 %-damped rope from rest: nothing is compared, nothing passes."""
+    short = validate_harmonic(stepped_sine_points, isolator=wire_rope(), max_periods=8)
+    assert short.verdict == "INCONCLUSIVE" and not short.passed
+    assert short.summary["points_not_converged"] == len(stepped_sine_points)
+    assert all(status.startswith("not settled after 8 periods") for status in short.metrics["status"])
+    assert "did not reach a valid steady state" in short.report()
+    # a model that is wrong where it did settle still FAILs
+    wrong = validate_harmonic(stepped_sine_points, isolator=wire_rope(2.0), max_periods=8)
+    assert wrong.verdict in ("INCONCLUSIVE", "FAIL")
+    # settled points alone carry the metrics: the full run leaves none out and passes
+    full = validate_harmonic(stepped_sine_points, isolator=wire_rope())
+    assert full.summary["points_not_converged"] == 0 and full.verdict == "PASS"
+
+
 @pytest.fixture(scope="module")
 def stepped_sine_points():
     """Time-integrated sweeps at two velocity levels with 1 % sensor noise."""
@@ -158,3 +173,22 @@ def test_runs_leaving_the_valid_range_fail_the_drop_validation(drops):
     assert result.summary["invalid_run_fraction"] > 0
     assert not result.checks["invalid_run_fraction"]
     assert (result.metrics["status"] != "ok").sum() == round(result.summary["invalid_run_fraction"] * len(heavy))
+
+
+@pytest.mark.parametrize(("summary", "inconclusive", "verdict"), [
+    ({"error": 0.5}, (), "PASS"),
+    ({"error": 2.0}, (), "FAIL"),
+    ({"error": np.inf}, (), "FAIL"),  # a simulation that blew up is a failure, not a gap
+    ({"error": np.nan}, (), "INCONCLUSIVE"),  # nothing to judge by
+    ({"error": 0.5}, ("too many unsettled points",), "INCONCLUSIVE"),
+    ({"error": 2.0}, ("too many unsettled points",), "FAIL"),  # wrong where it could be judged
+])
+def test_verdict_rules(summary, inconclusive, verdict):
+    import pandas as pd
+
+    from idkit.validate.result import ValidationResult
+
+    result = ValidationResult(name="v", metrics=pd.DataFrame(), summary=summary, thresholds={"error": 1.0},
+                              inconclusive=inconclusive)
+    assert result.verdict == verdict and result.passed == (verdict == "PASS")
+    assert result.report().startswith(f"v: {verdict}")
