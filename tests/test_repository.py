@@ -4,9 +4,12 @@ import ast
 import re
 import subprocess
 import sys
+import tomllib
+from importlib import metadata
 from pathlib import Path
 
 import pytest
+from packaging.version import Version
 
 from idkit.cli.main import main
 
@@ -38,6 +41,53 @@ def test_readme_has_exactly_two_setup_commands_and_ci_runs_the_test_one():
     assert "idkit report" in commands[0] and "pytest" in commands[1]
     ci_lines = (ROOT / ".ci" / "run").read_text().splitlines()
     assert commands[1] in ci_lines
+
+
+def test_readme_setup_commands_install_the_pinned_constraints():
+    commands = readme_commands()
+    assert all(".venv/bin/pip install -c constraints/ci.txt " in command for command in commands)
+    pins = (ROOT / "constraints" / "ci.txt").read_text().splitlines()
+    requirements = [line for line in pins if line.strip() and not line.startswith("#")]
+    assert requirements and all(re.fullmatch(r"[A-Za-z0-9_.\-]+(\[[\w,\-]+\])?==\S+", line) for line in requirements)
+    names = {re.split(r"[\[=]", line)[0].lower().replace("_", "-") for line in requirements}
+    assert not names & {"idkit", "idkit-isolators"}  # idkit itself is never pinned
+    dependencies = pyproject()["project"]["dependencies"]
+    assert {re.split(r"[<>=\[ ]", dep)[0].lower() for dep in dependencies} <= names
+
+
+def pyproject() -> dict:
+    return tomllib.loads((ROOT / "pyproject.toml").read_text())
+
+
+def test_floors_constraints_pin_every_lower_bound():
+    """constraints/floors.txt installs each dependency at exactly the floor pyproject declares."""
+    floors = {}
+    for line in (ROOT / "constraints" / "floors.txt").read_text().splitlines():
+        if line.strip() and not line.startswith("#"):
+            name, version = line.split("==")
+            floors[name.strip().lower()] = version.strip()
+    project = pyproject()["project"]
+    for dep in project["dependencies"] + project["optional-dependencies"]["test"]:
+        match = re.fullmatch(r"([A-Za-z0-9_.\-]+)(\[[\w,]+\])?>=([\w.]+)", dep)
+        assert match, f"{dep!r} should read name>=floor"
+        pinned = floors.get(match[1].lower())
+        assert pinned and Version(pinned) == Version(match[3]), f"{dep}: floors.txt pins {pinned}"
+
+
+def test_distribution_name_licence_and_typing_marker():
+    """Installed as idkit-isolators (PyPI's "idkit" is another project), imported as idkit."""
+    import idkit
+
+    project = pyproject()["project"]
+    assert project["name"] == idkit.DISTRIBUTION_NAME
+    assert metadata.version(idkit.DISTRIBUTION_NAME) == idkit.__version__ == project["version"]
+    assert project["license"] == "BSD-3-Clause" and "BSD 3-Clause" in (ROOT / "LICENSE").read_text()
+    assert (ROOT / "idkit" / "py.typed").exists()
+    assert f"## [{project['version']}]" in (ROOT / "CHANGELOG.md").read_text()
+    texts = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    for path in texts:  # pip commands name the distribution, never the unrelated "idkit"
+        for command in re.findall(r"pip install[^\n`&]*", path.read_text()):
+            assert not re.search(r"(?<![\w/.-])[\"']?idkit(\[|[\"']|\s|$)", command), f"{path.name}: {command}"
 
 
 @pytest.mark.parametrize("layer", sorted(LAYERS))

@@ -19,7 +19,7 @@ def test_thread_pool_executor_gives_identical_results():
 
 
 def test_local_dask_cluster_runs_grids_and_drops():
-    distributed = pytest.importorskip("dask.distributed", reason="dask[distributed] not installed (idkit[dask])")
+    distributed = pytest.importorskip("dask.distributed", reason="dask[distributed] not installed (idkit-isolators[dask])")
     system = library.get("hybrid_symmetric")
     freq = np.logspace(0, 2, 6)
     with distributed.Client(processes=False, n_workers=1, threads_per_worker=2, dashboard_address=None) as client:
