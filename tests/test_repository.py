@@ -232,4 +232,10 @@ def test_readme_python_example_runs(monkeypatch):
     namespace = {}
     exec(compile(blocks[0].replace("print(", "str("), "README.md", "exec"), namespace)
     assert namespace["grid"].converged.all()
-    assert namespace["check"].passed
+    # The quasi-static fit carries no viscous damping (c_visc = 0), so most sweep points
+    # of the lightly damped rope never settle: the verdict must say so rather than PASS.
+    from idkit.validate.harmonic import MAX_UNSETTLED_FRACTION
+
+    check = namespace["check"]
+    unsettled = check.summary["points_not_converged"] > MAX_UNSETTLED_FRACTION * len(check.metrics)
+    assert check.verdict == ("INCONCLUSIVE" if unsettled else "PASS"), check.report()
