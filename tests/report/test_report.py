@@ -11,11 +11,23 @@ from idkit.report.main_report import REPORT_SECTIONS
 DATA = Path(__file__).resolve().parents[2] / "data"
 
 
+STATUS = {}
+
+
 @pytest.fixture(scope="module")
 def quick_report(tmp_path_factory):
     out = tmp_path_factory.mktemp("reports") / "report"
-    assert main(["report", str(DATA), "-o", str(out), "--quick", "--quiet"]) == 0
+    STATUS["report"] = main(["report", str(DATA), "-o", str(out), "--quick", "--quiet"])
     return out
+
+
+def test_exit_status_follows_the_verdicts(quick_report):
+    """0 only when every validation passes; 1 when one fails; 3 when none fails but one is inconclusive."""
+    html = (quick_report / "report.html").read_text(encoding="utf-8")
+    failed = '<span class="fail">FAIL</span>' in html
+    inconclusive = '<span class="inconclusive">INCONCLUSIVE</span>' in html
+    assert html.count('<span class="pass">PASS</span>') + failed + inconclusive >= 1
+    assert STATUS["report"] == (1 if failed else 3 if inconclusive else 0)
 
 
 def test_report_names_every_section_and_writes_models(quick_report):
