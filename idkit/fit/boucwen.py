@@ -35,9 +35,10 @@ so that the two can be compared set by set (:func:`compare_loop_models`).
 
 Objective: the mean over all sets of the relative RMS error (7.1); small and large
 sets weigh equally as groups (``0.5 mean_small + 0.5 mean_large``). Every set starts
-at a reversal with ``z`` in the state of steady cycling (``initial_state="cycled"``,
-as :func:`idkit.fit.fit_iwan`): ``z = 0`` at ``x = 0``, loaded to the first point,
-the set run once and returned to its first point.
+at a reversal, in the start state chosen as by :func:`idkit.fit.fit_iwan`
+(``initial_state="auto"``: ``z = 0`` at ``x = 0`` loaded to the first point when the
+record starts unloaded, otherwise also run once over the set and returned to its
+first point, the state of steady cycling).
 """
 
 from __future__ import annotations
@@ -53,7 +54,7 @@ import scipy.optimize
 
 from idkit.errors import FitError
 from idkit.fit._params import Transform, central_jacobian, gauss_newton_covariance, to_lmfit
-from idkit.fit.iwan import LoopSet, _prepare_group, iwan_start
+from idkit.fit.iwan import LoopSet, _check_state, _prepare_group, iwan_start
 from idkit.fit.iwan import _Packed as _PackedSets
 from idkit.fit.result import BoucWenFitResult, BoucWenFitSettings, StageResult
 from idkit.models import BoucWenModel
@@ -96,7 +97,7 @@ def _bw_forces(x, offsets, k1, k2, k3, alpha, beta, gamma, n, c, cycled, max_sub
         a = offsets[s]
         b = offsets[s + 1]
         z = _z_step(0.0, x[a], alpha, beta, gamma, n, max_substep, _MAX_JUMP_SUBSTEPS)
-        if cycled:
+        if cycled[s]:
             for i in range(a + 1, b):
                 z = _z_step(z, x[i] - x[i - 1], alpha, beta, gamma, n, max_substep, _MAX_SUBSTEPS)
             z = _z_step(z, x[a] - x[b - 1], alpha, beta, gamma, n, max_substep, _MAX_JUMP_SUBSTEPS)
@@ -136,8 +137,8 @@ def _bw_errors(x, f, offsets, norm2, k1, k2, k3, alpha, beta, gamma, n, c, cycle
 class _Packed(_PackedSets):
     """The Iwan fit's packed sets, with the Bouc-Wen force law."""
 
-    def __init__(self, sets: Sequence[LoopSet], cycled: bool):
-        super().__init__(sets, cycled)
+    def __init__(self, sets: Sequence[LoopSet], initial_state: str):
+        super().__init__(sets, initial_state)
         self.scratch = np.empty_like(self.x)
 
     def set_errors(self, p: dict) -> np.ndarray:
@@ -163,7 +164,7 @@ def _model_values(model: BoucWenModel) -> dict:
             "gamma": model.gamma, "n": model.n, "c": model.c * math.log(model.b) if model.b > 0 else 0.0}
 
 
-def boucwen_set_errors(model: BoucWenModel, sets: Sequence[LoopSet], *, initial_state: str = "cycled") -> np.ndarray:
+def boucwen_set_errors(model: BoucWenModel, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> np.ndarray:
     """Relative RMS error (7.1) of a Bouc-Wen ``model`` on each prepared set (fractions).
 
     Parameters
@@ -171,7 +172,7 @@ def boucwen_set_errors(model: BoucWenModel, sets: Sequence[LoopSet], *, initial_
     model : BoucWenModel
     sets : sequence of LoopSet
         From :func:`idkit.fit.prepare_loops`.
-    initial_state : {"cycled", "virgin"}
+    initial_state : {"auto", "cycled", "virgin"}
         ``z`` at the first point (module docstring); ``"virgin"``: ``z`` loaded from 0 only.
     """
     packed = _Packed(list(sets), _check_state(initial_state))
@@ -179,17 +180,11 @@ def boucwen_set_errors(model: BoucWenModel, sets: Sequence[LoopSet], *, initial_
 
 
 def boucwen_set_forces(model: BoucWenModel, sets: Sequence[LoopSet], *,
-                       initial_state: str = "cycled") -> list[np.ndarray]:
+                       initial_state: str = "auto") -> list[np.ndarray]:
     """Model force (N) along each prepared set, with the initial state used by the fit."""
     packed = _Packed(list(sets), _check_state(initial_state))
     forces = packed.forces(_model_values(model))
     return [forces[a:b].copy() for a, b in zip(packed.offsets[:-1], packed.offsets[1:])]
-
-
-def _check_state(initial_state: str) -> bool:
-    if initial_state not in ("cycled", "virgin"):
-        raise FitError(f"initial_state: found {initial_state!r}, expected 'cycled' or 'virgin'")
-    return initial_state == "cycled"
 
 
 # --------------------------------------------------------------------------- parametrisation
@@ -347,7 +342,7 @@ def fit_boucwen(
     xtol: float = 1e-7,
     restarts: int = 2,
     initial_step: float = 0.05,
-    initial_state: str = "cycled",
+    initial_state: str = "auto",
     seed: int = 0,
 ) -> BoucWenFitResult:
     """Identify a modified Bouc-Wen model on quasi-static loops (staged, scaled, global + polish).
@@ -374,7 +369,7 @@ def fit_boucwen(
     restarts : int, default 2
     initial_step : float, default 0.05
         Simplex edge in scaled coordinates (5 % of each parameter's range).
-    initial_state : {"cycled", "virgin"}
+    initial_state : {"auto", "cycled", "virgin"}
     seed : int, default 0
         Seeds the global search (nlopt's generator or numpy's); every result is
         reproducible bit for bit for a given seed.
@@ -410,7 +405,7 @@ def fit_boucwen(
         global_method = "crs2" if backend == "nlopt" else "differential_evolution"
     if global_method not in ("crs2", "differential_evolution"):
         raise FitError(f"global_method: found {global_method!r}, expected 'crs2' or 'differential_evolution'")
-    cycled = _check_state(initial_state)
+    _check_state(initial_state)
     small_sets = _prepare_group(small, "small", points_per_set)
     large_sets = _prepare_group(large, "large", points_per_set)
     info = iwan_start(small_sets, large_sets, 1)
@@ -423,7 +418,7 @@ def fit_boucwen(
     else:
         values = _shape_values(_model_values(start))
     values = space.clip_values(values)
-    small_packed, large_packed = _Packed(small_sets, cycled), _Packed(large_sets, cycled)
+    small_packed, large_packed = _Packed(small_sets, initial_state), _Packed(large_sets, initial_state)
 
     def mean_error(u):
         q = space.physical(u)

@@ -21,6 +21,10 @@ up to 80x worse on the large loops than stage 2's and differed between CPUs. Sco
 on all loops every local parameter is seen by some data; on loops of a known model
 the slip force comes back to 0.1 % instead of 5-20 % (docs/fitting.md).
 
+**Element order.** Jenkin elements are exchangeable (swapping two leaves the force
+law unchanged), so after every stage they are sorted by slip travel ``fc_i / k_i``,
+shortest first: equal elements cannot come back in an order decided by rounding.
+
 **Search box and honesty.** Every parameter is searched inside a box set by the
 data (:data:`STIFFNESS_BOX` x the stuck stiffness, :data:`FRICTION_BOX` x the
 largest force, :data:`POLYNOMIAL_BOX` for ``g2``, ``g3``), so nothing overflows. A
@@ -36,13 +40,17 @@ signed and optimised as ``g2 * x_ref / g1_ref`` and ``g3 * x_ref**2 / g1_ref``
 ``g1``), i.e. as their share of the linear force at the largest deflection.
 
 **Initial element state.** A resampled set starts at a reversal, where the
-element forces depend on the unknown earlier history. Every element is taken
-unloaded at zero deflection and loaded to the first point of the set. By default
-(``initial_state="cycled"``) the model is then run once over the whole set and
-back to its first point, and those element forces start the scored run: the
-state of steady cycling, exact for repeated loops measured from an unloaded
-isolator (elements that never slip keep the offset ``k_i x`` of the loading, as
-they physically do). ``"virgin"`` skips the cycling pass.
+element forces depend on the earlier history. Every element is taken unloaded at
+zero deflection and loaded to the first point of the set (``"virgin"``): exact
+when the record itself starts unloaded, since it reaches its first reversal
+without reversing. With ``"cycled"`` the model is then run once over the whole
+set and back to its first point, and those element forces start the scored run:
+the state of steady cycling, right for repeated loops whose record starts
+mid-history (elements that never slip keep the offset ``k_i x`` of the loading,
+as they physically do). The default ``"auto"`` chooses per set: "virgin" when
+the record starts unloaded (:attr:`LoopSet.starts_unloaded`), else "cycled".
+Records whose amplitude grows from an unloaded start (SPEC 3) are wrong in the
+cycled state: the largest loop's slip state is imposed on the small ones before it.
 
 **Speed.** The objective of all sets of a stage is one compiled (numba) call
 running the stop operator without per-point Python work or allocations.
@@ -69,6 +77,10 @@ from idkit.models import IwanModel
 __all__ = ["LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "iwan_set_forces", "fit_iwan"]
 
 MIN_POINTS = 20  # per set, after resampling: fewer cannot resolve slip onset and loop height
+#: A record "starts unloaded" when its first deflection and force are within this share
+#: of their largest magnitudes in the record (an isolator at rest, sensors zeroed).
+UNLOADED_FRACTION = 0.02
+START_STATES = ("auto", "cycled", "virgin")
 _BACKENDS = ("nlopt", "scipy")
 _PENALTY = 1e6  # objective returned for non-finite model forces
 
@@ -86,12 +98,17 @@ class LoopSet:
     reversals : ndarray of int
         Indices of the first point, every reversal and the last point.
     name : str
+    starts_unloaded : bool
+        The raw record began unloaded (deflection and force within
+        :data:`UNLOADED_FRACTION` of their peaks) and reached the first point of the
+        set without a reversal: the "virgin" start state is then exact.
     """
 
     deflection: np.ndarray
     force: np.ndarray
     reversals: np.ndarray
     name: str = ""
+    starts_unloaded: bool = False
 
     @property
     def amplitude(self) -> float:
@@ -193,8 +210,10 @@ def prepare_loops(
                        f"expected at least {MIN_POINTS}")
     if not np.any(path_f):
         raise FitError(f"{what} force: found all zeros, expected a measured force (the error (7.1) divides by it)")
+    unloaded = (abs(x[0]) <= UNLOADED_FRACTION * np.max(np.abs(x))
+                and abs(f[0]) <= UNLOADED_FRACTION * np.max(np.abs(f)))
     return LoopSet(deflection=np.ascontiguousarray(path_x), force=np.ascontiguousarray(path_f),
-                   reversals=reversals.astype(np.intp), name=name)
+                   reversals=reversals.astype(np.intp), name=name, starts_unloaded=bool(unloaded))
 
 
 # --------------------------------------------------------------------------- compiled objective
@@ -237,12 +256,13 @@ def _start_state(state, stiffness, friction, x, a, b, cycled):
 
 @numba.njit(cache=True)
 def _iwan_set_forces(x, offsets, g1, g2, g3, stiffness, friction, cycled, out):
-    """Model force of every set of a concatenated path (``offsets`` delimit the sets)."""
+    """Model force of every set of a concatenated path (``offsets`` delimit the sets;
+    ``cycled[s]`` selects the start state of set ``s``)."""
     state = np.empty(stiffness.shape[0])
     for s in range(offsets.shape[0] - 1):
         a = offsets[s]
         b = offsets[s + 1]
-        jenkin = _start_state(state, stiffness, friction, x, a, b, cycled)
+        jenkin = _start_state(state, stiffness, friction, x, a, b, cycled[s])
         for i in range(a, b):
             if i > a:
                 jenkin = _stop_step(state, stiffness, friction, x[i] - x[i - 1])
@@ -257,7 +277,7 @@ def _iwan_set_errors(x, f, offsets, norm2, g1, g2, g3, stiffness, friction, cycl
     for s in range(offsets.shape[0] - 1):
         a = offsets[s]
         b = offsets[s + 1]
-        jenkin = _start_state(state, stiffness, friction, x, a, b, cycled)
+        jenkin = _start_state(state, stiffness, friction, x, a, b, cycled[s])
         acc = 0.0
         for i in range(a, b):
             if i > a:
@@ -271,14 +291,15 @@ def _iwan_set_errors(x, f, offsets, norm2, g1, g2, g3, stiffness, friction, cycl
 class _Packed:
     """Sets concatenated into flat arrays for the compiled objective."""
 
-    def __init__(self, sets: Sequence[LoopSet], cycled: bool):
+    def __init__(self, sets: Sequence[LoopSet], initial_state: str):
         self.names = tuple(s.name for s in sets)
+        self.start_states = tuple(_set_start_state(s, initial_state) for s in sets)
+        self.cycled = np.array([state == "cycled" for state in self.start_states], dtype=np.bool_)
         self.x = np.ascontiguousarray(np.concatenate([s.deflection for s in sets]))
         self.f = np.ascontiguousarray(np.concatenate([s.force for s in sets]))
         self.offsets = np.concatenate([[0], np.cumsum([s.deflection.size for s in sets])]).astype(np.int64)
         self.norm = np.array([math.sqrt(float(np.sum(s.force**2))) for s in sets])
         self.norm2 = self.norm**2
-        self.cycled = cycled
         self.errors = np.empty(len(sets))
 
     def set_errors(self, g1, g2, g3, stiffness, friction) -> np.ndarray:
@@ -294,7 +315,7 @@ class _Packed:
         return (model - self.f) / scale
 
 
-def iwan_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "cycled") -> np.ndarray:
+def iwan_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> np.ndarray:
     """Relative RMS error (7.1) of ``model`` on each prepared set (fractions, 0.01 = 1 %).
 
     Parameters
@@ -302,14 +323,14 @@ def iwan_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_state:
     model : IwanModel
     sets : sequence of LoopSet
         From :func:`prepare_loops`.
-    initial_state : {"cycled", "virgin"}
+    initial_state : {"auto", "cycled", "virgin"}
         Element forces at the first point (module docstring).
     """
     packed = _Packed(list(sets), _check_state(initial_state))
     return packed.set_errors(model.g1, model.g2, model.g3, np.asarray(model.k, float), np.asarray(model.fc, float))
 
 
-def iwan_set_forces(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "cycled") -> list[np.ndarray]:
+def iwan_set_forces(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> list[np.ndarray]:
     """Model force (N) along each prepared set, with the initial element state used by the fit."""
     packed = _Packed(list(sets), _check_state(initial_state))
     forces = np.empty_like(packed.x)
@@ -318,10 +339,17 @@ def iwan_set_forces(model: IwanModel, sets: Sequence[LoopSet], *, initial_state:
     return [forces[a:b].copy() for a, b in zip(packed.offsets[:-1], packed.offsets[1:])]
 
 
-def _check_state(initial_state: str) -> bool:
-    if initial_state not in ("cycled", "virgin"):
-        raise FitError(f"initial_state: found {initial_state!r}, expected 'cycled' or 'virgin'")
-    return initial_state == "cycled"
+def _check_state(initial_state: str) -> str:
+    if initial_state not in START_STATES:
+        raise FitError(f"initial_state: found {initial_state!r}, expected one of {START_STATES}")
+    return initial_state
+
+
+def _set_start_state(loop_set: LoopSet, initial_state: str) -> str:
+    """``"virgin"`` or ``"cycled"`` for one set; ``"auto"`` reads it off the record's start."""
+    if initial_state == "auto":
+        return "virgin" if loop_set.starts_unloaded else "cycled"
+    return initial_state
 
 
 # --------------------------------------------------------------------------- automatic start
@@ -603,7 +631,7 @@ def fit_iwan(
     ftol: float = 1e-12,
     restarts: int = 2,
     initial_step: float = 0.3,
-    initial_state: str = "cycled",
+    initial_state: str = "auto",
     seed: int = 0,
     valid_range: tuple[float, float] | None = None,
 ) -> IwanFitResult:
@@ -636,8 +664,9 @@ def fit_iwan(
         early when a restart gains less than ``ftol``.
     initial_step : float, default 0.3
         Simplex edge in internal coordinates (0.3 ~ 35 % change of a log parameter).
-    initial_state : {"cycled", "virgin"}
-        Element forces at the first point of a set (module docstring).
+    initial_state : {"auto", "cycled", "virgin"}
+        Element forces at the first point of a set (module docstring); ``"auto"``
+        takes "virgin" for a set whose record starts unloaded, else "cycled".
     seed : int
         Seeds nlopt's generator (Nelder-Mead itself is deterministic); recorded.
     valid_range : (float, float), optional
@@ -679,15 +708,15 @@ def fit_iwan(
         raise FitError(f"backend: found {backend!r}, expected one of {_BACKENDS}")
     if start is None and (int(order) != order or order < 1):
         raise FitError(f"order: found {order!r}, expected an integer >= 1")
-    cycled = _check_state(initial_state)
+    _check_state(initial_state)
     small_sets = _prepare_group(small, "small", points_per_set)
     large_sets = _prepare_group(large, "large", points_per_set)
     start_info = iwan_start(small_sets, large_sets, order if start is None else start.order)
     model0 = start_info.model if start is None else start
     n = model0.order
     nlopt.srand(int(seed))
-    small_packed, large_packed = _Packed(small_sets, cycled), _Packed(large_sets, cycled)
-    all_packed = _Packed(small_sets + large_sets, cycled)
+    small_packed, large_packed = _Packed(small_sets, initial_state), _Packed(large_sets, initial_state)
+    all_packed = _Packed(small_sets + large_sets, initial_state)
     x_ref = max(float(np.max(np.abs(s.deflection))) for s in large_sets)
     if valid_range is not None:
         x_min, x_max = (float(v) for v in valid_range)
@@ -732,12 +761,14 @@ def fit_iwan(
             objective, u0, initial_step, bounds, backend=backend, max_evals=max_evals,
             xtol=xtol, ftol=ftol, restarts=restarts)
         g1, g2, g3, k, fc = unpack(best_u)
-        current = {"g1": float(g1), "g2": float(g2), "g3": float(g3), "k": k.copy(), "fc": fc.copy()}
+        by_travel = np.argsort(fc / k, kind="stable")  # one order of the exchangeable elements
+        current = {"g1": float(g1), "g2": float(g2), "g3": float(g3), "k": k[by_travel], "fc": fc[by_travel]}
         errors = packed.set_errors(g1, g2, g3, k, fc)
         if "max_evals" in message:
             reasons.append(f"{stage_name} stopped at the evaluation limit max_evals={max_evals}")
         if stage_name != "stage 1":  # stage 1 only starts stage 2; its bounds are the final stages' too
-            reasons.extend(f"{stage_name}: {r}" for r in _bound_reasons(transforms, best_u, refs))
+            reasons.extend(f"{stage_name}: {r}" for r in _bound_reasons(transforms, _to_internal(current, transforms),
+                                                                       refs))
         stages.append(StageResult(
             name=stage_name, data=data, free=tuple(t.name for t in transforms), start=start_params,
             params=_flat_params(current), set_names=packed.names, set_errors=errors,
@@ -761,7 +792,8 @@ def fit_iwan(
         model=model, stages=tuple(stages),
         small_errors=small_packed.set_errors(*args), large_errors=large_packed.set_errors(*args),
         small_names=small_packed.names, large_names=large_packed.names, start=start_info,
-        settings=settings, parameters=parameters, elapsed_s=elapsed, reasons=tuple(dict.fromkeys(reasons)))
+        settings=settings, parameters=parameters, elapsed_s=elapsed, reasons=tuple(dict.fromkeys(reasons)),
+        start_states=dict(zip(all_packed.names, all_packed.start_states)))
 
 
 def _lowest_spring_stiffness(g1: float, g2: float, g3: float, x_min: float, x_max: float) -> float:

@@ -133,6 +133,9 @@ class IwanFitResult:
         Why the fit is not a success (empty when it is): a stage stopped at the
         evaluation limit, a parameter of stage 2 or 3 sits on its search bound, or
         an element never slips within the data (its slip force is undetermined).
+    start_states : dict
+        Set name -> ``"virgin"`` or ``"cycled"``: the start state each set was scored
+        from (``settings.initial_state="auto"`` chooses per set).
     """
 
     model: IwanModel
@@ -146,6 +149,7 @@ class IwanFitResult:
     parameters: lmfit.Parameters = field(repr=False)
     elapsed_s: float
     reasons: tuple[str, ...] = ()
+    start_states: dict = field(default_factory=dict)
 
     @property
     def error_small(self) -> float:
@@ -194,6 +198,8 @@ class IwanFitResult:
             f"    evaluations {self.evaluations}, wall time {self.elapsed_s:.3f} s, "
             f"success {self.success}, initial state '{s.initial_state}', seed {s.seed}",
             *(f"    not a success: {reason}" for reason in self.reasons),
+            *([f"    start state per set: " + ", ".join(f"{n}: {v}" for n, v in self.start_states.items())]
+              if self.start_states else []),
             f"    mean error (7.1): small sets {100 * self.error_small:.3f} %, "
             f"large sets {100 * self.error_large:.3f} %",
             "[[Start (from the loops)]]",
