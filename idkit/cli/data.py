@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from idkit.cli import options as opt
+
 __all__ = ["register"]
 
 
@@ -26,7 +28,7 @@ def register(subparsers) -> None:
         "generate", help="write the synthetic measurement sets and their truth files",
         description="Generate the bundled synthetic data (deterministic for a given seed).")
     generate.add_argument("-o", "--output", default="data", help="output folder (default: data)")
-    generate.add_argument("--seed", type=int, default=DEFAULT_SEED,
+    generate.add_argument("--seed", type=opt.seed, default=DEFAULT_SEED,
                           help=f"master seed (default: {DEFAULT_SEED})")
     generate.add_argument("--force", action="store_true", help="replace existing sets")
     generate.add_argument("--quick", action="store_true",

@@ -10,6 +10,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from idkit.cli import options as opt
 from idkit.errors import IdkitError
 
 _PLOT_NAMES = {"iwan": ["loops.png"], "boucwen": ["loops.png"],
@@ -56,8 +57,8 @@ def _split(value: str):
 def _cmd_iwan(args) -> None:
     from idkit.fit import fit_iwan_measurements
 
-    if args.order < 1:
-        raise IdkitError(f"--order: found {args.order}, expected an integer >= 1")
+    if args.valid_range:
+        opt.check_valid_range("--valid-range", args.valid_range)
     _check_outputs("iwan", args.output, args.plots)
     options = {"valid_range": tuple(args.valid_range)} if args.valid_range else {}
     fit = fit_iwan_measurements(_load(args.dataset), order=args.order, small_threshold=args.small_threshold,
@@ -83,8 +84,7 @@ def _cmd_boucwen(args) -> None:
 def _cmd_maxwell(args) -> None:
     from idkit.fit import fit_maxwell_measurements, maxwell_order_table, transmissibility_sets
 
-    if args.order < 1:
-        raise IdkitError(f"--order: found {args.order}, expected an integer >= 1")
+    opt.check_band("--band", args.band)
     _check_outputs("maxwell", args.output, args.plots)
     data = _load(args.dataset)
     fit = fit_maxwell_measurements(data, order=args.order, k0=args.k0, isolator=args.isolator,
@@ -103,14 +103,18 @@ def _common(parser, *, loops: bool) -> None:
     parser.add_argument("-o", "--output", required=True, help="model file to write (JSON); never overwritten")
     parser.add_argument("--plots", help="folder for figures (PNG; existing files are not overwritten)")
     parser.add_argument("--backend", choices=["nlopt", "scipy"], default="nlopt")
-    parser.add_argument("--seed", type=int, default=0, help="seed of every random choice (default 0)")
+    parser.add_argument("--seed", type=opt.seed, default=0, help="seed of every random choice (default 0)")
     parser.add_argument("--split", choices=["fit", "validation", "all"], default="fit",
                         help="which measurements to fit (default: the fit split)")
     parser.add_argument("--isolator", default="wire_rope" if loops else "elastomer",
                         help="isolator name in the manifest (default %(default)s)")
     if loops:
-        parser.add_argument("--small-threshold", type=float, default=8e-3,
+        parser.add_argument("--small-threshold", type=opt.real(above=0, unit="m"), default=8e-3,
                             help="amplitude in m separating small- from large-loop records (default 8e-3)")
+
+
+# More elements than the data identify only slow the fit down (order 100000 never ends).
+_ORDER = opt.integer(at_most=opt.MAX_ORDER, why="each order adds two parameters the data do not identify")
 
 
 def register(subparsers) -> None:
@@ -120,16 +124,18 @@ def register(subparsers) -> None:
 
     iwan = kinds.add_parser("iwan", help="three-stage Iwan fit to the quasi-static wire-rope loops")
     _common(iwan, loops=True)
-    iwan.add_argument("--order", type=int, default=2, help="number of Jenkin elements (default 2)")
-    iwan.add_argument("--valid-range", type=float, nargs=2, metavar=("X_MIN", "X_MAX"),
+    iwan.add_argument("--order", type=_ORDER, default=2,
+                      help=f"number of Jenkin elements (1 to {opt.MAX_ORDER}, default 2)")
+    iwan.add_argument("--valid-range", type=opt.real(unit="m"), nargs=2, metavar=("X_MIN", "X_MAX"),
                       help="deflections in m (X_MIN < 0 < X_MAX) over which the spring must stay non-negative-stiff")
     iwan.set_defaults(handler=_cmd_iwan)
 
     maxwell = kinds.add_parser("maxwell", help="generalized Maxwell fit: k0 from the loops, the rest from the FRFs")
     _common(maxwell, loops=False)
-    maxwell.add_argument("--order", type=int, default=2, help="number of Maxwell elements (default 2)")
-    maxwell.add_argument("--k0", type=float, help="static stiffness in N/m (default: from the quasi-static loops)")
-    maxwell.add_argument("--band", type=float, nargs=2, default=[1.0, 100.0], metavar=("F_LOW", "F_HIGH"),
+    maxwell.add_argument("--order", type=_ORDER, default=2,
+                         help=f"number of Maxwell elements (1 to {opt.MAX_ORDER}, default 2)")
+    maxwell.add_argument("--k0", type=opt.real(above=0, unit="N/m"), help="static stiffness in N/m (default: from the quasi-static loops)")
+    maxwell.add_argument("--band", type=opt.real(above=0, unit="Hz"), nargs=2, default=[1.0, 100.0], metavar=("F_LOW", "F_HIGH"),
                          help="frequency band in Hz (default 1 100)")
     maxwell.add_argument("--cross-check", action="store_true", help="run the seeded global cross-check")
     maxwell.add_argument("--order-table", action="store_true", help="also print errors for orders 1-4 and Voigt")
@@ -137,6 +143,8 @@ def register(subparsers) -> None:
 
     boucwen = kinds.add_parser("boucwen", help="Bouc-Wen fit (staged, scaled, global search) to the same loops")
     _common(boucwen, loops=True)
-    boucwen.add_argument("--global-evals", type=int, default=1000, help="budget of the global search (default 1000)")
+    boucwen.add_argument("--global-evals", default=1000,
+                         type=opt.integer(at_most=opt.MAX_EVALS, why="evaluations of the global search"),
+                         help=f"budget of the global search (1 to {opt.MAX_EVALS:.0e}, default 1000)")
     boucwen.add_argument("--compare", action="store_true", help="also fit Iwan order 2 and print the comparison")
     boucwen.set_defaults(handler=_cmd_boucwen)

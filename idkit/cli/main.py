@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from idkit import __version__
+from idkit.cli import options as opt
 from idkit.errors import IdkitError
 
 
@@ -24,15 +25,6 @@ def _model_or_system(path, mass):
     if mass is not None:
         raise IdkitError(f"{path}: holds a whole system; --mass applies to isolator model files only")
     return model
-
-
-def _axis(values, spacing):
-    """Either explicit values or START STOP COUNT with log/linear spacing."""
-    if spacing is None:
-        return np.asarray(values, dtype=float)
-    start, stop, count = values
-    make = np.logspace if spacing == "log" else np.linspace
-    return make(np.log10(start), np.log10(stop), int(count)) if spacing == "log" else make(start, stop, int(count))
 
 
 def _write_table(frame, output):
@@ -79,9 +71,11 @@ def _cmd_simulate_harmonic(args):
     from idkit.cli.progress import ProgressBar
     from idkit.simulate import harmonic_response
 
+    axes = (opt.parse_axis("--freq", args.freq, args.freq_spacing, what="frequencies", unit="Hz"),
+            opt.parse_axis("--amplitude", args.amplitude, args.amplitude_spacing, what="amplitudes", unit="m"))
+    opt.check_grid_size(axes, args.max_points)
     system = _model_or_system(args.model, args.mass)
-    freq = _axis(args.freq, args.freq_spacing)
-    amplitude = _axis(args.amplitude, args.amplitude_spacing)
+    freq, amplitude = (axis.build() for axis in axes)
     grid_freq, grid_amplitude = np.meshgrid(freq, amplitude, indexing="ij")
     response = harmonic_response(
         system, grid_freq.ravel(), grid_amplitude.ravel(), n_harmonics=args.harmonics, tolerance=args.tolerance,
@@ -103,9 +97,10 @@ def _cmd_simulate_drop(args):
 
     from idkit.simulate import STANDARD_GRAVITY, free_fall
 
-    system = _model_or_system(args.model, args.mass)
     if (args.velocity is None) == (args.height is None):
         raise IdkitError("give exactly one of --velocity and --height")
+    opt.check_drop(len(args.velocity or args.height), args.duration, args.time_step, args.max_samples)
+    system = _model_or_system(args.model, args.mass)
     if args.velocity is not None:
         velocity = -np.abs(np.asarray(args.velocity, dtype=float))
     else:
@@ -124,7 +119,7 @@ def _cmd_simulate_drop(args):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="idkit", description="Identify, validate and simulate isolator models.")
+    parser = opt.IdkitArgumentParser(prog="idkit", description="Identify, validate and simulate isolator models.")
     parser.add_argument("--version", action="version", version=f"idkit {__version__}")
     commands = parser.add_subparsers(dest="command", required=True)
 
@@ -144,26 +139,39 @@ def build_parser() -> argparse.ArgumentParser:
     kinds = simulate.add_subparsers(dest="kind", required=True)
     harmonic = kinds.add_parser("harmonic", help="steady-state harmonic base excitation over a grid")
     harmonic.add_argument("model", help="model file (JSON)")
-    harmonic.add_argument("--mass", type=float, help="top mass in kg (isolator model files)")
-    harmonic.add_argument("--freq", type=float, nargs="+", required=True,
+    harmonic.add_argument("--mass", type=opt.real(above=0, unit="kg"), help="top mass in kg (isolator model files)")
+    harmonic.add_argument("--freq", type=opt.real(why="frequencies in Hz, or START STOP COUNT"), nargs="+", required=True,
                           help="frequencies in Hz, or START STOP COUNT with --freq-spacing")
     harmonic.add_argument("--freq-spacing", choices=["log", "linear"])
-    harmonic.add_argument("--amplitude", type=float, nargs="+", required=True,
+    harmonic.add_argument("--amplitude", type=opt.real(why="amplitudes in m, or START STOP COUNT"), nargs="+", required=True,
                           help="base displacement amplitudes in m, or START STOP COUNT with --amplitude-spacing")
     harmonic.add_argument("--amplitude-spacing", choices=["log", "linear"])
-    harmonic.add_argument("--harmonics", type=int, default=3)
-    harmonic.add_argument("--tolerance", type=float, default=1e-3, help="steady-state tolerance")
+    harmonic.add_argument("--harmonics", default=3,
+                          type=opt.integer(at_most=opt.MAX_HARMONICS, why="128 steps per period resolve 64"),
+                          help=f"highest harmonic order (1 to {opt.MAX_HARMONICS}, default 3)")
+    harmonic.add_argument("--tolerance", default=1e-3,
+                          type=opt.real(at_least=opt.MIN_TOLERANCE, below=1, why="a relative change; smaller "
+                                        "than round-off is never met"),
+                          help="steady-state tolerance, relative (1e-12 to below 1, default 1e-3)")
+    harmonic.add_argument("--max-points", type=opt.integer(), default=opt.DEFAULT_MAX_POINTS,
+                          help=f"refuse grids of more points (default {opt.DEFAULT_MAX_POINTS})")
     harmonic.add_argument("-o", "--output", help="CSV or JSON file (default: print a table)")
     harmonic.add_argument("--quiet", action="store_true")
     harmonic.set_defaults(handler=_cmd_simulate_harmonic)
 
     drop = kinds.add_parser("drop", help="conditioned free fall (base fixed)")
     drop.add_argument("model", help="model file (JSON)")
-    drop.add_argument("--mass", type=float, help="top mass in kg (isolator model files)")
-    drop.add_argument("--velocity", type=float, nargs="+", help="impact speeds |v0| in m/s")
-    drop.add_argument("--height", type=float, nargs="+", help="drop heights in m")
-    drop.add_argument("--duration", type=float, default=0.5, help="simulated time in s")
-    drop.add_argument("--time-step", type=float, default=2e-5, help="integration step in s")
+    drop.add_argument("--mass", type=opt.real(above=0, unit="kg"), help="top mass in kg (isolator model files)")
+    drop.add_argument("--velocity", type=opt.real(at_least=0, unit="m/s", why="a speed; idkit sets the sign "
+                                                   "downward"), nargs="+", help="impact speeds |v0| in m/s")
+    drop.add_argument("--height", type=opt.real(at_least=0, unit="m"), nargs="+", help="drop heights in m")
+    drop.add_argument("--duration", type=opt.real(above=0, unit="s"), default=0.5, help="simulated time in s")
+    drop.add_argument("--time-step", default=2e-5,
+                      type=opt.real(at_least=opt.MIN_TIME_STEP, unit="s", why="a smaller step makes the number "
+                                    "of steps duration/time_step too large"),
+                      help=f"integration step in s (at least {opt.MIN_TIME_STEP:g}, default 2e-5)")
+    drop.add_argument("--max-samples", type=opt.integer(), default=opt.DEFAULT_MAX_SAMPLES,
+                      help=f"refuse drops x steps above this (default {opt.DEFAULT_MAX_SAMPLES})")
     drop.add_argument("--gravity", action="store_true", help="include gravity")
     drop.add_argument("-o", "--output", help="CSV or JSON file (default: print a table)")
     drop.set_defaults(handler=_cmd_simulate_drop)

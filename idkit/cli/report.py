@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import sys
 
+from idkit.cli import options as opt
+
 __all__ = ["register"]
 
 
@@ -27,7 +29,7 @@ def register(commands) -> None:
     parser.add_argument("-o", "--output", default="idkit-report", help="output folder (default: idkit-report)")
     parser.add_argument("--force", action="store_true", help="replace an existing output folder")
     parser.add_argument("--quick", action="store_true", help="smaller study and validation (seconds, for tests)")
-    parser.add_argument("--seed", type=int, default=2026, help="seed of every stochastic step (default 2026)")
-    parser.add_argument("--workers", type=int, default=None, help="simulation threads (default: all cores)")
+    parser.add_argument("--seed", type=opt.seed, default=2026, help="seed of every stochastic step (default 2026)")
+    parser.add_argument("--workers", type=opt.workers, default=None, help="simulation threads (default: all cores)")
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     parser.set_defaults(handler=_cmd_report)

@@ -17,6 +17,8 @@ from __future__ import annotations
 import json
 import sys
 
+from idkit.cli import options as opt
+
 __all__ = ["register", "study_subparsers", "add_common_study_options"]
 
 _HELP = {
@@ -48,7 +50,7 @@ def add_common_study_options(parser, name: str) -> None:
                         help=f"output folder (default: idkit-study-{name})")
     parser.add_argument("--force", action="store_true", help="replace an existing output folder")
     parser.add_argument("--quick", action="store_true", help="small grids (seconds instead of minutes)")
-    parser.add_argument("--workers", type=int, default=None, help="simulation threads (default: all cores)")
+    parser.add_argument("--workers", type=opt.workers, default=None, help="simulation threads (default: all cores)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 
+from idkit.cli import options as opt
 from idkit.cli.study import add_common_study_options, study_subparsers
 
 __all__ = ["register"]
@@ -54,5 +55,5 @@ def register(commands) -> None:
     parser.add_argument("--wire-rope", help="Iwan model file (default: identified from the bundled data)")
     parser.add_argument("--elastomer", help="generalized Maxwell model file (default: identified from the bundled data)")
     parser.add_argument("--data-dir", help="data folder to identify the parts from (default: ./data)")
-    parser.add_argument("--seed", type=int, default=2026, help="seed of the random floor signals")
+    parser.add_argument("--seed", type=opt.seed, default=2026, help="seed of the random floor signals")
     parser.set_defaults(handler=_cmd_transport)

@@ -1,0 +1,261 @@
+"""Types and checks of the ``idkit`` command-line numbers: every number is validated at the boundary.
+
+One option, one check, one message. A single value is checked by its argparse ``type=``
+callable (:func:`real`, :func:`integer`); argparse then stops with exit status 2 and
+``idkit <command>: error: argument --height: found '-0.05', expected a finite number >= 0 m``.
+Checks that need two options at once (a grid's START STOP COUNT and its size, a time
+step against a duration, a band's two ends) run at the start of the command, before any
+file is read or any work starts, and raise :class:`OptionError`, which ``idkit`` prints
+as ``idkit: error: --freq: ...`` with the same exit status 2.
+
+Limits and why (also in README, "Command line"):
+
+* ``--order`` of Iwan and Maxwell fits: 1 to :data:`MAX_ORDER` (12). Each order adds two
+  parameters; the bundled loops and the 1-100 Hz FRFs identify no more than a few, and
+  the fit time grows with the order (order 100000 never finishes).
+* ``--global-evals``: 1 to :data:`MAX_EVALS` (10^7), a budget of hours at most.
+* ``--harmonics``: 1 to :data:`MAX_HARMONICS` (32). The harmonic simulator takes at
+  least 128 steps per period, which resolve orders up to 64 (Nyquist); 32 keeps a
+  factor 2 against aliasing.
+* ``--tolerance``: from :data:`MIN_TOLERANCE` (1e-12, the round-off of the Fourier
+  coefficients: a smaller one is never met and every point runs to the period limit)
+  to below 1 (a relative change).
+* ``--time-step``: at least :data:`MIN_TIME_STEP` (1e-9 s); the number of steps
+  ``duration / time_step`` at most :data:`MAX_STEPS` (10^8, the simulator's own limit).
+* Grid sizes: ``simulate harmonic`` refuses more than :data:`DEFAULT_MAX_POINTS` (10^6)
+  points (``--max-points`` raises it); ``simulate drop`` refuses more than
+  :data:`DEFAULT_MAX_SAMPLES` (10^7) stored samples, drops x (steps + 1), about
+  80 MB per recorded signal and degree of freedom (``--max-samples`` raises it).
+  Both are counted from the options before anything is allocated.
+* ``--workers``: 1 to :data:`MAX_WORKERS` (256) threads; ``--seed``: 0 to 2^32 - 1, the
+  range every random generator idkit uses (numpy, nlopt) accepts.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from idkit.errors import IdkitError
+
+__all__ = [
+    "IdkitArgumentParser", "OptionError", "real", "integer", "Axis", "parse_axis", "check_grid_size",
+    "check_band", "check_valid_range", "check_drop", "seed", "workers",
+    "MAX_ORDER", "MAX_EVALS", "MAX_HARMONICS", "MIN_TOLERANCE", "MIN_TIME_STEP", "MAX_STEPS",
+    "DEFAULT_MAX_POINTS", "DEFAULT_MAX_SAMPLES", "MAX_WORKERS", "MAX_SEED",
+]
+
+MAX_ORDER = 12
+MAX_EVALS = 10**7
+MAX_HARMONICS = 32
+MIN_TOLERANCE = 1e-12
+MIN_TIME_STEP = 1e-9
+MAX_STEPS = 10**8
+DEFAULT_MAX_POINTS = 10**6
+DEFAULT_MAX_SAMPLES = 10**7
+MAX_WORKERS = 256
+MAX_SEED = 2**32 - 1
+
+
+class OptionError(IdkitError, ValueError):
+    """Command-line options that are inconsistent together (names the options, values, expectation)."""
+
+
+class IdkitArgumentParser(argparse.ArgumentParser):
+    """``argparse.ArgumentParser`` that takes ``-1e-12``, ``-inf`` and ``-nan`` as values.
+
+    argparse reads an argument starting with ``-`` as a value only when it looks like
+    ``-5`` or ``-0.5``; ``--time-step -1e-12`` would stop with "expected one argument",
+    which hides the value. No idkit option looks like a number, so every number-like
+    argument is a value and reaches its type check (sub-parsers inherit this class).
+    """
+
+    _NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = self._NUMBER
+
+
+def _bounds_text(above, at_least, below, at_most, unit) -> str:
+    parts = []
+    if above is not None:
+        parts.append(f"> {above:g}")
+    if at_least is not None:
+        parts.append(f">= {at_least:g}")
+    if below is not None:
+        parts.append(f"< {below:g}")
+    if at_most is not None:
+        parts.append(f"<= {at_most:g}")
+    text = "a finite number" + (" " + " and ".join(parts) if parts else "")
+    return text + (f" {unit}" if unit else "")
+
+
+def real(*, above=None, at_least=None, below=None, at_most=None, unit: str = "", why: str = ""):
+    """argparse ``type=``: a finite float within the given bounds.
+
+    Parameters
+    ----------
+    above, at_least, below, at_most : float, optional
+        Exclusive and inclusive bounds.
+    unit : str
+        Unit named in the message (``"m"``, ``"Hz"``).
+    why : str
+        Reason of a bound that is not obvious, appended to the message.
+
+    Examples
+    --------
+    >>> real(above=0, unit="kg")("2.5")
+    2.5
+    """
+    expected = _bounds_text(above, at_least, below, at_most, unit) + (f" ({why})" if why else "")
+
+    def convert(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"found {text!r}, expected {expected}") from None
+        if not (math.isfinite(value)
+                and (above is None or value > above) and (at_least is None or value >= at_least)
+                and (below is None or value < below) and (at_most is None or value <= at_most)):
+            raise argparse.ArgumentTypeError(f"found {text!r}, expected {expected}")
+        return value
+
+    convert.__name__ = "number"
+    return convert
+
+
+def _whole(text: str) -> int | None:
+    """``text`` as an int if it is a whole number (``"3"``, ``"1e6"``), else None (``"2.5"``)."""
+    try:
+        return int(text, 10)
+    except ValueError:
+        pass
+    try:
+        value = float(text)
+    except ValueError:
+        return None
+    return int(value) if math.isfinite(value) and value == int(value) else None
+
+
+def integer(*, at_least: int = 1, at_most: int | None = None, why: str = ""):
+    """argparse ``type=``: a whole number from ``at_least`` to ``at_most``.
+
+    A fractional value (``2.5``) is refused, never truncated; ``1e6`` is taken as 1000000.
+
+    Examples
+    --------
+    >>> integer(at_most=12)("3")
+    3
+    """
+    expected = (f"a whole number from {at_least} to {at_most}" if at_most is not None
+                else f"a whole number >= {at_least}") + (f" ({why})" if why else "")
+
+    def convert(text: str) -> int:
+        value = _whole(text)
+        if value is None or value < at_least or (at_most is not None and value > at_most):
+            raise argparse.ArgumentTypeError(f"found {text!r}, expected {expected}")
+        return value
+
+    convert.__name__ = "integer"
+    return convert
+
+
+seed = integer(at_least=0, at_most=MAX_SEED, why="the range of the numpy and nlopt generators")
+workers = integer(at_least=1, at_most=MAX_WORKERS, why="simulation threads")
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One axis of a grid, checked but not yet built (its size is known before allocation)."""
+
+    option: str
+    values: tuple[float, ...]
+    spacing: str | None = None
+
+    @property
+    def size(self) -> int:
+        return len(self.values) if self.spacing is None else int(self.values[2])
+
+    def build(self) -> np.ndarray:
+        if self.spacing is None:
+            return np.asarray(self.values, dtype=float)
+        start, stop, count = self.values
+        if self.spacing == "log":
+            return np.logspace(np.log10(start), np.log10(stop), int(count))
+        return np.linspace(start, stop, int(count))
+
+
+def parse_axis(option: str, values, spacing: str | None, *, what: str, unit: str) -> Axis:
+    """Check explicit values (``spacing`` None) or ``START STOP COUNT`` of a grid option.
+
+    Values must be finite and > 0 (``what`` in ``unit``, e.g. frequencies in Hz). Explicit
+    values are taken as given: their order is kept and a repeated value is computed again.
+    START > STOP gives a descending grid; COUNT is a whole number >= 1 (2.5 is refused,
+    never truncated). Raises :class:`OptionError` naming ``option``.
+    """
+    values = tuple(float(v) for v in values)
+    if spacing is not None:
+        if len(values) != 3:
+            raise OptionError(f"{option}: found {len(values)} value(s) ({' '.join(f'{v:g}' for v in values)}) "
+                              f"with {option}-spacing {spacing}, expected 3 values: START STOP COUNT")
+        start, stop, count = values
+        if not (count >= 1 and count == int(count)):
+            raise OptionError(f"{option}: COUNT found {count:g}, expected a whole number >= 1 "
+                              f"(START STOP COUNT with {option}-spacing {spacing})")
+        bounds = (("START", start), ("STOP", stop))
+    else:
+        bounds = tuple((f"value {i + 1}", v) for i, v in enumerate(values))
+    for name, value in bounds:
+        if not (math.isfinite(value) and value > 0):
+            raise OptionError(f"{option}: {name} found {value:g}, expected finite {what} > 0 {unit}")
+    return Axis(option, values, spacing)
+
+
+def check_grid_size(axes, max_points: int, *, limit_option: str = "--max-points") -> int:
+    """Refuse a grid of more than ``max_points`` points, before it is allocated."""
+    total = math.prod(axis.size for axis in axes)
+    if total > max_points:
+        sizes = " x ".join(f"{axis.size} ({axis.option})" for axis in axes)
+        raise OptionError(f"{' and '.join(a.option for a in axes)}: the grid has {sizes} = {total:.4g} points, "
+                          f"expected at most {limit_option} {max_points} (raise {limit_option} to run it)")
+    return total
+
+
+def check_band(option: str, band, unit: str = "Hz") -> None:
+    """A band ``LOW HIGH`` with LOW < HIGH (each end already checked by its type)."""
+    low, high = band
+    if not low < high:
+        raise OptionError(f"{option}: found {low:g} {high:g}, expected LOW < HIGH in {unit}")
+
+
+def check_valid_range(option: str, bounds) -> None:
+    """Deflections ``X_MIN X_MAX`` with X_MIN < 0 < X_MAX."""
+    low, high = bounds
+    if not low < 0 < high:
+        raise OptionError(f"{option}: found {low:g} {high:g}, expected X_MIN < 0 < X_MAX in m")
+
+
+def check_drop(n_drops: int, duration: float, time_step: float, max_samples: int) -> int:
+    """Step count and stored samples of ``simulate drop``, before anything is allocated.
+
+    Returns the number of stored samples ``n_drops * (steps + 1)``.
+    """
+    if time_step > duration:
+        raise OptionError(f"--time-step: found {time_step:g} s with --duration {duration:g} s, "
+                          f"expected a step <= the duration")
+    steps = duration / time_step
+    if steps >= MAX_STEPS:
+        raise OptionError(f"--duration {duration:g} s / --time-step {time_step:g} s: found {steps:.4g} steps, "
+                          f"expected fewer than {MAX_STEPS:.0e} (the simulator's limit)")
+    samples = n_drops * (int(round(steps)) + 1)
+    if samples > max_samples:
+        raise OptionError(f"--duration {duration:g} s / --time-step {time_step:g} s for {n_drops} drop(s): "
+                          f"{samples:.4g} samples to store, expected at most --max-samples {max_samples} "
+                          f"(about {8 * samples / 2**20:.0f} MiB per signal and degree of freedom; "
+                          f"raise --max-samples to run it)")
+    return samples

@@ -1,0 +1,222 @@
+"""Hostile-input corpus, numbers on the command line (issue 13, item 2).
+
+Every numeric option of every sub-command, given a bad value, stops with exit status 2
+and a message naming the option, the value found and what is expected; nothing is
+written and no input changes. Refusals happen before any work (model files, data
+folders and grids are not even read), so each case takes milliseconds. A few valid
+edge values (limits included, descending grids, COUNT 1, height 0) are accepted.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from cli.hostile import check, run_main
+from idkit.models import library, save_model
+
+DATA = Path(__file__).resolve().parents[2] / "data"
+
+HARMONIC = ["simulate", "harmonic", "{system}", "-o", "{out}"]
+POINT = ["--freq", "5", "--amplitude", "1e-3"]
+DROP = ["simulate", "drop", "{system}", "-o", "{out}"]
+FIT_IWAN = ["fit", "iwan", str(DATA / "wire_rope"), "-o", "{out}"]
+FIT_BOUCWEN = ["fit", "boucwen", str(DATA / "wire_rope"), "-o", "{out}"]
+FIT_MAXWELL = ["fit", "maxwell", str(DATA / "elastomer"), "-o", "{out}"]
+
+# (case id, argv, words the message must contain)
+ERRORS = [
+    # simulate harmonic: grids given as START STOP COUNT
+    ("freq-two-values-log", HARMONIC + ["--freq", "1", "100", "--freq-spacing", "log", "--amplitude", "1e-3"],
+     ["--freq", "found 2 value(s)", "expected 3 values: START STOP COUNT"]),
+    ("freq-four-values-linear", HARMONIC + ["--freq", "1", "2", "3", "4", "--freq-spacing", "linear",
+                                            "--amplitude", "1e-3"], ["--freq", "found 4 value(s)", "START STOP COUNT"]),
+    ("freq-count-zero", HARMONIC + ["--freq", "1", "100", "0", "--freq-spacing", "log", "--amplitude", "1e-3"],
+     ["--freq", "COUNT found 0", "whole number >= 1"]),
+    ("freq-count-fractional", HARMONIC + ["--freq", "1", "100", "2.5", "--freq-spacing", "linear",
+                                          "--amplitude", "1e-3"], ["--freq", "COUNT found 2.5", "whole number"]),
+    ("freq-count-negative", HARMONIC + ["--freq", "1", "100", "-3", "--freq-spacing", "linear",
+                                        "--amplitude", "1e-3"], ["--freq", "COUNT found -3", "whole number >= 1"]),
+    ("amplitude-count-zero", HARMONIC + ["--freq", "5", "--amplitude", "1e-5", "1e-2", "0",
+                                         "--amplitude-spacing", "log"], ["--amplitude", "COUNT found 0"]),
+    ("freq-grid-1e9", HARMONIC + ["--freq", "1", "100", "1e9", "--freq-spacing", "log", "--amplitude", "1e-3"],
+     ["--freq", "1e+09 points", "--max-points 1000000"]),
+    ("amplitude-grid-1e9", HARMONIC + ["--freq", "5", "--amplitude", "1e-5", "1e-2", "1e9",
+                                       "--amplitude-spacing", "log"], ["--amplitude", "1e+09 points", "--max-points"]),
+    ("grid-product-over-limit", HARMONIC + ["--freq", "1", "100", "1001", "--freq-spacing", "log",
+                                            "--amplitude", "1e-5", "1e-2", "1000", "--amplitude-spacing", "log"],
+     ["1001 (--freq) x 1000 (--amplitude)", "1.001e+06 points", "--max-points 1000000"]),
+    ("grid-over-lowered-limit", HARMONIC + ["--freq", "1", "10", "3", "--freq-spacing", "linear",
+                                            "--amplitude", "1e-3", "--max-points", "2"],
+     ["= 3 points", "--max-points 2"]),
+    ("freq-log-start-zero", HARMONIC + ["--freq", "0", "100", "3", "--freq-spacing", "log", "--amplitude", "1e-3"],
+     ["--freq", "START found 0", "> 0 Hz"]),
+    ("freq-linear-start-negative", HARMONIC + ["--freq", "-1", "100", "3", "--freq-spacing", "linear",
+                                               "--amplitude", "1e-3"], ["--freq", "START found -1", "> 0 Hz"]),
+    ("freq-stop-negative", HARMONIC + ["--freq", "1", "-100", "3", "--freq-spacing", "linear",
+                                       "--amplitude", "1e-3"], ["--freq", "STOP found -100"]),
+    # simulate harmonic: explicit values
+    ("freq-value-zero", HARMONIC + ["--freq", "5", "0", "--amplitude", "1e-3"],
+     ["--freq", "value 2 found 0", "> 0 Hz"]),
+    ("freq-nan", HARMONIC + ["--freq", "nan", "--amplitude", "1e-3"], ["argument --freq", "found 'nan'", "finite"]),
+    ("freq-inf", HARMONIC + ["--freq", "inf", "--amplitude", "1e-3"], ["argument --freq", "found 'inf'", "finite"]),
+    ("freq-text", HARMONIC + ["--freq", "abc", "--amplitude", "1e-3"], ["argument --freq", "found 'abc'", "number"]),
+    ("amplitude-inf", HARMONIC + ["--freq", "5", "--amplitude", "inf"],
+     ["argument --amplitude", "found 'inf'", "finite", "amplitudes in m"]),
+    ("amplitude-negative", HARMONIC + ["--freq", "5", "--amplitude", "-1e-3"],
+     ["--amplitude", "value 1 found -0.001", "> 0 m"]),
+    ("amplitude-zero", HARMONIC + ["--freq", "5", "--amplitude", "0"], ["--amplitude", "found 0", "> 0 m"]),
+    ("amplitude-minus-inf", HARMONIC + ["--freq", "5", "--amplitude", "-inf"],
+     ["argument --amplitude", "found '-inf'"]),
+    # simulate harmonic: other numbers
+    ("tolerance-negative", HARMONIC + POINT + ["--tolerance", "-1"], ["--tolerance", "found '-1'", ">= 1e-12"]),
+    ("tolerance-zero", HARMONIC + POINT + ["--tolerance", "0"], ["--tolerance", "found '0'", "< 1"]),
+    ("tolerance-one", HARMONIC + POINT + ["--tolerance", "1"], ["--tolerance", "found '1'", "< 1"]),
+    ("tolerance-below-round-off", HARMONIC + POINT + ["--tolerance", "1e-20"],
+     ["--tolerance", "found '1e-20'", "round-off"]),
+    ("tolerance-nan", HARMONIC + POINT + ["--tolerance", "nan"], ["--tolerance", "found 'nan'", "finite"]),
+    ("harmonics-zero", HARMONIC + POINT + ["--harmonics", "0"], ["--harmonics", "found '0'", "from 1 to 32"]),
+    ("harmonics-fractional", HARMONIC + POINT + ["--harmonics", "2.5"], ["--harmonics", "found '2.5'", "whole number"]),
+    ("harmonics-huge", HARMONIC + POINT + ["--harmonics", "1000"], ["--harmonics", "found '1000'", "from 1 to 32"]),
+    ("harmonics-negative", HARMONIC + POINT + ["--harmonics", "-3"], ["--harmonics", "found '-3'"]),
+    ("harmonic-mass-zero", ["simulate", "harmonic", "{isolator}", "-o", "{out}"] + POINT + ["--mass", "0"],
+     ["--mass", "found '0'", "> 0 kg"]),
+    ("harmonic-mass-negative", ["simulate", "harmonic", "{isolator}", "-o", "{out}"] + POINT + ["--mass", "-5"],
+     ["--mass", "found '-5'", "> 0 kg"]),
+    ("harmonic-mass-nan", ["simulate", "harmonic", "{isolator}", "-o", "{out}"] + POINT + ["--mass", "nan"],
+     ["--mass", "found 'nan'", "finite"]),
+    ("max-points-zero", HARMONIC + POINT + ["--max-points", "0"], ["--max-points", "found '0'", "whole number >= 1"]),
+    ("max-points-fractional", HARMONIC + POINT + ["--max-points", "1.5"], ["--max-points", "found '1.5'"]),
+    # simulate drop
+    ("height-negative", DROP + ["--height", "-0.05"], ["--height", "found '-0.05'", ">= 0 m"]),
+    ("height-nan", DROP + ["--height", "nan"], ["--height", "found 'nan'", "finite"]),
+    ("height-minus-inf", DROP + ["--height", "-inf"], ["--height", "found '-inf'", "finite"]),
+    ("velocity-negative", DROP + ["--velocity", "-1"], ["--velocity", "found '-1'", "a speed"]),
+    ("velocity-inf", DROP + ["--velocity", "inf"], ["--velocity", "found 'inf'", "finite"]),
+    ("time-step-1e-12", DROP + ["--velocity", "1", "--time-step", "1e-12"],
+     ["--time-step", "found '1e-12'", ">= 1e-09 s", "number of steps"]),
+    ("time-step-negative-exponent", DROP + ["--velocity", "1", "--time-step", "-1e-12"],
+     ["--time-step", "found '-1e-12'"]),
+    ("time-step-zero", DROP + ["--velocity", "1", "--time-step", "0"], ["--time-step", "found '0'"]),
+    ("time-step-over-duration", DROP + ["--velocity", "1", "--duration", "0.01", "--time-step", "0.1"],
+     ["--time-step", "found 0.1 s", "--duration 0.01", "<= the duration"]),
+    ("samples-over-limit", DROP + ["--velocity", "1", "--time-step", "1e-8"],
+     ["--time-step 1e-08", "5e+07 samples", "--max-samples 10000000"]),
+    ("many-drops-over-limit", DROP + ["--velocity"] + ["1"] * 500,
+     ["500 drop(s)", "--max-samples 10000000"]),
+    ("steps-over-simulator-limit", DROP + ["--velocity", "1", "--duration", "1e9", "--time-step", "1e-3",
+                                           "--max-samples", "1e15"], ["--duration 1e+09", "1e+12 steps", "1e+08"]),
+    ("duration-zero", DROP + ["--velocity", "1", "--duration", "0"], ["--duration", "found '0'", "> 0 s"]),
+    ("duration-negative", DROP + ["--velocity", "1", "--duration", "-0.5"], ["--duration", "found '-0.5'"]),
+    ("max-samples-zero", DROP + ["--velocity", "1", "--max-samples", "0"], ["--max-samples", "found '0'"]),
+    ("drop-mass-negative", ["simulate", "drop", "{isolator}", "-o", "{out}", "--height", "0.1", "--mass", "-1"],
+     ["--mass", "found '-1'", "> 0 kg"]),
+    ("drop-mass-zero", ["simulate", "drop", "{isolator}", "-o", "{out}", "--height", "0.1", "--mass", "0"],
+     ["--mass", "found '0'"]),
+    # fit
+    ("iwan-order-100000", FIT_IWAN + ["--order", "100000"], ["--order", "found '100000'", "from 1 to 12"]),
+    ("iwan-order-zero", FIT_IWAN + ["--order", "0"], ["--order", "found '0'", "from 1 to 12"]),
+    ("iwan-order-fractional", FIT_IWAN + ["--order", "2.5"], ["--order", "found '2.5'", "whole number"]),
+    ("iwan-order-negative", FIT_IWAN + ["--order", "-1"], ["--order", "found '-1'"]),
+    ("maxwell-order-13", FIT_MAXWELL + ["--order", "13"], ["--order", "found '13'", "from 1 to 12"]),
+    ("boucwen-evals-negative", FIT_BOUCWEN + ["--global-evals", "-5"],
+     ["--global-evals", "found '-5'", "from 1 to 10000000"]),
+    ("boucwen-evals-zero", FIT_BOUCWEN + ["--global-evals", "0"], ["--global-evals", "found '0'"]),
+    ("boucwen-evals-huge", FIT_BOUCWEN + ["--global-evals", "1e8"], ["--global-evals", "found '1e8'"]),
+    ("boucwen-evals-fractional", FIT_BOUCWEN + ["--global-evals", "10.5"], ["--global-evals", "found '10.5'"]),
+    ("fit-seed-negative", FIT_IWAN + ["--seed", "-1"], ["--seed", "found '-1'", "from 0 to 4294967295"]),
+    ("fit-seed-fractional", FIT_BOUCWEN + ["--seed", "1.5"], ["--seed", "found '1.5'"]),
+    ("fit-seed-huge", FIT_MAXWELL + ["--seed", "1e30"], ["--seed", "found '1e30'"]),
+    ("small-threshold-zero", FIT_IWAN + ["--small-threshold", "0"], ["--small-threshold", "found '0'", "> 0 m"]),
+    ("small-threshold-nan", FIT_BOUCWEN + ["--small-threshold", "nan"], ["--small-threshold", "found 'nan'"]),
+    ("valid-range-not-around-zero", FIT_IWAN + ["--valid-range", "0.01", "0.02"],
+     ["--valid-range", "found 0.01 0.02", "X_MIN < 0 < X_MAX"]),
+    ("valid-range-nan", FIT_IWAN + ["--valid-range", "-0.01", "nan"], ["--valid-range", "found 'nan'"]),
+    ("k0-negative", FIT_MAXWELL + ["--k0", "-3"], ["--k0", "found '-3'", "> 0 N/m"]),
+    ("k0-inf", FIT_MAXWELL + ["--k0", "inf"], ["--k0", "found 'inf'"]),
+    ("band-reversed", FIT_MAXWELL + ["--band", "100", "1"], ["--band", "found 100 1", "LOW < HIGH"]),
+    ("band-empty", FIT_MAXWELL + ["--band", "5", "5"], ["--band", "found 5 5", "LOW < HIGH"]),
+    ("band-zero", FIT_MAXWELL + ["--band", "0", "100"], ["--band", "found '0'", "> 0 Hz"]),
+    # study, report, data generate
+    ("study-workers-zero", ["study", "wire-rope", "-o", "{out}", "--workers", "0"],
+     ["--workers", "found '0'", "from 1 to 256"]),
+    ("study-workers-negative", ["study", "elastomer", "-o", "{out}", "--workers", "-2"], ["--workers", "found '-2'"]),
+    ("study-workers-fractional", ["study", "hybrid", "-o", "{out}", "--workers", "1.5"], ["--workers", "found '1.5'"]),
+    ("transport-workers-huge", ["study", "transport", "-o", "{out}", "--workers", "1000"],
+     ["--workers", "found '1000'", "from 1 to 256"]),
+    ("transport-seed-negative", ["study", "transport", "-o", "{out}", "--seed", "-1"], ["--seed", "found '-1'"]),
+    ("report-seed-nan", ["report", str(DATA), "-o", "{out}", "--seed", "nan"], ["--seed", "found 'nan'"]),
+    ("report-workers-zero", ["report", str(DATA), "-o", "{out}", "--workers", "0"], ["--workers", "found '0'"]),
+    ("generate-seed-negative", ["data", "generate", "-o", "{out}", "--seed", "-3"], ["--seed", "found '-3'"]),
+    ("generate-seed-fractional", ["data", "generate", "-o", "{out}", "--seed", "2.5"], ["--seed", "found '2.5'"]),
+]
+
+# (case id, argv, number of table rows written): valid edge values, each a second or so
+ACCEPTED = [
+    ("one-point-loosest", HARMONIC + POINT + ["--harmonics", "1", "--tolerance", "0.5"], 1),
+    ("descending-count-one-at-limit", ["simulate", "harmonic", "{isolator}", "-o", "{out}", "--mass", "5",
+                                       "--freq", "20", "5", "2", "--freq-spacing", "linear",
+                                       "--amplitude", "1e-3", "1e-3", "1", "--amplitude-spacing", "log",
+                                       "--max-points", "2"], 2),
+    ("most-harmonics-float-count", HARMONIC + POINT + ["--harmonics", "32", "--max-points", "1e6"], 1),
+    ("height-zero-samples-at-limit", DROP + ["--height", "0", "0.01", "--duration", "0.01", "--time-step", "1e-4",
+                                             "--max-samples", "202"], 2),
+    ("smallest-time-step", DROP + ["--velocity", "0", "--duration", "1e-5", "--time-step", "1e-9"], 1),
+]
+
+
+@pytest.fixture(scope="module")
+def models(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("models")
+    system, isolator = folder / "system.json", folder / "isolator.json"
+    save_model(library.get("system_b1_medium"), system)
+    save_model(library.get("table_b1_medium"), isolator)
+    return {"system": system, "isolator": isolator}
+
+
+def _argv(template, models, out):
+    names = {"{system}": models["system"], "{isolator}": models["isolator"], "{out}": out}
+    return [str(names.get(item, item)) for item in template]
+
+
+def _inputs(argv, models):
+    """Every existing path of the command line (model files, data folders) must stay byte-identical."""
+    return [models["system"], models["isolator"]] + [a for a in argv if a.startswith(str(DATA))]
+
+
+@pytest.mark.parametrize("case, template, words", ERRORS, ids=[case[0] for case in ERRORS])
+def test_bad_number_is_refused_naming_option_value_and_expectation(case, template, words, models, tmp_path):
+    out = tmp_path / ("out.csv" if template[0] == "simulate" else "out.json" if template[0] == "fit" else "out")
+    argv = _argv(template, models, out)
+    outcome = run_main(argv, inputs=_inputs(argv, models), must_not_exist=[out], watch=[tmp_path], timeout_s=30)
+    check(outcome, "error", words, case=f"option:{case}")
+
+
+@pytest.mark.parametrize("case, template, rows", ACCEPTED, ids=[case[0] for case in ACCEPTED])
+def test_valid_edge_value_is_accepted(case, template, rows, models, tmp_path):
+    out = tmp_path / "out.csv"
+    argv = _argv(template, models, out) + (["--quiet"] if "harmonic" in template else [])
+    outcome = run_main(argv, inputs=[models["system"], models["isolator"]], watch=[tmp_path], timeout_s=60)
+    check(outcome, "ok", case=f"option:{case}")
+    assert len(out.read_text().splitlines()) == rows + 1
+
+
+def test_corpus_covers_every_numeric_option():
+    """Each numeric option of the parser appears in at least one refused case."""
+    from idkit.cli.main import build_parser
+
+    numeric = set()
+
+    def walk(parser):
+        for action in parser._actions:
+            if getattr(action, "choices", None) and isinstance(action.choices, dict):
+                for sub in action.choices.values():
+                    walk(sub)
+            elif action.type is not None and action.option_strings:
+                numeric.add(action.option_strings[-1])
+
+    walk(build_parser())
+    covered = {word for _, argv, _ in ERRORS for word in argv if word.startswith("--")}
+    assert numeric, "no numeric options found"
+    assert numeric <= covered, f"numeric options without a refused case: {sorted(numeric - covered)}"
