@@ -2,7 +2,9 @@
 
 Parses arguments and calls :mod:`idkit.fit`; prints the fit report; writes the
 model file (with provenance) and, on request, the figures. Existing outputs are
-never replaced: the command stops before fitting (exit code 2).
+never replaced: the command stops before fitting (exit code 2). A fit that is not a
+success (a parameter on a bound, an evaluation limit, ...) is still written, with
+``success: false`` and its reasons in the provenance, and the command exits with 1.
 """
 
 from __future__ import annotations
@@ -39,7 +41,8 @@ def _load(dataset: str):
     return load_measurement_set(folder)
 
 
-def _finish(fit, args) -> None:
+def _finish(fit, args) -> int:
+    """Print, save and plot a fit; exit status 0 for a successful fit, 1 for a flagged one."""
     print(fit.report())
     fit.save(args.output)
     print(f"wrote {args.output}", file=sys.stderr)
@@ -48,13 +51,18 @@ def _finish(fit, args) -> None:
 
         for path in save_fit_plots(fit, args.plots):
             print(f"wrote {path}", file=sys.stderr)
+    if fit.result.success:
+        return 0
+    reasons = getattr(fit.result, "reasons", ()) or (getattr(fit.result, "message", "") or "see the report",)
+    print("idkit: the fit is not a success (the model file says so): " + "; ".join(reasons), file=sys.stderr)
+    return 1
 
 
 def _split(value: str):
     return None if value == "all" else value
 
 
-def _cmd_iwan(args) -> None:
+def _cmd_iwan(args) -> int:
     from idkit.fit import fit_iwan_measurements
 
     if args.valid_range:
@@ -63,25 +71,25 @@ def _cmd_iwan(args) -> None:
     options = {"valid_range": tuple(args.valid_range)} if args.valid_range else {}
     fit = fit_iwan_measurements(_load(args.dataset), order=args.order, small_threshold=args.small_threshold,
                                 isolator=args.isolator, split=_split(args.split), backend=args.backend,
-                                seed=args.seed, **options)
-    _finish(fit, args)
+                                seed=args.seed, initial_state=args.start_state, **options)
+    return _finish(fit, args)
 
 
-def _cmd_boucwen(args) -> None:
+def _cmd_boucwen(args) -> int:
     from idkit.fit import compare_loop_models, fit_boucwen_measurements, fit_iwan_measurements
 
     _check_outputs("boucwen", args.output, args.plots)
     data = _load(args.dataset)
     options = {"small_threshold": args.small_threshold, "isolator": args.isolator, "split": _split(args.split),
-               "backend": args.backend, "seed": args.seed}
+               "backend": args.backend, "seed": args.seed, "initial_state": args.start_state}
     fit = fit_boucwen_measurements(data, global_max_evals=args.global_evals, **options)
     if args.compare:
         iwan = fit_iwan_measurements(data, order=2, **options)
         print(compare_loop_models({"iwan order 2": iwan.result, "bouc-wen": fit.result}).report())
-    _finish(fit, args)
+    return _finish(fit, args)
 
 
-def _cmd_maxwell(args) -> None:
+def _cmd_maxwell(args) -> int:
     from idkit.fit import fit_maxwell_measurements, maxwell_order_table, transmissibility_sets
 
     opt.check_band("--band", args.band)
@@ -95,7 +103,7 @@ def _cmd_maxwell(args) -> None:
         table = maxwell_order_table(list(frfs), k0=fit.model.k0, band=tuple(args.band), backend=args.backend,
                                     seed=args.seed)
         print("[[Order selection]]\n" + table.to_string(index=False))
-    _finish(fit, args)
+    return _finish(fit, args)
 
 
 def _common(parser, *, loops: bool) -> None:
@@ -111,6 +119,10 @@ def _common(parser, *, loops: bool) -> None:
     if loops:
         parser.add_argument("--small-threshold", type=opt.real(above=0, unit="m"), default=8e-3,
                             help="amplitude in m separating small- from large-loop records (default 8e-3)")
+        parser.add_argument("--start-state", choices=["auto", "cycled", "virgin"], default="auto",
+                            help="model state at the first reversal of each record: 'virgin' (loaded from "
+                                 "unloaded), 'cycled' (steady cycling), 'auto' (virgin when the record starts "
+                                 "unloaded; default)")
 
 
 # More elements than the data identify only slow the fit down (order 100000 never ends).

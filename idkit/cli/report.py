@@ -14,7 +14,8 @@ def _cmd_report(args) -> int:
     from idkit.report.main_report import run_report
 
     summary = run_report(args.data_dir, args.output, force=args.force, quick=args.quick, seed=args.seed,
-                         workers=args.workers, progress=lambda message: say(message, enabled=not args.quiet))
+                         workers=args.workers, progress=lambda message: say(message, enabled=not args.quiet),
+                         start_state=args.start_state)
     for name, verdict in summary.validation_verdicts.items():
         print(f"{verdict:12s}  {name}")
     print(f"report written to {summary.html}", file=sys.stderr)
@@ -31,5 +32,8 @@ def register(commands) -> None:
     parser.add_argument("--quick", action="store_true", help="smaller study and validation (seconds, for tests)")
     parser.add_argument("--seed", type=opt.seed, default=2026, help="seed of every stochastic step (default 2026)")
     parser.add_argument("--workers", type=opt.workers, default=None, help="simulation threads (default: all cores)")
+    parser.add_argument("--start-state", choices=["auto", "cycled", "virgin"], default="auto",
+                        help="wire-rope fits: model state at each record's first reversal (default auto: "
+                             "virgin when the record starts unloaded, else cycled)")
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     parser.set_defaults(handler=_cmd_report)

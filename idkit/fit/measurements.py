@@ -198,6 +198,11 @@ class MeasurementFit:
             "options": _jsonable(self.options),
             "seed": settings.get("seed"),
         }
+        if getattr(self.result, "start_states", None):
+            record["start_states"] = dict(self.result.start_states)
+        if hasattr(self.result, "reasons"):
+            record["success"] = bool(self.result.success)
+            record["reasons"] = list(self.result.reasons)
         if self.kind in ("iwan", "boucwen"):
             record["errors_percent"] = {
                 "small": {n: 100 * float(e) for n, e in zip(self.result.small_names, self.result.small_errors)},

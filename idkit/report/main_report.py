@@ -155,7 +155,7 @@ def _validation_section(report: HtmlReport, result, plot, tables_dir: Path, stem
 
 
 def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, quick: bool = False,
-               seed: int = 2026, workers=None, progress=None) -> ReportSummary:
+               seed: int = 2026, workers=None, progress=None, start_state: str = "auto") -> ReportSummary:
     """Inspect, fit, validate, study and write the HTML report (module docstring).
 
     Parameters
@@ -171,6 +171,9 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
         Seed of every stochastic step (fits' global search, bootstrap, random vibration).
     progress : callable(message: str), optional
         Receives one line per stage.
+    start_state : {"auto", "cycled", "virgin"}
+        Start state of the wire-rope loop fits (:func:`idkit.fit.fit_iwan`); recorded in
+        the model files' provenance with the state each record was scored from.
     """
     say = progress or (lambda message: None)
     timings: dict[str, float] = {}
@@ -201,8 +204,9 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
         # (drops compress far beyond the quasi-static loops), with a 25 % margin
         seen = [m.deflection for m in wire_rope.measurements if getattr(m, "deflection", None) is not None]
         valid_range = (1.25 * min(float(d.min()) for d in seen), 1.25 * max(float(d.max()) for d in seen))
-        iwan = fit_iwan_measurements(wire_rope, seed=seed, valid_range=valid_range)
-        boucwen = fit_boucwen_measurements(wire_rope, seed=seed, **({"global_max_evals": 800} if quick else {}))
+        iwan = fit_iwan_measurements(wire_rope, seed=seed, valid_range=valid_range, initial_state=start_state)
+        boucwen = fit_boucwen_measurements(wire_rope, seed=seed, initial_state=start_state,
+                                           **({"global_max_evals": 800} if quick else {}))
         iwan.save(models_dir / "wire_rope_iwan.json")
         boucwen.save(models_dir / "wire_rope_bouc_wen.json")
         done("fitting the wire rope (three-stage Iwan, Bouc-Wen comparison)")

@@ -190,3 +190,25 @@ def test_cli_fit_iwan_valid_range(dataset, tmp_path):
 
     lower, upper = load_model(output).valid_deflection_range()
     assert lower <= -0.05 and upper >= 0.05
+
+
+def test_cli_fit_that_is_not_a_success_is_written_flagged_and_exits_1(tmp_path, capsys):
+    """A linear spring measured as loops: no element ever slips, so no slip force is determined."""
+    from idkit.io import load_measurement_set
+
+    measurements = []
+    for kind, amplitudes in (("small", [4e-3, 2e-3, 1e-3]), ("large", [12e-3, 8e-3])):
+        x = _loops(np.array(amplitudes))
+        info = MeasurementInfo(id=f"qs_{kind}", isolator="wire_rope", repetition=1, split="fit",
+                               sample_rate_hz=50.0)
+        measurements.append(QuasiStaticMeasurement(time=np.arange(x.size) / 50.0, deflection=x, force=2e4 * x,
+                                                   info=info))
+    folder = tmp_path / "linear"
+    write_measurement_set(folder, measurements, name="linear spring")
+    output = tmp_path / "linear.json"
+    assert main(["fit", "iwan", str(folder), "-o", str(output)]) == 1
+    assert "not a success" in capsys.readouterr().err
+    provenance = load_model_document(output)["provenance"]
+    assert provenance["success"] is False and any("never slips" in r for r in provenance["reasons"])
+    assert set(provenance["start_states"].values()) == {"virgin"}  # the records start unloaded
+    assert load_measurement_set(folder).measurements  # the input is still readable
