@@ -26,7 +26,14 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from idkit.analysis.cycles import CycleSplit, ResampledLoops, resample_loops, split_cycles
+from idkit.analysis.cycles import (
+    CycleSplit,
+    ResampledLoops,
+    noise_level,
+    resample_loops,
+    reversal_threshold,
+    split_cycles,
+)
 from idkit.analysis.drop import DropResult, process_drop
 from idkit.analysis.frf import FrfEstimate, estimate_frf
 from idkit.analysis.harmonics import HosidfResult, InputFlatness, hosidf, input_flatness
@@ -64,35 +71,6 @@ def _require(measurement, cls, function: str):
 
 def _sample_rate(time: np.ndarray) -> float:
     return 1.0 / float(np.median(np.diff(time)))
-
-
-def noise_level(signal) -> float:
-    """Robust estimate of the white-noise standard deviation of a smooth record.
-
-    ``1.4826 * median(|d2 - median(d2)|) / sqrt(6)`` with ``d2`` the second differences:
-    for white noise of standard deviation ``s`` the second difference has variance
-    ``6 s^2``, while a signal that is smooth on the sample scale contributes little, and the
-    median ignores the few samples at reversals, jerks or impacts.
-
-    Parameters
-    ----------
-    signal : array_like
-        Uniformly sampled record (any unit).
-
-    Returns
-    -------
-    float
-        Noise standard deviation, unit of the signal.
-
-    Examples
-    --------
-    >>> rng = np.random.default_rng(1)
-    >>> round(noise_level(np.linspace(0, 1, 20000) + 0.01 * rng.standard_normal(20000)), 3)
-    0.01
-    """
-    values = np.asarray(signal, dtype=float)
-    second = np.diff(values, 2)
-    return float(1.4826 * np.median(np.abs(second - np.median(second))) / np.sqrt(6.0))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -200,7 +178,7 @@ def process_quasi_static(measurement: QuasiStaticMeasurement, *,
     x = measurement.deflection
     noise = noise_level(x)
     if min_excursion is None:
-        min_excursion = max(10.0 * noise, 1e-3 * float(np.ptp(x)))
+        min_excursion = reversal_threshold(x)
     cycles = split_cycles(x, min_excursion=min_excursion, large_threshold=large_threshold)
     loops = resample_loops(x, measurement.force, split=cycles, points_per_branch=points_per_branch,
                            spacing=spacing)

@@ -68,7 +68,7 @@ import numba
 import numpy as np
 import scipy.optimize
 
-from idkit.analysis.cycles import resample_loops, split_cycles
+from idkit.analysis.cycles import resample_loops, reversal_threshold, split_cycles
 from idkit.errors import FitError
 from idkit.fit._params import Transform, central_jacobian, gauss_newton_covariance, to_lmfit
 from idkit.fit.result import IwanFitResult, IwanFitSettings, IwanStart, StageResult
@@ -163,7 +163,9 @@ def prepare_loops(
         equal deflection spacing). ``None`` keeps the record as given after
         cutting it at the first and last reversal.
     min_excursion : float, optional
-        Reversal threshold in m; default 2 % of the deflection range.
+        Reversal threshold in m; default :func:`idkit.analysis.cycles.reversal_threshold`
+        (ten times the record's deflection noise, at least 0.1 % of its range), so every
+        loop the record holds enters the fit.
     name : str
 
     Returns
@@ -183,7 +185,7 @@ def prepare_loops(
     span = float(np.ptp(x))
     if span <= 0:
         raise FitError(f"{what} deflection: found a constant record, expected loops with reversals")
-    threshold = 0.02 * span if min_excursion is None else float(min_excursion)
+    threshold = reversal_threshold(x) if min_excursion is None else float(min_excursion)
     try:
         split = split_cycles(x, min_excursion=threshold)
     except FitError as error:
