@@ -95,30 +95,39 @@ def decode_utf8(raw: bytes, label: str, error: type[IdkitError]) -> str:
                     f"{raw[exc.start:exc.start + 1]!r}), expected UTF-8 text") from None
 
 
-class _Refused(ValueError):
-    """Raised by the JSON hooks; turned into the caller's error class."""
+class _Bad:
+    """Stands in for a refused number while parsing; located by key path afterwards."""
+
+    def __init__(self, problem: str) -> None:
+        self.problem = problem
 
 
-def _refuse_constant(token: str) -> float:
-    raise _Refused(f"invalid JSON: found the non-finite number {token}, expected a finite "
-                   "number (NaN and Infinity are not JSON numbers)")
+class _DuplicateKeys(dict):
+    """An object that had a key twice (the problem is reported with its key path)."""
+
+    problem = ""
 
 
-def _finite_float(token: str) -> float:
+def _refuse_constant(token: str) -> _Bad:
+    return _Bad(f"found the non-finite number {token}, expected a finite number (NaN and "
+                "Infinity are not JSON numbers)")
+
+
+def _finite_float(token: str) -> float | _Bad:
     value = float(token)
     if not math.isfinite(value):
-        raise _Refused(f"found the number {token}, which overflows to infinity; expected a "
-                       "finite number")
+        return _Bad(f"found the number {token}, which overflows to infinity; expected a "
+                    "finite number")
     return value
 
 
-def _bounded_int(token: str) -> int:
+def _bounded_int(token: str) -> int | _Bad:
     value = int(token)
     try:
         float(value)
     except OverflowError:
-        raise _Refused(f"found the integer {token[:20]}... ({len(token)} digits), expected a "
-                       "number within the range of a double") from None
+        return _Bad(f"found an integer of {len(token)} digits, expected a number within the "
+                    "range of a double")
     return value
 
 
@@ -126,16 +135,32 @@ def _unique_keys(pairs: list[tuple[str, object]]) -> dict:
     document: dict = {}
     for key, value in pairs:
         if key in document:
-            context = ""
-            for name in ("id", "kind"):
-                if isinstance(document.get(name), str):
-                    context = f" (in the object with {name} {document[name]!r})"
-                    break
-            raise _Refused(f"key {key!r} given twice in one object{context}: found "
-                           f"{document[key]!r} and {value!r}; expected each key once "
-                           "(idkit never picks one silently)")
+            marked = _DuplicateKeys(document)
+            marked.problem = (f"key {key!r} given twice in one object: found "
+                              f"{document[key]!r:.60} and {value!r:.60}; expected each key once "
+                              "(idkit never picks one silently)")
+            return marked
         document[key] = value
     return document
+
+
+def _first_problem(document: object) -> str | None:
+    """The first refused value or duplicated key in document order, with its key path."""
+    stack: list[tuple[str, object]] = [("", document)]
+    while stack:
+        path, value = stack.pop()
+        where = f"at {path}{' (list positions 0-based)' if '[' in path else ''}: " if path else ""
+        if isinstance(value, _Bad):
+            return where + value.problem
+        if isinstance(value, _DuplicateKeys):
+            return where + value.problem
+        if isinstance(value, dict):
+            stack.extend((f"{path}.{key}" if path else str(key), item)
+                         for key, item in reversed(value.items()))
+        elif isinstance(value, list):
+            stack.extend((f"{path}[{index}]", item)
+                         for index, item in reversed(list(enumerate(value))))
+    return None
 
 
 def load_json(raw: bytes, label: str, error: type[IdkitError], *, expected: str) -> object:
@@ -162,14 +187,17 @@ def load_json(raw: bytes, label: str, error: type[IdkitError], *, expected: str)
     if not text.strip():
         raise error(f"{label}: empty file, expected {expected}")
     try:
-        return json.loads(text, object_pairs_hook=_unique_keys, parse_constant=_refuse_constant,
-                          parse_float=_finite_float, parse_int=_bounded_int)
+        document = json.loads(text, object_pairs_hook=_unique_keys,
+                              parse_constant=_refuse_constant, parse_float=_finite_float,
+                              parse_int=_bounded_int)
     except json.JSONDecodeError as exc:
         raise error(f"{label}: invalid JSON at line {exc.lineno}, column {exc.colno}: "
                     f"{exc.msg}") from None
-    except _Refused as exc:
-        raise error(f"{label}: {exc}") from None
     except RecursionError:
         raise error(f"{label}: JSON nested too deeply, expected {expected}") from None
     except ValueError as exc:  # e.g. an integer with more digits than Python converts
         raise error(f"{label}: invalid JSON: {exc}") from None
+    problem = _first_problem(document)
+    if problem is not None:
+        raise error(f"{label}: {problem}")
+    return document

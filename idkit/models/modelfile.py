@@ -69,11 +69,12 @@ def _check_keys(entry: dict, required, optional, where: str, kind: str) -> None:
                              f"keys {', '.join(allowed)}")
 
 
-def _check_number(value: object, where: str, unit: str = "") -> None:
+def _check_number(value: object, where: str) -> None:
     """A JSON number: ``true``/``false`` (Python's bool is an int) and strings are refused."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
+        note = " (JSON true/false is not a number)" if isinstance(value, bool) else ""
         raise ModelFileError(f"{where}: found {value!r} ({type(value).__name__}), expected a "
-                             f"number{' in ' + unit if unit else ''}")
+                             f"number{note}")
 
 
 def _check_units(entry: dict, model, where: str) -> None:

@@ -462,7 +462,7 @@ def _raw_entry_edit(dataset: Path, old: str, new: str) -> None:
 
 def test_manifest_duplicate_key_in_entry(dataset, tmp_path):
     _raw_entry_edit(dataset, '"repetition": 1,', '"repetition": 1, "repetition": 3,')
-    _fit(dataset, tmp_path, ["manifest.json", "'repetition' given twice", "qs_1", "1 and 3"],
+    _fit(dataset, tmp_path, ["manifest.json", "measurements[0]", "'repetition' given twice", "1 and 3"],
          case="manifest key twice in one entry")
 
 
@@ -539,7 +539,7 @@ def test_manifest_control_character_in_path(dataset, tmp_path):
     ("top_mass_kg", "true", ["top_mass_kg", "True", "expected a finite number"]),
     ("repetition", "true", ["repetition", "True", "expected an integer"]),
     ("bottom_mass_kg", "false", ["bottom_mass_kg", "False", "expected a finite number"]),
-    ("top_mass_kg", "NaN", ["NaN", "expected a finite"]),
+    ("top_mass_kg", "NaN", ["measurements[0].top_mass_kg", "NaN", "expected a finite"]),
     ("top_mass_kg", "-Infinity", ["-Infinity", "expected a finite"]),
     ("top_mass_kg", "1e400", ["1e400", "overflows to infinity"]),
     ("top_mass_kg", '"4.2"', ["top_mass_kg", "'4.2'", "expected a finite number"]),
@@ -585,7 +585,7 @@ def _raw_model_edit(model: Path, old: str, new: str) -> None:
 
 def test_model_duplicate_parameter(model, tmp_path):
     _raw_model_edit(model, '"k0": 14000.0,', '"k0": 14000.0, "k0": 1.0,')
-    _simulate(model, tmp_path, ["model file", "'k0' given twice", "14000.0 and 1.0"],
+    _simulate(model, tmp_path, ["model file", "model.params", "'k0' given twice", "14000.0 and 1.0"],
               case="model parameter twice")
 
 
@@ -639,9 +639,9 @@ def test_model_unknown_top_level_key(model, tmp_path):
 @pytest.mark.parametrize(("value", "words"), [
     ("true", ["k0", "True", "bool", "expected a number"]),
     ('"14000"', ["k0", "'14000'", "expected a number"]),
-    ("NaN", ["NaN", "expected a finite number"]),
+    ("NaN", ["model.params.k0", "NaN", "expected a finite number"]),
     ("Infinity", ["Infinity", "expected a finite number"]),
-    ("1e999", ["1e999", "overflows to infinity"]),
+    ("1e999", ["model.params.k0", "1e999", "overflows to infinity"]),
     ("null", ["k0", "None", "expected a number"]),
 ])
 def test_model_parameter_values(model, tmp_path, value, words):
