@@ -674,3 +674,48 @@ def test_system_isolator_without_units(tmp_path):
     _edit_model(path, lambda d: d["model"]["isolator"].pop("units"))
     _simulate(path, tmp_path, ["model file", "model.isolator", "'units' missing"],
               case="system isolator without units")
+
+
+# ------------------------------------------------------------ other commands, same readers
+
+def test_fit_maxwell_refuses_a_duplicate_key(dataset, tmp_path):
+    _raw_entry_edit(dataset, '"split": "fit"', '"split": "fit", "split": "validation"')
+    _fit(dataset, tmp_path, ["manifest.json", "'split' given twice"], model="maxwell",
+         case="fit maxwell: manifest key twice")
+
+
+def test_fit_maxwell_refuses_a_corrupt_gzip(dataset, tmp_path):
+    target = _gzip_set(dataset)
+    target.write_bytes(_corrupt_deflate(target.read_bytes()))
+    _fit(dataset, tmp_path, ["qs_1.csv.gz", "not a valid gzip file"], model="maxwell",
+         case="fit maxwell: corrupt gzip")
+
+
+def test_fit_maxwell_refuses_a_symlink_outside(dataset, tmp_path):
+    outside = tmp_path / "elsewhere.csv"
+    shutil.copy(dataset / QS_FILE, outside)
+    (dataset / QS_FILE).unlink()
+    (dataset / QS_FILE).symlink_to(outside)
+    _fit(dataset, tmp_path, ["qs_1.csv", "outside the set's folder"], model="maxwell",
+         case="fit maxwell: symlink outside the set")
+
+
+def test_inspect_lone_csv_not_utf8(dataset, tmp_path):
+    lone = tmp_path / "lone.csv"
+    lone.write_bytes((dataset / QS_FILE).read_bytes().replace(b"time [s]", b"t\xefme [s]"))
+    _inspect(lone, tmp_path, [lone], ["lone.csv", "not UTF-8"], case="inspect lone csv non-UTF-8")
+
+
+@pytest.mark.parametrize(("edit", "words"), [
+    (lambda d: d["model"].pop("units"), ["'units' missing"]),
+    (lambda d: d["model"]["params"].update(k_1=True), ["model.params.k_1", "True"]),
+    (lambda d: d.update(notes="hand-edited"), ["unknown top-level key(s) 'notes'"]),
+])
+def test_simulate_harmonic_refuses_strict_model_rules(model, tmp_path, edit, words):
+    _edit_model(model, edit)
+    output = tmp_path / "harmonic.csv"
+    outcome = run_main(["simulate", "harmonic", model, "--mass", "1", "--freq", "10",
+                        "--amplitude", "1e-4", "-o", output], inputs=[model],
+                       must_not_exist=[output], watch=[tmp_path])
+    check(outcome, "error", ["model file", "model.json", *words],
+          case=f"simulate harmonic: {words[0]}")
