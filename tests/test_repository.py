@@ -27,7 +27,7 @@ LAYERS = {
     "plot": {"models", "simulate", "io", "analysis", "fit", "validate", "plot"},
     "report": {"models", "simulate", "io", "analysis", "synth", "fit", "validate", "plot", "report"},
 }
-CORE = {"errors", "params", "atomic"}
+CORE = {"errors", "params", "atomic", "inputfiles"}
 
 
 def readme_commands():

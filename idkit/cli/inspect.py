@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import gzip
 from pathlib import Path
 
 import numpy as np
@@ -18,12 +17,10 @@ _KIND_BY_COLUMN = (("force", "quasi_static"), ("a_top_1", "drop"), ("x_base", "s
 def _guess_kind(path: Path) -> str:
     """Kind of a lone CSV file from its header (a white-noise and a stepped-sine file differ
     only by the manifest's frequency, so v_base/v_top alone reads as white noise)."""
-    opener = gzip.open if path.name.endswith(".gz") else open
-    try:
-        with opener(path, "rt", encoding="utf-8-sig") as handle:
-            header = handle.readline()
-    except (OSError, UnicodeDecodeError) as problem:
-        raise DataError(f"file '{path}': cannot read the header ({problem})") from None
+    from idkit.io.csv_table import decode_text, read_file_bytes
+
+    # the reader's own checks (not a file, corrupt gzip, not UTF-8) and messages
+    header = decode_text(path, read_file_bytes(path)).partition("\n")[0]
     names = {cell.split("[")[0].strip() for cell in header.split(",")}
     for column, kind in _KIND_BY_COLUMN:
         if column in names:

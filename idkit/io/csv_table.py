@@ -19,17 +19,19 @@ import gzip
 import hashlib
 import io
 import re
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from idkit.errors import DataError
+from idkit.inputfiles import decode_utf8, read_input_bytes
 from idkit.io.columns import COLUMN_QUANTITIES, KindSchema, parse_header_cell
 from idkit.io.provenance import Source
 from idkit.io.units import UnitScale, convert_to_si, lookup_unit
 
-__all__ = ["CsvTable", "parse_number_cells", "read_csv_table", "read_file_bytes"]
+__all__ = ["CsvTable", "decode_text", "parse_number_cells", "read_csv_table", "read_file_bytes"]
 
 # ASCII digits only: Python's float() would also accept Unicode digits and underscores
 _NUMBER_RE = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
@@ -57,7 +59,7 @@ class CsvTable:
 
 
 def read_file_bytes(path: str | Path) -> bytes:
-    """Read a file's bytes, raising DataError if it is missing or unreadable.
+    """Read a file's bytes, raising DataError if it is missing, a folder or unreadable.
 
     Parameters
     ----------
@@ -69,27 +71,27 @@ def read_file_bytes(path: str | Path) -> bytes:
     bytes
         Its content (never modified).
     """
+    return read_input_bytes(path, f"file '{path}'", DataError)
+
+
+def decode_text(path: str | Path, raw: bytes) -> str:
+    """Text of a data file's bytes: gunzipped for ``.gz`` names, decoded as UTF-8.
+
+    Raises
+    ------
+    DataError
+        A corrupt, truncated or non-gzip ``.gz`` file; text that is not UTF-8.
+    """
     path = Path(path)
-    try:
-        return path.read_bytes()
-    except FileNotFoundError:
-        raise DataError(f"file '{path}': not found") from None
-    except IsADirectoryError:
-        raise DataError(f"file '{path}': is a directory, expected a file") from None
-    except PermissionError as exc:
-        raise DataError(f"file '{path}': cannot be read ({exc.strerror})") from None
-
-
-def _decode(path: Path, raw: bytes) -> str:
     if path.name.endswith(".gz"):
         try:
             raw = gzip.decompress(raw)
-        except (OSError, EOFError) as exc:
-            raise DataError(f"file '{path}': not a valid gzip file ({exc})") from None
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise DataError(f"file '{path}': not UTF-8 text (byte {exc.start}: {exc.reason})") from None
+        # BadGzipFile (an OSError): bad header or CRC; EOFError: truncated stream;
+        # zlib.error: a corrupted deflate stream
+        except (OSError, EOFError, zlib.error) as exc:
+            raise DataError(f"file '{path}': not a valid gzip file ({exc}); expected "
+                            "gzip-compressed CSV") from None
+    return decode_utf8(raw, f"file '{path}'", DataError)
 
 
 def parse_number_cells(cells: list[str], column: str, source: Source) -> np.ndarray:
@@ -173,7 +175,7 @@ def read_csv_table(path: str | Path, schema: KindSchema) -> CsvTable:
     path = Path(path)
     raw = read_file_bytes(path)
     sha256 = hashlib.sha256(raw).hexdigest()
-    text = _decode(path, raw)
+    text = decode_text(path, raw)
     bare = Source(path=path, sha256=sha256, header_lines=1)
     if not text.strip():
         raise DataError(f"{bare.where()}: empty file; expected a header line "

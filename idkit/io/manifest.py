@@ -23,6 +23,7 @@ from pathlib import Path, PurePosixPath
 import pandas as pd
 
 from idkit.errors import DataError
+from idkit.inputfiles import load_json, read_input_bytes
 from idkit.io.atomic import write_bytes_atomic
 from idkit.io.columns import KINDS
 from idkit.io.csv_measurement import read_csv_measurement, write_csv_measurement
@@ -111,24 +112,9 @@ def _nan_if_none(value: float | None) -> float:
     return float("nan") if value is None else float(value)
 
 
-def _reject_constant(token: str) -> float:
-    raise ValueError(f"non-finite number {token} is not valid JSON")
-
-
 def _load_json(path: Path, raw: bytes) -> object:
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise DataError(f"manifest '{path}': not UTF-8 text (byte {exc.start})") from None
-    if not text.strip():
-        raise DataError(f"manifest '{path}': empty file, expected a JSON object")
-    try:
-        return json.loads(text, parse_constant=_reject_constant)
-    except json.JSONDecodeError as exc:
-        raise DataError(f"manifest '{path}': invalid JSON at line {exc.lineno}, column "
-                        f"{exc.colno}: {exc.msg}") from None
-    except ValueError as exc:
-        raise DataError(f"manifest '{path}': invalid JSON: {exc}") from None
+    return load_json(raw, f"manifest '{path}'", DataError,
+                     expected="a JSON object with a 'measurements' list")
 
 
 def _parse_excitation(value: object, where: str) -> Excitation:
@@ -185,9 +171,11 @@ def _parse_entry(number: int, raw_entry: object, defaults: dict, path: Path) -> 
     if not isinstance(file, str) or not file:
         raise DataError(f"{where}: file: found {file!r}, expected a relative path")
     pure = PurePosixPath(file)
-    if pure.is_absolute() or ".." in pure.parts or "\\" in file:
+    if (pure.is_absolute() or ".." in pure.parts or "\\" in file
+            or any(ord(char) < 32 for char in file)):
         raise DataError(f"{where}: file: found {file!r}, expected a relative POSIX path "
-                        "inside the set's folder (no '..', no absolute path)")
+                        "inside the set's folder (no '..', no absolute path, no control "
+                        "characters)")
     if not file.endswith(_SUFFIXES):
         raise DataError(f"{where}: file: found {file!r}, expected a name ending in "
                         f"{', '.join(_SUFFIXES)}")
@@ -219,6 +207,51 @@ def _parse_entry(number: int, raw_entry: object, defaults: dict, path: Path) -> 
     return ManifestEntry(kind=kind, file=file, info=info, mat_columns=mat_columns)
 
 
+def _file_problem(folder: Path, file: str) -> str | None:
+    """Why ``folder/file`` is not a usable data file (None if it is one)."""
+    target = folder / file
+    try:
+        target.stat()
+    except FileNotFoundError:
+        return "not found"
+    except OSError as exc:  # a symlink loop, a file where a folder is expected, ...
+        return f"cannot be read ({exc.strerror or exc})"
+    if target.is_dir():
+        return "is a folder, expected a file"
+    if not target.is_file():
+        return "is not a regular file (a FIFO, socket or device)"
+    return None
+
+
+def _check_data_files(folder: Path, path: Path, entries: tuple[ManifestEntry, ...]) -> None:
+    """Every listed file exists, is a regular file, lies inside the set's folder once
+    symlinks are resolved, and no two entries name the same file (checked before any
+    data file is read; all missing files are listed in one message)."""
+    problems = [f"entry {n} (id {e.id!r}): '{e.file}' {why}" for n, e in enumerate(entries, 1)
+                if (why := _file_problem(folder, e.file)) is not None]
+    if problems:
+        raise DataError(f"manifest '{path}': data file(s) not found or unusable (relative to "
+                        f"'{folder}'): {'; '.join(problems)}")
+    root = folder.resolve()
+    seen: dict[tuple[int, int], int] = {}
+    for number, entry in enumerate(entries, 1):
+        where = f"manifest '{path}': measurements entry {number} (1-based), id {entry.id!r}"
+        target = (folder / entry.file).resolve()
+        if not target.is_relative_to(root):
+            raise DataError(f"{where}: file '{entry.file}' resolves to '{target}', outside the "
+                            f"set's folder '{root}' (through a symlink); expected a file inside "
+                            "the set's folder")
+        # the same file through another spelling, a symlink or a hard link
+        status = target.stat()
+        key = (status.st_dev, status.st_ino)
+        if key in seen:
+            first = entries[seen[key] - 1]
+            raise DataError(f"{where}: file '{entry.file}' is the same data file as entry "
+                            f"{seen[key]} (id {first.id!r}, file '{first.file}'); expected "
+                            "one entry per data file")
+        seen[key] = number
+
+
 def read_manifest(folder: str | Path) -> Manifest:
     """Read and check ``folder/manifest.json`` (no data file is read).
 
@@ -239,7 +272,7 @@ def read_manifest(folder: str | Path) -> Manifest:
     """
     folder = Path(folder)
     path = folder / MANIFEST_NAME
-    raw = read_file_bytes(path)
+    raw = read_input_bytes(path, f"manifest '{path}'", DataError)
     sha256 = hashlib.sha256(raw).hexdigest()
     document = _load_json(path, raw)
     if not isinstance(document, dict):
@@ -252,9 +285,15 @@ def read_manifest(folder: str | Path) -> Manifest:
     if document.get("format", MANIFEST_FORMAT) != MANIFEST_FORMAT:
         raise DataError(f"manifest '{path}': format {document['format']!r}, expected "
                         f"{MANIFEST_FORMAT!r}")
-    if document.get("version", MANIFEST_VERSION) != MANIFEST_VERSION:
-        raise DataError(f"manifest '{path}': version {document['version']!r}, this idkit "
-                        f"reads version {MANIFEST_VERSION}")
+    version = document.get("version", MANIFEST_VERSION)
+    # `true == 1` in Python: the type is checked, not only the value
+    if type(version) is not int or version != MANIFEST_VERSION:
+        raise DataError(f"manifest '{path}': version {version!r}, this idkit "
+                        f"reads version {MANIFEST_VERSION} (an integer)")
+    for key in ("name", "notes"):
+        if not isinstance(document.get(key, ""), str):
+            raise DataError(f"manifest '{path}': {key}: found {document[key]!r}, expected a "
+                            "string")
     defaults = document.get("defaults", {})
     if not isinstance(defaults, dict) or {"id", "file"} & set(defaults):
         raise DataError(f"manifest '{path}': 'defaults' must be an object of entry keys "
@@ -270,13 +309,9 @@ def read_manifest(folder: str | Path) -> Manifest:
             raise DataError(f"manifest '{path}': measurements entry {number} (1-based): "
                             f"duplicate id {entry.id!r} (first in entry {seen[entry.id]})")
         seen[entry.id] = number
-    missing = [f"entry {n} (id {e.id!r}): '{e.file}'" for n, e in enumerate(entries, 1)
-               if not (folder / e.file).is_file()]
-    if missing:
-        raise DataError(f"manifest '{path}': data file(s) not found (relative to "
-                        f"'{folder}'): {'; '.join(missing)}")
-    return Manifest(path=path, name=str(document.get("name", "")),
-                    notes=str(document.get("notes", "")), entries=entries, sha256=sha256)
+    _check_data_files(folder, path, entries)
+    return Manifest(path=path, name=document.get("name", ""),
+                    notes=document.get("notes", ""), entries=entries, sha256=sha256)
 
 
 def _read_entry(folder: Path, entry: ManifestEntry) -> Measurement:

@@ -16,7 +16,6 @@ from __future__ import annotations
 import hashlib
 import io
 import re
-import struct
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -107,16 +106,27 @@ def load_mat_variables(path: str | Path) -> tuple[dict[str, np.ndarray], str]:
     path = Path(path)
     raw = read_file_bytes(path)
     sha256 = hashlib.sha256(raw).hexdigest()
+    if not raw:
+        raise DataError(f"file '{path}': empty file (0 bytes); expected a MATLAB .mat file")
     if raw[:128].startswith(b"MATLAB 7.3") or raw[:8] == b"\x89HDF\r\n\x1a\n":
         raise DataError(f"file '{path}': MATLAB v7.3 (HDF5) file; expected a v4-v7.2 .mat "
                         "file (re-save with save(..., '-v7'))")
     try:
         variables = scipy.io.loadmat(io.BytesIO(raw))
-    # scipy raises assorted exceptions on malformed bytes; all mean "not a .mat file"
-    except (ValueError, TypeError, OSError, NotImplementedError, IndexError, KeyError,
-            EOFError, struct.error) as exc:
-        raise DataError(f"file '{path}': not a readable MATLAB .mat file ({exc})") from None
-    return {k: v for k, v in variables.items() if not k.startswith("__")}, sha256
+    # scipy's parser is not hardened against malformed bytes: fuzzing truncated and
+    # corrupted files raised OSError, ValueError, zlib.error, IndexError, TypeError,
+    # MatReadError and even UnboundLocalError. Whatever it raises while parsing these
+    # bytes means one thing, "not a readable .mat file", so every exception is turned
+    # into the file's DataError (the exception type is kept in the message).
+    except Exception as exc:  # noqa: BLE001 - see above
+        raise DataError(f"file '{path}': not a readable MATLAB .mat file, truncated or corrupt "
+                        f"({type(exc).__name__}: {exc}); expected a MATLAB v4-v7.2 .mat "
+                        "file") from None
+    variables = {k: v for k, v in variables.items() if not k.startswith("__")}
+    if not variables:
+        raise DataError(f"file '{path}': a .mat header without any variable (truncated?); "
+                        "expected the variables of a measurement")
+    return variables, sha256
 
 
 def _column_values(variables: dict, column: MatColumn, where: str) -> np.ndarray:

@@ -34,6 +34,7 @@ import numpy as np
 import pandas as pd
 
 from idkit.errors import DataError
+from idkit.inputfiles import decode_utf8
 from idkit.io.complex_stiffness import ComplexStiffnessTable, ShiftFactorTable
 from idkit.io.csv_table import parse_number_cells, read_file_bytes
 from idkit.io.info import MeasurementInfo
@@ -88,10 +89,7 @@ def realdata_dir(subfolder: str | None = None) -> Path | None:
 def _text_rows(path: Path) -> tuple[list[list[str]], str]:
     raw = read_file_bytes(path)
     sha256 = hashlib.sha256(raw).hexdigest()
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise DataError(f"file '{path}': not UTF-8 text (byte {exc.start})") from None
+    text = decode_utf8(raw, f"file '{path}'", DataError)
     rows = [[cell.strip() for cell in row] for row in csv.reader(io.StringIO(text, newline=""))]
     while rows and not any(rows[-1]):
         rows.pop()

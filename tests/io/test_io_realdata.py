@@ -92,9 +92,10 @@ def test_mr_damper_loop(realdata):
 
 
 def test_mr_damper_through_a_manifest_in_tmp(realdata, tmp_path):
-    """The same file as a .mat manifest entry (symlinked into tmp, not copied into the repo)."""
+    """The same file as a .mat manifest entry (copied into tmp, never into the repo; a
+    symlink leading out of the set's folder is refused)."""
     source = realdata("mr_damper_labcontrol") / "data" / "ensaio1.mat"
-    (tmp_path / "ensaio1.mat").symlink_to(source)
+    (tmp_path / "ensaio1.mat").write_bytes(source.read_bytes())
     (tmp_path / "manifest.json").write_text(json.dumps({"measurements": [{
         "id": "ensaio1", "kind": "quasi_static", "isolator": "mr_damper", "file": "ensaio1.mat",
         "sample_rate_hz": 100.0,
@@ -104,6 +105,10 @@ def test_mr_damper_through_a_manifest_in_tmp(realdata, tmp_path):
     direct = read_mr_damper(source)
     assert np.array_equal(from_manifest.force, direct.force)
     assert from_manifest.source.sha256 == direct.source.sha256
+    (tmp_path / "ensaio1.mat").unlink()
+    (tmp_path / "ensaio1.mat").symlink_to(source)
+    with pytest.raises(DataError, match="outside the set's folder"):
+        load_measurement_set(tmp_path)
 
 
 @pytest.mark.parametrize(("k", "channel", "peak_kgn"), [
