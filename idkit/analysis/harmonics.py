@@ -39,6 +39,7 @@ __all__ = [
     "InputFlatness",
     "fit_harmonics",
     "hosidf",
+    "resonance_peak",
     "input_flatness",
 ]
 
@@ -496,3 +497,24 @@ def input_flatness(
         freq_of_max=float(freq_values[np.argmax(values)]),
         freq_of_min=float(freq_values[np.argmin(values)]),
     )
+
+
+def resonance_peak(freq, magnitude) -> tuple[float, float]:
+    """Frequency and height of the largest ``magnitude`` over ``freq``.
+
+    A parabola in (log f, log |H|) through the highest point and its two neighbours
+    refines both when the peak lies inside the range (the grid maximum otherwise).
+    """
+    freq, magnitude = np.asarray(freq, dtype=float), np.asarray(magnitude, dtype=float)
+    order = np.argsort(freq)
+    freq, magnitude = freq[order], magnitude[order]
+    index = int(np.argmax(magnitude))
+    if 0 < index < freq.size - 1:
+        x = np.log(freq[index - 1 : index + 2])
+        y = np.log(magnitude[index - 1 : index + 2])
+        coefficients = np.polyfit(x, y, 2)
+        if coefficients[0] < 0:
+            vertex = -coefficients[1] / (2 * coefficients[0])
+            if x[0] <= vertex <= x[2]:
+                return float(np.exp(vertex)), float(np.exp(np.polyval(coefficients, vertex)))
+    return float(freq[index]), float(magnitude[index])

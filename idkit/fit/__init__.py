@@ -31,6 +31,7 @@ from idkit.fit.bootstrap import (
 )
 from idkit.fit.boucwen import boucwen_set_errors, boucwen_set_forces, fit_boucwen
 from idkit.fit.compare import LoopModelComparison, compare_loop_models
+from idkit.fit.damping import ViscousDamping, fit_viscous_damping
 from idkit.fit.iwan import LoopSet, fit_iwan, iwan_set_errors, iwan_set_forces, iwan_start, prepare_loops
 from idkit.fit.landscape import ErrorLandscape, maxwell_error_landscape
 from idkit.fit.maxwell import (
@@ -74,7 +75,8 @@ __all__ = [
     "TransmissibilitySet", "K0Estimate", "estimate_k0", "maxwell_objective", "fit_maxwell", "fit_voigt",
     "fit_complex_stiffness", "maxwell_order_table",
     "MaxwellFitResult", "MaxwellFitSettings", "CrossCheck",
-    "fit_boucwen", "boucwen_set_errors", "boucwen_set_forces", "BoucWenFitResult", "BoucWenFitSettings",
+    "fit_boucwen",
+    "fit_viscous_damping", "ViscousDamping", "boucwen_set_errors", "boucwen_set_forces", "BoucWenFitResult", "BoucWenFitSettings",
     "SMALL_THRESHOLD", "DataProvenance", "LoopData", "K0FromLoops", "MeasurementFit", "loop_sets",
     "transmissibility_sets", "k0_from_measurements", "fit_iwan_measurements", "fit_boucwen_measurements",
     "fit_maxwell_measurements",

@@ -35,6 +35,7 @@ import numpy as np
 from idkit.analysis.frf import estimate_frf
 from idkit.errors import DataError, FitError
 from idkit.fit.boucwen import fit_boucwen
+from idkit.fit.damping import ViscousDamping, fit_viscous_damping
 from idkit.fit.iwan import LoopSet, fit_iwan, prepare_loops
 from idkit.fit.maxwell import K0Estimate, TransmissibilitySet, estimate_k0, fit_maxwell
 from idkit.models import save_model
@@ -153,6 +154,9 @@ class MeasurementFit:
         Options of the measurement-level call (recorded in the provenance).
     repetitions : tuple
         Maxwell fits: repetition number of each transmissibility set (for the bootstrap).
+    damping : ViscousDamping or None
+        Iwan fits: the viscous damping identified from stepped-sine data
+        (:func:`idkit.fit.fit_viscous_damping`); the model carries it.
     """
 
     kind: str
@@ -162,10 +166,13 @@ class MeasurementFit:
     k0: K0FromLoops | None = None
     options: dict = field(default_factory=dict)
     repetitions: tuple = ()
+    damping: ViscousDamping | None = None
 
     @property
     def model(self):
-        """The identified model."""
+        """The identified model (Iwan: with the identified viscous damping, if any)."""
+        if self.damping is not None:
+            return self.damping.model(self.result.model)
         return self.result.model
 
     def report(self) -> str:
@@ -183,6 +190,15 @@ class MeasurementFit:
             lines.append(f"    k0 = {k.k0:.5g} +- {k.stderr:.2g} N/m from the quasi-static loops (|deflection| <= "
                          f"{1e3 * k.window:g} mm; per record "
                          + ", ".join(f"{name}: {value:.5g}" for name, value in k.per_record.items()) + ")")
+        if self.damping is not None:
+            d = self.damping
+            lines.append(f"    c_visc = {d.c_visc:.4g} N s/m (damping ratio {d.damping_ratio:.3g}) from the resonance "
+                         f"peak of the stepped-sine level {d.level:g} ({d.points} points, {d.peak_frequency_hz:.3g} Hz, "
+                         f"|H1| {d.peak_measured:.4g}); peak-matching value per level: "
+                         + ", ".join(f"{level:g}: {value:.3g}" for level, value in d.per_level.items()))
+        elif self.kind == "iwan":
+            lines.append("    c_visc = 0: no stepped-sine data to identify viscous damping; steady-state "
+                         "responses of a lightly hysteretic rope may not settle")
         return "\n".join(lines) + "\n" + self.result.report()
 
     def provenance_dict(self) -> dict:
@@ -198,6 +214,8 @@ class MeasurementFit:
             "options": _jsonable(self.options),
             "seed": settings.get("seed"),
         }
+        if self.damping is not None:
+            record["viscous_damping"] = _jsonable(dataclasses.asdict(self.damping))
         if getattr(self.result, "start_states", None):
             record["start_states"] = dict(self.result.start_states)
         if hasattr(self.result, "reasons"):
@@ -432,12 +450,17 @@ def fit_iwan_measurements(
     points_per_set: int | None = LOOP_POINTS_PER_SET,
     backend: str = "nlopt",
     seed: int = 0,
+    damping_level="largest",
     **options,
 ) -> MeasurementFit:
     """Three-stage Iwan fit (:func:`idkit.fit.fit_iwan`) on the quasi-static records of a set.
 
     Records are split into small and large sets by :func:`loop_sets`
     (``small_threshold`` default 8 mm); ``options`` go to :func:`~idkit.fit.fit_iwan`.
+    When the same selection holds stepped-sine points of the isolator, the viscous
+    damping is identified from the resonance of the level ``damping_level``
+    (:func:`idkit.fit.fit_viscous_damping`; ``None`` keeps ``c_visc = 0``) and
+    carried by ``fit.model`` and the model file.
 
     Examples
     --------
@@ -448,9 +471,18 @@ def fit_iwan_measurements(
     data = loop_sets(measurements, small_threshold=small_threshold, isolator=isolator, split=split,
                      points_per_set=points_per_set)
     result = fit_iwan(list(data.small), list(data.large), order=order, backend=backend, seed=seed, **options)
+    damping = None
+    if damping_level is not None:
+        try:
+            sweeps, _ = _select(measurements, kind="stepped_sine", isolator=isolator, split=_split_option(split))
+        except FitError:
+            sweeps = []
+        if sweeps:
+            damping = fit_viscous_damping(result.model, sweeps, level=damping_level)
     return MeasurementFit(kind="iwan", result=result, data=data, provenance=data.provenance,
                           options={"small_threshold": small_threshold, "points_per_set": points_per_set,
-                                   "order": order, "backend": backend, **options})
+                                   "order": order, "backend": backend, "damping_level": damping_level, **options},
+                          damping=damping)
 
 
 def fit_boucwen_measurements(

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from idkit.analysis.harmonics import hosidf
+from idkit.analysis.harmonics import hosidf, resonance_peak
 from idkit.errors import ValidationError
 from idkit.simulate import harmonic_response
 from idkit.validate.result import ValidationResult, check_thresholds
@@ -26,22 +26,6 @@ HARMONIC_THRESHOLDS = {
     "max_resonance_frequency_error": 0.10,
     "max_peak_magnitude_error_db": 3.0,
 }
-
-
-def _peak(freq: np.ndarray, magnitude: np.ndarray) -> tuple[float, float]:
-    """Peak of |H| over frequency with parabolic refinement in log f (needs the peak inside)."""
-    order = np.argsort(freq)
-    freq, magnitude = freq[order], magnitude[order]
-    index = int(np.argmax(magnitude))
-    if 0 < index < freq.size - 1:
-        x = np.log(freq[index - 1 : index + 2])
-        y = np.log(magnitude[index - 1 : index + 2])
-        coefficients = np.polyfit(x, y, 2)
-        if coefficients[0] < 0:
-            vertex = -coefficients[1] / (2 * coefficients[0])
-            if x[0] <= vertex <= x[2]:
-                return float(np.exp(vertex)), float(np.exp(np.polyval(coefficients, vertex)))
-    return float(freq[index]), float(magnitude[index])
 
 
 def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, lower=None, n_harmonics: int = 3,
@@ -128,8 +112,8 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
     for level, group in settled.groupby("level"):
         if len(group) < 3:
             continue
-        f_meas, peak_meas = _peak(group["freq [Hz]"].to_numpy(), group["|H1| measured [-]"].to_numpy())
-        f_sim, peak_sim = _peak(group["freq [Hz]"].to_numpy(), group["|H1| simulated [-]"].to_numpy())
+        f_meas, peak_meas = resonance_peak(group["freq [Hz]"].to_numpy(), group["|H1| measured [-]"].to_numpy())
+        f_sim, peak_sim = resonance_peak(group["freq [Hz]"].to_numpy(), group["|H1| simulated [-]"].to_numpy())
         resonance_rows.append({
             "level": level, "resonance measured [Hz]": f_meas, "resonance simulated [Hz]": f_sim,
             "resonance error [-]": f_sim / f_meas - 1, "peak measured [-]": peak_meas,
@@ -150,7 +134,7 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
     }
     inconclusive = ()
     if unsettled > MAX_UNSETTLED_FRACTION * len(table):
-        causes = sorted(set(status[i] for i in np.flatnonzero(~converged)))
+        causes = sorted({status[i].split(" (")[0] for i in np.flatnonzero(~converged)})
         inconclusive = (f"{unsettled} of {len(table)} simulated points did not reach a valid steady state "
                         f"(limit {MAX_UNSETTLED_FRACTION:.0%}; {'; '.join(causes)}); they are left out of "
                         "every metric",)
