@@ -100,10 +100,32 @@ def test_frf_validation_passes_on_own_data_and_fails_when_stiffness_doubles(whit
     # sqrt(1 - g^2) / (g sqrt(2 n_d))) is below ~6 % per bin, a few % RMS
     assert own.passed, own.report()
     assert own.summary["max_frf_error"] < 0.06
+    assert own.summary["max_damping_ratio_error"] < 0.1
     stiff = GeneralizedMaxwell(k0=2 * elastomer.k0, k=2 * elastomer.k, rate=elastomer.rate, m_eff=elastomer.m_eff)
     wrong = validate_frf(runs, isolator=stiff)
     assert not wrong.passed
     assert wrong.summary["max_resonance_frequency_error"] > 0.3
+
+
+def test_frf_validation_fails_when_only_the_damping_is_three_times_too_high():
+    """A Voigt mount: same stiffness, three times the damping: the resonance stays, the width does not."""
+    from idkit.models import VoigtModel
+
+    rng = np.random.default_rng(RNG_SEED)
+    truth = VoigtModel(k=1.4e4, damping=8.0)  # damping ratio 0.020 on 3 kg
+    fs, duration = 1024.0, 40.0
+    time = np.arange(int(duration * fs)) / fs
+    v_base = rng.normal(0, 0.01, time.size)
+    response = simulate(SDOFSystem(3.0, truth), time, base=BaseMotion.from_samples(time, v_base, quantity="velocity"))
+    noise = 0.002 * np.std(v_base)
+    runs = [WhiteNoiseMeasurement(time=time, v_base=v_base + rng.normal(0, noise, time.size),
+                                  v_top=response.velocity[0, 0] + v_base + rng.normal(0, noise, time.size),
+                                  info=MeasurementInfo(id="wn-voigt", isolator="elastomer", top_mass_kg=3.0))]
+    own = validate_frf(runs, isolator=truth)
+    assert own.passed, own.report()
+    wrong = validate_frf(runs, isolator=VoigtModel(k=1.4e4, damping=24.0))
+    assert wrong.summary["max_resonance_frequency_error"] < 0.05  # the resonance alone cannot tell
+    assert wrong.summary["max_damping_ratio_error"] > 1.0 and wrong.verdict == "FAIL", wrong.report()
 
 
 @pytest.fixture(scope="module")
@@ -213,3 +235,15 @@ def test_viscous_damping_of_the_generating_rope_is_recovered_from_its_sweeps(ste
     assert set(result.per_level) == {2e-3, 2e-2}
     assert result.model(undamped).c_visc == result.c_visc
     assert abs(result.peak_simulated / result.peak_measured - 1) < 1e-3
+
+
+@pytest.mark.parametrize(("change", "factor"), [("c_visc", 3.0), ("fc", 0.3), ("fc", 3.0), ("stiffness", 0.5)])
+def test_harmonic_validation_fails_a_wrong_component(stepped_sine_points, change, factor):
+    """Each component the sweep validation claims to check: off by the factor, it FAILs."""
+    params = wire_rope().params()
+    for name in params:
+        if (change == "c_visc" and name == "c_visc") or (change == "fc" and name.startswith("fc_")) or (
+                change == "stiffness" and (name == "g1" or name.startswith("k_"))):
+            params[name] *= factor
+    wrong = validate_harmonic(stepped_sine_points, isolator=IwanModel.from_params(params))
+    assert wrong.verdict == "FAIL", wrong.report()
