@@ -12,6 +12,8 @@ it would have replaced). The rules (README "Outputs"):
   below a regular file;
 * the folder that will receive the output must accept a new file (a probe file is created
   and removed: this also catches read-only mounts, which permission bits do not show);
+* leftovers of a killed earlier run on a folder that will be replaced are cleaned up
+  first (:func:`idkit.atomic.recover_leftovers`);
 * the disk must have at least :data:`MIN_FREE_BYTES` free (a cheap floor, not a promise:
   a full disk during the write still fails cleanly, leaving the previous output in place).
 """
@@ -23,6 +25,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
+from idkit.atomic import recover_leftovers
 from idkit.errors import OutputError
 
 __all__ = ["MIN_FREE_BYTES", "check_output"]
@@ -99,6 +102,8 @@ def check_output(path: str | Path, *, kind: str = "file", inputs=(), option: str
                               f"an input (it could destroy it): choose another {option}")
     if kind == "replaced" and (resolved == Path.cwd().resolve() or resolved in Path.cwd().resolve().parents):
         raise OutputError(f"{where}: contains the working folder '{Path.cwd()}'; refusing to replace it")
+    if kind == "replaced":
+        recover_leftovers(path)  # a killed earlier run may have left NAME renamed aside
     if kind == "file" and os.path.lexists(path) and not path.is_dir():
         raise FileExistsError(f"{path}: exists; refusing to overwrite it (choose another name)")
     if kind == "replaced" and path.is_dir() and not force:
