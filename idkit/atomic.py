@@ -10,6 +10,8 @@ Every file and folder the ``idkit`` command writes goes through this module:
   An existing folder is renamed aside (``.NAME.old.PID.XXXX``), the staging folder renamed
   onto ``NAME``, and only then is the aside copy deleted; if the second rename fails the old
   folder is renamed back. ``NAME`` names nothing only between those two renames.
+  Files written inside the staging folder need no atomic write of their own: nobody sees
+  them before the whole folder is in place.
 
 After a ``SIGKILL`` (nothing can clean up) hidden ``.NAME.partial.PID.*`` or
 ``.NAME.old.PID.*`` folders may remain next to ``NAME``. The next
