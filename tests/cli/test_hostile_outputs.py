@@ -269,6 +269,16 @@ def test_a_disk_filling_up_during_the_write_leaves_nothing(model_file, tmp_path,
     check(outcome, "error", ["cannot write", str(target), "no space"], case="simulate -o disk full while writing")
 
 
+def test_an_unforeseen_os_error_is_an_idkit_error_naming_its_path(tmp_path, monkeypatch):
+    """Last resort in ``main``: an ``OSError`` no check foresaw still ends as exit 2 naming the path."""
+    def denied(name):
+        raise PermissionError(errno.EACCES, os.strerror(errno.EACCES), "/somewhere/locked.json")
+
+    monkeypatch.setattr("idkit.models.library.get", denied)
+    outcome = run_main(["library", "system_b1_low", "-o", tmp_path / "m.json"], must_not_exist=[tmp_path / "m.json"])
+    check(outcome, "error", ["/somewhere/locked.json", "permission denied"], case="OSError escaping a command")
+
+
 # --- existing outputs ----------------------------------------------------------------------------
 
 @pytest.mark.parametrize("command", [["demo", "--quick"], ["study", "elastomer", "--quick"], ["report", "{set}"]])
