@@ -61,9 +61,8 @@ def _check_table_output(args):
 
 def _cmd_demo(args):
     from idkit.cli.progress import say
-    from idkit.report import run_demo
-
     from idkit.output_checks import check_output
+    from idkit.report import run_demo
 
     check_output(args.output, kind="replaced", force=args.force)
     summary = run_demo(args.output, force=args.force, quick=args.quick, progress=lambda m: say(m, enabled=not args.quiet))
