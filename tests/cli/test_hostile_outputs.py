@@ -337,8 +337,14 @@ def _kill_at_swap(argv, target: Path, point: str, signum: int, tmp_path: Path):
     old = _old_output(target)
     flag = tmp_path / "paused"
     process = _start_paused(argv, point, flag)
-    new = _manifest(target if point == "after" else _staged(target))
-    assert new != old and "summary.json" in new
+    try:
+        new = _manifest(target if point == "after" else _staged(target))
+        last = {"demo": "summary.json", "report": "report.html"}[str(argv[0])]  # written last: complete
+        assert new != old and last in new
+    except BaseException:
+        process.kill()
+        process.communicate()
+        raise
     process.send_signal(signum)
     _, err = process.communicate(timeout=120)
     return process.returncode, err, old, new
