@@ -1,7 +1,7 @@
 """Exceptions raised by idkit.
 
 Every error idkit raises on bad input subclasses :class:`IdkitError` and one of
-the built-in ``ValueError``/``TypeError``, so callers can catch either idkit's
+the built-in ``ValueError``/``TypeError`` (``OSError`` for outputs), so callers can catch either idkit's
 own family or the standard one. Messages name the parameter, file, column or
 row, what was found and what was expected.
 """
@@ -21,6 +21,11 @@ class ModelFileError(IdkitError, ValueError):
 
 class DataError(IdkitError, ValueError):
     """A measurement file or manifest is malformed (names file, column/row, found, expected)."""
+
+
+class OutputError(IdkitError, OSError):
+    """An output cannot be written: it would overlap an input, its folder is missing or
+    read-only, the disk is full (names the path and the reason)."""
 
 
 class SimulationError(IdkitError, ValueError):

@@ -11,8 +11,10 @@ __all__ = ["register"]
 
 def _cmd_generate(args) -> None:
     from idkit.cli.progress import say
+    from idkit.output_checks import check_output
     from idkit.synth import generate
 
+    check_output(args.output, kind="folder")
     summary = generate(Path(args.output), seed=args.seed, force=args.force, quick=args.quick,
                        sets=args.sets, progress=lambda message: say(message, enabled=not args.quiet))
     print(summary.report())

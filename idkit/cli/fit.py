@@ -19,13 +19,13 @@ _PLOT_NAMES = {"iwan": ["loops.png"], "boucwen": ["loops.png"],
                "maxwell": ["frf.png", "complex_stiffness.png", "landscape.png"]}
 
 
-def _check_outputs(kind: str, output: str, plots: str | None) -> None:
-    output = Path(output)
-    if output.exists():
-        raise FileExistsError(f"{output}: exists; refusing to overwrite (choose another name)")
-    if not output.parent.is_dir():
-        raise IdkitError(f"-o {output}: folder {output.parent} does not exist")
+def _check_outputs(kind: str, output: str, plots: str | None, dataset: str) -> None:
+    """Every output refused before fitting: existing, overlapping the data set, unwritable."""
+    from idkit.output_checks import check_output
+
+    check_output(output, inputs=[dataset])
     if plots is not None:
+        check_output(plots, kind="folder", inputs=[dataset], option="--plots")
         existing = [str(Path(plots) / f"{kind}_{name}") for name in _PLOT_NAMES[kind]
                     if (Path(plots) / f"{kind}_{name}").exists()]
         if existing:
@@ -67,7 +67,7 @@ def _cmd_iwan(args) -> int:
 
     if args.valid_range:
         opt.check_valid_range("--valid-range", args.valid_range)
-    _check_outputs("iwan", args.output, args.plots)
+    _check_outputs("iwan", args.output, args.plots, args.dataset)
     options = {"valid_range": tuple(args.valid_range)} if args.valid_range else {}
     fit = fit_iwan_measurements(_load(args.dataset), order=args.order, small_threshold=args.small_threshold,
                                 isolator=args.isolator, split=_split(args.split), backend=args.backend,
@@ -78,7 +78,7 @@ def _cmd_iwan(args) -> int:
 def _cmd_boucwen(args) -> int:
     from idkit.fit import compare_loop_models, fit_boucwen_measurements, fit_iwan_measurements
 
-    _check_outputs("boucwen", args.output, args.plots)
+    _check_outputs("boucwen", args.output, args.plots, args.dataset)
     data = _load(args.dataset)
     options = {"small_threshold": args.small_threshold, "isolator": args.isolator, "split": _split(args.split),
                "backend": args.backend, "seed": args.seed, "initial_state": args.start_state}
@@ -93,7 +93,7 @@ def _cmd_maxwell(args) -> int:
     from idkit.fit import fit_maxwell_measurements, maxwell_order_table, transmissibility_sets
 
     opt.check_band("--band", args.band)
-    _check_outputs("maxwell", args.output, args.plots)
+    _check_outputs("maxwell", args.output, args.plots, args.dataset)
     data = _load(args.dataset)
     fit = fit_maxwell_measurements(data, order=args.order, k0=args.k0, isolator=args.isolator,
                                    split=_split(args.split), band=tuple(args.band), backend=args.backend,

@@ -155,6 +155,10 @@ def save_overview_plots(measurements, folder: str | Path, *, force: bool = False
 def _cmd_inspect(args) -> None:
     from idkit.analysis.measurements import summarize_measurements
 
+    if args.plots:
+        from idkit.output_checks import check_output
+
+        check_output(args.plots, kind="folder", inputs=[args.path], option="--plots")
     title, measurements = load_for_inspection(args.path, args.kind)
     summary = summarize_measurements(measurements)
     print(f"{title}")

@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import signal
 import sys
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -28,23 +31,32 @@ def _model_or_system(path, mass):
 
 
 def _write_table(frame, output):
+    from idkit.atomic import write_text_atomic
+
     if output is None:
         print(frame.to_string(index=False))
         return
     output = Path(output)
-    if output.exists():
-        raise FileExistsError(f"{output}: exists; choose another name")
-    if output.suffix == ".json":
-        output.write_text(frame.to_json(orient="records", indent=1) + "\n")
-    else:
-        frame.to_csv(output, index=False)
+    text = frame.to_json(orient="records", indent=1) + "\n" if output.suffix == ".json" else frame.to_csv(index=False)
+    write_text_atomic(output, text)
     print(f"wrote {output}", file=sys.stderr)
+
+
+def _check_table_output(args):
+    """Refuse a bad ``-o`` of ``simulate`` before simulating (exists, overlaps the model, unwritable)."""
+    from idkit.output_checks import check_output
+
+    if args.output is None:
+        return
+    check_output(args.output, inputs=[args.model])
 
 
 def _cmd_demo(args):
     from idkit.cli.progress import say
+    from idkit.output_checks import check_output
     from idkit.report import run_demo
 
+    check_output(args.output, kind="replaced", force=args.force)
     summary = run_demo(args.output, force=args.force, quick=args.quick, progress=lambda m: say(m, enabled=not args.quiet))
     print(json.dumps({key: summary[key] for key in ("elastomer_resonance_hz", "timings_s")}, indent=1))
     print(f"figures, model files and summary.json written to {args.output}", file=sys.stderr)
@@ -59,6 +71,9 @@ def _cmd_library(args):
         return
     model = library.get(args.name)
     if args.output:
+        from idkit.output_checks import check_output
+
+        check_output(args.output)
         save_model(model, args.output, provenance={"source": "idkit.models.library", "name": args.name})
         print(f"wrote {args.output}", file=sys.stderr)
     else:
@@ -74,6 +89,7 @@ def _cmd_simulate_harmonic(args):
     axes = (opt.parse_axis("--freq", args.freq, args.freq_spacing, what="frequencies", unit="Hz"),
             opt.parse_axis("--amplitude", args.amplitude, args.amplitude_spacing, what="amplitudes", unit="m"))
     opt.check_grid_size(axes, args.max_points)
+    _check_table_output(args)
     system = _model_or_system(args.model, args.mass)
     freq, amplitude = (axis.build() for axis in axes)
     grid_freq, grid_amplitude = np.meshgrid(freq, amplitude, indexing="ij")
@@ -100,6 +116,7 @@ def _cmd_simulate_drop(args):
     if (args.velocity is None) == (args.height is None):
         raise IdkitError("give exactly one of --velocity and --height")
     opt.check_drop(len(args.velocity or args.height), args.duration, args.time_step, args.max_samples)
+    _check_table_output(args)
     system = _model_or_system(args.model, args.mass)
     if args.velocity is not None:
         velocity = -np.abs(np.asarray(args.velocity, dtype=float))
@@ -198,14 +215,47 @@ def _register_command_modules(commands) -> None:
             module.register(commands)
 
 
+class Terminated(BaseException):
+    """Raised in the main thread when the process receives ``SIGTERM``, so that every
+    ``finally`` and context manager runs (staging folders removed, old outputs restored)."""
+
+
+def _raise_terminated(signum, frame):
+    raise Terminated()
+
+
+@contextlib.contextmanager
+def _sigterm_as_exception():
+    """Turn ``SIGTERM`` into :class:`Terminated` while the command runs (main thread only)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        status = args.handler(args)
+        with _sigterm_as_exception():
+            status = args.handler(args)
     except (IdkitError, FileExistsError, FileNotFoundError) as problem:
         print(f"idkit: error: {problem}", file=sys.stderr)
         return 2
+    except OSError as problem:  # last resort: a write or read that no check foresaw
+        where = f"{problem.filename}: " if problem.filename else ""
+        print(f"idkit: error: {where}{problem.strerror or problem}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("idkit: interrupted; partial outputs removed, previous outputs kept", file=sys.stderr)
+        return 130
+    except Terminated:
+        print("idkit: terminated (SIGTERM); partial outputs removed, previous outputs kept", file=sys.stderr)
+        return 128 + signal.SIGTERM
     return int(status or 0)
 
 

@@ -11,8 +11,10 @@ __all__ = ["register"]
 
 def _cmd_report(args) -> int:
     from idkit.cli.progress import say
-    from idkit.report.main_report import run_report
+    from idkit.output_checks import check_output
+    from idkit.report.main_report import default_data_dir, run_report
 
+    check_output(args.output, kind="replaced", force=args.force, inputs=[args.data_dir or default_data_dir()])
     summary = run_report(args.data_dir, args.output, force=args.force, quick=args.quick, seed=args.seed,
                          workers=args.workers, progress=lambda message: say(message, enabled=not args.quiet),
                          start_state=args.start_state)

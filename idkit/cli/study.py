@@ -56,8 +56,10 @@ def add_common_study_options(parser, name: str) -> None:
 
 def _cmd_study(args) -> None:
     from idkit.cli.progress import ProgressBar
+    from idkit.output_checks import check_output
     from idkit.report.studies import run_study
 
+    check_output(args.output, kind="replaced", force=args.force)
     summary = run_study(args.study, args.output, force=args.force, quick=args.quick, workers=args.workers,
                         progress=ProgressBar(f"study {args.study}", enabled=not args.quiet))
     print(json.dumps({"study": summary["study"], "timings_s": summary["timings_s"]}, indent=1))

@@ -36,8 +36,10 @@ def _identified_models(args):
 
 def _cmd_transport(args) -> None:
     from idkit.cli.progress import ProgressBar
+    from idkit.output_checks import check_output
     from idkit.report.transport import run_transport_study
 
+    check_output(args.output, kind="replaced", force=args.force, inputs=[args.wire_rope, args.elastomer, args.data_dir])
     wire_rope, elastomer = _identified_models(args)
     study = run_transport_study(args.output, force=args.force, quick=args.quick, wire_rope=wire_rope,
                                 elastomer=elastomer, seed=args.seed, workers=args.workers,

@@ -19,7 +19,7 @@ from idkit.plot import (
     plot_shock_levels,
     save_figure,
 )
-from idkit.report.output import atomic_output_folder
+from idkit.atomic import atomic_output_folder
 from idkit.simulate import free_fall, harmonic_response
 
 __all__ = ["run_demo"]

@@ -41,7 +41,7 @@ from idkit.plot.fits import plot_storage_loss
 from idkit.plot.fits import plot_frf_fit, plot_loop_fit
 from idkit.plot.validation import plot_drop_validation, plot_frf_validation, plot_harmonic_validation
 from idkit.report.html import HtmlReport
-from idkit.report.output import atomic_output_folder
+from idkit.atomic import atomic_output_folder
 from idkit.report.transport import compute_transport_study, write_transport_figures, write_transport_tables
 from idkit.validate import validate_drops, validate_frf, validate_harmonic
 

@@ -53,7 +53,7 @@ from idkit.plot import (
     plot_transmissibility,
     save_figure,
 )
-from idkit.report.output import atomic_output_folder
+from idkit.atomic import atomic_output_folder
 from idkit.simulate import harmonic_response
 
 __all__ = ["STUDY_NAMES", "StudyError", "run_study"]

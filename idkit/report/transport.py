@@ -26,7 +26,7 @@ from idkit.analysis.random_vibration import FLAT_LEVELS, random_response
 from idkit.analysis.shock import shock_sweep
 from idkit.analysis.transport import RK_VALUES, transport_systems, tuning_table
 from idkit.plot import save_figure
-from idkit.report.output import atomic_output_folder
+from idkit.atomic import atomic_output_folder
 
 __all__ = ["TransportStudy", "run_transport_study", "compute_transport_study", "write_transport_figures",
            "write_transport_tables"]

@@ -19,8 +19,6 @@ so an interrupted run never leaves a half-written set; an existing set is replac
 from __future__ import annotations
 
 import json
-import shutil
-import tempfile
 import time as _time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -28,6 +26,7 @@ from pathlib import Path
 
 from idkit import __version__
 from idkit.io import file_sha256, write_measurement_set
+from idkit.atomic import atomic_output_folder
 from idkit.io.atomic import write_bytes_atomic
 from idkit.synth.experiments import CONTACT, NOISE, RESOLUTION, Planned, plan, realize
 from idkit.synth.truth import ElastomerTruth, WireRopeTruth, default_elastomer, default_wire_rope
@@ -165,8 +164,8 @@ def generate(folder: str | Path, *, seed: int = DEFAULT_SEED, force: bool = Fals
                                          elastomer=elastomer)
             measurements.append(measurement)
             records[item.id] = truth
-        staging = Path(tempfile.mkdtemp(prefix=f".{set_name}.", dir=folder))
-        try:
+        # existing sets were refused above unless force: replace by the one folder swap
+        with atomic_output_folder(folder / set_name, force=True) as staging:
             write_measurement_set(
                 staging, measurements, gzip=True,
                 name=f"synthetic {set_name.replace('_', ' ')} isolator (idkit.synth, seed {seed})",
@@ -185,17 +184,6 @@ def generate(folder: str | Path, *, seed: int = DEFAULT_SEED, force: bool = Fals
             truth_path = folder / TRUTH_FOLDER / f"{set_name}.json"
             write_bytes_atomic(truth_path, text.encode(), overwrite=True)
             total_bytes += len(text.encode())
-            target = folder / set_name
-            if target.exists():
-                retired = Path(tempfile.mkdtemp(prefix=f".{set_name}.old.", dir=folder))
-                target.rename(retired / set_name)
-                staging.rename(target)
-                shutil.rmtree(retired)
-            else:
-                staging.rename(target)
-        finally:
-            if staging.exists():
-                shutil.rmtree(staging)
         counts[set_name] = {kind: sum(1 for i in chosen if i.kind == kind)
                             for kind in ("quasi_static", "white_noise", "stepped_sine", "drop")
                             if any(i.kind == kind for i in chosen)}
