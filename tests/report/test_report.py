@@ -52,7 +52,8 @@ def test_report_refuses_to_overwrite_and_leaves_no_partial_folder(quick_report, 
 
 
 def test_report_on_a_folder_without_data_fails_clearly(tmp_path, capsys):
-    assert main(["report", str(tmp_path), "-o", str(tmp_path / "out"), "--quiet"]) == 2
+    (tmp_path / "empty").mkdir()
+    assert main(["report", str(tmp_path / "empty"), "-o", str(tmp_path / "out"), "--quiet"]) == 2
     assert "no manifest.json" in capsys.readouterr().err
     assert not (tmp_path / "out").exists()
 
