@@ -72,6 +72,13 @@ def _cmd_iwan(args) -> int:
     fit = fit_iwan_measurements(_load(args.dataset), order=args.order, small_threshold=args.small_threshold,
                                 isolator=args.isolator, split=_split(args.split), backend=args.backend,
                                 seed=args.seed, initial_state=args.start_state, **options)
+    if args.order_table:
+        from idkit.fit import iwan_order_table
+
+        table = iwan_order_table(list(fit.data.small), list(fit.data.large), backend=args.backend, seed=args.seed,
+                                 initial_state=args.start_state, **options)
+        print("[[Iwan order table (rule: lowest order within 10 % of the best mean error)]]")
+        print(table.to_string(index=False))
     return _finish(fit, args)
 
 
@@ -138,6 +145,8 @@ def register(subparsers) -> None:
     _common(iwan, loops=True)
     iwan.add_argument("--order", type=_ORDER, default=2,
                       help=f"number of Jenkin elements (1 to {opt.MAX_ORDER}, default 2)")
+    iwan.add_argument("--order-table", action="store_true",
+                      help="also fit orders 1-6 and print errors, stuck stiffness and the recommended order")
     iwan.add_argument("--valid-range", type=opt.real(unit="m"), nargs=2, metavar=("X_MIN", "X_MAX"),
                       help="deflections in m (X_MIN < 0 < X_MAX) over which the spring must stay non-negative-stiff")
     iwan.set_defaults(handler=_cmd_iwan)

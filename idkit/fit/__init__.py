@@ -32,7 +32,15 @@ from idkit.fit.bootstrap import (
 from idkit.fit.boucwen import boucwen_set_errors, boucwen_set_forces, fit_boucwen
 from idkit.fit.compare import LoopModelComparison, compare_loop_models
 from idkit.fit.damping import ViscousDamping, fit_viscous_damping
-from idkit.fit.iwan import LoopSet, fit_iwan, iwan_set_errors, iwan_set_forces, iwan_start, prepare_loops
+from idkit.fit.iwan import (
+    LoopSet,
+    fit_iwan,
+    iwan_order_table,
+    iwan_set_errors,
+    iwan_set_forces,
+    iwan_start,
+    prepare_loops,
+)
 from idkit.fit.landscape import ErrorLandscape, maxwell_error_landscape
 from idkit.fit.maxwell import (
     K0Estimate,
@@ -70,7 +78,7 @@ from idkit.fit.result import (
 )
 
 __all__ = [
-    "LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "iwan_set_forces", "fit_iwan",
+    "LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "iwan_set_forces", "fit_iwan", "iwan_order_table",
     "IwanFitResult", "IwanFitSettings", "IwanStart", "StageResult",
     "TransmissibilitySet", "K0Estimate", "estimate_k0", "maxwell_objective", "fit_maxwell", "fit_voigt",
     "fit_complex_stiffness", "maxwell_order_table",

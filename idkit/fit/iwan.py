@@ -66,6 +66,7 @@ from dataclasses import dataclass
 import nlopt
 import numba
 import numpy as np
+import pandas as pd
 import scipy.optimize
 
 from idkit.analysis.cycles import resample_loops, reversal_threshold, split_cycles
@@ -74,7 +75,7 @@ from idkit.fit._params import Transform, central_jacobian, gauss_newton_covarian
 from idkit.fit.result import IwanFitResult, IwanFitSettings, IwanStart, StageResult
 from idkit.models import IwanModel
 
-__all__ = ["LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "iwan_set_forces", "fit_iwan"]
+__all__ = ["LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "iwan_set_forces", "fit_iwan", "iwan_order_table"]
 
 MIN_POINTS = 20  # per set, after resampling: fewer cannot resolve slip onset and loop height
 #: A record "starts unloaded" when its first deflection and force are within this share
@@ -628,7 +629,7 @@ def fit_iwan(
     start: IwanModel | None = None,
     backend: str = "nlopt",
     points_per_set: int | None = 200,
-    max_evals: int = 4000,
+    max_evals: int | None = None,
     xtol: float = 1e-7,
     ftol: float = 1e-12,
     restarts: int = 2,
@@ -656,8 +657,9 @@ def fit_iwan(
         ``nlopt.LN_NELDERMEAD`` or ``scipy.optimize.minimize(method="Nelder-Mead")``,
         both from the same initial simplex ``u0 + initial_step * e_i``.
     points_per_set : int or None, default 200
-    max_evals : int, default 4000
-        Evaluation limit per stage (restarts included).
+    max_evals : int, optional
+        Evaluation limit per stage (restarts included); default
+        ``max(4000, 600 x free parameters)`` (a simplex needs more steps in more dimensions).
     xtol, ftol : float
         Absolute tolerances on the internal coordinates (log: relative change of
         the value) and on the mean error (fraction).
@@ -743,6 +745,7 @@ def fit_iwan(
         g1_ref = current["g1"]
         transforms = _stage_transforms(_STAGE_FREE[stage_name], n, x_ref, g1_ref, stiffness_ref, force_ref)
         bounds = _internal_bounds(transforms)
+        stage_evals = max(4000, 600 * len(transforms)) if max_evals is None else int(max_evals)
         u0 = _to_internal(current, transforms)
         unpack = _make_unpack(current, transforms, n)
 
@@ -760,14 +763,14 @@ def fit_iwan(
         start_params = _flat_params(current)
         start_error = objective(np.clip(u0, *bounds))
         best_u, _, evaluations, done, message = _nelder_mead(
-            objective, u0, initial_step, bounds, backend=backend, max_evals=max_evals,
+            objective, u0, initial_step, bounds, backend=backend, max_evals=stage_evals,
             xtol=xtol, ftol=ftol, restarts=restarts)
         g1, g2, g3, k, fc = unpack(best_u)
         by_travel = np.argsort(fc / k, kind="stable")  # one order of the exchangeable elements
         current = {"g1": float(g1), "g2": float(g2), "g3": float(g3), "k": k[by_travel], "fc": fc[by_travel]}
         errors = packed.set_errors(g1, g2, g3, k, fc)
         if "max_evals" in message:
-            reasons.append(f"{stage_name} stopped at the evaluation limit max_evals={max_evals}")
+            reasons.append(f"{stage_name} stopped at the evaluation limit max_evals={stage_evals}")
         if stage_name != "stage 1":  # stage 1 only starts stage 2; its bounds are the final stages' too
             reasons.extend(f"{stage_name}: {r}" for r in _bound_reasons(transforms, _to_internal(current, transforms),
                                                                        refs))
@@ -930,3 +933,48 @@ def _iwan_lmfit(model: IwanModel, small: _Packed, large: _Packed, x_ref: float, 
         stderr=stderr + [None],
     )
     return parameters
+
+
+# --------------------------------------------------------------------------- order table
+
+
+def _smallest_branch_secant(sets: Sequence[LoopSet]) -> float:
+    """Tip-to-tip secant stiffness (N/m) of the shortest branch between two reversals."""
+    branches = [(total, float(change[-1]) / total) for loop_set in sets
+                for _, change, total in _branches(loop_set) if total > 0]
+    return min(branches)[1]
+
+#: Order rule: the lowest order whose mean loop error (small and large sets weighted
+#: equally) is within this factor of the best order's in the table. An element more
+#: must earn its two parameters by cutting the error by more than a tenth.
+ORDER_RULE_FACTOR = 1.10
+
+
+def iwan_order_table(small, large, *, orders: Sequence[int] = (1, 2, 3, 4, 5, 6), **options) -> pd.DataFrame:
+    """Fit orders ``orders`` on the same loops and tabulate what each identifies (SPEC 4).
+
+    One row per order: ``order``, ``n_params`` (``3 + 2 n``), ``error_small_percent``,
+    ``error_large_percent``, ``stuck_stiffness [N/m]`` (``g1 + sum k_i``),
+    ``smallest_loop_secant [N/m]`` (tip-to-tip secant of the smallest measured loop, the
+    data's own stuck-stiffness reading), ``spring_negative_below [m]`` and
+    ``spring_negative_above [m]`` (where ``g1 + 2 g2 x + 3 g3 x^2`` turns negative,
+    +-inf if never), ``success``, ``reasons`` and ``recommended`` (the order chosen by
+    :data:`ORDER_RULE_FACTOR`). ``options`` go to :func:`fit_iwan`.
+    """
+    small_sets = _prepare_group(small, "small", options.get("points_per_set", 200))
+    large_sets = _prepare_group(large, "large", options.get("points_per_set", 200))
+    secant = _smallest_branch_secant(small_sets + large_sets)
+    rows = []
+    for order in orders:
+        result = fit_iwan(small_sets, large_sets, order=int(order), **options)
+        below, above = result.model.valid_deflection_range()
+        rows.append({"order": int(order), "n_params": 3 + 2 * int(order),
+                     "error_small_percent": 100 * result.error_small, "error_large_percent": 100 * result.error_large,
+                     "stuck_stiffness [N/m]": float(result.model.stuck_stiffness),
+                     "smallest_loop_secant [N/m]": secant,
+                     "spring_negative_below [m]": below, "spring_negative_above [m]": above,
+                     "success": result.success, "reasons": "; ".join(result.reasons)})
+    table = pd.DataFrame(rows)
+    mean_error = 0.5 * (table["error_small_percent"] + table["error_large_percent"])
+    table["recommended"] = table["order"] == table.loc[mean_error <= ORDER_RULE_FACTOR * mean_error.min(), "order"].min()
+    return table

@@ -49,7 +49,7 @@ class IwanFitSettings:
     order: int
     backend: str
     points_per_set: int | None
-    max_evals: int
+    max_evals: int | None
     xtol: float
     ftol: float
     restarts: int

@@ -223,3 +223,22 @@ def test_bad_options_raise_fit_error(loops, options, match):
     _, small, large = loops
     with pytest.raises(FitError, match=match):
         fit_iwan(small, large, **options)
+
+
+def test_order_table_recommends_the_generating_order():
+    """Loops of the order-2 Table 7.1 rope: order 1 misses, order 3 gains nothing, the rule picks 2."""
+    from idkit.fit import iwan_order_table
+
+    rng = np.random.default_rng(NOISE_SEEDS[0])
+    truth = _truth()
+    small = [_loop_record(truth, a, rng) for a in SMALL_AMPLITUDES]
+    large = [_loop_record(truth, a, rng) for a in LARGE_AMPLITUDES]
+    table = iwan_order_table(small, large, orders=(1, 2, 3)).set_index("order")
+    assert table.loc[1, "error_small_percent"] > 2 * table.loc[2, "error_small_percent"]
+    assert table.loc[3, "error_small_percent"] > 0.9 * table.loc[2, "error_small_percent"]
+    assert table["recommended"].tolist() == [False, True, False]
+    assert table.loc[2, "stuck_stiffness [N/m]"] == pytest.approx(truth.stuck_stiffness, rel=0.01)
+    # the smallest loop (0.1 mm) already slips the stiff element a little: its secant lies below
+    assert 0.5 * truth.stuck_stiffness < table.loc[2, "smallest_loop_secant [N/m]"] < truth.stuck_stiffness
+    low, high = truth.valid_deflection_range()
+    assert table.loc[2, "spring_negative_below [m]"] == pytest.approx(low, rel=0.05)
