@@ -51,9 +51,9 @@ def _finish(fit, args) -> int:
 
         for path in save_fit_plots(fit, args.plots):
             print(f"wrote {path}", file=sys.stderr)
-    if fit.result.success:
+    if fit.success:
         return 0
-    reasons = getattr(fit.result, "reasons", ()) or (getattr(fit.result, "message", "") or "see the report",)
+    reasons = fit.reasons or (getattr(fit.result, "message", "") or "see the report",)
     print("idkit: the fit is not a success (the model file says so): " + "; ".join(reasons), file=sys.stderr)
     return 1
 

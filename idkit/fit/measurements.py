@@ -157,6 +157,9 @@ class MeasurementFit:
     damping : ViscousDamping or None
         Iwan fits: the viscous damping identified from stepped-sine data
         (:func:`idkit.fit.fit_viscous_damping`); the model carries it.
+    checks : tuple of str
+        Problems found at the measurement level (e.g. the model is invalid inside the
+        deflections the data set reaches); they make :attr:`success` false.
     """
 
     kind: str
@@ -167,6 +170,17 @@ class MeasurementFit:
     options: dict = field(default_factory=dict)
     repetitions: tuple = ()
     damping: ViscousDamping | None = None
+    checks: tuple[str, ...] = ()
+
+    @property
+    def reasons(self) -> tuple[str, ...]:
+        """Why the fit is not a success: the fitter's reasons and the measurement-level checks."""
+        return tuple(getattr(self.result, "reasons", ())) + tuple(self.checks)
+
+    @property
+    def success(self) -> bool:
+        """The fitter succeeded and no measurement-level check failed."""
+        return bool(self.result.success) and not self.checks
 
     @property
     def model(self):
@@ -199,6 +213,7 @@ class MeasurementFit:
         elif self.kind == "iwan":
             lines.append("    c_visc = 0: no stepped-sine data to identify viscous damping; steady-state "
                          "responses of a lightly hysteretic rope may not settle")
+        lines.extend(f"    not a success: {check}" for check in self.checks)
         return "\n".join(lines) + "\n" + self.result.report()
 
     def provenance_dict(self) -> dict:
@@ -218,9 +233,8 @@ class MeasurementFit:
             record["viscous_damping"] = _jsonable(dataclasses.asdict(self.damping))
         if getattr(self.result, "start_states", None):
             record["start_states"] = dict(self.result.start_states)
-        if hasattr(self.result, "reasons"):
-            record["success"] = bool(self.result.success)
-            record["reasons"] = list(self.result.reasons)
+        record["success"] = self.success
+        record["reasons"] = list(self.reasons)
         if self.kind in ("iwan", "boucwen"):
             record["errors_percent"] = {
                 "small": {n: 100 * float(e) for n, e in zip(self.result.small_names, self.result.small_errors)},
@@ -482,7 +496,29 @@ def fit_iwan_measurements(
     return MeasurementFit(kind="iwan", result=result, data=data, provenance=data.provenance,
                           options={"small_threshold": small_threshold, "points_per_set": points_per_set,
                                    "order": order, "backend": backend, "damping_level": damping_level, **options},
-                          damping=damping)
+                          damping=damping, checks=_valid_over_the_data(result.model, measurements, isolator))
+
+
+def _valid_over_the_data(model, measurements, isolator) -> tuple[str, ...]:
+    """A reason if the model's spring turns negative-stiff inside the deflections of the whole set.
+
+    Every record of the isolator counts (loops, sweeps and drops, either split): a model
+    that cannot be simulated over its own data's range is not a successful identification.
+    """
+    records = getattr(measurements, "measurements", measurements)
+    deflections = [np.asarray(m.deflection, dtype=float) for m in records
+                   if getattr(m, "deflection", None) is not None
+                   and (isolator is None or getattr(m.info, "isolator", None) == isolator)]
+    if not deflections:
+        return ()
+    low = min(float(np.nanmin(d)) for d in deflections)
+    high = max(float(np.nanmax(d)) for d in deflections)
+    lower, upper = model.valid_deflection_range()
+    if lower <= low and high <= upper:
+        return ()
+    return (f"the fitted spring turns negative-stiff at {1e3 * lower:.4g} / {1e3 * upper:.4g} mm, inside the "
+            f"deflections of the data set ({1e3 * low:.4g} to {1e3 * high:.4g} mm, every record of the isolator): "
+            "the model cannot be simulated over its own data (fit with valid_range, idkit fit iwan --valid-range)",)
 
 
 def fit_boucwen_measurements(

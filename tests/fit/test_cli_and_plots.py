@@ -212,3 +212,24 @@ def test_cli_fit_that_is_not_a_success_is_written_flagged_and_exits_1(tmp_path, 
     assert provenance["success"] is False and any("never slips" in r for r in provenance["reasons"])
     assert set(provenance["start_states"].values()) == {"virgin"}  # the records start unloaded
     assert load_measurement_set(folder).measurements  # the input is still readable
+
+
+def test_a_model_invalid_inside_the_data_sets_deflections_is_not_a_success():
+    """The spring of TRUTH-like g3 < 0 turns negative at -x0; records reaching beyond fail the check."""
+    from types import SimpleNamespace
+
+    from idkit.fit.measurements import _valid_over_the_data
+
+    model = IwanModel(g1=3e3, g2=0.0, g3=-3e7, k=[3e3], fc=[8.0])  # g1 + 3 g3 x^2 < 0 beyond 5.77 mm
+    lower, upper = model.valid_deflection_range()
+
+    def record(low, high, isolator="wire_rope"):
+        return SimpleNamespace(deflection=np.array([low, 0.0, high]), info=SimpleNamespace(isolator=isolator))
+
+    inside = [record(0.9 * lower, 0.9 * upper)]
+    assert _valid_over_the_data(model, inside, "wire_rope") == ()
+    beyond = inside + [record(1.1 * lower, 0.0)]  # a drop compressing past the root
+    (reason,) = _valid_over_the_data(model, beyond, "wire_rope")
+    assert "negative-stiff" in reason and f"{1e3 * 1.1 * lower:.4g}" in reason
+    other_isolator = inside + [record(2 * lower, 0.0, isolator="elastomer")]
+    assert _valid_over_the_data(model, other_isolator, "wire_rope") == ()
