@@ -20,6 +20,10 @@ def _cmd_report(args) -> int:
                          start_state=args.start_state)
     for name, verdict in summary.validation_verdicts.items():
         print(f"{verdict:12s}  {name}")
+    if summary.quick:
+        from idkit.report.main_report import QUICK_NOTE
+
+        print(f"({QUICK_NOTE})")
     print(f"report written to {summary.html}", file=sys.stderr)
     return summary.exit_status
 

@@ -63,6 +63,7 @@ class ReportSummary:
     validation_passed: dict
     timings_s: dict
     validation_verdicts: dict
+    quick: bool = False
 
     @property
     def exit_status(self) -> int:
@@ -138,8 +139,11 @@ def _parameters_table(fit) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def _validation_section(report: HtmlReport, result, plot, tables_dir: Path, stem: str) -> bool:
-    report.verdict(result.name, result.verdict)
+QUICK_NOTE = "quick run: at most 8 held-out records per validation, smaller study; not the full verdict"
+
+
+def _validation_section(report: HtmlReport, result, plot, tables_dir: Path, stem: str, quick: bool = False) -> bool:
+    report.verdict(result.name + (f" ({QUICK_NOTE})" if quick else ""), result.verdict)
     report.preformatted(result.report())
     summary_rows = [{"metric": key, "value": value, "limit": result.thresholds.get(key, np.nan),
                      "ok": result.checks.get(key, "")} for key, value in result.summary.items()]
@@ -279,7 +283,8 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
             {"item": "wire rope (Bouc-Wen)", "result": f"small {100 * boucwen.result.error_small:.2f} %, "
                                                        f"large {100 * boucwen.result.error_large:.2f} %"},
             {"item": "elastomer (Maxwell, order 2)", "result": f"{100 * maxwell.result.error:.2f} % (eq. 7.5)"},
-            *({"item": name, "result": verdict} for name, verdict in verdicts.items()),
+            *({"item": name, "result": verdict + (f" ({QUICK_NOTE})" if quick else "")}
+              for name, verdict in verdicts.items()),
         ]), caption="identification errors and validation verdicts")
 
         report.section("Data", "data")
@@ -318,7 +323,8 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
                 report.paragraph("no measurements of this isolator in the data set")
             for name, result in chosen.items():
                 plot = next(function for key, function in plots.items() if key in name)
-                _validation_section(report, result, plot, tables_dir, name.replace(" ", "_").replace(",", ""))
+                _validation_section(report, result, plot, tables_dir, name.replace(" ", "_").replace(",", ""),
+                                    quick=quick)
 
         report.section("Transport study", "transport-study")
         report.table(transport.tuning, caption="systems tuned to a 5 Hz small-amplitude resonance (SPEC 6)")
@@ -345,4 +351,4 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
         sections = tuple(report.section_titles)
     out_dir = Path(out_dir)
     return ReportSummary(out_dir=out_dir, html=out_dir / "report.html", sections=sections,
-                         validation_passed=passed, timings_s=timings, validation_verdicts=verdicts)
+                         validation_passed=passed, timings_s=timings, validation_verdicts=verdicts, quick=quick)

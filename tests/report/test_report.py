@@ -28,6 +28,7 @@ def test_exit_status_follows_the_verdicts(quick_report):
     inconclusive = '<span class="inconclusive">INCONCLUSIVE</span>' in html
     assert html.count('<span class="pass">PASS</span>') + failed + inconclusive >= 1
     assert STATUS["report"] == (1 if failed else 3 if inconclusive else 0)
+    assert "quick run: at most 8 held-out records" in html  # a quick verdict says so
 
 
 def test_report_names_every_section_and_writes_models(quick_report):
