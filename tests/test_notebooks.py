@@ -12,6 +12,7 @@ def test_there_are_four_notebooks():
     assert [p.stem for p in NOTEBOOKS] == ["elastomer", "hybrid", "transport_study", "wire_rope"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
 def test_notebook_executes(path):
     nbclient = pytest.importorskip("nbclient", reason="nbclient is a test dependency (pip install -e '.[test]')")
