@@ -34,6 +34,7 @@ def test_there_are_four_notebooks():
     assert [p.stem for p in NOTEBOOKS] == ["elastomer", "hybrid", "transport_study", "wire_rope"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
 def test_notebooks_are_committed_without_outputs(path):
     # the test runs them, git keeps them small

@@ -223,6 +223,7 @@ def test_module_entry_point():
     assert completed.stdout.startswith("idkit ")
 
 
+@pytest.mark.slow
 def test_readme_python_example_runs(monkeypatch):
     """The README's Python block runs as written from the repository root."""
     text = (ROOT / "README.md").read_text()

@@ -93,17 +93,18 @@ def _z_step(z, dx, alpha, beta, gamma, n, max_substep, cap):
 
 @numba.njit(cache=True)
 def _bw_forces(x, offsets, k1, k2, k3, alpha, beta, gamma, n, c, cycled, max_substep, out):
+    # np.int64(...): a bare module constant would be typed as a literal, one compiled _z_step per value
     for s in range(offsets.shape[0] - 1):
         a = offsets[s]
         b = offsets[s + 1]
-        z = _z_step(0.0, x[a], alpha, beta, gamma, n, max_substep, _MAX_JUMP_SUBSTEPS)
+        z = _z_step(0.0, x[a], alpha, beta, gamma, n, max_substep, np.int64(_MAX_JUMP_SUBSTEPS))
         if cycled[s]:
             for i in range(a + 1, b):
-                z = _z_step(z, x[i] - x[i - 1], alpha, beta, gamma, n, max_substep, _MAX_SUBSTEPS)
-            z = _z_step(z, x[a] - x[b - 1], alpha, beta, gamma, n, max_substep, _MAX_JUMP_SUBSTEPS)
+                z = _z_step(z, x[i] - x[i - 1], alpha, beta, gamma, n, max_substep, np.int64(_MAX_SUBSTEPS))
+            z = _z_step(z, x[a] - x[b - 1], alpha, beta, gamma, n, max_substep, np.int64(_MAX_JUMP_SUBSTEPS))
         for i in range(a, b):
             if i > a:
-                z = _z_step(z, x[i] - x[i - 1], alpha, beta, gamma, n, max_substep, _MAX_SUBSTEPS)
+                z = _z_step(z, x[i] - x[i - 1], alpha, beta, gamma, n, max_substep, np.int64(_MAX_SUBSTEPS))
             xi = x[i]
             out[i] = math.exp(c * xi) * (xi * (k1 + k2 * abs(xi) + k3 * xi * xi) + z)
 

@@ -330,15 +330,16 @@ def iwan_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_state:
         Element forces at the first point (module docstring).
     """
     packed = _Packed(list(sets), _check_state(initial_state))
-    return packed.set_errors(model.g1, model.g2, model.g3, np.asarray(model.k, float), np.asarray(model.fc, float))
+    return packed.set_errors(model.g1, model.g2, model.g3, np.array(model.k, dtype=np.float64),
+                             np.array(model.fc, dtype=np.float64))
 
 
 def iwan_set_forces(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> list[np.ndarray]:
     """Model force (N) along each prepared set, with the initial element state used by the fit."""
     packed = _Packed(list(sets), _check_state(initial_state))
     forces = np.empty_like(packed.x)
-    _iwan_set_forces(packed.x, packed.offsets, model.g1, model.g2, model.g3, np.asarray(model.k, float),
-                     np.asarray(model.fc, float), packed.cycled, forces)
+    _iwan_set_forces(packed.x, packed.offsets, model.g1, model.g2, model.g3, np.array(model.k, dtype=np.float64),
+                     np.array(model.fc, dtype=np.float64), packed.cycled, forces)
     return [forces[a:b].copy() for a, b in zip(packed.offsets[:-1], packed.offsets[1:])]
 
 
@@ -792,7 +793,7 @@ def fit_iwan(
                                xtol=xtol, ftol=ftol, restarts=restarts, initial_step=initial_step,
                                initial_state=initial_state, seed=int(seed),
                                valid_range=None if valid_range is None else (x_min, x_max))
-    args = (model.g1, model.g2, model.g3, np.asarray(model.k, float), np.asarray(model.fc, float))
+    args = (model.g1, model.g2, model.g3, np.array(model.k, dtype=np.float64), np.array(model.fc, dtype=np.float64))
     return IwanFitResult(
         model=model, stages=tuple(stages),
         small_errors=small_packed.set_errors(*args), large_errors=large_packed.set_errors(*args),

@@ -12,6 +12,16 @@ import numba
 import numpy as np
 
 
+def kernel_array(values) -> np.ndarray:
+    """``values`` as a C-contiguous, writeable float64 array (copied only if needed).
+
+    numba compiles one specialisation per array type, and read-only or strided
+    arrays are different types: passing every array through here keeps one
+    compiled version per kernel.
+    """
+    return np.require(values, dtype=np.float64, requirements=["C", "W", "A"])
+
+
 @numba.njit(cache=True)
 def stop_operator(deflection, stiffness, friction_force, initial_force):
     """Forces of parallel Jenkin elements along a deflection history (SPEC 1.1).

@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from idkit.errors import ParameterError
-from idkit.models._hysteresis import boucwen_z_history
+from idkit.models._hysteresis import boucwen_z_history, kernel_array
 from idkit.models.base import (
     C_VISC_SPEC,
     IsolatorArrays,
@@ -113,7 +113,8 @@ class BoucWenModel(IsolatorModel):
     def hysteretic_force(self, deflection, initial_z: float = 0.0) -> np.ndarray:
         """The internal variable ``z`` in N along a deflection history in m."""
         x = _as_deflection(deflection)
-        return boucwen_z_history(x, self.alpha, self.beta, self.gamma, self.n, float(initial_z), BOUCWEN_SUBSTEPS)
+        return boucwen_z_history(kernel_array(x), self.alpha, self.beta, self.gamma, self.n, float(initial_z),
+                                 BOUCWEN_SUBSTEPS)
 
     def force(self, deflection, time=None, initial_z: float = 0.0) -> np.ndarray:
         """Isolator force in N along a deflection history (m); viscous part if ``time`` is given."""

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from idkit.errors import ParameterError
-from idkit.models._hysteresis import stop_operator
+from idkit.models._hysteresis import kernel_array, stop_operator
 from idkit.models.base import (
     C_VISC_SPEC,
     IsolatorArrays,
@@ -41,7 +41,8 @@ def jenkin_force(deflection, stiffness: float, friction_force: float, initial_fo
     """
     x = _as_deflection(deflection)
     forces = stop_operator(
-        x, np.array([float(stiffness)]), np.array([float(friction_force)]), np.array([float(initial_force)])
+        kernel_array(x), np.array([float(stiffness)]), np.array([float(friction_force)]),
+        np.array([float(initial_force)]),
     )
     return forces[:, 0]
 
@@ -170,7 +171,7 @@ class IwanModel(IsolatorModel):
         """Forces in N of every Jenkin element, shape ``(n_samples, order)``."""
         x = _as_deflection(deflection)
         start = np.zeros(self.order) if initial_forces is None else np.asarray(initial_forces, float)
-        return stop_operator(x, self._k, self._fc, start)
+        return stop_operator(kernel_array(x), kernel_array(self._k), kernel_array(self._fc), kernel_array(start))
 
     def force(self, deflection, time=None, initial_forces=None) -> np.ndarray:
         """Isolator force in N along a deflection history in m.

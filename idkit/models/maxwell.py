@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from idkit.errors import ParameterError
-from idkit.models._hysteresis import maxwell_states
+from idkit.models._hysteresis import kernel_array, maxwell_states
 from idkit.models.base import (
     M_EFF_SPEC,
     IsolatorArrays,
@@ -172,7 +172,7 @@ class GeneralizedMaxwell(IsolatorModel):
         x = _as_deflection(deflection)
         t = _as_time(time, x.size)
         start = np.zeros(self.order) if initial_states is None else np.asarray(initial_states, float)
-        return maxwell_states(x, t, self._rate, start)
+        return maxwell_states(kernel_array(x), kernel_array(t), kernel_array(self._rate), kernel_array(start))
 
     def force(self, deflection, time=None, initial_states=None) -> np.ndarray:
         """Isolator force in N along a deflection history (m) sampled at ``time`` (s).

@@ -60,7 +60,7 @@ def system_arrays(system) -> SystemArrays:
         mk[j, : part.maxwell_stiffness.size] = part.maxwell_stiffness
         mrate[j, : part.maxwell_rate.size] = part.maxwell_rate
     return SystemArrays(
-        masses=np.asarray(system.masses, dtype=float),
+        masses=np.array(system.masses, dtype=float),
         poly=np.array([p.poly for p in parts], dtype=float),
         cvisc=np.array([p.c_visc for p in parts], dtype=float),
         jk=jk, jfc=jfc, mk=mk, mrate=mrate,

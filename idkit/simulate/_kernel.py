@@ -152,8 +152,9 @@ def _isolator_force(j, y, dy, vrel, h, P, S, commit):
         k1 = P[j, 0, _BW + 1]
         k2 = P[j, 0, _BW + 2]
         k3 = P[j, 0, _BW + 3]
+        # np.int64: the same compiled boucwen_z_step as the fits use (a bare constant is typed as a literal)
         z, dz = boucwen_z_step(S[j, 2, 0], dy, P[j, 0, _BW + 4], P[j, 0, _BW + 5], P[j, 0, _BW + 6],
-                               P[j, 0, _BW + 7], _BW_SUBSTEPS)
+                               P[j, 0, _BW + 7], np.int64(_BW_SUBSTEPS))
         factor = b_base ** (b_exp * y)
         bw_force = factor * (y * (k1 + k2 * abs(y) + k3 * y * y) + z)
         force += bw_force

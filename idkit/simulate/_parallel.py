@@ -17,7 +17,20 @@ from idkit.errors import SimulationError
 
 
 def default_workers() -> int:
-    """Number of usable CPU cores."""
+    """Number of usable CPU cores, or the environment variable ``IDKIT_WORKERS`` if set.
+
+    ``IDKIT_WORKERS`` caps the threads when several processes share the cores (the
+    test suite sets it to 1 in each of its parallel worker processes).
+    """
+    setting = os.environ.get("IDKIT_WORKERS", "").strip()
+    if setting:
+        try:
+            workers = int(setting)
+        except ValueError:
+            workers = 0
+        if workers < 1:
+            raise SimulationError(f"IDKIT_WORKERS: found {setting!r}, expected a positive integer")
+        return workers
     try:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not on Linux

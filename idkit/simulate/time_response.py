@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 
 from idkit.errors import SimulationError
+from idkit.models._hysteresis import kernel_array
 from idkit.models.base import IsolatorModel
 from idkit.simulate._arrays import STANDARD_GRAVITY, force_scale, resolve_system, system_arrays
 from idkit.simulate._kernel import FLAG_REASONS, run_time_batch
@@ -193,7 +194,7 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     if len(batch_sizes) > 1:
         raise SimulationError(f"batch sizes differ between inputs: {sorted(batch_sizes)}")
     batch = batch_sizes.pop() if batch_sizes else 1
-    v_abs = np.ascontiguousarray(np.broadcast_to(v_abs, (batch, ndof)))
+    v_abs = kernel_array(np.broadcast_to(v_abs, (batch, ndof)))
     y0 = np.broadcast_to(y0, (batch, ndof))
     x_base0 = np.broadcast_to(base_disp[:, :1], (batch, 1))
     # absolute positions: the last isolator stands on the base, isolator 0 carries the top mass
@@ -208,9 +209,9 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
         raise SimulationError(f"record_every: found {record_every!r}, expected a positive integer")
     accel_scale = float(np.abs(np.diff(base_vel, axis=-1)).max() / h) if t.size > 1 else 0.0
     kernel_arrays = arrays.as_tuple()
-    base_disp = np.ascontiguousarray(base_disp)
-    base_vel = np.ascontiguousarray(base_vel)
-    q0 = np.ascontiguousarray(q0)
+    base_disp = kernel_array(base_disp)
+    base_vel = kernel_array(base_vel)
+    q0 = kernel_array(q0)
     scale = force_scale(arrays, accel_scale)
 
     def task(part: slice):

@@ -72,6 +72,7 @@ def test_stages_improve_and_scaling_tames_the_conditioning(fit):
     assert "conditioning" in fit.report() and "global" in fit.report()
 
 
+@pytest.mark.slow
 def test_fit_is_reproducible_bit_for_bit(loops, fit):
     again = fit_boucwen(*loops, seed=3, global_max_evals=600)
     assert again.model.params() == fit.model.params()

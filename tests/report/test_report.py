@@ -21,6 +21,7 @@ def quick_report(tmp_path_factory):
     return out
 
 
+@pytest.mark.slow
 def test_exit_status_follows_the_verdicts(quick_report):
     """0 only when every validation passes; 1 when one fails; 3 when none fails but one is inconclusive."""
     html = (quick_report / "report.html").read_text(encoding="utf-8")
@@ -31,6 +32,7 @@ def test_exit_status_follows_the_verdicts(quick_report):
     assert "quick run: at most 8 held-out records" in html  # a quick verdict says so
 
 
+@pytest.mark.slow
 def test_report_names_every_section_and_writes_models(quick_report):
     html = (quick_report / "report.html").read_text(encoding="utf-8")
     for section in REPORT_SECTIONS:
@@ -45,6 +47,7 @@ def test_report_names_every_section_and_writes_models(quick_report):
     assert provenance["seed"] == 2026 and "wire_rope" in provenance["data_files_sha256"]
 
 
+@pytest.mark.slow
 def test_report_refuses_to_overwrite_and_leaves_no_partial_folder(quick_report, capsys):
     before = sorted(p.name for p in quick_report.parent.iterdir())
     assert main(["report", str(DATA), "-o", str(quick_report), "--quick", "--quiet"]) == 2
@@ -59,6 +62,7 @@ def test_report_on_a_folder_without_data_fails_clearly(tmp_path, capsys):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.slow
 def test_report_states_the_valid_range_of_the_identified_wire_rope(quick_report):
     html = (quick_report / "report.html").read_text(encoding="utf-8")
     assert "Valid range of the identified Iwan model" in html

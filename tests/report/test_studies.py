@@ -12,6 +12,7 @@ from idkit.cli.study import add_common_study_options, study_subparsers
 from idkit.report.studies import StudyError, run_study
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name, case", [("wire-rope", "wire-rope_asymmetric"), ("hybrid", "hybrid_symmetric")])
 def test_nonlinear_study_quick(tmp_path, name, case):
     calls = []

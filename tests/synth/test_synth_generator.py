@@ -21,6 +21,7 @@ def _tree(folder: Path) -> dict[str, bytes]:
             for p in sorted(folder.rglob("*")) if p.is_file()}
 
 
+@pytest.mark.slow
 def test_same_seed_gives_byte_identical_files_and_another_seed_differs(tmp_path):
     first = generate(tmp_path / "a", quick=True, sets=("elastomer",))
     generate(tmp_path / "b", quick=True, sets=("elastomer",))
