@@ -85,6 +85,7 @@ def test_cli_fit_iwan_writes_model_plots_and_refuses_overwrite(dataset, tmp_path
     assert not other.exists()  # stopped before fitting
 
 
+@pytest.mark.slow
 def test_cli_fit_maxwell_and_boucwen(dataset, tmp_path, capsys):
     output = tmp_path / "el.json"
     assert main(["fit", "maxwell", str(dataset), "--order", "2", "--cross-check", "-o", str(output),
