@@ -15,10 +15,13 @@ __all__ = ["validate_frf", "FRF_THRESHOLDS", "half_power_damping"]
 #: Default limits: the largest per-mass error (7.5) (RMS of |H_model - H_meas| / |H_meas| over
 #: the band, as a fraction) and the largest relative error of the resonance frequency.
 #: Default limits: the error (7.5) of the worst measurement, the largest relative error of
-#: the resonance frequency, and of the damping ratio read from the -3 dB width (over the
-#: measurements whose measured and modelled peaks both have their half-power points in
-#: the band; a damping off by 30 % moves the peak height by 30 %).
-FRF_THRESHOLDS = {"max_frf_error": 0.15, "max_resonance_frequency_error": 0.05, "max_damping_ratio_error": 0.30}
+#: the resonance frequency, and the median over the measurements of
+#: ``|20 log10(zeta_model / zeta_measured)|``, the damping ratios read from the -3 dB
+#: width. The peak of a lightly damped resonance scales as ``1 / zeta``, so 3 dB is the
+#: harmonic validation's peak limit (``max_peak_magnitude_error_db``); the median because a
+#: single half-power reading on a 0.25 Hz grid scatters by 10-20 % (on the bundled elastomer
+#: one of eight masses read 0.082 where its neighbours read 0.087-0.095).
+FRF_THRESHOLDS = {"max_frf_error": 0.15, "max_resonance_frequency_error": 0.05, "median_damping_ratio_error_db": 3.0}
 
 
 def half_power_damping(freq: np.ndarray, magnitude: np.ndarray) -> tuple[float, float]:
@@ -81,6 +84,8 @@ def validate_frf(measurements, *, system=None, isolator=None, band=(1.0, 100.0),
         "mean_frf_error": float(table["frf error [-]"].mean()),
         "max_resonance_frequency_error": float(table["resonance error [-]"].abs().max()),
         # NaN (not measurable: INCONCLUSIVE) only when no measurement shows both half-power points
-        "max_damping_ratio_error": float(table["damping ratio error [-]"].abs().max()),
+        "median_damping_ratio_error_db": float(np.nanmedian(np.abs(20 * np.log10(
+            table["damping ratio model [-]"] / table["damping ratio measured [-]"]))))
+        if table[["damping ratio model [-]", "damping ratio measured [-]"]].notna().all(axis=1).any() else np.nan,
     }
     return ValidationResult(name=name, metrics=table, summary=summary, thresholds=limits, details={"curves": curves})
