@@ -788,6 +788,13 @@ def fit_iwan(
                            f"2 fc/k = {1e3 * 2.0 * fc_i / k_i:.4g} mm > largest loop travel {1e3 * travel:.4g} mm)")
 
     model = IwanModel(g1=current["g1"], g2=current["g2"], g3=current["g3"], k=current["k"], fc=current["fc"])
+    low = min(float(np.min(s.deflection)) for s in small_sets + large_sets)
+    high = max(float(np.max(s.deflection)) for s in small_sets + large_sets)
+    lower, upper = model.valid_deflection_range()
+    if not (lower <= low and high <= upper):
+        reasons.append(f"the fitted spring turns negative-stiff at {1e3 * lower:.4g} / {1e3 * upper:.4g} mm, inside "
+                       f"the loops' own deflections ({1e3 * low:.4g} to {1e3 * high:.4g} mm): the model cannot be "
+                       "simulated over its data")
     parameters = _iwan_lmfit(model, small_packed, large_packed, x_ref, stiffness_ref, force_ref)
     settings = IwanFitSettings(order=n, backend=backend, points_per_set=points_per_set, max_evals=max_evals,
                                xtol=xtol, ftol=ftol, restarts=restarts, initial_step=initial_step,

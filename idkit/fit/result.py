@@ -223,6 +223,9 @@ class IwanFitResult:
 
 # --------------------------------------------------------------------------- Maxwell
 
+#: Two relaxation rates closer than this ratio are one element split in two.
+DUPLICATE_RATE_RATIO = 1.01
+
 
 @dataclass(frozen=True)
 class MaxwellFitSettings:
@@ -311,9 +314,30 @@ class MaxwellFitResult:
     elapsed_s: float
 
     @property
+    def reasons(self) -> tuple[str, ...]:
+        """Why the fit is not a success (empty when it is).
+
+        The SQP stopped on its evaluation limit or failed; a free parameter sits on its
+        search bound (the data do not place it inside the box); two relaxation rates
+        coincide within :data:`DUPLICATE_RATE_RATIO` (the elements are one element
+        split in two: a lower order fits as well).
+        """
+        reasons = []
+        if any(word in self.message for word in ("max_evals", "failure", "Iteration limit")):
+            reasons.append(f"the optimiser stopped without converging: {self.message}")
+        if self.at_bound:
+            reasons.append(f"at a search bound (not determined inside the box): {', '.join(self.at_bound)}")
+        rates = np.sort(np.asarray(getattr(self.model, "rate", ()), dtype=float))
+        close = np.flatnonzero(rates[1:] / rates[:-1] < DUPLICATE_RATE_RATIO) if rates.size > 1 else []
+        if len(close):
+            pairs = ", ".join(f"{rates[i]:.4g} and {rates[i + 1]:.4g} 1/s" for i in close)
+            reasons.append(f"relaxation rates coincide ({pairs}): redundant elements, a lower order fits as well")
+        return tuple(reasons)
+
+    @property
     def success(self) -> bool:
-        """True unless the SQP stopped on its evaluation limit or failed."""
-        return not any(word in self.message for word in ("max_evals", "failure", "Iteration limit"))
+        """True unless :attr:`reasons` names a problem."""
+        return not self.reasons
 
     def to_dataframe(self) -> pd.DataFrame:
         """One row per data set: name and RMS relative error in %."""
@@ -330,6 +354,8 @@ class MaxwellFitResult:
             f"    at a bound: {', '.join(self.at_bound) if self.at_bound else 'none'}; "
             f"loss factor non-decreasing constraint: {s.monotone_loss}",
             "    per set [%]: " + ", ".join(f"{n}: {100 * e:.2f}" for n, e in zip(self.set_names, self.set_errors)),
+            f"    success {self.success}",
+            *(f"    not a success: {reason}" for reason in self.reasons),
         ]
         if self.cross_check is not None:
             c = self.cross_check

@@ -47,6 +47,10 @@ def test_prony_fit_of_the_dma_master_curve_matches_the_reference_series():
     assert idkit_error == pytest.approx(fit.error, rel=1e-9)
     assert reference_error < DMA_MAX_ERROR and idkit_error < DMA_MAX_ERROR
     assert idkit_error <= DMA_REL_TOL * reference_error
+    # 27 terms are more than the curve holds: rates at the bounds and coinciding ones are named
+    assert not fit.success
+    assert any("search bound" in reason for reason in fit.reasons)
+    assert any("coincide" in reason for reason in fit.reasons)
 
 
 def test_iwan_and_bouc_wen_on_measured_mr_damper_cycles():
@@ -67,3 +71,8 @@ def test_iwan_and_bouc_wen_on_measured_mr_damper_cycles():
     assert per_cycle["iwan error [%]"].max() < 100 * MR_CYCLE_MAX_ERROR
     assert per_cycle["bouc_wen error [%]"].max() < 100 * MR_CYCLE_MAX_ERROR
     assert per_cycle["iwan error [%]"].min() > 5.0  # a rate-independent model cannot be exact on an MR damper
+    # a rate-dependent damper leaves the Iwan fit with a parameter on its bound or a spring that
+    # turns negative inside the loops: not a success, and the result says why
+    assert not iwan.success and iwan.reasons
+    single = fit_iwan(cycles[:1], cycles[:1], order=2)
+    assert not single.success and any("negative-stiff" in r or "bound" in r for r in single.reasons)
