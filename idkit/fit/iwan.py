@@ -638,6 +638,7 @@ def fit_iwan(
     initial_state: str = "auto",
     seed: int = 0,
     valid_range: tuple[float, float] | None = None,
+    stage2_starts: int = 4,
 ) -> IwanFitResult:
     """Identify an order-``n`` modified Iwan model in three Nelder-Mead stages (SPEC 4).
 
@@ -680,6 +681,11 @@ def fit_iwan(
         large-loop stage adds a barrier ``1 + violation / g1`` to the objective wherever it
         turns negative there. Default: no constraint (the thesis's fit).
 
+    stage2_starts : int, default 4
+        Starts of stage 2 (all parameters, large loops): the stage-1 result and
+        ``stage2_starts - 1`` seeded perturbations of it (:func:`_extra_starts`); the
+        best end point is kept (its evaluations count them all).
+
     Returns
     -------
     IwanFitResult
@@ -711,6 +717,8 @@ def fit_iwan(
     t0 = time.perf_counter()
     if backend not in _BACKENDS:
         raise FitError(f"backend: found {backend!r}, expected one of {_BACKENDS}")
+    if isinstance(stage2_starts, bool) or int(stage2_starts) != stage2_starts or stage2_starts < 1:
+        raise FitError(f"stage2_starts: found {stage2_starts!r}, expected an integer >= 1")
     if start is None and (int(order) != order or order < 1):
         raise FitError(f"order: found {order!r}, expected an integer >= 1")
     _check_state(initial_state)
@@ -763,9 +771,17 @@ def fit_iwan(
 
         start_params = _flat_params(current)
         start_error = objective(np.clip(u0, *bounds))
-        best_u, _, evaluations, done, message = _nelder_mead(
+        best_u, best_value, evaluations, done, message = _nelder_mead(
             objective, u0, initial_step, bounds, backend=backend, max_evals=stage_evals,
             xtol=xtol, ftol=ftol, restarts=restarts)
+        if stage_name == "stage 2":  # the global stage: several starts against local minima
+            for extra in _extra_starts(u0, bounds, stage2_starts - 1, seed):
+                u, value, used, more, note = _nelder_mead(
+                    objective, extra, initial_step, bounds, backend=backend, max_evals=stage_evals,
+                    xtol=xtol, ftol=ftol, restarts=restarts)
+                evaluations += used
+                if value < best_value:
+                    best_u, best_value, done, message = u, value, more, note
         g1, g2, g3, k, fc = unpack(best_u)
         by_travel = np.argsort(fc / k, kind="stable")  # one order of the exchangeable elements
         current = {"g1": float(g1), "g2": float(g2), "g3": float(g3), "k": k[by_travel], "fc": fc[by_travel]}
@@ -799,7 +815,8 @@ def fit_iwan(
     settings = IwanFitSettings(order=n, backend=backend, points_per_set=points_per_set, max_evals=max_evals,
                                xtol=xtol, ftol=ftol, restarts=restarts, initial_step=initial_step,
                                initial_state=initial_state, seed=int(seed),
-                               valid_range=None if valid_range is None else (x_min, x_max))
+                               valid_range=None if valid_range is None else (x_min, x_max),
+                               stage2_starts=int(stage2_starts))
     args = (model.g1, model.g2, model.g3, np.array(model.k, dtype=np.float64), np.array(model.fc, dtype=np.float64))
     return IwanFitResult(
         model=model, stages=tuple(stages),
@@ -807,6 +824,14 @@ def fit_iwan(
         small_names=small_packed.names, large_names=large_packed.names, start=start_info,
         settings=settings, parameters=parameters, elapsed_s=elapsed, reasons=tuple(dict.fromkeys(reasons)),
         start_states=dict(zip(all_packed.names, all_packed.start_states)))
+
+
+def _extra_starts(u0: np.ndarray, bounds, count: int, seed: int) -> list[np.ndarray]:
+    """``count`` seeded starts around ``u0``: each coordinate moved by N(0, 0.5) in the
+    internal coordinates (a log parameter by a factor e^0.5 = 1.6 typically; g2, g3 by half
+    their share of the linear force), clipped into the search box."""
+    rng = np.random.default_rng([int(seed), 2])
+    return [np.clip(u0 + rng.normal(0.0, 0.5, u0.size), *bounds) for _ in range(max(0, int(count)))]
 
 
 def _lowest_spring_stiffness(g1: float, g2: float, g3: float, x_min: float, x_max: float) -> float:

@@ -57,6 +57,7 @@ class IwanFitSettings:
     initial_state: str
     seed: int
     valid_range: tuple[float, float] | None = None
+    stage2_starts: int = 1
 
 
 @dataclass(frozen=True)

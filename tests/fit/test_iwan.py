@@ -242,3 +242,16 @@ def test_order_table_recommends_the_generating_order():
     assert 0.5 * truth.stuck_stiffness < table.loc[2, "smallest_loop_secant [N/m]"] < truth.stuck_stiffness
     low, high = truth.valid_deflection_range()
     assert table.loc[2, "spring_negative_below [m]"] == pytest.approx(low, rel=0.05)
+
+
+def test_stage_2_keeps_the_best_of_several_starts(loops):
+    """More starts can only lower stage 2's objective; each one costs evaluations; bad counts are refused."""
+    _, small, large = loops
+    poor = IwanModel(g1=1e3, k=[1e6, 1e3], fc=[50.0, 1.0])  # far from the loops: local minima are likely
+    one = fit_iwan(small, large, order=2, start=poor, stage2_starts=1)
+    four = fit_iwan(small, large, order=2, start=poor, stage2_starts=4)
+    assert four.stages[1].mean_error <= one.stages[1].mean_error
+    assert four.stages[1].evaluations > one.stages[1].evaluations
+    assert four.settings.stage2_starts == 4
+    with pytest.raises(FitError, match="stage2_starts"):
+        fit_iwan(small, large, order=2, stage2_starts=0)
