@@ -661,7 +661,8 @@ def fit_iwan(
     points_per_set : int or None, default 200
     max_evals : int, optional
         Evaluation limit per stage (restarts included); default
-        ``max(4000, 600 x free parameters)`` (a simplex needs more steps in more dimensions).
+        ``max(10000, 1500 x free parameters)`` (a simplex needs more steps in more dimensions,
+        and crawls along the valid-range barrier).
     xtol, ftol : float
         Absolute tolerances on the internal coordinates (log: relative change of
         the value) and on the mean error (fraction).
@@ -754,7 +755,7 @@ def fit_iwan(
         g1_ref = current["g1"]
         transforms = _stage_transforms(_STAGE_FREE[stage_name], n, x_ref, g1_ref, stiffness_ref, force_ref)
         bounds = _internal_bounds(transforms)
-        stage_evals = max(4000, 600 * len(transforms)) if max_evals is None else int(max_evals)
+        stage_evals = max(10000, 1500 * len(transforms)) if max_evals is None else int(max_evals)
         u0 = _to_internal(current, transforms)
         unpack = _make_unpack(current, transforms, n)
 

@@ -496,7 +496,37 @@ def fit_iwan_measurements(
     return MeasurementFit(kind="iwan", result=result, data=data, provenance=data.provenance,
                           options={"small_threshold": small_threshold, "points_per_set": points_per_set,
                                    "order": order, "backend": backend, "damping_level": damping_level, **options},
-                          damping=damping, checks=_valid_over_the_data(result.model, measurements, isolator))
+                          damping=damping, checks=_valid_over_the_data(result.model, measurements, isolator)
+                          + _survives_the_largest_drops(damping.model(result.model) if damping else result.model,
+                                                        measurements, isolator))
+
+
+def _survives_the_largest_drops(model, measurements, isolator) -> tuple[str, ...]:
+    """A reason if the model cannot simulate the data set's most severe drop.
+
+    For every top mass among the isolator's drop records, the highest drop is simulated
+    as the drop validation does (conditioned free fall at ``sqrt(2 g h)``, 0.3 s at 20 us);
+    a run the simulator flags (negative spring stiffness, Newton failure, non-finite state)
+    means the model cannot predict a test the data set holds.
+    """
+    from idkit.models import SDOFSystem
+    from idkit.simulate import free_fall
+
+    records = getattr(measurements, "measurements", measurements)
+    highest: dict[float, float] = {}
+    for m in records:
+        info = getattr(m, "info", None)
+        if (getattr(m, "kind", None) != "drop" or info is None or info.drop_height_m is None
+                or info.top_mass_kg is None or (isolator is not None and info.isolator != isolator)):
+            continue
+        highest[info.top_mass_kg] = max(highest.get(info.top_mass_kg, 0.0), float(info.drop_height_m))
+    reasons = []
+    for mass, height in sorted(highest.items()):
+        run = free_fall(SDOFSystem(mass, model), drop_height=[height], duration=0.3, time_step=2e-5)
+        if run.reasons[0] != "ok":
+            reasons.append(f"the model cannot simulate the data set's highest drop ({height:g} m on {mass:g} kg): "
+                           f"{run.reasons[0]}")
+    return tuple(reasons)
 
 
 def _valid_over_the_data(model, measurements, isolator) -> tuple[str, ...]:

@@ -234,3 +234,22 @@ def test_a_model_invalid_inside_the_data_sets_deflections_is_not_a_success():
     assert "negative-stiff" in reason and f"{1e3 * 1.1 * lower:.4g}" in reason
     other_isolator = inside + [record(2 * lower, 0.0, isolator="elastomer")]
     assert _valid_over_the_data(model, other_isolator, "wire_rope") == ()
+
+
+def test_a_model_that_cannot_simulate_the_highest_drop_is_not_a_success():
+    """The data set's most severe drop is simulated; a flagged run is a reason, a clean one is not."""
+    from types import SimpleNamespace
+
+    from idkit.fit.measurements import _survives_the_largest_drops
+
+    def drop(height, mass=5.0):
+        info = SimpleNamespace(drop_height_m=height, top_mass_kg=mass, isolator="wire_rope")
+        return SimpleNamespace(kind="drop", info=info)
+
+    softening = IwanModel(g1=3e3, g3=-3e7, k=[3e3], fc=[8.0])  # negative-stiff beyond 5.8 mm
+    hardening = IwanModel(g1=3e3, g3=3e7, k=[3e3], fc=[8.0])
+    records = [drop(0.01), drop(0.2)]  # 0.2 m compresses far beyond 5.8 mm
+    (reason,) = _survives_the_largest_drops(softening, records, "wire_rope")
+    assert "highest drop (0.2 m on 5 kg)" in reason and "negative local stiffness" in reason
+    assert _survives_the_largest_drops(hardening, records, "wire_rope") == ()
+    assert _survives_the_largest_drops(softening, [drop(0.2)], "elastomer") == ()  # another isolator's drops
