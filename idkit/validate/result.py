@@ -47,6 +47,9 @@ class ValidationResult:
         Why the metrics cannot carry a PASS even where they are within their limits
         (e.g. too many simulated points that never reached steady state); empty when
         the validation is complete.
+    cannot_see : tuple of str
+        Deliberately wrong components that pass this validation too
+        (:func:`idkit.validate.blind_spots.blind_spots`): the verdict does not vouch for them.
     """
 
     name: str
@@ -55,6 +58,7 @@ class ValidationResult:
     thresholds: dict
     details: dict = field(default_factory=dict)
     inconclusive: tuple[str, ...] = ()
+    cannot_see: tuple[str, ...] = ()
 
     @property
     def checks(self) -> dict[str, bool]:
@@ -86,6 +90,8 @@ class ValidationResult:
         lines = [f"{self.name}: {self.verdict} ({len(self.metrics)} points)"]
         lines.extend(f"  inconclusive: {reason}" for reason in self.inconclusive)
         lines.extend(f"  inconclusive: {key} could not be computed" for key in self.unmeasured)
+        if self.cannot_see:
+            lines.append("  cannot see (these wrong components pass too): " + "; ".join(self.cannot_see))
         for key, value in self.summary.items():
             if key in self.thresholds:
                 verdict = "ok" if self.checks[key] else "n/a" if key in self.unmeasured else "FAIL"

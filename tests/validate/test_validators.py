@@ -248,3 +248,18 @@ def test_harmonic_validation_fails_a_wrong_component(stepped_sine_points, change
             params[name] *= factor
     wrong = validate_harmonic(stepped_sine_points, isolator=IwanModel.from_params(params))
     assert wrong.verdict == "FAIL", wrong.report()
+
+
+def test_blind_spots_name_the_wrong_components_a_validation_lets_pass(stepped_sine_points):
+    from idkit.validate import PROBES, blind_spots
+
+    def sweeps(limits=None):
+        return lambda **models: validate_harmonic(stepped_sine_points, thresholds=limits, **models)
+
+    own = {"isolator": wire_rope()}
+    seeing = blind_spots(sweeps()(**own), sweeps(), own)
+    assert seeing.verdict == "PASS" and seeing.cannot_see == ()  # every probe FAILs the sweeps
+    lax = {"rms_log_magnitude_error_db": 1e3, "max_resonance_frequency_error": 1e3, "max_peak_magnitude_error_db": 1e3}
+    blind = blind_spots(sweeps(lax)(**own), sweeps(lax), own)
+    assert len(blind.cannot_see) == len(PROBES) and "slip forces x0.3" in blind.cannot_see[0]
+    assert "cannot see" in blind.report()
