@@ -187,8 +187,16 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
         timings[name] = time.perf_counter()
         say(name)
 
+    finished: set[str] = set()
+
     def done(name):
         timings[name] = round(time.perf_counter() - timings[name], 3)
+        finished.add(name)
+
+    def durations():
+        """Stage durations in s; a stage still running counts up to now."""
+        now = time.perf_counter()
+        return {k: v if k in finished else round(now - v, 3) for k, v in timings.items()}
 
     stage("loading and inspecting the data")
     sets = find_measurement_sets(data_dir)
@@ -348,7 +356,8 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
         }
         report.section("Provenance", "provenance")
         report.paragraph(f"idkit {__version__}; seed {seed}; models in models/, tables in tables/.")
-        report.table(pd.DataFrame([{"stage": k, "seconds": v} for k, v in timings.items()]), caption="timings")
+        report.table(pd.DataFrame([{"stage": k + ("" if k in finished else " (until this table)"), "seconds": v}
+                                   for k, v in durations().items()]), caption="timings (durations)")
         hashes = [{"isolator": isolator, "file": name, "sha256": digest}
                   for isolator, digests in provenance["data_files_sha256"].items() for name, digest in digests.items()]
         report.table(pd.DataFrame(hashes), caption="data files and their SHA-256")

@@ -66,3 +66,12 @@ def test_report_on_a_folder_without_data_fails_clearly(tmp_path, capsys):
 def test_report_states_the_valid_range_of_the_identified_wire_rope(quick_report):
     html = (quick_report / "report.html").read_text(encoding="utf-8")
     assert "Valid range of the identified Iwan model" in html
+
+
+@pytest.mark.slow
+def test_timings_are_durations(quick_report):
+    """Every stage time is a duration of seconds to minutes, never a raw clock reading."""
+    provenance = json.loads((quick_report / "provenance.json").read_text())
+    assert all(0 <= seconds < 600 for seconds in provenance["timings_s"].values()), provenance["timings_s"]
+    html = (quick_report / "report.html").read_text(encoding="utf-8")
+    assert "writing the report (until this table)" in html
