@@ -66,3 +66,12 @@ def test_report_on_a_folder_without_data_fails_clearly(tmp_path, capsys):
 def test_report_states_the_valid_range_of_the_identified_wire_rope(quick_report):
     html = (quick_report / "report.html").read_text(encoding="utf-8")
     assert "Valid range of the identified Iwan model" in html
+
+
+@pytest.mark.slow
+def test_iwan_table_shows_stderr_and_spread_across_repetitions(quick_report):
+    html = (quick_report / "report.html").read_text(encoding="utf-8")
+    assert "Iwan parameters: stderr from the residual Jacobian at the optimum" in html
+    for column in ("stderr", "stderr_note", "repetition_std", "repetition_values"):
+        assert f"<th>{column}</th>" in html, column
+    assert "spread across repetitions: repetition, 2 refits" in html
