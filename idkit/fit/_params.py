@@ -20,6 +20,14 @@ units. One :class:`Transform` per free parameter maps between the two:
 
 The same declarations produce :class:`lmfit.Parameters` (values, physical bounds,
 ``vary``, standard errors) through :func:`to_lmfit`.
+
+Standard errors come from the residual Jacobian at the optimum, without moving it
+(:func:`jacobian_statistics`): the fitters' optimum is that of a Nelder-Mead objective
+(or SQP with constraints), and a least-squares polish would report the uncertainty of a
+different point. The result is an :class:`lmfit.minimizer.MinimizerResult` with what an
+lmfit user expects (``params`` with ``stderr`` and ``correl``, ``covar``, ``chisqr``,
+``redchi``, ``aic``, ``bic``, ``nfev``; :func:`lmfit.fit_report` prints it), computed
+with lmfit's definitions (``scale_covar=True``: ``covar = redchi (J^T J)^-1``).
 """
 
 from __future__ import annotations
@@ -31,7 +39,8 @@ from dataclasses import dataclass
 import lmfit
 import numpy as np
 
-__all__ = ["Transform", "to_lmfit", "gauss_newton_covariance", "central_jacobian"]
+__all__ = ["Transform", "to_lmfit", "gauss_newton_covariance", "central_jacobian", "jacobian_statistics",
+           "to_physical_statistics"]
 
 _KINDS = ("log", "scaled", "log01", "linear01")
 
@@ -171,3 +180,157 @@ def to_lmfit(
         if error is not None and math.isfinite(error):
             parameters[name].stderr = float(error)
     return parameters
+
+
+#: A Jacobian column whose norm is below this share of the largest column's is a
+#: parameter the residuals do not change with (e.g. the slip force of an element that
+#: never slips): it gets no standard error, and the others are estimated without it.
+_NULL_COLUMN = 1e-8
+
+
+def jacobian_statistics(
+    residuals: Callable[[np.ndarray], np.ndarray],
+    u: np.ndarray,
+    names: Sequence[str],
+    *,
+    step: float = 1e-4,
+    rcond: float = 1e-10,
+    method: str = "Jacobian at the optimum",
+) -> lmfit.minimizer.MinimizerResult:
+    """Least-squares statistics of ``residuals`` at ``u`` without moving ``u``.
+
+    Parameters
+    ----------
+    residuals : callable
+        ``residuals(u) -> ndarray`` of the per-point residuals (dimensionless).
+    u : ndarray, shape (p,)
+        The optimum, in the coordinates the covariance is wanted in.
+    names : sequence of str
+        One name per coordinate.
+    step : float
+        Central-difference step of the Jacobian in ``u`` (:func:`central_jacobian`).
+    rcond : float
+        Smallest singular value of ``J^T J`` relative to its largest below which the
+        covariance is singular (:func:`gauss_newton_covariance`).
+    method : str
+        Recorded as ``result.method`` (first line of :func:`lmfit.fit_report`).
+
+    Returns
+    -------
+    lmfit.minimizer.MinimizerResult
+        ``params`` (unbounded, values ``u``, ``stderr`` and ``correl`` where estimated),
+        ``covar`` (``redchi (J^T J)^-1`` over ``var_names``, or None), ``residual``,
+        ``chisqr``, ``redchi``, ``aic``, ``bic``, ``ndata``, ``nvarys``, ``nfree``,
+        ``nfev`` (the ``1 + 2p`` residual evaluations), ``errorbars``, plus
+
+        ``stderr_notes`` : list of str
+            Why a standard error is missing: the parameter the residuals do not change
+            with, or the combination that makes ``J^T J`` singular.
+        ``gauss_newton_step`` : dict
+            Name -> one Gauss-Newton step ``-(J^T J)^-1 J^T r`` in units of that
+            parameter's standard error: how far the least-squares optimum of the same
+            residuals lies from ``u`` (a polish that moves a parameter by more than one
+            stderr shows that the fitted point is not that optimum).
+
+    Notes
+    -----
+    ``chisqr = sum r^2``, ``redchi = chisqr / (N - p)``, ``aic = N ln(chisqr / N) + 2 p``,
+    ``bic = N ln(chisqr / N) + ln(N) p``: lmfit's definitions (``MinimizerResult``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.linspace(0.0, 1.0, 50)
+    >>> y = 2.0 + 3.0 * x + 0.01 * np.sin(40 * x)
+    >>> best = np.polyfit(x, y, 1)[::-1]
+    >>> stats = jacobian_statistics(lambda u: u[0] + u[1] * x - y, best, ["a", "b"])
+    >>> bool(stats.params["b"].stderr < 0.01), stats.nvarys
+    (True, 2)
+    """
+    u = np.asarray(u, dtype=float)
+    names = list(names)
+    if u.shape != (len(names),):
+        raise ValueError(f"u: found shape {u.shape}, expected ({len(names)},), one value per name in {names}")
+    parameters = lmfit.Parameters()
+    for name, value in zip(names, u):
+        parameters.add(name, value=float(value))
+    residual = np.asarray(residuals(u), dtype=float)
+    jacobian = central_jacobian(residuals, u, step=step)
+    n_data, n_vary = residual.size, len(names)
+    chisqr = max(float(np.sum(residual**2)), 1e-250 * n_data)
+    nfree = n_data - n_vary
+    neg2_log_likelihood = n_data * math.log(chisqr / n_data)
+    notes = []
+    column_norm = np.linalg.norm(jacobian, axis=0) if np.all(np.isfinite(jacobian)) else np.zeros(n_vary)
+    seen = column_norm > _NULL_COLUMN * max(float(column_norm.max(initial=0.0)), 1e-300)
+    for name in np.asarray(names)[~seen]:
+        notes.append(f"{name}: the residuals do not change with it (a step of {step:g} in its internal "
+                     "coordinate changes no residual): the data do not determine it")
+    covar_seen = gauss_newton_covariance(jacobian[:, seen], residual, rcond=rcond) if seen.any() else None
+    step_in_stderr = {}
+    if covar_seen is None and seen.any():
+        if nfree <= 0:
+            notes.append(f"every parameter: {n_data} residuals for {n_vary} parameters, expected more residuals")
+        elif not np.all(np.isfinite(jacobian)):
+            notes.append("every parameter: the residual Jacobian is not finite at the optimum")
+        else:
+            _, singular, right = np.linalg.svd(jacobian[:, seen], full_matrices=False)
+            null = right[-1]
+            involved = [f"{name} ({weight:+.2f})" for name, weight in
+                        zip(np.asarray(names)[seen], null) if abs(weight) > 0.1]
+            condition = (singular[0] / singular[-1]) ** 2 if singular[-1] > 0 else math.inf
+            notes.append(f"every parameter: J^T J is singular (condition {condition:.3g}); "
+                         f"the data do not determine the combination of {', '.join(involved)} "
+                         "(weights of the direction the residuals do not change along)")
+    covar = None
+    if covar_seen is not None:
+        index = np.flatnonzero(seen)
+        covar = np.full((n_vary, n_vary), np.nan)
+        covar[np.ix_(index, index)] = covar_seen
+        sigma = np.sqrt(np.clip(np.diag(covar_seen), 0.0, None))
+        correlation = covar_seen / np.outer(sigma, sigma)
+        gn_step = -np.linalg.lstsq(jacobian[:, seen], residual, rcond=None)[0]
+        for position, i in enumerate(index):
+            parameters[names[i]].stderr = float(sigma[position])
+            parameters[names[i]].correl = {names[j]: float(correlation[position, other])
+                                           for other, j in enumerate(index) if j != i}
+            step_in_stderr[names[i]] = float(gn_step[position] / sigma[position])
+    result = lmfit.minimizer.MinimizerResult(
+        method=method, params=parameters, var_names=names, init_vals=[float(v) for v in u],
+        init_values={n: float(v) for n, v in zip(names, u)}, residual=residual, covar=covar,
+        nfev=1 + 2 * n_vary, ndata=n_data, nvarys=n_vary, nfree=nfree, chisqr=chisqr,
+        redchi=chisqr / max(1, nfree), aic=neg2_log_likelihood + 2 * n_vary,
+        bic=neg2_log_likelihood + math.log(n_data) * n_vary, errorbars=covar_seen is not None and not notes,
+        success=True, aborted=False, message="statistics at the given optimum (not moved)",
+        stderr_notes=notes, gauss_newton_step=step_in_stderr)
+    return result
+
+
+def to_physical_statistics(
+    internal: lmfit.minimizer.MinimizerResult,
+    transforms: Sequence[Transform],
+    parameters: lmfit.Parameters,
+) -> lmfit.minimizer.MinimizerResult:
+    """The statistics of :func:`jacobian_statistics` in physical parameters.
+
+    ``stderr(p) = |dp/du| stderr(u)`` (first order; for ``"log"`` the relative error of
+    ``p`` is the stderr of ``log p``), ``covar = D covar_u D`` with ``D = diag(dp/du)``;
+    correlations are unchanged (every transform is increasing). ``parameters`` (physical
+    values, bounds, units, fixed parameters) receive the standard errors and
+    correlations and become ``result.params``; the other statistics are copied.
+    """
+    names = list(internal.var_names)
+    if [t.name for t in transforms] != names:
+        raise ValueError(f"transforms: found {[t.name for t in transforms]}, expected the statistics' {names}")
+    u = np.array([internal.params[name].value for name in names])
+    derivative = np.array([float(abs(t.derivative(value))) for t, value in zip(transforms, u)])
+    for name, scale in zip(names, derivative):
+        source, target = internal.params[name], parameters[name]
+        target.stderr = None if source.stderr is None else float(scale * source.stderr)
+        target.correl = None if source.correl is None else dict(source.correl)
+    values = {key: getattr(internal, key) for key in vars(internal)}
+    values.update(params=parameters, var_names=names,
+                  init_vals=[float(parameters[name].value) for name in names],
+                  init_values={name: float(parameters[name].value) for name in names},
+                  covar=None if internal.covar is None else internal.covar * np.outer(derivative, derivative))
+    return lmfit.minimizer.MinimizerResult(**values)

@@ -207,7 +207,7 @@ def bootstrap_measurements(fit, *, method: str = "repetition", n_resamples: int 
     """Bootstrap a :class:`~idkit.fit.MeasurementFit` with its own data and settings.
 
     Loop fits are refitted per repetition (``info.repetition`` of the records) or on
-    resampled sets; Maxwell fits likewise over the transmissibility sets, with ``k0``
+    resampled sets, with the fit's order, backend, start state and (Iwan) valid range; Maxwell fits likewise over the transmissibility sets, with ``k0``
     held at the value of the original fit. ``seed`` defaults to the fit's seed.
     """
     from idkit.fit.boucwen import fit_boucwen
@@ -220,11 +220,12 @@ def bootstrap_measurements(fit, *, method: str = "repetition", n_resamples: int 
         data = fit.data
         if fit.kind == "iwan":
             fitter = fit_iwan
-            options = {"order": settings.order, "backend": settings.backend}
+            options = {"order": settings.order, "backend": settings.backend,
+                       "initial_state": settings.initial_state, "valid_range": settings.valid_range}
         else:
             fitter = fit_boucwen
             options = {"backend": settings.backend, "global_search": settings.global_search,
-                       "global_max_evals": settings.global_max_evals}
+                       "global_max_evals": settings.global_max_evals, "initial_state": settings.initial_state}
         return bootstrap_loops(fitter, data.small, data.large, small_groups=data.small_repetitions,
                                large_groups=data.large_repetitions, method=method, n_resamples=n_resamples,
                                seed=seed, **options)

@@ -71,7 +71,7 @@ import scipy.optimize
 
 from idkit.analysis.cycles import resample_loops, reversal_threshold, split_cycles
 from idkit.errors import FitError
-from idkit.fit._params import Transform, central_jacobian, gauss_newton_covariance, to_lmfit
+from idkit.fit._params import Transform, jacobian_statistics, to_lmfit, to_physical_statistics
 from idkit.fit.result import IwanFitResult, IwanFitSettings, IwanStart, StageResult
 from idkit.models import IwanModel
 
@@ -690,14 +690,17 @@ def fit_iwan(
     Returns
     -------
     IwanFitResult
-        ``result.parameters`` carries standard errors from a Gauss-Newton
-        covariance ``s^2 (J^T J)^-1`` of the stacked per-set normalised residuals
-        ``(F_model - F_meas) / |F_meas|_set`` of all small and large sets at the
-        final parameters, ``J`` by central differences (step 1e-4) in the log
-        coordinates, mapped to physical units by ``stderr(p) = p * stderr(log p)``
-        (``g2``, ``g3``: linear). Approximate: the stop operator is only
-        piecewise smooth and the objective (mean of set norms) is not exactly a
-        sum of squares.
+        ``result.params`` (alias ``result.parameters``) carries standard errors and
+        correlations from the covariance ``redchi (J^T J)^-1`` of the per-point residuals
+        of all small and large sets at the final parameters, which it does not move
+        (:func:`idkit.fit._params.jacobian_statistics`): ``r = (F_model - F_meas) /
+        (|F_meas|_set sqrt(e_set))``, each set normalised as the objective (7.1) does and
+        weighted by its error at the optimum so that ``chisqr = sum e_set`` and the
+        least-squares optimum of ``r`` is the objective's. ``J`` by central differences
+        (step 1e-4) in the internal coordinates, mapped by ``stderr(p) = p stderr(log p)``
+        (``g2``, ``g3``: linear). ``result.chisqr``, ``redchi``, ``aic``, ``bic``,
+        ``fit_report()`` as in lmfit; a parameter without stderr is named with the reason
+        in ``result.stderr_notes``. Calibrated on synthetic loops in docs/fitting.md.
 
     Raises
     ------
@@ -812,7 +815,7 @@ def fit_iwan(
         reasons.append(f"the fitted spring turns negative-stiff at {1e3 * lower:.4g} / {1e3 * upper:.4g} mm, inside "
                        f"the loops' own deflections ({1e3 * low:.4g} to {1e3 * high:.4g} mm): the model cannot be "
                        "simulated over its data")
-    parameters = _iwan_lmfit(model, small_packed, large_packed, x_ref, stiffness_ref, force_ref)
+    parameters, statistics = _iwan_lmfit(model, small_packed, large_packed, x_ref, stiffness_ref, force_ref)
     settings = IwanFitSettings(order=n, backend=backend, points_per_set=points_per_set, max_evals=max_evals,
                                xtol=xtol, ftol=ftol, restarts=restarts, initial_step=initial_step,
                                initial_state=initial_state, seed=int(seed),
@@ -824,7 +827,7 @@ def fit_iwan(
         small_errors=small_packed.set_errors(*args), large_errors=large_packed.set_errors(*args),
         small_names=small_packed.names, large_names=large_packed.names, start=start_info,
         settings=settings, parameters=parameters, elapsed_s=elapsed, reasons=tuple(dict.fromkeys(reasons)),
-        start_states=dict(zip(all_packed.names, all_packed.start_states)))
+        start_states=dict(zip(all_packed.names, all_packed.start_states)), statistics=statistics)
 
 
 def _extra_starts(u0: np.ndarray, bounds, count: int, seed: int) -> list[np.ndarray]:
@@ -937,36 +940,41 @@ def _flat_params(current: dict) -> dict:
 
 def _iwan_lmfit(model: IwanModel, small: _Packed, large: _Packed, x_ref: float, stiffness_ref: float,
                 force_ref: float):
-    """lmfit view of the final model with Gauss-Newton standard errors (see :func:`fit_iwan`)."""
+    """lmfit view of the final model and its statistics at the optimum (see :func:`fit_iwan`).
+
+    Returns ``(parameters, statistics)``: :class:`lmfit.Parameters` in physical units
+    with ``stderr`` and ``correl``, and the :class:`lmfit.minimizer.MinimizerResult` of
+    :func:`idkit.fit._params.jacobian_statistics` mapped to them.
+    """
     n = model.order
     transforms = _stage_transforms(_STAGE_FREE["stage 2"], n, x_ref, model.g1, stiffness_ref, force_ref)
     current = {"g1": model.g1, "g2": model.g2, "g3": model.g3,
                "k": np.array(model.k, float), "fc": np.array(model.fc, float)}
     u_opt = _to_internal(current, transforms)
     unpack = _make_unpack(current, transforms, n)
+    # weights 1 / sqrt(e_s) frozen at the optimum: sum r^2 = sum_s e_s (the stage objective
+    # times the number of sets) and its gradient is the objective's, so the least-squares
+    # optimum of these residuals is the Nelder-Mead one when the stages reached it
+    errors = np.concatenate([small.set_errors(*unpack(u_opt)), large.set_errors(*unpack(u_opt))])
+    sizes = np.concatenate([np.diff(small.offsets), np.diff(large.offsets)])
+    weights = np.repeat(1.0 / np.sqrt(np.maximum(errors, 1e-300)), sizes)
 
     def residuals(u):
         args = unpack(u)
-        return np.concatenate([small.residuals(*args), large.residuals(*args)])
+        return weights * np.concatenate([small.residuals(*args), large.residuals(*args)])
 
-    jacobian = central_jacobian(residuals, u_opt)
-    covariance = gauss_newton_covariance(jacobian, residuals(u_opt))
     names = [t.name for t in transforms]
-    physical = [float(t.to_physical(u)) for t, u in zip(transforms, u_opt)]
-    stderr = [None] * len(names)
-    if covariance is not None:
-        sigma_u = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
-        stderr = [float(abs(t.derivative(u)) * s) for t, u, s in zip(transforms, u_opt, sigma_u)]
+    internal = jacobian_statistics(residuals, u_opt, names,
+                                   method="Jacobian of the per-point residuals at the Nelder-Mead optimum")
     specs = {spec.name: spec for spec in model.param_specs()}
     parameters = to_lmfit(
-        names + ["c_visc"], physical + [0.0],
+        names + ["c_visc"], [float(t.to_physical(u)) for t, u in zip(transforms, u_opt)] + [0.0],
         units=[specs[name].unit for name in names] + ["N s/m"],
         lower=[t.lower for t in transforms] + [0.0],
         upper=[t.upper for t in transforms] + [math.inf],
         vary=[True] * len(names) + [False],
-        stderr=stderr + [None],
     )
-    return parameters
+    return parameters, to_physical_statistics(internal, transforms, parameters)
 
 
 # --------------------------------------------------------------------------- order table

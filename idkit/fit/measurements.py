@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from idkit.analysis.frf import estimate_frf
 from idkit.errors import DataError, FitError
@@ -160,6 +161,12 @@ class MeasurementFit:
     checks : tuple of str
         Problems found at the measurement level (e.g. the model is invalid inside the
         deflections the data set reaches); they make :attr:`success` false.
+    spread : BootstrapResult or None
+        Parameters refitted on each repetition of the experiment alone
+        (:meth:`with_repetition_spread`): the spread across repetitions, beside the
+        standard errors of ``result.params`` (the spread within one data set).
+    spread_note : str
+        Why :attr:`spread` is None after :meth:`with_repetition_spread` (e.g. one repetition).
     """
 
     kind: str
@@ -171,6 +178,59 @@ class MeasurementFit:
     repetitions: tuple = ()
     damping: ViscousDamping | None = None
     checks: tuple[str, ...] = ()
+    spread: object | None = None
+    spread_note: str = ""
+
+    def with_repetition_spread(self, *, method: str = "repetition", n_resamples: int = 20,
+                               seed: int | None = None) -> "MeasurementFit":
+        """This fit with :attr:`spread` from :func:`idkit.fit.bootstrap_measurements`.
+
+        One refit per repetition (``info.repetition`` of the records; ``method="resample"``
+        for resampled sets) with the fit's own settings. When the data hold fewer than two
+        repetitions the spread stays None and :attr:`spread_note` says so.
+        """
+        from idkit.fit.bootstrap import bootstrap_measurements
+
+        try:
+            spread = bootstrap_measurements(self, method=method, n_resamples=n_resamples, seed=seed)
+        except FitError as problem:
+            return dataclasses.replace(self, spread=None, spread_note=f"no spread across repetitions: {problem}")
+        return dataclasses.replace(self, spread=spread, spread_note="")
+
+    def parameters_table(self) -> pd.DataFrame:
+        """One row per parameter: value, stderr (residual Jacobian) and spread across repetitions.
+
+        Columns ``parameter``, ``unit``, ``value``, ``stderr``, ``stderr_note`` (why there is
+        none: fixed, or the reason from ``result.stderr_notes``), ``repetition_std`` (std,
+        ddof 1, of the refits of :attr:`spread`), ``repetition_values`` (each refit's value),
+        ``repetitions`` (refit count) and ``fitted``.
+        """
+        notes = tuple(getattr(self.result, "stderr_notes", ()) or ())
+        spread = {}
+        if self.spread is not None:
+            summary = self.spread.summary().set_index("parameter")
+            for index, name in enumerate(self.spread.names):
+                spread[name] = (float(summary.loc[name, "std"]), tuple(float(v) for v in self.spread.samples[:, index]))
+        rows = []
+        for name, parameter in self.result.parameters.items():
+            unit = (parameter.user_data or {}).get("unit", "") if isinstance(parameter.user_data, dict) else ""
+            if parameter.stderr is not None:
+                note = ""
+            elif not parameter.vary:
+                note = "fixed in the fit"
+            else:
+                named = [n for n in notes if n.startswith(f"{name}:") or f"{name} (" in n or n.startswith("every")]
+                note = "; ".join(named) or "not estimated"
+            std, values = spread.get(name, (float("nan"), ()))
+            value = parameter.value
+            if name == "c_visc" and self.damping is not None:  # identified apart from the loop fit
+                value, note = self.damping.c_visc, "from the stepped-sine resonance, not the loops"
+                std, values = float("nan"), ()
+            rows.append({"parameter": name, "unit": unit, "value": value, "stderr": parameter.stderr,
+                         "stderr_note": note, "repetition_std": std,
+                         "repetition_values": ", ".join(f"{v:.5g}" for v in values),
+                         "repetitions": len(values), "fitted": parameter.vary})
+        return pd.DataFrame(rows)
 
     @property
     def reasons(self) -> tuple[str, ...]:
@@ -214,6 +274,11 @@ class MeasurementFit:
             lines.append("    c_visc = 0: no stepped-sine data to identify viscous damping; steady-state "
                          "responses of a lightly hysteretic rope may not settle")
         lines.extend(f"    not a success: {check}" for check in self.checks)
+        if self.spread is not None:
+            lines.append(f"    spread across repetitions: {self.spread.method}, {self.spread.samples.shape[0]} refits ("
+                         + ", ".join(self.spread.labels) + ")")
+        elif self.spread_note:
+            lines.append(f"    {self.spread_note}")
         return "\n".join(lines) + "\n" + self.result.report()
 
     def provenance_dict(self) -> dict:

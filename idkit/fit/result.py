@@ -137,6 +137,11 @@ class IwanFitResult:
     start_states : dict
         Set name -> ``"virgin"`` or ``"cycled"``: the start state each set was scored
         from (``settings.initial_state="auto"`` chooses per set).
+    statistics : lmfit.minimizer.MinimizerResult or None
+        Least-squares statistics at the final parameters (not moved): ``params``,
+        ``covar``, ``chisqr``, ``redchi``, ``aic``, ``bic``, ``stderr_notes``,
+        ``gauss_newton_step`` (:func:`idkit.fit._params.jacobian_statistics`). The
+        properties below expose them as lmfit users expect.
     """
 
     model: IwanModel
@@ -151,6 +156,62 @@ class IwanFitResult:
     elapsed_s: float
     reasons: tuple[str, ...] = ()
     start_states: dict = field(default_factory=dict)
+    statistics: lmfit.minimizer.MinimizerResult | None = field(default=None, repr=False)
+
+    # lmfit's MinimizerResult names ------------------------------------------------
+    @property
+    def params(self) -> lmfit.Parameters:
+        """The fitted :class:`lmfit.Parameters` (``stderr``, ``correl``); same object as :attr:`parameters`."""
+        return self.parameters
+
+    @property
+    def chisqr(self) -> float:
+        """``sum r^2`` of the weighted per-point residuals = sum of the set errors (7.1), fraction."""
+        return _statistic(self, "chisqr")
+
+    @property
+    def redchi(self) -> float:
+        """``chisqr / (N - p)``: the variance of one weighted residual."""
+        return _statistic(self, "redchi")
+
+    @property
+    def aic(self) -> float:
+        """Akaike information criterion ``N ln(chisqr / N) + 2 p`` (lmfit's definition)."""
+        return _statistic(self, "aic")
+
+    @property
+    def bic(self) -> float:
+        """Bayesian information criterion ``N ln(chisqr / N) + ln(N) p`` (lmfit's definition)."""
+        return _statistic(self, "bic")
+
+    @property
+    def ndata(self) -> int:
+        """Residuals in the statistics (resampled points of all sets)."""
+        return int(_statistic(self, "ndata"))
+
+    @property
+    def nfev(self) -> int:
+        """Objective evaluations of the stages plus the residual evaluations of the Jacobian."""
+        extra = 0 if self.statistics is None else int(self.statistics.nfev)
+        return self.evaluations + extra
+
+    @property
+    def message(self) -> str:
+        """Stop message of the last stage and, if any, why the fit is not a success."""
+        last = self.stages[-1].message if self.stages else ""
+        return "; ".join([last, *self.reasons]) if self.reasons else last
+
+    @property
+    def stderr_notes(self) -> tuple[str, ...]:
+        """Why a fitted parameter has no standard error (empty when every one has)."""
+        return tuple(getattr(self.statistics, "stderr_notes", ()) or ())
+
+    def fit_report(self, **options) -> str:
+        """:func:`lmfit.fit_report` of the statistics (fit statistics, variables, correlations),
+        followed by the reasons for any missing standard error; ``options`` go to lmfit."""
+        source = self.statistics if self.statistics is not None else self.parameters
+        text = lmfit.fit_report(source, **options)
+        return "\n".join([text, *(f"    no stderr: {note}" for note in self.stderr_notes)])
 
     @property
     def error_small(self) -> float:
@@ -217,9 +278,30 @@ class IwanFitResult:
                 f"{stage.evaluations} evaluations, {stage.restarts} restarts, {stage.message}"
             )
             lines.append(f"        per set [%]: {per_set}")
-        lines.append("[[Variables]]")
+        lines.append("[[Variables]] (stderr from the residual Jacobian at the optimum)")
         lines.extend(_parameter_lines(self.parameters))
+        lines.extend(f"    no stderr: {note}" for note in self.stderr_notes)
+        lines.extend(_statistics_lines(self.statistics))
         return "\n".join(lines)
+
+
+def _statistic(result, name: str) -> float:
+    """An lmfit statistic of ``result.statistics``, NaN when it was not computed."""
+    return float(getattr(result.statistics, name, np.nan)) if result.statistics is not None else float("nan")
+
+
+def _statistics_lines(statistics) -> list[str]:
+    if statistics is None:
+        return []
+    lines = [f"    statistics: {statistics.ndata} residuals, {statistics.nvarys} varied, chi-square "
+             f"{statistics.chisqr:.5g}, reduced {statistics.redchi:.4g}, AIC {statistics.aic:.6g}, "
+             f"BIC {statistics.bic:.6g}"]
+    steps = getattr(statistics, "gauss_newton_step", {}) or {}
+    if steps:
+        name = max(steps, key=lambda key: abs(steps[key]))
+        lines.append(f"    least-squares optimum of the same residuals (one Gauss-Newton step): at most "
+                     f"{abs(steps[name]):.2g} stderr away ({name})")
+    return lines
 
 
 # --------------------------------------------------------------------------- Maxwell

@@ -6,7 +6,8 @@ Stages (each timed and listed under *Provenance*):
    ``manifest.json`` per isolator: ``wire_rope``, ``elastomer``, ``hybrid``);
 2. fit the wire rope (three-stage Iwan; Bouc-Wen for comparison) and the elastomer
    (bounded SQP with a global cross-check; order table n = 1..4 and Voigt) on the
-   ``fit`` split, with a bootstrap over repetitions;
+   ``fit`` split; the Iwan parameters with their standard errors and their spread over
+   one refit per repetition (:meth:`~idkit.fit.MeasurementFit.with_repetition_spread`);
 3. validate both on the ``validation`` split and the hybrid built from them on all
    hybrid sweeps and drops (nothing was fitted to the hybrid);
 4. run the transport-tool study with the identified parts;
@@ -131,12 +132,8 @@ def _stiffness_figure(model):
 
 
 def _parameters_table(fit) -> pd.DataFrame:
-    rows = []
-    for name, parameter in fit.result.parameters.items():
-        unit = (parameter.user_data or {}).get("unit", "") if isinstance(parameter.user_data, dict) else ""
-        rows.append({"parameter": name, "value": parameter.value, "stderr": parameter.stderr,
-                     "unit": unit, "fitted": parameter.vary})
-    return pd.DataFrame(rows)
+    """Value, stderr (residual Jacobian, or why none) and spread across repetitions side by side."""
+    return fit.parameters_table()
 
 
 QUICK_NOTE = "quick run: at most 8 held-out records per validation, smaller study; not the full verdict"
@@ -217,6 +214,7 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
         seen = [m.deflection for m in wire_rope.measurements if getattr(m, "deflection", None) is not None]
         valid_range = (1.25 * min(float(d.min()) for d in seen), 1.25 * max(float(d.max()) for d in seen))
         iwan = fit_iwan_measurements(wire_rope, seed=seed, valid_range=valid_range, initial_state=start_state)
+        iwan = iwan.with_repetition_spread()  # one refit per repetition of the fit split (a few seconds)
         boucwen = fit_boucwen_measurements(wire_rope, seed=seed, initial_state=start_state,
                                            **({"global_max_evals": 800} if quick else {}))
         iwan.save(models_dir / "wire_rope_iwan.json")
@@ -317,7 +315,11 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
                          f"in the data set; simulations beyond the valid range are flagged, and validations count "
                          f"them as failures.")
         report.preformatted(iwan.report())
-        report.table(_parameters_table(iwan), caption="Iwan parameters (stderr from the residual Jacobian)")
+        report.table(_parameters_table(iwan),
+                     caption="Iwan parameters: stderr from the residual Jacobian at the optimum (the spread "
+                             "within this data set; stderr_note says why one is missing) beside the spread across "
+                             "repetitions (std of one refit per repetition, repetition_values)"
+                             + (f"; {iwan.spread_note}" if iwan.spread_note else ""))
         report.figure(_loop_figure(iwan, "Iwan"), caption="measured and fitted loops (Iwan)")
         report.preformatted(boucwen.report())
         report.figure(_loop_figure(boucwen, "Bouc-Wen"), caption="measured and fitted loops (Bouc-Wen)")

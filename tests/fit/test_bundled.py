@@ -137,3 +137,27 @@ def test_transmissibility_sets_use_every_mass_and_repetition(elastomer):
     assert len(frfs) == 24 and len({f.mass for f in frfs}) == 8
     assert frfs[0].freq.min() >= 1.0 and frfs[0].freq.max() <= 100.0
     assert len(provenance.files) == 24
+
+
+def test_parameters_table_shows_stderr_and_spread_across_repetitions(iwan_fit):
+    """Value, stderr from the residual Jacobian (or why none) and the spread of one refit
+    per repetition, side by side (what the report's Iwan table shows)."""
+    fit = iwan_fit.with_repetition_spread()
+    assert fit.spread is not None and fit.spread.labels == ("repetition 1", "repetition 2")
+    table = fit.parameters_table().set_index("parameter")
+    for name in ("g1", "g2", "g3", "k_1", "k_2", "fc_1", "fc_2"):
+        row = table.loc[name]
+        assert (row["stderr"] is not None and row["stderr"] > 0) or row["stderr_note"], name
+        assert row["repetitions"] == 2 and np.isfinite(row["repetition_std"]), name
+        assert len(row["repetition_values"].split(", ")) == 2
+    assert table.loc["c_visc", "stderr_note"] == "fixed in the fit"
+    assert "spread across repetitions: repetition, 2 refits" in fit.report()
+
+
+def test_one_repetition_has_no_spread_and_says_why(wire_rope):
+    first = [m for m in wire_rope if m.info.repetition == 1]
+    fit = fit_iwan_measurements(first).with_repetition_spread()
+    assert fit.spread is None and "at least 2" in fit.spread_note
+    table = fit.parameters_table()
+    assert table["repetition_std"].isna().all() and (table["repetitions"] == 0).all()
+    assert fit.spread_note in fit.report()

@@ -75,3 +75,12 @@ def test_timings_are_durations(quick_report):
     assert all(0 <= seconds < 600 for seconds in provenance["timings_s"].values()), provenance["timings_s"]
     html = (quick_report / "report.html").read_text(encoding="utf-8")
     assert "writing the report (until this table)" in html
+
+
+@pytest.mark.slow
+def test_iwan_table_shows_stderr_and_spread_across_repetitions(quick_report):
+    html = (quick_report / "report.html").read_text(encoding="utf-8")
+    assert "Iwan parameters: stderr from the residual Jacobian at the optimum" in html
+    for column in ("stderr", "stderr_note", "repetition_std", "repetition_values"):
+        assert f"<th>{column}</th>" in html, column
+    assert "spread across repetitions: repetition, 2 refits" in html
