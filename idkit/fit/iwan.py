@@ -638,7 +638,7 @@ def fit_iwan(
     initial_state: str = "auto",
     seed: int = 0,
     valid_range: tuple[float, float] | None = None,
-    stage2_starts: int = 4,
+    stage2_starts: int = 1,
 ) -> IwanFitResult:
     """Identify an order-``n`` modified Iwan model in three Nelder-Mead stages (SPEC 4).
 
@@ -682,10 +682,12 @@ def fit_iwan(
         large-loop stage adds a barrier ``1 + violation / g1`` to the objective wherever it
         turns negative there. Default: no constraint (the thesis's fit).
 
-    stage2_starts : int, default 4
+    stage2_starts : int, default 1
         Starts of stage 2 (all parameters, large loops): the stage-1 result and
         ``stage2_starts - 1`` seeded perturbations of it (:func:`_extra_starts`); the
-        best end point is kept (its evaluations count them all).
+        end point with the lowest large-loop error is kept (its evaluations count them
+        all). Default 1: judged on the large loops alone, an extra start can win by
+        over-fitting them (docs/fitting.md).
 
     Returns
     -------

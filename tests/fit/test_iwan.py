@@ -252,6 +252,6 @@ def test_stage_2_keeps_the_best_of_several_starts(loops):
     four = fit_iwan(small, large, order=2, start=poor, stage2_starts=4)
     assert four.stages[1].mean_error <= one.stages[1].mean_error
     assert four.stages[1].evaluations > one.stages[1].evaluations
-    assert four.settings.stage2_starts == 4
+    assert four.settings.stage2_starts == 4 and one.settings.stage2_starts == 1
     with pytest.raises(FitError, match="stage2_starts"):
         fit_iwan(small, large, order=2, stage2_starts=0)
