@@ -16,13 +16,13 @@ def _cmd_generate(args) -> None:
 
     check_output(args.output, kind="folder")
     summary = generate(Path(args.output), seed=args.seed, force=args.force, quick=args.quick,
-                       sets=args.sets, progress=lambda message: say(message, enabled=not args.quiet))
+                       sets=args.sets, truth=args.truth, progress=lambda message: say(message, enabled=not args.quiet))
     print(summary.report())
 
 
 def register(subparsers) -> None:
     """Add ``idkit data generate`` to the ``idkit`` command."""
-    from idkit.synth import DEFAULT_SEED, SET_NAMES
+    from idkit.synth import DEFAULT_SEED, SET_NAMES, TRUTH_NAMES
 
     data = subparsers.add_parser("data", help="synthetic measurement data")
     actions = data.add_subparsers(dest="action", required=True)
@@ -37,6 +37,10 @@ def register(subparsers) -> None:
                           help="reduced grid and shorter records (tests; not the bundled data)")
     generate.add_argument("--sets", nargs="+", default=list(SET_NAMES), choices=list(SET_NAMES),
                           help="which sets to write (default: all)")
+    generate.add_argument("--truth", default="a", choices=list(TRUTH_NAMES),
+                          help="generating truth: a = the bundled data (default), b = a second, "
+                               "different wire rope and elastomer with their own protocol and "
+                               "non-SI file units (not bundled)")
     generate.add_argument("--quiet", action="store_true")
     generate.set_defaults(handler=_cmd_generate)
 

@@ -10,29 +10,45 @@ noise with ADC-like rounding on every channel. The chain integrator is
 :mod:`idkit.synth.chain`.
 
 Command: ``idkit data generate -o data/ --seed 2026 [--force]`` or
-``python -m idkit.synth``.
+``python -m idkit.synth``; ``--truth b`` writes the second, different truth
+(:func:`idkit.synth.truth.truth_models`; not bundled).
 """
 
 from idkit.synth.experiments import Planned, plan
 from idkit.synth.generate import (
     DEFAULT_SEED,
+    FILE_UNITS,
     SET_NAMES,
     GenerationSummary,
     generate,
     generate_measurement,
 )
-from idkit.synth.truth import ElastomerTruth, WireRopeTruth, default_elastomer, default_wire_rope
+from idkit.synth.truth import (
+    TRUTH_NAMES,
+    ElastomerTruth,
+    ModulatedWireRopeTruth,
+    SingleBodyElastomerTruth,
+    WireRopeTruth,
+    default_elastomer,
+    default_wire_rope,
+    truth_models,
+)
 
 __all__ = [
     "DEFAULT_SEED",
+    "FILE_UNITS",
     "SET_NAMES",
+    "TRUTH_NAMES",
     "ElastomerTruth",
     "GenerationSummary",
+    "ModulatedWireRopeTruth",
     "Planned",
+    "SingleBodyElastomerTruth",
     "WireRopeTruth",
     "default_elastomer",
     "default_wire_rope",
     "generate",
     "generate_measurement",
     "plan",
+    "truth_models",
 ]

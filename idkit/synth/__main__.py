@@ -1,4 +1,4 @@
-"""``python -m idkit.synth [-o data] [--seed 2026] [--force] [--quick]``.
+"""``python -m idkit.synth [-o data] [--seed 2026] [--force] [--quick] [--truth a|b]``.
 
 The same as ``idkit data generate``; kept free of :mod:`idkit.cli` so that the synth layer
 imports only lower layers.
@@ -8,6 +8,7 @@ import argparse
 import sys
 
 from idkit.synth.generate import DEFAULT_SEED, SET_NAMES, generate
+from idkit.synth.truth import TRUTH_NAMES
 
 
 def main(argv=None) -> int:
@@ -18,10 +19,11 @@ def main(argv=None) -> int:
     parser.add_argument("--force", action="store_true")
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--sets", nargs="+", default=list(SET_NAMES), choices=list(SET_NAMES))
+    parser.add_argument("--truth", default="a", choices=list(TRUTH_NAMES))
     args = parser.parse_args(argv)
     try:
         summary = generate(args.output, seed=args.seed, force=args.force, quick=args.quick,
-                           sets=args.sets)
+                           sets=args.sets, truth=args.truth)
     except FileExistsError as problem:
         print(f"idkit.synth: error: {problem}", file=sys.stderr)
         return 2

@@ -17,6 +17,9 @@ Link laws (all rate forms integrated exactly over a step with piecewise-linear d
   k_bot max(0, -y - y_bot)^3`` (a bottoming stiffener in deep compression) and Jenkin forces
   by the stop operator with **deflection-dependent** slip forces ``s(y) fc_i``,
   ``s(y) = 1 + beta tanh(-y / y_ref)``: loops widen in compression and narrow in tension.
+* ``LINK_WIRE_ROPE_MODULATED``: ``P(y) + m(y) sum_i F_i + c ydot`` with constant slip forces
+  ``fc_i`` and the **whole** hysteretic force scaled by ``m(y) = 1 + beta tanh^2(y / y_ref)``:
+  loops widen at large deflection in both directions (truth "b").
 * ``LINK_ELASTOMER``: ``k0 y (1 - alpha tanh^2(min(y, 0) / y_soft)) + sum_i k_i u_i`` with the
   exact exponential Maxwell update ``u <- e u + (dy / h)(1 - e) / rate``, ``e = exp(-rate h)``
   (SPEC 1.4): softening in compression only.
@@ -33,13 +36,14 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["LINK_ELASTOMER", "LINK_WIRE_ROPE", "ChainRun", "link_force_path", "run_chain"]
+__all__ = ["LINK_ELASTOMER", "LINK_WIRE_ROPE", "LINK_WIRE_ROPE_MODULATED", "ChainRun", "link_force_path", "run_chain"]
 
 LINK_WIRE_ROPE = 0
 LINK_ELASTOMER = 1
+LINK_WIRE_ROPE_MODULATED = 2
 
 # scalar parameter slots of a link
-#  wire rope: g1, g2, g3, c_visc, k_bot, y_bot, beta, y_ref
+#  wire rope (both kinds): g1, g2, g3, c_visc, k_bot, y_bot, beta, y_ref
 #  elastomer: k0, alpha, y_soft, (unused) ...
 N_SCALARS = 8
 
@@ -66,6 +70,25 @@ def _link_force(kind, scalars, k, b, n, state, y_old, y_new, ydot, h):
             state[i] = trial
             total += trial
         return total + c_visc * ydot
+    if kind == LINK_WIRE_ROPE_MODULATED:
+        # a branch of its own: the sums of LINK_WIRE_ROPE keep their rounding order bit for bit
+        g1, g2, g3, c_visc = scalars[0], scalars[1], scalars[2], scalars[3]
+        k_bot, y_bot, beta, y_ref = scalars[4], scalars[5], scalars[6], scalars[7]
+        spring = y_new * (g1 + y_new * (g2 + y_new * g3))
+        deep = -y_new - y_bot
+        if deep > 0.0:
+            spring -= k_bot * deep * deep * deep
+        hysteretic = 0.0
+        for i in range(n):
+            trial = state[i] + k[i] * dy
+            if trial > b[i]:
+                trial = b[i]
+            elif trial < -b[i]:
+                trial = -b[i]
+            state[i] = trial
+            hysteretic += trial
+        width = math.tanh(y_new / y_ref)
+        return spring + (1.0 + beta * width * width) * hysteretic + c_visc * ydot
     k0, alpha, y_soft = scalars[0], scalars[1], scalars[2]
     compression = y_new if y_new < 0.0 else 0.0
     soft = math.tanh(compression / y_soft)

@@ -9,6 +9,12 @@ truth record. Each item draws its random numbers from its own generator seeded w
 Sensors: every channel gets white Gaussian noise (levels in :data:`NOISE`) and is then
 rounded to a fixed resolution (:data:`RESOLUTION`, decimals of the SI value), like an ADC;
 the rounding also keeps the CSV files small.
+
+Truth ``"b"`` (:func:`idkit.synth.truth.truth_models`) changes the protocol where the first
+one leaves identification untested: a near-stuck stepped-sine level (5e-4 m/s) below the
+four of SPEC 3, every level measured also in the reduced grid, and a validation split that
+holds out every other frequency **at every level** instead of one whole level; its random
+streams are seeded with ``(seed, crc32("b/" + id))``, independent of truth "a".
 """
 
 from __future__ import annotations
@@ -30,7 +36,6 @@ from idkit.io import (
     WhiteNoiseMeasurement,
 )
 from idkit.synth.chain import link_force_path, pack_links, run_chain
-from idkit.synth.truth import ElastomerTruth, WireRopeTruth
 
 __all__ = ["GRAVITY", "NOISE", "RESOLUTION", "Planned", "plan", "realize"]
 
@@ -81,6 +86,8 @@ class Planned:
         Kind-specific settings (SI): amplitudes, mass, frequency, height, ...
     split : str
         ``fit`` or ``validation``.
+    truth : str
+        Name of the generating truth (``"a"`` or ``"b"``).
     """
 
     id: str
@@ -88,6 +95,12 @@ class Planned:
     set_name: str
     settings: dict = field(default_factory=dict)
     split: str = "fit"
+    truth: str = "a"
+
+    @property
+    def stream(self) -> str:
+        """Name seeding the item's random numbers (its id; ``"b/" + id`` for truth "b")."""
+        return self.id if self.truth == "a" else f"{self.truth}/{self.id}"
 
 
 def _rng(seed: int, ident: str) -> np.random.Generator:
@@ -99,15 +112,19 @@ def _sensor(values, sigma, decimals, rng) -> np.ndarray:
     return np.round(noisy, decimals) + 0.0  # + 0.0 turns -0.0 into 0.0
 
 
-def ss_frequencies(quick: bool) -> list[float]:
-    """Stepped-sine frequencies in Hz (log-spaced 3-100 Hz, 2 decimals)."""
-    return [float(f) for f in np.round(np.geomspace(3.0, 100.0, 6 if quick else 20), 2)]
+def ss_frequencies(quick: bool, truth: str = "a") -> list[float]:
+    """Stepped-sine frequencies in Hz (log-spaced 3-100 Hz, 2 decimals): 20, or 6 in the
+    reduced grid (9 for truth "b", whose split halves every level)."""
+    count = 20 if not quick else 6 if truth == "a" else 9
+    return [float(f) for f in np.round(np.geomspace(3.0, 100.0, count), 2)]
 
 
-def ss_amplitudes(isolator: str) -> list[float]:
-    """Nominal base-velocity amplitudes in m/s of the stepped-sine sweeps."""
+def ss_amplitudes(isolator: str, truth: str = "a") -> list[float]:
+    """Nominal base-velocity amplitudes in m/s of the stepped-sine sweeps (truth "b" adds a
+    near-stuck 5e-4 m/s level below them)."""
     levels = [2e-3, 8e-3, 3e-2, 1.2e-1]
-    return levels + [2e-1] if isolator == "hybrid" else levels
+    levels = levels + [2e-1] if isolator == "hybrid" else levels
+    return [5e-4] + levels if truth == "b" else levels
 
 
 def shaker_flatness(freq: float) -> float:
@@ -118,12 +135,17 @@ def shaker_flatness(freq: float) -> float:
 STROKE_LIMIT_M = 6e-3
 
 
-def plan(*, quick: bool = False) -> list[Planned]:
-    """Every measurement of the bundled data set (``quick``: a reduced grid for tests).
+def plan(*, quick: bool = False, truth: str = "a") -> list[Planned]:
+    """Every measurement of a synthetic data set (``quick``: a reduced grid for tests).
 
     The validation split holds back repetition 3 of the quasi-static, white-noise and drop
-    experiments and the third stepped-sine amplitude level (3e-2 m/s) of each isolator.
+    experiments; of the stepped sines, truth "a" holds back the third amplitude level
+    (3e-2 m/s) of each isolator, truth "b" every other frequency (the 2nd, 4th, ...) at every
+    level. The reduced grid of truth "b" keeps every stepped-sine level and three of the
+    white-noise top masses.
     """
+    if truth not in ("a", "b"):
+        raise ValueError(f"truth: found {truth!r}, expected 'a' or 'b'")
     items: list[Planned] = []
     reps = (1, 3) if quick else (1, 2, 3)
 
@@ -145,28 +167,29 @@ def plan(*, quick: bool = False) -> list[Planned]:
                 f"qs_{code}_{group}_{rep}", "quasi_static", isolator,
                 {"amplitudes_m": [a * 1e-3 for a in amplitudes_mm], "cycles": 2,
                  "speed_m_per_s": speeds[group], "group": group, "repetition": rep},
-                split_of(rep)))
-    masses = WN_MASSES_KG[::7] if quick else WN_MASSES_KG
+                split_of(rep), truth))
+    masses = WN_MASSES_KG[:: 7 if truth == "a" else 3] if quick else WN_MASSES_KG
     for mass in masses:
         for rep in reps:
             items.append(Planned(
                 f"wn_el_{mass:.2f}kg_{rep}", "white_noise", "elastomer",
                 {"top_mass_kg": mass, "duration_s": 4.0 if quick else 16.0, "band_hz": [1.0, 500.0],
-                 "accel_rms": 3.0, "repetition": rep}, split_of(rep)))
+                 "accel_rms": 3.0, "repetition": rep}, split_of(rep), truth))
     for isolator in ("wire_rope", "elastomer", "hybrid"):
         code = ISOLATOR_CODES[isolator]
-        amplitudes = ss_amplitudes(isolator)
+        amplitudes = ss_amplitudes(isolator, truth)
         for a_index, amplitude in enumerate(amplitudes):
-            if quick and a_index not in (0, VALIDATION_SS_AMPLITUDE):
+            if quick and truth == "a" and a_index not in (0, VALIDATION_SS_AMPLITUDE):
                 continue
-            for freq in ss_frequencies(quick):
+            for f_index, freq in enumerate(ss_frequencies(quick, truth)):
                 if amplitude * shaker_flatness(freq) / (2 * math.pi * freq) > STROKE_LIMIT_M:
                     continue  # beyond the shaker's stroke: not measured
+                held_out = a_index == VALIDATION_SS_AMPLITUDE if truth == "a" else f_index % 2 == 1
                 items.append(Planned(
                     f"ss_{code}_a{a_index + 1}_{freq:06.2f}Hz", "stepped_sine", isolator,
                     {"freq_hz": freq, "amplitude_m_per_s": amplitude, "amplitude_index": a_index,
                      **SS_MASSES[isolator]},
-                    "validation" if a_index == VALIDATION_SS_AMPLITUDE else "fit"))
+                    "validation" if held_out else "fit", truth))
     heights_cm = (2, 9) if quick else tuple(range(1, 15))
     for isolator in ("wire_rope", "elastomer", "hybrid"):
         code = ISOLATOR_CODES[isolator]
@@ -179,7 +202,7 @@ def plan(*, quick: bool = False) -> list[Planned]:
                         {"top_mass_kg": top, "bottom_mass_kg": spec["bottom"],
                          "intermediate_mass_kg": spec.get("intermediate"),
                          "drop_height_m": height / 100.0, "repetition": rep},
-                        split_of(rep)))
+                        split_of(rep), truth))
     return items
 
 
@@ -187,14 +210,14 @@ def plan(*, quick: bool = False) -> list[Planned]:
 # chains
 
 
-def _links(isolator: str, wire_rope: WireRopeTruth, elastomer: ElastomerTruth):
+def _links(isolator: str, wire_rope, elastomer):
     """Masses added by the isolator(s) and the links, top first."""
     if isolator == "wire_rope":
         return [], [wire_rope.link()]
+    extra, links = elastomer.chain_links()
     if isolator == "elastomer":
-        return [elastomer.internal_mass_kg], [elastomer.half_link(), elastomer.half_link()]
-    return [elastomer.internal_mass_kg], [elastomer.half_link(), elastomer.half_link(),
-                                          wire_rope.link()]
+        return extra, links
+    return extra, links + [wire_rope.link()]
 
 
 def _static_link(link, load):
@@ -306,8 +329,8 @@ def _quasi_static(item, rng, wire_rope, elastomer):
     time = np.arange(deflection.size) * dt
     if item.set_name == "wire_rope":
         link, share, sigma_f = wire_rope.link(), 1.0, NOISE["qs_force_wire_rope"]
-    else:  # two identical halves in series, inertia negligible: each takes half
-        link, share, sigma_f = elastomer.half_link(), 0.5, NOISE["qs_force_elastomer"]
+    else:
+        (link, share), sigma_f = elastomer.quasi_static_link(), NOISE["qs_force_elastomer"]
     kinds, scalars, ks, bs, ns = pack_links([link])
     force, _ = link_force_path(kinds[0], scalars[0], ks[0], bs[0], ns[0], np.zeros(ks.shape[1]),
                                share * deflection, time)
@@ -501,8 +524,7 @@ def _drop(item, rng, wire_rope, elastomer):
     return measurement, truth
 
 
-def realize(item: Planned, *, seed: int, wire_rope: WireRopeTruth, elastomer: ElastomerTruth,
-            quick: bool = False):
+def realize(item: Planned, *, seed: int, wire_rope, elastomer, quick: bool = False):
     """Generate one planned measurement.
 
     Returns
@@ -510,7 +532,7 @@ def realize(item: Planned, *, seed: int, wire_rope: WireRopeTruth, elastomer: El
     (Measurement, dict)
         The measurement (SI, noisy, rounded) and its truth record.
     """
-    rng = _rng(seed, item.id)
+    rng = _rng(seed, item.stream)
     if item.kind == "quasi_static":
         measurement, truth = _quasi_static(item, rng, wire_rope, elastomer)
     elif item.kind == "white_noise":
@@ -519,5 +541,5 @@ def realize(item: Planned, *, seed: int, wire_rope: WireRopeTruth, elastomer: El
         measurement, truth = _stepped_sine(item, rng, wire_rope, elastomer, quick)
     else:
         measurement, truth = _drop(item, rng, wire_rope, elastomer)
-    truth["seed"] = [int(seed), zlib.crc32(item.id.encode())]
+    truth["seed"] = [int(seed), zlib.crc32(item.stream.encode())]
     return measurement, truth

@@ -11,6 +11,12 @@ The measurement folders hold only what an experimenter would have (the io format
 ``docs/data-format.md``); the truth files hold the generating models, noise levels, seeds,
 per-measurement true values and the SHA-256 of every data file as generated.
 
+``truth="b"`` writes the second truth (:mod:`idkit.synth.truth`) with its protocol
+(:func:`idkit.synth.experiments.plan`); its quasi-static and drop files declare non-SI units
+(:data:`FILE_UNITS`: mm, kN, g, mm/s), so the loaders' unit conversion is part of every run
+on it. It is not bundled (``data/`` holds truth "a" only); tests generate it into a
+temporary folder.
+
 Each set is written to a temporary sibling folder and moved into place only when complete,
 so an interrupted run never leaves a half-written set; an existing set is replaced only with
 ``force=True``.
@@ -29,13 +35,21 @@ from idkit.io import file_sha256, write_measurement_set
 from idkit.atomic import atomic_output_folder
 from idkit.io.atomic import write_bytes_atomic
 from idkit.synth.experiments import CONTACT, NOISE, RESOLUTION, Planned, plan, realize
-from idkit.synth.truth import ElastomerTruth, WireRopeTruth, default_elastomer, default_wire_rope
+from idkit.synth.truth import TRUTH_NAMES, truth_models
 
-__all__ = ["DEFAULT_SEED", "SET_NAMES", "GenerationSummary", "generate", "generate_measurement"]
+__all__ = ["DEFAULT_SEED", "FILE_UNITS", "SET_NAMES", "GenerationSummary", "generate", "generate_measurement"]
 
 DEFAULT_SEED = 2026
 SET_NAMES = ("wire_rope", "elastomer", "hybrid")
 TRUTH_FOLDER = "truth"
+#: The stepped sines held out for validation, per truth (manifest notes).
+SWEEP_SPLIT = {"a": "amplitude level 3", "b": "every other frequency at every level"}
+#: Column units written per truth (columns not named are SI): truth "b" writes its
+#: quasi-static and drop files in mm, kN, g and mm/s; its shaker files stay SI.
+FILE_UNITS = {
+    "a": {},
+    "b": {"deflection": "mm", "force": "kN", "a_top_1": "g", "a_top_2": "g", "v_rel": "mm/s"},
+}
 
 
 @dataclass(frozen=True)
@@ -72,26 +86,28 @@ class GenerationSummary:
 
 
 def generate_measurement(item: Planned, *, seed: int = DEFAULT_SEED, quick: bool = False,
-                         wire_rope: WireRopeTruth | None = None,
-                         elastomer: ElastomerTruth | None = None):
+                         wire_rope=None, elastomer=None):
     """Generate one planned measurement (see :func:`idkit.synth.experiments.plan`).
+
+    The models default to those of the item's truth (``item.truth``).
 
     Returns
     -------
     (Measurement, dict)
-        The measurement and its truth record.
+        The measurement (SI) and its truth record.
     """
-    return realize(item, seed=seed, quick=quick, wire_rope=wire_rope or default_wire_rope(),
-                   elastomer=elastomer or default_elastomer())
+    default_rope, default_body = truth_models(item.truth)
+    return realize(item, seed=seed, quick=quick, wire_rope=wire_rope or default_rope,
+                   elastomer=elastomer or default_body)
 
 
-def _truth_document(set_name, seed, quick, wire_rope, elastomer, records):
+def _truth_document(set_name, seed, quick, wire_rope, elastomer, records, truth):
     models = {}
     if set_name in ("wire_rope", "hybrid"):
         models["wire_rope"] = wire_rope.to_dict()
     if set_name in ("elastomer", "hybrid"):
         models["elastomer"] = elastomer.to_dict()
-    return {
+    document = {
         "synthetic": True,
         "generator": "idkit.synth (idkit data generate)",
         "idkit_version": __version__,
@@ -106,10 +122,18 @@ def _truth_document(set_name, seed, quick, wire_rope, elastomer, records):
                        "per-measurement seed = [seed, crc32(id)] for numpy.random.default_rng",
         "measurements": records,
     }
+    if truth != "a":  # truth "a" documents stay as bundled (no key: truth "a")
+        document["truth"] = truth
+        document["file_units"] = FILE_UNITS[truth]
+        document["conventions"] = (
+            "SI units in this document; data files declare their units in the headers "
+            "(file_units); deflection x_top - x_bottom/base, positive = tension; per-measurement "
+            f"seed = [seed, crc32('{truth}/' + id)] for numpy.random.default_rng")
+    return document
 
 
 def generate(folder: str | Path, *, seed: int = DEFAULT_SEED, force: bool = False,
-             quick: bool = False, sets: Sequence[str] = SET_NAMES,
+             quick: bool = False, sets: Sequence[str] = SET_NAMES, truth: str = "a",
              progress: Callable[[str], None] | None = None) -> GenerationSummary:
     """Generate the synthetic measurement sets and truth files into ``folder``.
 
@@ -125,6 +149,9 @@ def generate(folder: str | Path, *, seed: int = DEFAULT_SEED, force: bool = Fals
         Reduced grid and shorter records (for tests); not the bundled data.
     sets : sequence of str
         Which of ``wire_rope``, ``elastomer``, ``hybrid`` to write.
+    truth : {"a", "b"}, default "a"
+        Generating truth (:func:`idkit.synth.truth.truth_models`); ``"a"`` made the bundled
+        data, ``"b"`` is the second truth with its own protocol and non-SI file units.
     progress : callable, optional
         Called with a short message per set.
 
@@ -143,6 +170,8 @@ def generate(folder: str | Path, *, seed: int = DEFAULT_SEED, force: bool = Fals
     """
     start = _time.perf_counter()
     folder = Path(folder)
+    if truth not in TRUTH_NAMES:
+        raise ValueError(f"truth: found {truth!r}, expected one of {TRUTH_NAMES}")
     unknown = sorted(set(sets) - set(SET_NAMES))
     if unknown:
         raise ValueError(f"sets: unknown {unknown}, expected names from {SET_NAMES}")
@@ -152,26 +181,27 @@ def generate(folder: str | Path, *, seed: int = DEFAULT_SEED, force: bool = Fals
         raise FileExistsError(f"refusing to overwrite {', '.join(existing)} (use --force)")
     folder.mkdir(parents=True, exist_ok=True)
     (folder / TRUTH_FOLDER).mkdir(exist_ok=True)
-    wire_rope, elastomer = default_wire_rope(), default_elastomer()
-    items = plan(quick=quick)
+    wire_rope, elastomer = truth_models(truth)
+    items = plan(quick=quick, truth=truth)
+    name_suffix = "" if truth == "a" else f", truth {truth}"
     counts: dict = {}
     total_bytes = 0
     for set_name in sets:
         chosen = [item for item in items if item.set_name == set_name]
         measurements, records = [], {}
         for item in chosen:
-            measurement, truth = realize(item, seed=seed, quick=quick, wire_rope=wire_rope,
+            measurement, record = realize(item, seed=seed, quick=quick, wire_rope=wire_rope,
                                          elastomer=elastomer)
             measurements.append(measurement)
-            records[item.id] = truth
+            records[item.id] = record
         # existing sets were refused above unless force: replace by the one folder swap
         with atomic_output_folder(folder / set_name, force=True) as staging:
             write_measurement_set(
-                staging, measurements, gzip=True,
-                name=f"synthetic {set_name.replace('_', ' ')} isolator (idkit.synth, seed {seed})",
+                staging, measurements, gzip=True, units=FILE_UNITS[truth],
+                name=f"synthetic {set_name.replace('_', ' ')} isolator (idkit.synth, seed {seed}{name_suffix})",
                 notes="SYNTHETIC data made by idkit.synth; the generating truth is in "
                       f"../{TRUTH_FOLDER}/{set_name}.json; split: repetition 3 (stepped sine: "
-                      "amplitude level 3) is the validation split")
+                      f"{SWEEP_SPLIT[truth]}) is the validation split")
             for item, measurement in zip(chosen, measurements):
                 relative = f"{item.kind}/{item.id}.csv.gz"
                 path = staging / relative
@@ -179,7 +209,7 @@ def generate(folder: str | Path, *, seed: int = DEFAULT_SEED, force: bool = Fals
                 records[item.id]["sha256"] = file_sha256(path)
                 total_bytes += path.stat().st_size
             total_bytes += (staging / "manifest.json").stat().st_size
-            document = _truth_document(set_name, seed, quick, wire_rope, elastomer, records)
+            document = _truth_document(set_name, seed, quick, wire_rope, elastomer, records, truth)
             text = json.dumps(document, indent=1, allow_nan=False) + "\n"
             truth_path = folder / TRUTH_FOLDER / f"{set_name}.json"
             write_bytes_atomic(truth_path, text.encode(), overwrite=True)

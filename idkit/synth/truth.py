@@ -1,7 +1,8 @@
-"""The "true" isolators behind the bundled synthetic data (richer than the fitted models).
+"""The "true" isolators behind the synthetic data (richer than the fitted models).
 
 The truth is deliberately **not** a member of the model families idkit fits, so that a fit
-on the bundled data is an identification with a model error, not an echo of the generator:
+on the synthetic data is an identification with a model error, not an echo of the generator.
+Two named truths exist (:func:`truth_models`); ``"a"`` made the bundled ``data/``:
 
 * :class:`WireRopeTruth` - Iwan model of order 30 with a log-normal mixture of slip
   displacements (two families near 0.1 mm and 1.1 mm, as the two elements of Table 7.1),
@@ -14,6 +15,18 @@ on the bundled data is an identification with a model error, not an echo of the 
   between them that gives an internal mode near 200 Hz, plus a softening
   ``1 - alpha tanh^2(y / y_soft)`` of the static spring in compression only.
 
+Truth ``"b"`` differs from ``"a"`` where identification is sensitive:
+
+* :class:`ModulatedWireRopeTruth` - Iwan model of order 24 whose slip displacements
+  ``fc_i / k_i`` are log-spaced from 20 um to 7.5 mm (half the largest 15 mm loop), so
+  elements still slip across the large loops; a nearly linear spring (``g2 y^2`` and
+  ``g3 y^3`` below 2 % of ``g1 y`` at 15 mm); the **whole** hysteretic force scaled by
+  ``m(y) = 1 + beta tanh^2(y / y_ref)`` (loops widen in tension and compression alike);
+  12 N s/m viscous damping;
+* :class:`SingleBodyElastomerTruth` - generalized Maxwell of order 7 with rates spread
+  over three decades (2 - 2000 1/s), no internal mass (no internal mode), 0.30 kg of
+  elastomer moving with the top mass and a mild softening in compression.
+
 All values SI. ``to_dict()`` gives the JSON written to the truth files.
 """
 
@@ -23,9 +36,24 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from idkit.synth.chain import LINK_ELASTOMER, LINK_WIRE_ROPE
+from idkit.synth.chain import LINK_ELASTOMER, LINK_WIRE_ROPE, LINK_WIRE_ROPE_MODULATED, link_force_path, pack_links
 
-__all__ = ["ElastomerTruth", "WireRopeTruth", "default_elastomer", "default_wire_rope"]
+__all__ = ["TRUTH_NAMES", "ElastomerTruth", "ModulatedWireRopeTruth", "SingleBodyElastomerTruth",
+           "WireRopeTruth", "default_elastomer", "default_wire_rope", "truth_models"]
+
+#: Named truths of the generator: ``"a"`` made the bundled data, ``"b"`` is the second truth.
+TRUTH_NAMES = ("a", "b")
+
+
+def _quasi_static_force(link, deflection) -> np.ndarray:
+    """Force (N) of ``link`` along ``deflection`` (m) from the unloaded (virgin) state, so
+    slowly that viscous and Maxwell rate terms vanish."""
+    deflection = np.asarray(deflection, dtype=float)
+    kinds, scalars, ks, bs, ns = pack_links([link])
+    slow = np.linspace(0.0, 1e12, deflection.size)
+    force, _ = link_force_path(kinds[0], scalars[0], ks[0], bs[0], ns[0], np.zeros(ks.shape[1]),
+                               deflection, slow)
+    return force
 
 
 def _wire_rope_elements(order: int) -> tuple[list[float], list[float]]:
@@ -71,6 +99,10 @@ class WireRopeTruth:
         """``g1 + sum k_i`` in N/m."""
         return self.g1 + float(np.sum(self.k))
 
+    def quasi_static_force(self, deflection) -> np.ndarray:
+        """Force (N) along a deflection path (m) starting unloaded at its first point."""
+        return _quasi_static_force(self.link(), deflection)
+
     def to_dict(self) -> dict:
         out = {"model": "iwan_deflection_scaled_slip", **asdict(self)}
         out["order"] = len(self.k)
@@ -103,6 +135,15 @@ class ElastomerTruth:
         scalars = [2.0 * self.k0, self.alpha, 0.5 * self.y_soft]
         return (LINK_ELASTOMER, scalars, [2.0 * v for v in self.k], list(self.rate))
 
+    def chain_links(self):
+        """Masses the isolator adds between its links (kg) and its links, top first."""
+        return [self.internal_mass_kg], [self.half_link(), self.half_link()]
+
+    def quasi_static_link(self):
+        """Link and the share of the isolator's deflection it takes in a slow test: the
+        two identical halves in series, inertia negligible, each take half."""
+        return self.half_link(), 0.5
+
     def complex_stiffness(self, freq) -> np.ndarray:
         """Small-amplitude complex stiffness of the whole isolator without the internal
         mass (N/m): ``k0 + sum k_i s / (s + rate_i)``."""
@@ -120,6 +161,115 @@ class ElastomerTruth:
             "moving_mass_kg is added to the top mass"
         )
         return out
+
+
+def _spread_slip_elements(order: int) -> tuple[list[float], list[float]]:
+    """Slip forces (N) and stiffnesses (N/m) of truth "b"'s Jenkin elements.
+
+    Slip displacements ``delta_i = fc_i / k_i`` are log-spaced from 20 um to 7.5 mm (half the
+    largest loop amplitude of SPEC 3, so elements keep slipping across the large loops); the
+    slip forces grow as ``delta^0.25`` and total 36 N.
+    """
+    delta = np.geomspace(20e-6, 7.5e-3, order)
+    weight = delta ** 0.25
+    fc = np.round(36.0 * weight / weight.sum(), 4)
+    k = np.round(fc / delta, 1)
+    return [float(v) for v in fc], [float(v) for v in k]
+
+
+@dataclass(frozen=True)
+class ModulatedWireRopeTruth:
+    """Truth "b" wire rope (module docstring); forces in N, deflection in m.
+
+    ``F = g1 y + g2 y^2 + g3 y^3 + (1 + beta tanh^2(y / y_ref)) sum_i F_i + c_visc ydot``
+    with Jenkin forces ``F_i`` of constant slip forces ``fc_i``.
+    """
+
+    g1: float = 2.6e4
+    g2: float = 2.0e4  # N/m^2: 4.5 N at 15 mm, 1.2 % of g1 y
+    g3: float = -4.0e4  # N/m^3: 0.14 N at 15 mm
+    c_visc: float = 12.0  # N s/m
+    beta: float = 0.4  # hysteretic-force modulation depth
+    y_ref: float = 0.006  # m
+    fc: list[float] = field(default_factory=lambda: _spread_slip_elements(24)[0])
+    k: list[float] = field(default_factory=lambda: _spread_slip_elements(24)[1])
+    mass_kg: float = 0.21
+
+    def link(self):
+        """Kernel link tuple ``(kind, scalars, k, fc)`` (no bottoming stiffener)."""
+        scalars = [self.g1, self.g2, self.g3, self.c_visc, 0.0, 1.0, self.beta, self.y_ref]
+        return (LINK_WIRE_ROPE_MODULATED, scalars, list(self.k), list(self.fc))
+
+    @property
+    def stuck_stiffness(self) -> float:
+        """``g1 + sum k_i`` in N/m (the modulation is 1 at zero deflection)."""
+        return self.g1 + float(np.sum(self.k))
+
+    def quasi_static_force(self, deflection) -> np.ndarray:
+        """Force (N) along a deflection path (m) starting unloaded at its first point."""
+        return _quasi_static_force(self.link(), deflection)
+
+    def to_dict(self) -> dict:
+        out = {"model": "iwan_modulated_hysteresis", **asdict(self)}
+        out["order"] = len(self.k)
+        out["stuck_stiffness_N_per_m"] = self.stuck_stiffness
+        out["description"] = (
+            "F = g1 y + g2 y^2 + g3 y^3 + (1 + beta tanh^2(y / y_ref)) sum_i F_i + c_visc ydot; "
+            "F_i by the stop operator with constant slip force fc_i; "
+            "y = deflection (m, positive = tension)"
+        )
+        return out
+
+
+@dataclass(frozen=True)
+class SingleBodyElastomerTruth:
+    """Truth "b" elastomer: one generalized-Maxwell body, no internal mass (no internal mode)."""
+
+    k0: float = 9.0e3  # N/m
+    k: list[float] = field(default_factory=lambda: [900.0, 1100.0, 1300.0, 1500.0, 1500.0,
+                                                    1300.0, 1100.0])
+    rate: list[float] = field(default_factory=lambda: [2.0, 6.3, 20.0, 63.0, 200.0, 630.0,
+                                                       2000.0])
+    alpha: float = 0.05  # softening depth in compression
+    y_soft: float = 0.012  # m
+    moving_mass_kg: float = 0.30  # elastomer mass moving with the top mass
+    mass_kg: float = 0.75
+
+    def link(self):
+        """Kernel link of the whole isolator."""
+        return (LINK_ELASTOMER, [self.k0, self.alpha, self.y_soft], list(self.k), list(self.rate))
+
+    def chain_links(self):
+        """Masses the isolator adds between its links (none) and its one link."""
+        return [], [self.link()]
+
+    def quasi_static_link(self):
+        """The one link takes the whole deflection."""
+        return self.link(), 1.0
+
+    def complex_stiffness(self, freq) -> np.ndarray:
+        """Small-amplitude complex stiffness (N/m): ``k0 + sum k_i s / (s + rate_i)``."""
+        s = 2j * np.pi * np.asarray(freq, dtype=float)
+        return self.k0 + np.sum(np.asarray(self.k) * s[..., None]
+                                / (s[..., None] + np.asarray(self.rate)), axis=-1)
+
+    def to_dict(self) -> dict:
+        out = {"model": "generalized_maxwell_single_body", **asdict(self)}
+        out["order"] = len(self.k)
+        out["description"] = (
+            "generalized Maxwell k0, k_i, rate_i (1/s) of the whole isolator; static spring "
+            "k0 y (1 - alpha tanh^2(min(y, 0) / y_soft)); moving_mass_kg is added to the top mass"
+        )
+        return out
+
+
+def truth_models(name: str = "a"):
+    """``(wire_rope, elastomer)`` truths of the named truth (:data:`TRUTH_NAMES`)."""
+    if name == "a":
+        return default_wire_rope(), default_elastomer()
+    if name == "b":
+        return ModulatedWireRopeTruth(), SingleBodyElastomerTruth()
+    raise ValueError(f"truth: found {name!r}, expected one of {TRUTH_NAMES}")
 
 
 def default_wire_rope() -> WireRopeTruth:

@@ -150,6 +150,7 @@ ERRORS = [
     ("report-workers-zero", ["report", str(DATA), "-o", "{out}", "--workers", "0"], ["--workers", "found '0'"]),
     ("generate-seed-negative", ["data", "generate", "-o", "{out}", "--seed", "-3"], ["--seed", "found '-3'"]),
     ("generate-seed-fractional", ["data", "generate", "-o", "{out}", "--seed", "2.5"], ["--seed", "found '2.5'"]),
+    ("generate-truth-unknown", ["data", "generate", "-o", "{out}", "--truth", "c"], ["--truth", "'c'"]),
 ]
 
 # (case id, argv, number of table rows written): valid edge values, each a second or so

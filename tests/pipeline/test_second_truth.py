@@ -1,0 +1,293 @@
+"""The whole pipeline on a second, different truth (issue 10 item 8).
+
+The bundled data come from truth "a"; fitting and validating only against it invites
+tuning to it. Truth "b" (:func:`idkit.synth.truth_models`) is generated here into a
+temporary folder, reduced grid (``quick=True``: loops, sweeps at 5 levels with every other
+frequency held out, white noise on 3 top masses, drops), and run through the public API and
+``idkit report`` with the defaults of the CLI.
+
+Tolerances (issue 10 "Targets"), each a physical statement:
+
+* loop error within 2 percentage points of what the generating force law scores on the
+  same loop sets under the same objective (7.1) from the same start state: the sensor noise
+  (0.05 N) and load-cell offset (0.1 N) give the truth's own floor, anything above it by
+  more than 2 pp is model error;
+* stuck stiffness within 20 % of ``g1 + sum k_i``; the fitted spring's tangent stiffness
+  positive over every deflection of the set (loops, sweeps and drops);
+* elastomer ``k0`` within 1 %, ``|k*|`` at 5, 20, 50 Hz within 5 %, loss factor within 15 %,
+  small-amplitude resonance per white-noise top mass within 2 % (top mass + moving mass
+  with the complex stiffness, both for the truth and the fitted model);
+* validations PASS, and a model whose stiffness is doubled FAILs each of them.
+
+Where the defaults miss a target the test is a strict xfail whose reason states the
+numbers measured on this data (seed 2026); a strict xfail turns red when the target is met.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import gzip
+import json
+
+import numpy as np
+import pytest
+
+from idkit.fit import iwan_set_errors
+from idkit.fit.measurements import fit_iwan_measurements, fit_maxwell_measurements
+from idkit.io import load_measurement_set
+from idkit.synth import (
+    FILE_UNITS,
+    DEFAULT_SEED,
+    generate,
+    generate_measurement,
+    plan,
+    truth_models,
+)
+from idkit.validate import validate_drops, validate_frf, validate_harmonic
+
+ROPE, BODY = truth_models("b")
+FREQ_HZ = np.array([5.0, 20.0, 50.0])
+
+
+def _tree(folder):
+    return {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def _header(path):
+    with gzip.open(path, "rt") as handle:
+        return handle.readline().strip()
+
+
+# --------------------------------------------------------------------------- fast: the generator
+
+
+def test_truth_b_differs_from_truth_a_where_identification_is_sensitive():
+    rope_a, body_a = truth_models("a")
+    slip = np.asarray(ROPE.fc) / np.asarray(ROPE.k)
+    largest_loop = 15e-3  # SPEC 3: large loops up to 15 mm
+    assert slip.max() == pytest.approx(0.5 * largest_loop, rel=0.01)  # slip goes on across them
+    assert slip.max() > 1.4 * max(np.asarray(rope_a.fc) / np.asarray(rope_a.k))
+    # nearly linear spring: g2 y^2 and g3 y^3 below 2 % of g1 y at the largest loop
+    assert (abs(ROPE.g2) * largest_loop + abs(ROPE.g3) * largest_loop**2) < 0.02 * ROPE.g1
+    assert ROPE.c_visc != rope_a.c_visc
+    # loop width modulated over the whole hysteretic force, alike in tension and compression:
+    # the same Jenkin states as without modulation, the loop width times m(y) = 1 + beta tanh^2
+    y = np.concatenate([np.linspace(0, 12e-3, 401), np.linspace(12e-3, -12e-3, 801)[1:],
+                        np.linspace(-12e-3, 12e-3, 801)[1:]])
+
+    def width(truth):
+        force = truth.quasi_static_force(y)
+        return force[1200:] - force[400:1201][::-1]  # rising minus falling branch, y from -12 mm
+
+    ratio = width(ROPE)[[100, 400, 700]] / width(dataclasses.replace(ROPE, beta=0.0))[[100, 400, 700]]
+    modulation = 1 + ROPE.beta * np.tanh(np.array([-9e-3, 0.0, 9e-3]) / ROPE.y_ref) ** 2
+    np.testing.assert_allclose(ratio, modulation, rtol=1e-9)
+    assert modulation[0] == modulation[2] > 1.3
+    rates = np.asarray(BODY.rate)
+    assert rates.max() / rates.min() >= 1e3
+    assert not hasattr(BODY, "internal_mass_kg") or BODY.internal_mass_kg == 0
+    assert BODY.moving_mass_kg > 2 * body_a.moving_mass_kg
+
+
+def test_truth_b_plan_has_every_sweep_level_in_both_splits_and_a_reduced_grid():
+    items = plan(quick=True, truth="b")
+    for isolator in ("wire_rope", "elastomer", "hybrid"):
+        sweeps = [i for i in items if i.kind == "stepped_sine" and i.set_name == isolator]
+        levels = {i.settings["amplitude_m_per_s"] for i in sweeps}
+        assert min(levels) == 5e-4 and len(levels) >= 5  # near-stuck level included
+        for level in levels:
+            splits = {i.split for i in sweeps if i.settings["amplitude_m_per_s"] == level}
+            assert splits == {"fit", "validation"}, (isolator, level)
+        drops = [i for i in items if i.kind == "drop" and i.set_name == isolator]
+        assert {i.split for i in drops} == {"fit", "validation"}
+    masses = {i.settings["top_mass_kg"] for i in items if i.kind == "white_noise"}
+    assert len(masses) >= 3
+    assert plan(quick=True) == plan(quick=True, truth="a")  # the first truth's plan unchanged
+
+
+def test_truth_b_files_are_deterministic_and_declare_non_si_units(tmp_path):
+    first = generate(tmp_path / "a", quick=True, truth="b", sets=("elastomer",))
+    generate(tmp_path / "b", quick=True, truth="b", sets=("elastomer",))
+    assert _tree(tmp_path / "a") == _tree(tmp_path / "b")
+    assert first.counts["elastomer"]["white_noise"] == 6
+    folder = tmp_path / "a" / "elastomer"
+    assert _header(folder / "quasi_static" / "qs_el_loops_1.csv.gz") == \
+        "time [s],deflection [mm],force [kN]"
+    drop = next((folder / "drop").iterdir())
+    assert _header(drop) == "time [s],deflection [mm],a_top_1 [g],a_top_2 [g],v_rel [mm/s]"
+    assert "[m/s]" in _header(next((folder / "white_noise").iterdir()))
+    truth = json.loads((tmp_path / "a" / "truth" / "elastomer.json").read_text())
+    assert truth["truth"] == "b" and truth["file_units"] == FILE_UNITS["b"]
+    # the loader converts back to SI: the generator's own SI values to the last bits
+    loaded = {m.info.id: m for m in load_measurement_set(folder).measurements}
+    for ident in ("qs_el_loops_1", drop.name.removesuffix(".csv.gz")):
+        item = next(i for i in plan(quick=True, truth="b") if i.id == ident)
+        made, _ = generate_measurement(item, seed=DEFAULT_SEED, quick=True)
+        for column, values in made.signals().items():
+            np.testing.assert_allclose(loaded[ident].signals()[column], values, rtol=1e-12, atol=1e-15)
+    # independent random streams: truth "b" does not reuse truth "a"'s noise for an id
+    item_b = next(i for i in plan(quick=True, truth="b") if i.id == "qs_el_loops_1")
+    item_a = next(i for i in plan(quick=True) if i.id == "qs_el_loops_1")
+    assert generate_measurement(item_b)[1]["seed"] != generate_measurement(item_a)[1]["seed"]
+
+
+# --------------------------------------------------------------------------- slow: the pipeline
+
+
+@pytest.fixture(scope="module")
+def data_b(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("truth_b")
+    generate(folder, quick=True, truth="b")
+    return {name: load_measurement_set(folder / name) for name in ("wire_rope", "elastomer", "hybrid")} | \
+        {"folder": folder}
+
+
+@pytest.fixture(scope="module")
+def rope_fit(data_b):
+    return fit_iwan_measurements(data_b["wire_rope"], order=2)
+
+
+@pytest.fixture(scope="module")
+def body_fit(data_b):
+    return fit_maxwell_measurements(data_b["elastomer"], order=2)
+
+
+def _validation(measurement_set, kind):
+    return [m for m in measurement_set.measurements if m.kind == kind and m.info.split == "validation"]
+
+
+def _truth_loop_error(loop_set) -> float:
+    """Relative RMS error (7.1) of the generating force law on a loop set from the virgin
+    state (every record of truth "b" starts unloaded: loaded monotonically to the first point)."""
+    ramp = np.linspace(0.0, loop_set.deflection[0], 200)
+    force = ROPE.quasi_static_force(np.concatenate([ramp, loop_set.deflection[1:]]))[ramp.size - 1:]
+    return float(np.sqrt(np.sum((force - loop_set.force) ** 2) / np.sum(loop_set.force**2)))
+
+
+def _resonance(stiffness, mass, freq):
+    transmissibility = np.abs(stiffness / (stiffness - mass * (2 * np.pi * freq) ** 2))
+    return freq[np.argmax(transmissibility)]
+
+
+@pytest.mark.slow
+def test_rope_fit_is_valid_over_the_data_and_its_damping_is_identified(data_b, rope_fit):
+    assert rope_fit.success, rope_fit.reasons
+    assert all(s.starts_unloaded for s in rope_fit.data.small + rope_fit.data.large)
+    lower, upper = rope_fit.model.valid_deflection_range()
+    seen = [m.deflection for m in data_b["wire_rope"].measurements if getattr(m, "deflection", None) is not None]
+    assert lower <= min(d.min() for d in seen) and max(d.max() for d in seen) <= upper
+    # c_visc from the largest fit level's resonance: the truth's 12 N s/m within 25 %
+    # (the order-2 hysteresis dissipates differently, the viscous term absorbs the rest)
+    assert rope_fit.model.c_visc == pytest.approx(ROPE.c_visc, rel=0.25)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=(
+    "order-2 Iwan (CLI default) cannot follow slip spread over 20 um - 7.5 mm: loop errors "
+    "5.6 % (small) / 3.4 % (large) where the truth scores 0.19 % / 0.13 % (5.4 / 3.2 pp over "
+    "the 2 pp target); order 6 reaches 1.5 % / 1.8 % but stops at the evaluation limit"))
+def test_rope_loop_errors_within_2_points_of_the_truth(rope_fit):
+    sets = list(rope_fit.data.small) + list(rope_fit.data.large)
+    fitted = iwan_set_errors(rope_fit.model, sets)
+    truth = np.array([_truth_loop_error(s) for s in sets])
+    assert np.all(truth < 0.005)  # the truth's floor: noise and offset only
+    assert np.all(fitted - truth <= 0.02), (fitted, truth)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=(
+    "order-2 Iwan stuck stiffness 1.21e5 N/m vs the truth's g1 + sum k_i = 2.09e5 N/m "
+    "(42 % low, target 20 %): two elements cannot hold 24 slip displacements"))
+def test_rope_stuck_stiffness_within_20_percent(rope_fit):
+    model = rope_fit.model
+    assert model.g1 + sum(model.k) == pytest.approx(ROPE.stuck_stiffness, rel=0.20)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=(
+    "k0 from the loops 9137 N/m vs 9000 N/m (+1.5 %, target 1 %): the slowest Maxwell element "
+    "(900 N/m, rate 2 1/s) has not relaxed at the zero crossings 1-4 s after a reversal at "
+    "~1 mm/s, expected bias up to 900 exp(-2) = 120 N/m (1.3 %): the loops are not "
+    "quasi-static for a 0.5 s relaxation time"))
+def test_elastomer_k0_within_1_percent(body_fit):
+    assert body_fit.model.params()["k0"] == pytest.approx(BODY.k0, rel=0.01)
+
+
+@pytest.mark.slow
+def test_elastomer_k0_within_the_unrelaxed_bound(body_fit):
+    # the bound of the xfail above, as a guard: k0 within k0 + 900 exp(-2) N/m + 1 %
+    assert BODY.k0 * 0.99 <= body_fit.model.params()["k0"] <= BODY.k0 * 1.01 + 900 * np.exp(-2)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=(
+    "order-2 Maxwell (CLI default) on rates over three decades: |k*| at 5/20/50 Hz off by "
+    "-21/-18/-17 % (target 5 %), loss factor by -9/+24/+72 % (target 15 %), m_eff 0.04 kg vs "
+    "0.30 kg (stiffness and moving mass trade off in the transmissibility); order 5 reaches "
+    "-1.1/-0.8/-0.2 % but loss factor still +26 % at 50 Hz"))
+def test_elastomer_complex_stiffness_and_loss_factor(body_fit):
+    model = body_fit.model
+    truth = BODY.complex_stiffness(FREQ_HZ)
+    np.testing.assert_allclose(np.abs(model.complex_stiffness(FREQ_HZ)), np.abs(truth), rtol=0.05)
+    np.testing.assert_allclose(model.loss_factor(FREQ_HZ), truth.imag / truth.real, rtol=0.15)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=(
+    "order-2 Maxwell: small-amplitude resonance per top mass off by up to 12.5 % in the FRF "
+    "validation (target 2 %); see the complex-stiffness xfail for the cause"))
+def test_elastomer_resonance_per_top_mass_within_2_percent(data_b, body_fit):
+    freq = np.linspace(1.0, 100.0, 19801)
+    model = body_fit.model
+    masses = sorted({m.info.top_mass_kg for m in data_b["elastomer"].measurements if m.kind == "white_noise"})
+    assert len(masses) >= 3
+    for mass in masses:
+        truth = _resonance(BODY.complex_stiffness(freq), mass + BODY.moving_mass_kg, freq)
+        fitted = _resonance(model.complex_stiffness(freq), mass + model.m_eff, freq)
+        assert fitted == pytest.approx(truth, rel=0.02), mass
+
+
+@pytest.mark.slow
+def test_validations_that_pass_and_fail_for_a_doubled_stiffness(data_b, rope_fit, body_fit):
+    body, rope = body_fit.model, rope_fit.model
+    elastomer, hybrid, wire_rope = data_b["elastomer"], data_b["hybrid"], data_b["wire_rope"]
+    passing = {
+        "harmonic elastomer": lambda b: validate_harmonic(_validation(elastomer, "stepped_sine"), isolator=b),
+        "harmonic hybrid": lambda b: validate_harmonic(_validation(hybrid, "stepped_sine"), upper=b, lower=rope),
+        "drops elastomer": lambda b: validate_drops(_validation(elastomer, "drop"), isolator=b),
+    }
+    for name, run in passing.items():
+        assert run(body).verdict == "PASS", name
+        assert run(body.scaled(2.0)).verdict == "FAIL", name
+    drops = validate_drops(_validation(wire_rope, "drop"), isolator=rope)
+    assert drops.verdict == "PASS", drops.report()
+    drops_hybrid = validate_drops(_validation(hybrid, "drop"), upper=body, lower=rope)
+    assert drops_hybrid.verdict == "PASS", drops_hybrid.report()
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=(
+    "with the order-2 fits the wire-rope sweeps FAIL (rms 3.5 dB, peak 6.3 dB over limits 2 "
+    "and 3 dB, every level incl. 5e-4 m/s) and the elastomer FRF FAILs (max error 0.18 > 0.15, "
+    "resonance 12.5 % > 5 %): the model errors of the two fit xfails above"))
+def test_wire_rope_sweeps_and_elastomer_frf_pass(data_b, rope_fit, body_fit):
+    harmonic = validate_harmonic(_validation(data_b["wire_rope"], "stepped_sine"), isolator=rope_fit.model)
+    frf = validate_frf(_validation(data_b["elastomer"], "white_noise"), isolator=body_fit.model)
+    assert harmonic.verdict == "PASS", harmonic.report()
+    assert frf.verdict == "PASS", frf.report()
+
+
+@pytest.mark.slow
+def test_report_on_truth_b_writes_every_verdict_and_exits_1_on_the_failures(data_b, tmp_path, capsys):
+    from idkit.cli.main import main
+
+    status = main(["report", str(data_b["folder"]), "-o", str(tmp_path / "report"), "--quick", "--quiet"])
+    printed = dict(line.split(None, 1)[::-1] for line in capsys.readouterr().out.splitlines()
+                   if line.split(None, 1)[0] in ("PASS", "FAIL", "INCONCLUSIVE"))
+    assert (tmp_path / "report" / "report.html").exists()
+    # PASS for physical reasons: the components each validation sees are right
+    for name in ("wire rope drops", "elastomer sweeps", "elastomer drops", "hybrid sweeps", "hybrid drops"):
+        assert printed[name] == "PASS", printed
+    # the two model errors of the order-2 fits (strict xfails above) fail, so the exit is 1
+    assert {printed["wire rope sweeps"], printed["elastomer FRF"]} == {"FAIL"}
+    assert status == 1
