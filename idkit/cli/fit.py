@@ -72,11 +72,13 @@ def _cmd_iwan(args) -> int:
     fit = fit_iwan_measurements(_load(args.dataset), order=args.order, small_threshold=args.small_threshold,
                                 isolator=args.isolator, split=_split(args.split), backend=args.backend,
                                 seed=args.seed, initial_state=args.start_state, **options)
-    if args.order_table:
+    if args.order_table or fit.order_table is not None:
         from idkit.fit import iwan_order_table
 
-        table = iwan_order_table(list(fit.data.small), list(fit.data.large), backend=args.backend, seed=args.seed,
-                                 initial_state=args.start_state, **options)
+        table = fit.order_table
+        if table is None:
+            table = iwan_order_table(list(fit.data.small), list(fit.data.large), backend=args.backend, seed=args.seed,
+                                     initial_state=args.start_state, **options)
         print("[[Iwan order table (rule: lowest order within 10 % of the best mean error)]]")
         print(table.to_string(index=False))
     return _finish(fit, args)
@@ -136,6 +138,11 @@ def _common(parser, *, loops: bool) -> None:
 _ORDER = opt.integer(at_most=opt.MAX_ORDER, why="each order adds two parameters the data do not identify")
 
 
+def _iwan_order(value: str):
+    """``--order`` of the Iwan fit: an integer order or ``auto``."""
+    return "auto" if value == "auto" else _ORDER(value)
+
+
 def register(subparsers) -> None:
     """Add ``idkit fit iwan|maxwell|boucwen``."""
     fit = subparsers.add_parser("fit", help="identify a model from a measurement set")
@@ -143,8 +150,9 @@ def register(subparsers) -> None:
 
     iwan = kinds.add_parser("iwan", help="three-stage Iwan fit to the quasi-static wire-rope loops")
     _common(iwan, loops=True)
-    iwan.add_argument("--order", type=_ORDER, default=2,
-                      help=f"number of Jenkin elements (1 to {opt.MAX_ORDER}, default 2)")
+    iwan.add_argument("--order", type=_iwan_order, default=2,
+                      help=f"number of Jenkin elements (1 to {opt.MAX_ORDER}, default 2), or 'auto': fit orders "
+                           "1-6 and keep the one the order rule recommends (docs/fitting.md)")
     iwan.add_argument("--order-table", action="store_true",
                       help="also fit orders 1-6 and print errors, stuck stiffness and the recommended order")
     iwan.add_argument("--valid-range", type=opt.real(unit="m"), nargs=2, metavar=("X_MIN", "X_MAX"),

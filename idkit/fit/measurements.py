@@ -37,7 +37,7 @@ from idkit.analysis.frf import estimate_frf
 from idkit.errors import DataError, FitError
 from idkit.fit.boucwen import fit_boucwen
 from idkit.fit.damping import ViscousDamping, fit_viscous_damping
-from idkit.fit.iwan import LoopSet, fit_iwan, prepare_loops
+from idkit.fit.iwan import LoopSet, fit_iwan, iwan_order_table, prepare_loops
 from idkit.fit.maxwell import K0Estimate, TransmissibilitySet, estimate_k0, fit_maxwell
 from idkit.models import save_model
 
@@ -158,6 +158,8 @@ class MeasurementFit:
     damping : ViscousDamping or None
         Iwan fits: the viscous damping identified from stepped-sine data
         (:func:`idkit.fit.fit_viscous_damping`); the model carries it.
+    order_table : pandas.DataFrame or None
+        Iwan fits with ``order="auto"``: the order table the order was chosen from.
     checks : tuple of str
         Problems found at the measurement level (e.g. the model is invalid inside the
         deflections the data set reaches); they make :attr:`success` false.
@@ -178,6 +180,7 @@ class MeasurementFit:
     repetitions: tuple = ()
     damping: ViscousDamping | None = None
     checks: tuple[str, ...] = ()
+    order_table: pd.DataFrame | None = field(default=None, repr=False)
     spread: object | None = None
     spread_note: str = ""
 
@@ -294,6 +297,8 @@ class MeasurementFit:
             "options": _jsonable(self.options),
             "seed": settings.get("seed"),
         }
+        if self.order_table is not None:
+            record["order_table"] = _jsonable(self.order_table.to_dict(orient="records"))
         if self.damping is not None:
             record["viscous_damping"] = _jsonable(dataclasses.asdict(self.damping))
         if getattr(self.result, "start_states", None):
@@ -522,7 +527,7 @@ def k0_from_measurements(
 def fit_iwan_measurements(
     measurements,
     *,
-    order: int = 2,
+    order: int | str = 2,
     small_threshold: float = SMALL_THRESHOLD,
     isolator: str | None = "wire_rope",
     split: str | None = "fit",
@@ -541,6 +546,10 @@ def fit_iwan_measurements(
     (:func:`idkit.fit.fit_viscous_damping`; ``None`` keeps ``c_visc = 0``) and
     carried by ``fit.model`` and the model file.
 
+    ``order="auto"`` fits orders 1-6 (:func:`idkit.fit.iwan_order_table`) and keeps the
+    one the documented order rule recommends; the table is in ``fit.order_table`` and
+    the model file's provenance.
+
     Examples
     --------
     >>> from idkit.io import load_measurement_set          # doctest: +SKIP
@@ -549,6 +558,12 @@ def fit_iwan_measurements(
     """
     data = loop_sets(measurements, small_threshold=small_threshold, isolator=isolator, split=split,
                      points_per_set=points_per_set)
+    order_table = None
+    if order == "auto":
+        order_table = iwan_order_table(list(data.small), list(data.large), backend=backend, seed=seed, **options)
+        order = int(order_table.loc[order_table["recommended"], "order"].iloc[0])
+    elif isinstance(order, str):
+        raise FitError(f"order: found {order!r}, expected an integer >= 1 or 'auto'")
     result = fit_iwan(list(data.small), list(data.large), order=order, backend=backend, seed=seed, **options)
     damping = None
     if damping_level is not None:
@@ -561,7 +576,8 @@ def fit_iwan_measurements(
     return MeasurementFit(kind="iwan", result=result, data=data, provenance=data.provenance,
                           options={"small_threshold": small_threshold, "points_per_set": points_per_set,
                                    "order": order, "backend": backend, "damping_level": damping_level, **options},
-                          damping=damping, checks=_valid_over_the_data(result.model, measurements, isolator)
+                          damping=damping, order_table=order_table,
+                          checks=_valid_over_the_data(result.model, measurements, isolator)
                           + _survives_the_largest_drops(damping.model(result.model) if damping else result.model,
                                                         measurements, isolator))
 

@@ -253,3 +253,15 @@ def test_a_model_that_cannot_simulate_the_highest_drop_is_not_a_success():
     assert "highest drop (0.2 m on 5 kg)" in reason and "negative local stiffness" in reason
     assert _survives_the_largest_drops(hardening, records, "wire_rope") == ()
     assert _survives_the_largest_drops(softening, [drop(0.2)], "elastomer") == ()  # another isolator's drops
+
+
+def test_cli_fit_iwan_order_auto_picks_the_generating_order(dataset, tmp_path, capsys):
+    """The loops come from an order-2 rope: the order rule keeps 2 and the table is recorded."""
+    output = tmp_path / "auto.json"
+    assert main(["fit", "iwan", str(dataset), "--order", "auto", "-o", str(output)]) == 0
+    assert "Iwan order table" in capsys.readouterr().out
+    document = load_model_document(output)
+    assert sum(name.startswith("k_") for name in document["model"]["params"]) == 2
+    table = document["provenance"]["order_table"]
+    assert [row["order"] for row in table] == [1, 2, 3, 4, 5, 6]
+    assert [row["order"] for row in table if row["recommended"]] == [2]
