@@ -438,7 +438,10 @@ def _slip_distribution(sets: Sequence[LoopSet], g1: float, order: int, grid_poin
     grid = np.geomspace(positive.min(), positive.max(), grid_points)
     design = np.minimum(u[:, None], grid[None, :])
     weights = 1.0 / np.maximum(u, positive.min())  # relative fit: short travels count as much as long ones
-    solution, _ = scipy.optimize.nnls(design * weights[:, None], target * weights)
+    try:  # older SciPy caps the active-set iterations at 3 x columns; allow ten times that
+        solution, _ = scipy.optimize.nnls(design * weights[:, None], target * weights, maxiter=30 * grid.size)
+    except RuntimeError:  # still no convergence: the caller falls back to geometric slip travels
+        return None, None
     keep = solution > 1e-9 * max(solution.max(), 1e-300)
     if not np.any(keep):
         return None, None

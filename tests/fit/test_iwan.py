@@ -174,7 +174,9 @@ def test_parameters_stay_inside_the_search_box_and_a_bound_is_not_a_success():
     force = 2e4 * x  # a linear spring: no element is ever seen slipping
     result = fit_iwan([(x[:1200], force[:1200])], [(x[1200:], force[1200:])], order=2)
     assert np.all(np.isfinite(result.model.k)) and np.all(np.isfinite(result.model.fc))
-    assert result.model.stuck_stiffness == pytest.approx(2e4, rel=1e-3)
+    # the force law is reproduced; which degenerate representation (elements never slipping,
+    # or slipping at once with vanishing fc) the simplex lands on is not determined by the data
+    assert result.error_small < 1e-3 and result.error_large < 1e-3
     assert not result.success
     assert any("never slips" in reason or "search bound" in reason for reason in result.reasons)
     assert "not a success" in result.report()
