@@ -158,6 +158,8 @@ class MeasurementFit:
     damping : ViscousDamping or None
         Iwan fits: the viscous damping identified from stepped-sine data
         (:func:`idkit.fit.fit_viscous_damping`); the model carries it.
+    damping_note : str
+        Why the stepped-sine data present did not give a viscous damping.
     order_table : pandas.DataFrame or None
         Iwan fits with ``order="auto"``: the order table the order was chosen from.
     checks : tuple of str
@@ -179,6 +181,7 @@ class MeasurementFit:
     options: dict = field(default_factory=dict)
     repetitions: tuple = ()
     damping: ViscousDamping | None = None
+    damping_note: str = ""
     checks: tuple[str, ...] = ()
     order_table: pd.DataFrame | None = field(default=None, repr=False)
     spread: object | None = None
@@ -274,8 +277,8 @@ class MeasurementFit:
                          f"|H1| {d.peak_measured:.4g}); peak-matching value per level: "
                          + ", ".join(f"{level:g}: {value:.3g}" for level, value in d.per_level.items()))
         elif self.kind == "iwan":
-            lines.append("    c_visc = 0: no stepped-sine data to identify viscous damping; steady-state "
-                         "responses of a lightly hysteretic rope may not settle")
+            lines.append("    " + (self.damping_note or "c_visc = 0: no stepped-sine data to identify viscous "
+                                   "damping") + "; steady-state responses of a lightly hysteretic rope may not settle")
         lines.extend(f"    not a success: {check}" for check in self.checks)
         if self.spread is not None:
             lines.append(f"    spread across repetitions: {self.spread.method}, {self.spread.samples.shape[0]} refits ("
@@ -301,6 +304,8 @@ class MeasurementFit:
             record["order_table"] = _jsonable(self.order_table.to_dict(orient="records"))
         if self.damping is not None:
             record["viscous_damping"] = _jsonable(dataclasses.asdict(self.damping))
+        elif self.damping_note:
+            record["viscous_damping"] = self.damping_note
         if getattr(self.result, "start_states", None):
             record["start_states"] = dict(self.result.start_states)
         record["success"] = self.success
@@ -565,18 +570,21 @@ def fit_iwan_measurements(
     elif isinstance(order, str):
         raise FitError(f"order: found {order!r}, expected an integer >= 1 or 'auto'")
     result = fit_iwan(list(data.small), list(data.large), order=order, backend=backend, seed=seed, **options)
-    damping = None
+    damping, damping_note = None, ""
     if damping_level is not None:
         try:
             sweeps, _ = _select(measurements, kind="stepped_sine", isolator=isolator, split=_split_option(split))
         except FitError:
             sweeps = []
         if sweeps:
-            damping = fit_viscous_damping(result.model, sweeps, level=damping_level)
+            try:
+                damping = fit_viscous_damping(result.model, sweeps, level=damping_level)
+            except FitError as problem:  # e.g. no resonance inside the sweep: keep c_visc = 0 and say why
+                damping_note = f"c_visc = 0: not identified from the stepped-sine data ({problem})"
     return MeasurementFit(kind="iwan", result=result, data=data, provenance=data.provenance,
                           options={"small_threshold": small_threshold, "points_per_set": points_per_set,
                                    "order": order, "backend": backend, "damping_level": damping_level, **options},
-                          damping=damping, order_table=order_table,
+                          damping=damping, damping_note=damping_note, order_table=order_table,
                           checks=_valid_over_the_data(result.model, measurements, isolator)
                           + _survives_the_largest_drops(damping.model(result.model) if damping else result.model,
                                                         measurements, isolator))

@@ -265,3 +265,21 @@ def test_cli_fit_iwan_order_auto_picks_the_generating_order(dataset, tmp_path, c
     table = document["provenance"]["order_table"]
     assert [row["order"] for row in table] == [1, 2, 3, 4, 5, 6]
     assert [row["order"] for row in table if row["recommended"]] == [2]
+
+
+def test_sweeps_without_a_resonance_inside_leave_c_visc_0_and_say_why(monkeypatch):
+    """A failed damping identification does not fail the loop fit; the fit says why c_visc is 0."""
+    from pathlib import Path
+
+    from idkit.fit import measurements as fit_measurements
+    from idkit.io import load_measurement_set
+
+    def no_resonance(model, sweeps, level):
+        raise FitError("level 0.12: the measured |H1| peaks at the edge of the sweep (3 Hz)")
+
+    monkeypatch.setattr(fit_measurements, "fit_viscous_damping", no_resonance)
+    data = load_measurement_set(Path(__file__).resolve().parents[2] / "data" / "wire_rope")
+    fit = fit_iwan_measurements(data, order=2)
+    assert fit.damping is None and fit.model.c_visc == 0.0
+    assert "peaks at the edge of the sweep" in fit.report()
+    assert "peaks at the edge" in fit.provenance_dict()["viscous_damping"]
