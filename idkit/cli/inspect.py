@@ -64,6 +64,10 @@ def load_for_inspection(path: str | Path, kind: str | None = None):
                 if entry.file == relative:
                     return path.name, [read_csv_measurement(path, entry.kind, info=entry.info)]
             break
+    if path.suffix.lower() == ".mat":
+        raise DataError(f"file '{path}': a lone .mat file holds no measurement metadata (kind, units, masses); "
+                        "expected a measurement CSV, or a measurement-set folder whose manifest lists the .mat "
+                        "file with its variables and units (docs/data-format.md, section 4)")
     return path.name, [read_csv_measurement(path, kind or _guess_kind(path))]
 
 

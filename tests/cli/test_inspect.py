@@ -95,3 +95,16 @@ def test_inspect_bundled_hybrid_set(capsys):
     assert main(["inspect", str(DATA / "hybrid")]) == 0
     out = capsys.readouterr().out
     assert "178 measurements" in out and "hybrid" in out and "[non_flat_input]" in out
+
+
+def test_a_lone_mat_file_is_refused_with_what_it_needs(tmp_path):
+    """A .mat holds arrays, not the kind, units and masses: inspect says so instead of a UTF-8 error."""
+    import numpy as np
+    import scipy.io
+
+    from cli.hostile import check, run_main
+
+    path = tmp_path / "record.mat"
+    scipy.io.savemat(path, {"x": np.arange(10.0), "f": np.arange(10.0)})
+    outcome = run_main(["inspect", path], inputs=[path])
+    check(outcome, "error", ["record.mat", "lone .mat", "manifest"], case="inspect a lone .mat")
