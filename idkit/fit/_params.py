@@ -196,6 +196,7 @@ def jacobian_statistics(
     step: float = 1e-4,
     rcond: float = 1e-10,
     method: str = "Jacobian at the optimum",
+    jacobian: Callable[[np.ndarray], np.ndarray] | None = None,
 ) -> lmfit.minimizer.MinimizerResult:
     """Least-squares statistics of ``residuals`` at ``u`` without moving ``u``.
 
@@ -214,6 +215,9 @@ def jacobian_statistics(
         covariance is singular (:func:`gauss_newton_covariance`).
     method : str
         Recorded as ``result.method`` (first line of :func:`lmfit.fit_report`).
+    jacobian : callable, optional
+        ``jacobian(u) -> ndarray`` of shape ``(N, p)``: the analytic ``d residuals / d u``
+        (lmfit's ``Dfun``), used instead of central differences (``step`` is then unused).
 
     Returns
     -------
@@ -221,7 +225,8 @@ def jacobian_statistics(
         ``params`` (unbounded, values ``u``, ``stderr`` and ``correl`` where estimated),
         ``covar`` (``redchi (J^T J)^-1`` over ``var_names``, or None), ``residual``,
         ``chisqr``, ``redchi``, ``aic``, ``bic``, ``ndata``, ``nvarys``, ``nfree``,
-        ``nfev`` (the ``1 + 2p`` residual evaluations), ``errorbars``, plus
+        ``nfev`` (the ``1 + 2p`` residual evaluations, or 1 with an analytic ``jacobian``),
+        ``errorbars``, plus
 
         ``stderr_notes`` : list of str
             Why a standard error is missing: the parameter the residuals do not change
@@ -255,7 +260,17 @@ def jacobian_statistics(
     for name, value in zip(names, u):
         parameters.add(name, value=float(value))
     residual = np.asarray(residuals(u), dtype=float)
-    jacobian = central_jacobian(residuals, u, step=step)
+    analytic = jacobian is not None
+    if not analytic:
+        matrix = central_jacobian(residuals, u, step=step)
+        unchanged = f"a step of {step:g} in its internal coordinate changes no residual"
+    else:
+        matrix = np.atleast_2d(np.asarray(jacobian(u), dtype=float))
+        if matrix.shape != (residual.size, len(names)):
+            raise ValueError(f"jacobian: found shape {matrix.shape}, expected ({residual.size}, {len(names)}), "
+                             "one row per residual and one column per name")
+        unchanged = "its column of the analytic Jacobian is zero"
+    jacobian = matrix
     n_data, n_vary = residual.size, len(names)
     chisqr = max(float(np.sum(residual**2)), 1e-250 * n_data)
     nfree = n_data - n_vary
@@ -264,8 +279,7 @@ def jacobian_statistics(
     column_norm = np.linalg.norm(jacobian, axis=0) if np.all(np.isfinite(jacobian)) else np.zeros(n_vary)
     seen = column_norm > _NULL_COLUMN * max(float(column_norm.max(initial=0.0)), 1e-300)
     for name in np.asarray(names)[~seen]:
-        notes.append(f"{name}: the residuals do not change with it (a step of {step:g} in its internal "
-                     "coordinate changes no residual): the data do not determine it")
+        notes.append(f"{name}: the residuals do not change with it ({unchanged}): the data do not determine it")
     covar_seen = gauss_newton_covariance(jacobian[:, seen], residual, rcond=rcond) if seen.any() else None
     step_in_stderr = {}
     if covar_seen is None and seen.any():
@@ -298,7 +312,7 @@ def jacobian_statistics(
     result = lmfit.minimizer.MinimizerResult(
         method=method, params=parameters, var_names=names, init_vals=[float(v) for v in u],
         init_values={n: float(v) for n, v in zip(names, u)}, residual=residual, covar=covar,
-        nfev=1 + 2 * n_vary, ndata=n_data, nvarys=n_vary, nfree=nfree, chisqr=chisqr,
+        nfev=1 if analytic else 1 + 2 * n_vary, ndata=n_data, nvarys=n_vary, nfree=nfree, chisqr=chisqr,
         redchi=chisqr / max(1, nfree), aic=neg2_log_likelihood + 2 * n_vary,
         bic=neg2_log_likelihood + math.log(n_data) * n_vary, errorbars=covar_seen is not None and not notes,
         success=True, aborted=False, message="statistics at the given optimum (not moved)",

@@ -47,13 +47,14 @@ import math
 import time
 from collections.abc import Sequence
 
+import lmfit
 import nlopt
 import numba
 import numpy as np
 import scipy.optimize
 
 from idkit.errors import FitError
-from idkit.fit._params import Transform, central_jacobian, gauss_newton_covariance, to_lmfit
+from idkit.fit._params import Transform, central_jacobian, jacobian_statistics, to_lmfit
 from idkit.fit.iwan import LoopSet, _check_state, _prepare_group, iwan_start
 from idkit.fit.iwan import _Packed as _PackedSets
 from idkit.fit.result import BoucWenFitResult, BoucWenFitSettings, StageResult
@@ -378,10 +379,18 @@ def fit_boucwen(
     Returns
     -------
     BoucWenFitResult
-        ``parameters`` (lmfit) carry standard errors from a Gauss-Newton
-        covariance of the stacked per-set normalised residuals in the scaled
-        coordinates, propagated to ``k1 .. c`` (and ``z_max``, ``shape``) by the
-        Jacobian of the parameter map; ``conditioning`` the condition numbers.
+        ``parameters`` (alias ``params``) carry standard errors and correlations from
+        the covariance ``redchi (J^T J)^-1`` of the per-point residuals of all sets at the
+        final parameters, which it does not move
+        (:func:`idkit.fit._params.jacobian_statistics`): ``r = (F_model - F_meas) /
+        |F_meas|_set x sqrt(S w_set / e_set)``, ``w_set`` the set's weight in the objective
+        and ``S`` the number of sets, so that ``chisqr = S x objective`` and the
+        least-squares optimum of ``r`` is the objective's, as for :func:`fit_iwan`. ``J``
+        by central differences (step 1e-5) in the scaled coordinates, propagated to
+        ``k1 .. c`` (and ``z_max``, ``shape``) by the Jacobian of the parameter map; a
+        coordinate at a bound of the box is held there. ``chisqr``, ``redchi``, ``aic``,
+        ``bic``, ``fit_report()`` as in lmfit; a missing stderr is named with the reason in
+        ``stderr_notes``. ``conditioning`` the condition numbers.
 
     Raises
     ------
@@ -483,7 +492,7 @@ def fit_boucwen(
     q = space.physical(u_current)
     model = BoucWenModel(k1=q["k1"], k2=q["k2"], k3=q["k3"], alpha=q["alpha"], beta=q["beta"], gamma=q["gamma"],
                          n=q["n"], b=B_FIXED, c=q["c"])
-    parameters, conditioning, at_bound = _lmfit_view(space, u_current, small_packed, large_packed)
+    parameters, statistics, conditioning, at_bound = _lmfit_view(space, u_current, small_packed, large_packed)
     settings = BoucWenFitSettings(
         backend=backend, points_per_set=points_per_set, global_search=bool(global_search),
         global_method=global_method if global_search else None, global_max_evals=int(global_max_evals),
@@ -494,7 +503,7 @@ def fit_boucwen(
         model=model, stages=tuple(stages), small_errors=small_packed.set_errors(q),
         large_errors=large_packed.set_errors(q), small_names=small_packed.names, large_names=large_packed.names,
         settings=settings, parameters=parameters, conditioning=conditioning, at_bound=at_bound,
-        global_search=global_info, elapsed_s=elapsed)
+        global_search=global_info, elapsed_s=elapsed, statistics=statistics)
 
 
 def _report_values(q: dict) -> dict:
@@ -514,42 +523,103 @@ def _stacked_residuals(space: _Space, u, small: _Packed, large: _Packed) -> np.n
 
 
 def _lmfit_view(space: _Space, u: np.ndarray, small: _Packed, large: _Packed):
-    """lmfit Parameters with delta-method stderr; condition numbers; parameters at a bound."""
+    """lmfit Parameters and statistics at the optimum; condition numbers; parameters at a bound.
+
+    Returns ``(parameters, statistics, conditioning, at_bound)`` (see :func:`fit_boucwen`).
+    """
+    q = space.physical(u)
+    errors = np.concatenate([small.set_errors(q), large.set_errors(q)])
+    # the objective is sum_s w_s e_s (w_s = 0.5 / sets of the group); weights sqrt(S w_s / e_s)
+    # frozen at the optimum give sum r^2 = S x objective (S sets: = sum_s e_s when both groups
+    # have as many sets, as for Iwan) and its gradient, so the least-squares optimum of r is
+    # the Nelder-Mead one
+    share = np.concatenate([np.full(len(small.names), 0.5 / len(small.names)),
+                            np.full(len(large.names), 0.5 / len(large.names))])
+    sizes = np.concatenate([np.diff(small.offsets), np.diff(large.offsets)])
+    weights = np.repeat(np.sqrt(errors.size * share / np.maximum(errors, 1e-300)), sizes)
+    at_bound = tuple(name for name, value in zip(_NAMES, u) if value < 1e-6 or value > 1 - 1e-6)
+    free = [i for i, name in enumerate(_NAMES) if name not in at_bound]
+
+    def residuals_all(v):
+        p = space.physical(v)
+        return weights * np.concatenate([small.residuals(p), large.residuals(p)])
 
     def residuals(v):
-        return _stacked_residuals(space, v, small, large)
+        point = np.array(u, dtype=float)
+        point[free] = v
+        return residuals_all(point)
 
     def mapped(v):
-        q = space.physical(v)
-        return np.array([q[name] for name in _REPORTED])
+        p = space.physical(v)
+        return np.array([p[name] for name in _REPORTED])
 
     step = 1e-5
-    jacobian = central_jacobian(residuals, u, step=step)
-    covariance = gauss_newton_covariance(jacobian, residuals(u))
-    values = mapped(u)
-    map_jacobian = central_jacobian(mapped, u, step=step)  # d(physical)/d(scaled)
-    stderr = [None] * len(_REPORTED)
-    if covariance is not None:
-        physical_cov = map_jacobian @ covariance @ map_jacobian.T
-        stderr = [float(math.sqrt(max(v, 0.0))) for v in np.diag(physical_cov)]
+    jacobian = central_jacobian(residuals_all, u, step=step)
+    map_jacobian = central_jacobian(mapped, u, step=step)  # d(physical)/d(scaled), rows _REPORTED
     # condition numbers of J^T J: scaled coordinates vs the SI parameters k1, k2, k3, alpha, beta, gamma, n, c
     normal_scaled = jacobian.T @ jacobian
-    si = map_jacobian[:8]
     try:
-        jacobian_si = jacobian @ np.linalg.inv(si)
-        normal_si = jacobian_si.T @ jacobian_si
-        cond_si = float(np.linalg.cond(normal_si))
+        jacobian_si = jacobian @ np.linalg.inv(map_jacobian[:8])
+        cond_si = float(np.linalg.cond(jacobian_si.T @ jacobian_si))
     except np.linalg.LinAlgError:
         cond_si = math.inf
     conditioning = {"scaled": float(np.linalg.cond(normal_scaled)), "si": cond_si}
-    at_bound = tuple(name for name, value in zip(_NAMES, u) if value < 1e-6 or value > 1 - 1e-6)
     lower = {"k1": 0.0, "alpha": 0.0, "n": 0.2, "z_max": 0.0}
     upper = {"n": 10.0}
-    vary = [name in ("k1", "k2", "k3", "alpha", "beta", "gamma", "n", "c") for name in _REPORTED]
+    varied = _REPORTED[:8]
     parameters = to_lmfit(
-        list(_REPORTED) + ["b", "c_visc"], list(values) + [B_FIXED, 0.0],
+        list(_REPORTED) + ["b", "c_visc"], list(mapped(u)) + [B_FIXED, 0.0],
         units=[_UNITS[name] for name in _REPORTED] + ["-", "N s/m"],
         lower=[lower.get(name, -math.inf) for name in _REPORTED] + [0.0, 0.0],
         upper=[upper.get(name, math.inf) for name in _REPORTED] + [math.inf, math.inf],
-        vary=vary + [False, False], stderr=stderr + [None, None])
-    return parameters, conditioning, at_bound
+        vary=[name in varied for name in _REPORTED] + [False, False])
+    if not free:
+        return parameters, None, conditioning, at_bound
+    internal = jacobian_statistics(residuals, u[free], [_NAMES[i] for i in free], step=step,
+                                   method="Jacobian of the per-point residuals at the Nelder-Mead optimum")
+    return parameters, _physical_statistics(internal, map_jacobian, free, parameters, at_bound), conditioning, at_bound
+
+
+def _physical_statistics(internal, map_jacobian: np.ndarray, free: list[int], parameters, at_bound):
+    """The statistics in the reported parameters by the delta method ``M C M^T``.
+
+    ``M = d(reported)/d(scaled)``; the loop-shape map is not one-to-one per parameter
+    (``beta``, ``gamma`` depend on ``alpha, z_max, shape, n``), so a reported parameter
+    gets no stderr when it depends on a coordinate at a bound of the box or one without
+    a stderr, and the note says which.
+    """
+    known = np.array([internal.params[_NAMES[i]].stderr is not None for i in free])
+    covar = np.zeros((len(free), len(free))) if internal.covar is None else np.nan_to_num(internal.covar)
+    matrix = map_jacobian[:, free]
+    physical = matrix @ covar @ matrix.T
+    notes = list(internal.stderr_notes)
+    notes.extend(f"{name}: at a bound of the search box, where the least-squares statistics do not hold"
+                 for name in at_bound)
+    depends = np.abs(map_jacobian) > 0.0
+    available = []
+    for row, name in enumerate(_REPORTED):
+        missing = [_NAMES[j] for j in np.flatnonzero(depends[row])
+                   if j not in free or not known[free.index(j)]]
+        if internal.covar is None or missing:
+            parameters[name].stderr = None
+            if missing and missing != [name]:
+                notes.append(f"{name}: depends on {', '.join(missing)}, which has no stderr")
+            continue
+        parameters[name].stderr = float(math.sqrt(max(physical[row, row], 0.0)))
+        available.append(row)
+    for row in available:
+        name = _REPORTED[row]
+        if not parameters[name].vary:
+            continue
+        parameters[name].correl = {
+            _REPORTED[other]: float(physical[row, other] / math.sqrt(physical[row, row] * physical[other, other]))
+            for other in available if other != row and parameters[_REPORTED[other]].vary
+            and physical[row, row] > 0 and physical[other, other] > 0}
+    varied = [row for row, name in enumerate(_REPORTED) if parameters[name].vary]
+    values = {key: getattr(internal, key) for key in vars(internal)}
+    values.update(params=parameters, var_names=[_REPORTED[row] for row in varied],
+                  init_vals=[float(parameters[_REPORTED[row]].value) for row in varied],
+                  init_values={_REPORTED[row]: float(parameters[_REPORTED[row]].value) for row in varied},
+                  covar=None if internal.covar is None else physical[np.ix_(varied, varied)],
+                  stderr_notes=notes)
+    return lmfit.minimizer.MinimizerResult(**values)

@@ -47,7 +47,7 @@ import scipy.optimize
 import scipy.stats
 
 from idkit.errors import FitError
-from idkit.fit._params import Transform, gauss_newton_covariance, to_lmfit
+from idkit.fit._params import Transform, jacobian_statistics, to_lmfit, to_physical_statistics
 from idkit.fit.result import CrossCheck, MaxwellFitResult, MaxwellFitSettings
 from idkit.models import GeneralizedMaxwell, VoigtModel
 
@@ -604,7 +604,7 @@ def _solve(problem: _Problem, *, start, band, backend, max_evals, ftol, cross_ch
     at_bound = tuple(name for name, z in zip(problem.names, z_best) if z < _AT_BOUND or z > 1 - _AT_BOUND)
     set_errors = problem.set_errors(z_best)
     error = math.sqrt(problem.objective(z_best, with_gradient=False)[0])
-    parameters = _lmfit_view(problem, z_best, at_bound)
+    parameters, statistics = _lmfit_view(problem, z_best, at_bound)
     settings = MaxwellFitSettings(
         model=problem.model, order=problem.order, data=problem.data, backend=backend, band=tuple(band),
         bounds={t.name: (t.lower, t.upper) for t in problem.transforms}, monotone_loss=problem.monotone_loss,
@@ -614,7 +614,7 @@ def _solve(problem: _Problem, *, start, band, backend, max_evals, ftol, cross_ch
     return MaxwellFitResult(
         model=model, error=error, set_errors=set_errors, set_names=tuple(problem.set_names),
         sqp_error=sqp_error, at_bound=at_bound, evaluations=evaluations, message=message, source=source,
-        cross_check=check, settings=settings, parameters=parameters, elapsed_s=elapsed)
+        cross_check=check, settings=settings, parameters=parameters, elapsed_s=elapsed, statistics=statistics)
 
 
 def _start_values(problem: _Problem, start) -> np.ndarray:
@@ -629,22 +629,36 @@ def _start_values(problem: _Problem, start) -> np.ndarray:
 
 
 def _lmfit_view(problem: _Problem, z, at_bound):
-    """lmfit Parameters: stderr from the analytic Jacobian (parameters at a bound excluded)."""
+    """lmfit Parameters and statistics from the analytic Jacobian (parameters at a bound excluded).
+
+    Returns ``(parameters, statistics)``: :class:`lmfit.Parameters` in physical units with
+    ``stderr`` and ``correl``, and the :class:`lmfit.minimizer.MinimizerResult` of
+    :func:`idkit.fit._params.jacobian_statistics` mapped to them (None when every free
+    parameter is at a bound).
+    """
+    # The residuals are those of the objective (7.5): sqrt(w) rho with real and imaginary
+    # parts stacked, so chisqr = error^2 and the optimum is a least-squares one (SQP).
     # The covariance is formed in the scaled coordinates z (columns of comparable size;
     # in SI units k ~ 1e4 N/m and m_eff ~ 0.1 kg make J^T J look singular) and mapped
-    # to physical units by the chain rule: stderr(p) = |dp/dz| stderr(z).
-    rho, jacobian_z = problem.residuals(z)
-    chain = problem.chain(z)
+    # to physical units by the chain rule: stderr(p) = |dp/dz| stderr(z). A parameter at
+    # a bound is held there: the statistics of a minimum do not hold at a bound.
     root_w = np.sqrt(problem.weights)
     free = [i for i, name in enumerate(problem.names) if name not in at_bound]
-    weighted = root_w[:, None] * jacobian_z[:, free]
-    stacked_j = np.vstack([weighted.real, weighted.imag])
-    stacked_r = np.concatenate([(root_w * rho).real, (root_w * rho).imag])
-    covariance = gauss_newton_covariance(stacked_j, stacked_r) if free else None
-    stderr = [None] * len(problem.names)
-    if covariance is not None:
-        for position, i in enumerate(free):
-            stderr[i] = float(abs(chain[i]) * math.sqrt(max(covariance[position, position], 0.0)))
+
+    def full(v):
+        point = np.array(z, dtype=float)
+        point[free] = v
+        return point
+
+    def residuals(v):
+        rho, _ = problem.residuals(full(v))
+        return np.concatenate([(root_w * rho).real, (root_w * rho).imag])
+
+    def jacobian(v):
+        _, jacobian_z = problem.residuals(full(v))
+        weighted = root_w[:, None] * jacobian_z[:, free]
+        return np.vstack([weighted.real, weighted.imag])
+
     values = problem.physical(z)
     names, units = list(problem.names), [t.unit for t in problem.transforms]
     lower, upper = [t.lower for t in problem.transforms], [t.upper for t in problem.transforms]
@@ -652,8 +666,14 @@ def _lmfit_view(problem: _Problem, z, at_bound):
     if problem.model == "maxwell" and problem.k0_fixed is not None:
         names, values = ["k0", *names], np.concatenate([[problem.k0_fixed], values])
         units, lower, upper = ["N/m", *units], [0.0, *lower], [math.inf, *upper]
-        vary, stderr = [False, *vary], [None, *stderr]
-    return to_lmfit(names, values, units=units, lower=lower, upper=upper, vary=vary, stderr=stderr)
+        vary = [False, *vary]
+    parameters = to_lmfit(names, values, units=units, lower=lower, upper=upper, vary=vary)
+    if not free:
+        return parameters, None
+    internal = jacobian_statistics(residuals, np.asarray(z, dtype=float)[free], [problem.names[i] for i in free],
+                                   jacobian=jacobian,
+                                   method="analytic Jacobian of the weighted residuals at the SQP optimum")
+    return parameters, to_physical_statistics(internal, [problem.transforms[i] for i in free], parameters)
 
 
 def _frf_problem(frfs, *, model, order, k0, band, stiffness_bounds, rate_bounds, damping_bounds, m_eff_max,
@@ -774,9 +794,12 @@ def fit_maxwell(
     Returns
     -------
     MaxwellFitResult
-        ``parameters`` carry stderr from the Gauss-Newton covariance of the
-        weighted relative residuals (real and imaginary parts stacked) with the
-        analytic Jacobian; parameters at a bound get none.
+        ``parameters`` (alias ``params``) carry stderr and correlations from the
+        covariance ``redchi (J^T J)^-1`` of the weighted relative residuals (real and
+        imaginary parts stacked, ``chisqr = error**2``) with the analytic Jacobian at the
+        optimum (:func:`idkit.fit._params.jacobian_statistics`); parameters at a bound
+        get none, named in ``stderr_notes``. ``chisqr``, ``redchi``, ``aic``, ``bic``,
+        ``fit_report()`` as in lmfit.
 
     Raises
     ------

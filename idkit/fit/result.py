@@ -110,8 +110,60 @@ class StageResult:
     elapsed_s: float
 
 
+class _LmfitStatistics:
+    """lmfit's :class:`~lmfit.minimizer.MinimizerResult` names on a fit result.
+
+    The result holds ``parameters`` (:class:`lmfit.Parameters`) and ``statistics``
+    (the :class:`~lmfit.minimizer.MinimizerResult` of
+    :func:`idkit.fit._params.jacobian_statistics` at the optimum, or None); ``nfev``
+    and ``message`` are each result's own.
+    """
+
+    @property
+    def params(self) -> lmfit.Parameters:
+        """The fitted :class:`lmfit.Parameters` (``stderr``, ``correl``); same object as ``parameters``."""
+        return self.parameters
+
+    @property
+    def chisqr(self) -> float:
+        """``sum r^2`` of the (weighted) per-point residuals of the statistics."""
+        return _statistic(self, "chisqr")
+
+    @property
+    def redchi(self) -> float:
+        """``chisqr / (N - p)``: the variance of one weighted residual."""
+        return _statistic(self, "redchi")
+
+    @property
+    def aic(self) -> float:
+        """Akaike information criterion ``N ln(chisqr / N) + 2 p`` (lmfit's definition)."""
+        return _statistic(self, "aic")
+
+    @property
+    def bic(self) -> float:
+        """Bayesian information criterion ``N ln(chisqr / N) + ln(N) p`` (lmfit's definition)."""
+        return _statistic(self, "bic")
+
+    @property
+    def ndata(self) -> int:
+        """Residuals in the statistics (0 when none were computed)."""
+        return 0 if self.statistics is None else int(self.statistics.ndata)
+
+    @property
+    def stderr_notes(self) -> tuple[str, ...]:
+        """Why a fitted parameter has no standard error (empty when every one has)."""
+        return tuple(getattr(self.statistics, "stderr_notes", ()) or ())
+
+    def fit_report(self, **options) -> str:
+        """:func:`lmfit.fit_report` of the statistics (fit statistics, variables, correlations),
+        followed by the reasons for any missing standard error; ``options`` go to lmfit."""
+        source = self.statistics if self.statistics is not None else self.parameters
+        text = lmfit.fit_report(source, **options)
+        return "\n".join([text, *(f"    no stderr: {note}" for note in self.stderr_notes)])
+
+
 @dataclass(frozen=True)
-class IwanFitResult:
+class IwanFitResult(_LmfitStatistics):
     """Result of :func:`idkit.fit.fit_iwan` (three stages, SPEC 4).
 
     Attributes
@@ -158,37 +210,6 @@ class IwanFitResult:
     start_states: dict = field(default_factory=dict)
     statistics: lmfit.minimizer.MinimizerResult | None = field(default=None, repr=False)
 
-    # lmfit's MinimizerResult names ------------------------------------------------
-    @property
-    def params(self) -> lmfit.Parameters:
-        """The fitted :class:`lmfit.Parameters` (``stderr``, ``correl``); same object as :attr:`parameters`."""
-        return self.parameters
-
-    @property
-    def chisqr(self) -> float:
-        """``sum r^2`` of the weighted per-point residuals = sum of the set errors (7.1), fraction."""
-        return _statistic(self, "chisqr")
-
-    @property
-    def redchi(self) -> float:
-        """``chisqr / (N - p)``: the variance of one weighted residual."""
-        return _statistic(self, "redchi")
-
-    @property
-    def aic(self) -> float:
-        """Akaike information criterion ``N ln(chisqr / N) + 2 p`` (lmfit's definition)."""
-        return _statistic(self, "aic")
-
-    @property
-    def bic(self) -> float:
-        """Bayesian information criterion ``N ln(chisqr / N) + ln(N) p`` (lmfit's definition)."""
-        return _statistic(self, "bic")
-
-    @property
-    def ndata(self) -> int:
-        """Residuals in the statistics (resampled points of all sets)."""
-        return int(_statistic(self, "ndata"))
-
     @property
     def nfev(self) -> int:
         """Objective evaluations of the stages plus the residual evaluations of the Jacobian."""
@@ -200,18 +221,6 @@ class IwanFitResult:
         """Stop message of the last stage and, if any, why the fit is not a success."""
         last = self.stages[-1].message if self.stages else ""
         return "; ".join([last, *self.reasons]) if self.reasons else last
-
-    @property
-    def stderr_notes(self) -> tuple[str, ...]:
-        """Why a fitted parameter has no standard error (empty when every one has)."""
-        return tuple(getattr(self.statistics, "stderr_notes", ()) or ())
-
-    def fit_report(self, **options) -> str:
-        """:func:`lmfit.fit_report` of the statistics (fit statistics, variables, correlations),
-        followed by the reasons for any missing standard error; ``options`` go to lmfit."""
-        source = self.statistics if self.statistics is not None else self.parameters
-        text = lmfit.fit_report(source, **options)
-        return "\n".join([text, *(f"    no stderr: {note}" for note in self.stderr_notes)])
 
     @property
     def error_small(self) -> float:
@@ -352,7 +361,7 @@ class CrossCheck:
 
 
 @dataclass(frozen=True)
-class MaxwellFitResult:
+class MaxwellFitResult(_LmfitStatistics):
     """Result of :func:`idkit.fit.fit_maxwell`, :func:`fit_voigt` or :func:`fit_complex_stiffness`.
 
     Attributes
@@ -380,6 +389,11 @@ class MaxwellFitResult:
         Values, bounds, stderr from the analytic Jacobian (parameters at a bound: none).
     elapsed_s : float
         Wall time of the SQP run (s).
+    statistics : lmfit.minimizer.MinimizerResult or None
+        Least-squares statistics at ``model`` (not moved) over the free parameters not at
+        a bound; None when every one is at a bound. ``params`` (alias of ``parameters``),
+        ``chisqr`` (= ``error**2``), ``redchi``, ``aic``, ``bic``, ``nfev``,
+        ``stderr_notes`` and ``fit_report()`` expose them as lmfit does.
     """
 
     model: GeneralizedMaxwell | VoigtModel
@@ -395,6 +409,19 @@ class MaxwellFitResult:
     settings: MaxwellFitSettings
     parameters: lmfit.Parameters = field(repr=False)
     elapsed_s: float
+    statistics: lmfit.minimizer.MinimizerResult | None = field(default=None, repr=False)
+
+    @property
+    def nfev(self) -> int:
+        """Objective evaluations of the SQP run plus the residual evaluation of the statistics."""
+        return self.evaluations + (0 if self.statistics is None else int(self.statistics.nfev))
+
+    @property
+    def stderr_notes(self) -> tuple[str, ...]:
+        """Why a free parameter has no standard error: at a search bound, or the statistics' reason."""
+        bound = tuple(f"{name}: at a search bound, where the least-squares statistics do not hold "
+                      "(the optimum is the bound, not a minimum)" for name in self.at_bound)
+        return bound + super().stderr_notes
 
     @property
     def reasons(self) -> tuple[str, ...]:
@@ -448,8 +475,10 @@ class MaxwellFitResult:
                 f"{c.elapsed_s:.2f} s): SQP {verdict} the global optimum; global {100 * c.global_error:.4f} %, "
                 f"gap {100 * c.gap:.4f} % (tolerance {100 * c.tolerance:.4f} %)"
             )
-        lines.append("[[Variables]]")
+        lines.append("[[Variables]] (stderr from the analytic residual Jacobian at the optimum)")
         lines.extend(_parameter_lines(self.parameters))
+        lines.extend(f"    no stderr: {note}" for note in self.stderr_notes)
+        lines.extend(_statistics_lines(self.statistics))
         return "\n".join(lines)
 
 
@@ -478,7 +507,7 @@ class BoucWenFitSettings:
 
 
 @dataclass(frozen=True)
-class BoucWenFitResult:
+class BoucWenFitResult(_LmfitStatistics):
     """Result of :func:`idkit.fit.fit_boucwen` (three stages: elastic, loop shape, global + polish).
 
     Attributes
@@ -492,8 +521,9 @@ class BoucWenFitResult:
     small_names, large_names : tuple of str
     settings : BoucWenFitSettings
     parameters : lmfit.Parameters
-        ``k1 .. c`` (varied) with stderr by the delta method; ``z_max``, ``shape``
-        (derived loop-shape parameters, listed as fixed) and ``b``, ``c_visc`` (fixed).
+        ``k1 .. c`` (varied) with stderr and correlations by the delta method from the
+        statistics in the scaled coordinates; ``z_max``, ``shape`` (derived loop-shape
+        parameters, listed as fixed, with stderr) and ``b``, ``c_visc`` (fixed).
     conditioning : dict
         Condition number of ``J^T J`` in the scaled coordinates (``"scaled"``)
         and in SI parameters ``k1, k2, k3, alpha, beta, gamma, n, c`` (``"si"``).
@@ -503,6 +533,11 @@ class BoucWenFitResult:
         ``method``, ``error`` (best of the population search), ``evaluations``,
         ``stage2_error``.
     elapsed_s : float
+    statistics : lmfit.minimizer.MinimizerResult or None
+        Least-squares statistics at the final parameters (not moved), mapped to
+        ``k1 .. c`` (:func:`idkit.fit.fit_boucwen`); ``params`` (alias of ``parameters``),
+        ``chisqr``, ``redchi``, ``aic``, ``bic``, ``nfev``, ``message``, ``stderr_notes``
+        and ``fit_report()`` expose them as lmfit does.
     """
 
     model: BoucWenModel
@@ -517,8 +552,19 @@ class BoucWenFitResult:
     at_bound: tuple[str, ...]
     global_search: dict | None
     elapsed_s: float
+    statistics: lmfit.minimizer.MinimizerResult | None = field(default=None, repr=False)
 
     n_params = 8  # k1, k2, k3, alpha, beta, gamma, n, c (b fixed)
+
+    @property
+    def nfev(self) -> int:
+        """Objective evaluations of the stages plus the residual evaluations of the Jacobian."""
+        return self.evaluations + (0 if self.statistics is None else int(self.statistics.nfev))
+
+    @property
+    def message(self) -> str:
+        """Stop message of the last stage (global search, polish)."""
+        return self.stages[-1].message if self.stages else ""
 
     @property
     def error_small(self) -> float:
@@ -574,6 +620,9 @@ class BoucWenFitResult:
         for data, names, errors in (("small", self.small_names, self.small_errors),
                                     ("large", self.large_names, self.large_errors)):
             lines.append(f"    final {data} per set [%]: " + ", ".join(f"{n}: {100 * e:.2f}" for n, e in zip(names, errors)))
-        lines.append("[[Variables]] (z_max, shape: derived loop-shape parameters; b fixed: only c ln b matters)")
+        lines.append("[[Variables]] (z_max, shape: derived loop-shape parameters; b fixed: only c ln b matters; "
+                     "stderr from the residual Jacobian at the optimum)")
         lines.extend(_parameter_lines(self.parameters))
+        lines.extend(f"    no stderr: {note}" for note in self.stderr_notes)
+        lines.extend(_statistics_lines(self.statistics))
         return "\n".join(lines)

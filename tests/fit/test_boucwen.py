@@ -120,3 +120,56 @@ def test_bad_loops_raise_fit_error(loops):
         fit_boucwen([(ramp, 1e3 * ramp)], loops[1])
     with pytest.raises(FitError, match="no data set"):
         fit_boucwen([], loops[1])
+
+
+def test_result_carries_lmfit_statistics_at_the_optimum(fit):
+    """lmfit's names and definitions; chisqr = sets x objective (weights of fit_boucwen)."""
+    sets, p = len(fit.small_names) + len(fit.large_names), 8
+    objective = 0.5 * fit.error_small + 0.5 * fit.error_large
+    assert fit.params is fit.parameters
+    assert fit.chisqr == pytest.approx(sets * objective, rel=1e-9)
+    n = fit.ndata
+    assert n == fit.statistics.residual.size and n > 100 * sets
+    assert fit.redchi == pytest.approx(fit.chisqr / (n - p), rel=1e-12)
+    assert fit.aic == pytest.approx(n * np.log(fit.chisqr / n) + 2 * p, rel=1e-12)
+    assert fit.bic == pytest.approx(n * np.log(fit.chisqr / n) + np.log(n) * p, rel=1e-12)
+    assert fit.nfev == fit.evaluations + 1 + 2 * p
+    assert fit.message == fit.stages[-1].message and not fit.stderr_notes
+    varied = {"k1", "k2", "k3", "alpha", "beta", "gamma", "n", "c"}
+    assert set(fit.params["beta"].correl) == varied - {"beta"}
+    assert all(abs(value) <= 1 for value in fit.params["beta"].correl.values())
+    # the polish ends at the least-squares optimum of the same residuals
+    assert max(abs(step) for step in fit.statistics.gauss_newton_step.values()) < 0.1
+    report = fit.fit_report()
+    assert "[[Fit Statistics]]" in report and "[[Correlations]]" in report and "gamma:" in report
+    assert "chi-square" in fit.report()
+
+
+def test_a_reported_parameter_depending_on_an_undetermined_coordinate_gets_no_stderr_and_a_note():
+    """beta and gamma depend on alpha, z_max, shape and n: one of those at a bound (n) or not seen
+    by the residuals (shape) takes their stderr away, and the note says which."""
+    from idkit.fit._params import jacobian_statistics, to_lmfit
+    from idkit.fit.boucwen import _NAMES, _REPORTED, _physical_statistics
+
+    rng = np.random.default_rng(8)
+    free = [i for i, name in enumerate(_NAMES) if name != "n"]
+    design = rng.standard_normal((60, len(free)))
+    design[:, [_NAMES[i] for i in free].index("shape")] = 0.0
+    target = rng.standard_normal(60)
+    u = np.linalg.lstsq(design, target, rcond=None)[0]
+    internal = jacobian_statistics(lambda v: design @ v - target, u, [_NAMES[i] for i in free])
+    map_jacobian = np.zeros((len(_REPORTED), len(_NAMES)))
+    for row, name in enumerate(_REPORTED):
+        columns = ["alpha", "z_max", "shape", "n"] if name in ("beta", "gamma") else [name]
+        map_jacobian[row, [_NAMES.index(column) for column in columns]] = 1.0
+    parameters = to_lmfit(list(_REPORTED), [1.0] * len(_REPORTED), units=["-"] * len(_REPORTED),
+                          lower=[-np.inf] * len(_REPORTED), upper=[np.inf] * len(_REPORTED),
+                          vary=[name not in ("z_max", "shape") for name in _REPORTED])
+    result = _physical_statistics(internal, map_jacobian, free, parameters, ("n",))
+    assert all(result.params[name].stderr is None for name in ("beta", "gamma", "n", "shape"))
+    assert all(result.params[name].stderr is not None for name in ("k1", "k2", "k3", "alpha", "c", "z_max"))
+    notes = result.stderr_notes
+    assert any(note.startswith("shape: the residuals do not change") for note in notes)
+    assert any(note.startswith("n: at a bound of the search box") for note in notes)
+    assert any(note.startswith("beta: depends on shape, n") for note in notes)
+    assert set(result.params["k1"].correl) == {"k2", "k3", "alpha", "c"}

@@ -7,10 +7,11 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from idkit.fit import fit_iwan
+from idkit.fit import TransmissibilitySet, fit_iwan, fit_maxwell
 from idkit.fit._params import Transform, jacobian_statistics, to_lmfit, to_physical_statistics
-from idkit.models import IwanModel
+from idkit.models import GeneralizedMaxwell, IwanModel, library
 from tests.fit.test_iwan import LARGE_AMPLITUDES, SMALL_AMPLITUDES, _loop_record, _truth
+from tests.fit.test_maxwell import MASSES, NOISE, _transmissibility
 
 CALIBRATION_SEEDS = 30
 # The empirical spread of a parameter over 30 noise realisations, divided by its mean
@@ -52,6 +53,24 @@ def test_statistics_agree_with_lmfit_leastsq_on_a_linear_model():
     assert all(abs(step) < 1e-6 for step in ours.gauss_newton_step.values())  # at the LS optimum
     assert ours.errorbars and not ours.stderr_notes
     assert "[[Correlations]]" in lmfit.fit_report(ours)
+
+
+def test_an_analytic_jacobian_gives_the_central_difference_statistics():
+    x = np.linspace(0.0, 2.0, 60)
+    y = 1.0 + 0.5 * x + 0.02 * np.sin(17 * x)
+    best = np.polyfit(x, y, 1)[::-1]
+
+    def residuals(u):
+        return u[0] + u[1] * x - y
+
+    numeric = jacobian_statistics(residuals, best, ["a", "b"])
+    design = np.column_stack([np.ones_like(x), x])
+    analytic = jacobian_statistics(residuals, best, ["a", "b"], jacobian=lambda u: design)
+    for name in "ab":
+        assert analytic.params[name].stderr == pytest.approx(numeric.params[name].stderr, rel=1e-8)
+    assert analytic.chisqr == numeric.chisqr and analytic.nfev == 1 and numeric.nfev == 5
+    with pytest.raises(ValueError, match="jacobian: found shape"):
+        jacobian_statistics(residuals, best, ["a", "b"], jacobian=lambda u: np.ones((3, 2)))
 
 
 def test_physical_statistics_follow_the_transform():
@@ -164,3 +183,104 @@ def test_iwan_parameters_the_data_do_not_determine_are_named_in_the_report():
     assert any("k_1" in note and "k_2" in note and "singular" in note for note in result.stderr_notes)
     assert all(f"no stderr: {note}" in result.report() for note in result.stderr_notes)
     assert all(note in result.fit_report() for note in result.stderr_notes)
+
+
+# --------------------------------------------------------------------------- Maxwell
+
+MAXWELL_NAMES = ("k_1", "k_2", "rate_1", "rate_2", "m_eff")
+LMFIT_LEASTSQ_REL_TOL = 1e-3  # lmfit's leastsq polishes the SQP optimum slightly: stderr within 0.1 %
+
+
+def _maxwell_frfs(seed: int, truth=None):
+    """The noisy FRFs of tests/fit/test_maxwell.py (8 masses x 3 repetitions) for one seed."""
+    truth = library.get("table_7_3_elastomer") if truth is None else truth
+    rng = np.random.default_rng(seed)
+    freq = np.arange(0.5, 150.0, 0.5)
+    sets = []
+    for mass in MASSES:
+        for repetition in range(3):
+            noise = NOISE * (rng.standard_normal(freq.size) + 1j * rng.standard_normal(freq.size)) / np.sqrt(2)
+            sets.append(TransmissibilitySet(mass, freq, _transmissibility(truth, mass, freq) * (1 + noise),
+                                            f"{mass:.2f} kg #{repetition + 1}"))
+    return sets
+
+
+@pytest.fixture(scope="module")
+def maxwell_fit():
+    frfs = _maxwell_frfs(2000)
+    return frfs, fit_maxwell(frfs, k0=library.get("table_7_3_elastomer").k0, order=2)
+
+
+def test_maxwell_result_carries_lmfit_statistics(maxwell_fit):
+    frfs, result = maxwell_fit
+    assert result.params is result.parameters and result.success
+    points = sum(int(np.count_nonzero((s.freq >= 1.0) & (s.freq <= 100.0))) for s in frfs)
+    n, p = result.ndata, len(MAXWELL_NAMES)
+    assert n == 2 * points  # real and imaginary parts
+    assert result.chisqr == pytest.approx(result.error**2, rel=1e-9)  # the objective (7.5) squared
+    assert result.redchi == pytest.approx(result.chisqr / (n - p), rel=1e-12)
+    assert result.aic == pytest.approx(n * math.log(result.chisqr / n) + 2 * p, rel=1e-12)
+    assert result.bic == pytest.approx(n * math.log(result.chisqr / n) + math.log(n) * p, rel=1e-12)
+    assert result.nfev == result.evaluations + 1  # one residual + analytic Jacobian evaluation
+    assert not result.stderr_notes and result.statistics.errorbars
+    assert set(result.params["k_1"].correl) == set(MAXWELL_NAMES) - {"k_1"}
+    assert result.params["k0"].stderr is None and not result.params["k0"].vary
+    report = result.fit_report()
+    assert "[[Fit Statistics]]" in report and "[[Correlations]]" in report and "rate_2:" in report
+    assert "chi-square" in result.report()
+
+
+def test_maxwell_standard_errors_agree_with_lmfit_leastsq(maxwell_fit):
+    """Independent method: lmfit's Levenberg-Marquardt on the physical parameters, from the fit."""
+    frfs, result = maxwell_fit
+    k0 = result.params["k0"].value
+    band = [(s.freq >= 1.0) & (s.freq <= 100.0) for s in frfs]
+    data = [(s.mass, s.freq[inside], s.transmissibility[inside]) for s, inside in zip(frfs, band)]
+
+    def residuals(params):
+        model = GeneralizedMaxwell(k0=k0, k=[params["k_1"].value, params["k_2"].value],
+                                   rate=[params["rate_1"].value, params["rate_2"].value], m_eff=params["m_eff"].value)
+        parts = [(_transmissibility(model, mass, freq) - value) / np.abs(value) / math.sqrt(len(data) * freq.size)
+                 for mass, freq, value in data]
+        return np.concatenate(parts)  # complex: lmfit stacks real and imaginary parts
+
+    start = lmfit.Parameters()
+    for name in MAXWELL_NAMES:
+        start.add(name, value=result.params[name].value)
+    theirs = lmfit.minimize(residuals, start)
+    assert theirs.chisqr == pytest.approx(result.chisqr, rel=1e-6) and theirs.ndata == result.ndata
+    for name in MAXWELL_NAMES:
+        assert result.params[name].stderr == pytest.approx(theirs.params[name].stderr, rel=LMFIT_LEASTSQ_REL_TOL), name
+
+
+def test_maxwell_standard_errors_match_the_spread_over_noise_realisations():
+    """30 noise realisations of the FRFs of test_maxwell.py: the spread of each parameter about
+    the truth over the mean reported stderr lies within SPREAD_RATIO (measured 0.74-0.95)."""
+    truth = library.get("table_7_3_elastomer")
+    expected = np.array([truth.params()[name] for name in MAXWELL_NAMES])
+    values, errors = [], []
+    for seed in range(2000, 2000 + CALIBRATION_SEEDS):
+        result = fit_maxwell(_maxwell_frfs(seed, truth), k0=truth.k0, order=2)
+        assert result.success, result.reasons
+        values.append([result.params[name].value for name in MAXWELL_NAMES])
+        errors.append([result.params[name].stderr for name in MAXWELL_NAMES])
+    values, errors = np.array(values), np.array(errors)
+    ratio = np.sqrt(np.mean((values - expected) ** 2, axis=0)) / errors.mean(axis=0)
+    for name, value in zip(MAXWELL_NAMES, ratio):
+        assert SPREAD_RATIO[0] < value < SPREAD_RATIO[1], f"{name}: spread / stderr = {value:.3f}"
+    assert np.all(errors.std(axis=0) < 0.2 * errors.mean(axis=0))
+
+
+def test_maxwell_parameter_at_a_bound_has_no_stderr_and_a_note():
+    """Stiffnesses capped below the truth's k_2 (10.7 kN/m): the fit pins k_2 at the cap."""
+    truth = library.get("table_7_3_elastomer")
+    result = fit_maxwell(_maxwell_frfs(2000, truth), k0=truth.k0, order=2, stiffness_bounds=(100.0, 6000.0))
+    assert result.at_bound == ("k_2",) and not result.success
+    for name in result.at_bound:
+        assert result.params[name].stderr is None
+        assert any(note.startswith(f"{name}: at a search bound") for note in result.stderr_notes)
+        assert f"no stderr: {name}: at a search bound" in result.report()
+        assert f"{name}: at a search bound" in result.fit_report()
+    inside = [name for name in MAXWELL_NAMES if name not in result.at_bound]
+    assert inside and all(result.params[name].stderr is not None for name in inside)
+    assert result.statistics.nvarys == len(inside)
