@@ -427,13 +427,17 @@ class MaxwellFitResult(_LmfitStatistics):
     def reasons(self) -> tuple[str, ...]:
         """Why the fit is not a success (empty when it is).
 
-        The SQP stopped on its evaluation limit or failed; a free parameter sits on its
+        The SQP found no point meeting the constraints, stopped on its evaluation limit or
+        failed; a free parameter sits on its
         search bound (the data do not place it inside the box); two relaxation rates
         coincide within :data:`DUPLICATE_RATE_RATIO` (the elements are one element
         split in two: a lower order fits as well).
         """
         reasons = []
-        if any(word in self.message for word in ("max_evals", "failure", "Iteration limit")):
+        if "no feasible point" in self.message:
+            reasons.append("no point met the constraints (loss factor non-decreasing over the band): the start "
+                           f"was kept, error {100 * self.error:.3g} % ({self.message})")
+        elif any(word in self.message for word in ("max_evals", "failure", "Iteration limit")):
             reasons.append(f"the optimiser stopped without converging: {self.message}")
         if self.at_bound:
             reasons.append(f"at a search bound (not determined inside the box): {', '.join(self.at_bound)}")

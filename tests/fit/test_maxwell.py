@@ -235,3 +235,13 @@ def test_bad_k0_window_and_empty_frfs():
         estimate_k0(np.array([0.0, 2e-3, 3e-3]), np.array([0.0, 1.0, 2.0]), window=1e-3)
     with pytest.raises(FitError, match="no transmissibility set"):
         fit_maxwell([], k0=1e4)
+
+
+@pytest.mark.parametrize("backend", ["nlopt", "scipy"])
+def test_a_fit_that_never_met_its_constraints_is_not_a_success(noisy_frfs, truth, backend):
+    """Rates capped at 300 1/s against a truth with 841 1/s: no feasible point, the start is kept
+    (error 161 %); it once came back as a success. Same outcome on noise seeds 73, 1, 2, both backends."""
+    result = fit_maxwell(noisy_frfs, k0=truth.k0, order=2, rate_bounds=(1.0, 300.0), backend=backend)
+    assert "no feasible point" in result.message
+    assert not result.success and any("constraints" in reason for reason in result.reasons)
+    assert "not a success" in result.report()
