@@ -33,6 +33,7 @@ All values SI. ``to_dict()`` gives the JSON written to the truth files.
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -72,8 +73,31 @@ def _wire_rope_elements(order: int) -> tuple[list[float], list[float]]:
     return [float(v) for v in np.round(fc, 4)], [float(v) for v in np.round(k, 1)]
 
 
+class _RopeTruth:
+    """What every wire-rope truth derives from its ``link()``, ``g1``, ``k`` and ``fc``."""
+
+    MODEL: ClassVar[str]
+    DESCRIPTION: ClassVar[str]
+
+    @property
+    def stuck_stiffness(self) -> float:
+        """``g1 + sum k_i`` in N/m (every element stuck, at zero deflection)."""
+        return self.g1 + float(np.sum(self.k))
+
+    def quasi_static_force(self, deflection) -> np.ndarray:
+        """Force (N) along a deflection path (m) starting unloaded at its first point."""
+        return _quasi_static_force(self.link(), deflection)
+
+    def to_dict(self) -> dict:
+        out = {"model": self.MODEL, **asdict(self)}
+        out["order"] = len(self.k)
+        out["stuck_stiffness_N_per_m"] = self.stuck_stiffness
+        out["description"] = self.DESCRIPTION
+        return out
+
+
 @dataclass(frozen=True)
-class WireRopeTruth:
+class WireRopeTruth(_RopeTruth):
     """True wire-rope isolator (see the module docstring); forces in N, deflection in m."""
 
     g1: float = 1.84e4
@@ -94,25 +118,12 @@ class WireRopeTruth:
                    self.beta, self.y_ref]
         return (LINK_WIRE_ROPE, scalars, list(self.k), list(self.fc))
 
-    @property
-    def stuck_stiffness(self) -> float:
-        """``g1 + sum k_i`` in N/m."""
-        return self.g1 + float(np.sum(self.k))
-
-    def quasi_static_force(self, deflection) -> np.ndarray:
-        """Force (N) along a deflection path (m) starting unloaded at its first point."""
-        return _quasi_static_force(self.link(), deflection)
-
-    def to_dict(self) -> dict:
-        out = {"model": "iwan_deflection_scaled_slip", **asdict(self)}
-        out["order"] = len(self.k)
-        out["stuck_stiffness_N_per_m"] = self.stuck_stiffness
-        out["description"] = (
-            "F = g1 y + g2 y^2 + g3 y^3 - k_bottom max(0, -y - y_bottom)^3 + sum_i F_i + c_visc ydot; "
-            "F_i by the stop operator with slip force s(y) fc_i, s(y) = 1 + beta tanh(-y / y_ref); "
-            "y = deflection (m, positive = tension)"
-        )
-        return out
+    MODEL: ClassVar[str] = "iwan_deflection_scaled_slip"
+    DESCRIPTION: ClassVar[str] = (
+        "F = g1 y + g2 y^2 + g3 y^3 - k_bottom max(0, -y - y_bottom)^3 + sum_i F_i + c_visc ydot; "
+        "F_i by the stop operator with slip force s(y) fc_i, s(y) = 1 + beta tanh(-y / y_ref); "
+        "y = deflection (m, positive = tension)"
+    )
 
 
 @dataclass(frozen=True)
@@ -178,7 +189,7 @@ def _spread_slip_elements(order: int) -> tuple[list[float], list[float]]:
 
 
 @dataclass(frozen=True)
-class ModulatedWireRopeTruth:
+class ModulatedWireRopeTruth(_RopeTruth):
     """Truth "b" wire rope (module docstring); forces in N, deflection in m.
 
     ``F = g1 y + g2 y^2 + g3 y^3 + (1 + beta tanh^2(y / y_ref)) sum_i F_i + c_visc ydot``
@@ -200,25 +211,12 @@ class ModulatedWireRopeTruth:
         scalars = [self.g1, self.g2, self.g3, self.c_visc, 0.0, 1.0, self.beta, self.y_ref]
         return (LINK_WIRE_ROPE_MODULATED, scalars, list(self.k), list(self.fc))
 
-    @property
-    def stuck_stiffness(self) -> float:
-        """``g1 + sum k_i`` in N/m (the modulation is 1 at zero deflection)."""
-        return self.g1 + float(np.sum(self.k))
-
-    def quasi_static_force(self, deflection) -> np.ndarray:
-        """Force (N) along a deflection path (m) starting unloaded at its first point."""
-        return _quasi_static_force(self.link(), deflection)
-
-    def to_dict(self) -> dict:
-        out = {"model": "iwan_modulated_hysteresis", **asdict(self)}
-        out["order"] = len(self.k)
-        out["stuck_stiffness_N_per_m"] = self.stuck_stiffness
-        out["description"] = (
-            "F = g1 y + g2 y^2 + g3 y^3 + (1 + beta tanh^2(y / y_ref)) sum_i F_i + c_visc ydot; "
-            "F_i by the stop operator with constant slip force fc_i; "
-            "y = deflection (m, positive = tension)"
-        )
-        return out
+    MODEL: ClassVar[str] = "iwan_modulated_hysteresis"
+    DESCRIPTION: ClassVar[str] = (  # the modulation is 1 at zero deflection: the stuck stiffness is g1 + sum k_i
+        "F = g1 y + g2 y^2 + g3 y^3 + (1 + beta tanh^2(y / y_ref)) sum_i F_i + c_visc ydot; "
+        "F_i by the stop operator with constant slip force fc_i; "
+        "y = deflection (m, positive = tension)"
+    )
 
 
 @dataclass(frozen=True)

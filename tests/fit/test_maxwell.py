@@ -37,9 +37,9 @@ def truth():
     return library.get("table_7_3_elastomer")
 
 
-@pytest.fixture(scope="module")
-def noisy_frfs(truth):
-    rng = np.random.default_rng(73)
+def noisy_frf_sets(truth, seed: int) -> list[TransmissibilitySet]:
+    """Transmissibilities of ``truth`` on the 8 masses x 3 repetitions with NOISE complex noise."""
+    rng = np.random.default_rng(seed)
     freq = np.arange(0.5, 150.0, 0.5)  # Hz, beyond the band on both sides
     sets = []
     for mass in MASSES:
@@ -48,6 +48,11 @@ def noisy_frfs(truth):
             sets.append(TransmissibilitySet(mass, freq, _transmissibility(truth, mass, freq) * (1 + noise),
                                             f"{mass:.2f} kg #{repetition + 1}"))
     return sets
+
+
+@pytest.fixture(scope="module")
+def noisy_frfs(truth):
+    return noisy_frf_sets(truth, 73)
 
 
 @pytest.fixture(scope="module")

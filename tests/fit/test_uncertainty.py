@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from idkit.fit import TransmissibilitySet, fit_iwan, fit_maxwell
+from idkit.fit import fit_iwan, fit_maxwell
 from idkit.fit._params import Transform, jacobian_statistics, to_lmfit, to_physical_statistics
 from idkit.models import GeneralizedMaxwell, IwanModel, library
 from tests.fit.test_iwan import LARGE_AMPLITUDES, SMALL_AMPLITUDES, _loop_record, _truth
-from tests.fit.test_maxwell import MASSES, NOISE, _transmissibility
+from tests.fit.test_maxwell import _transmissibility, noisy_frf_sets
 
 CALIBRATION_SEEDS = 30
 # The empirical spread of a parameter over 30 noise realisations, divided by its mean
@@ -193,16 +193,7 @@ LMFIT_LEASTSQ_REL_TOL = 1e-3  # lmfit's leastsq polishes the SQP optimum slightl
 
 def _maxwell_frfs(seed: int, truth=None):
     """The noisy FRFs of tests/fit/test_maxwell.py (8 masses x 3 repetitions) for one seed."""
-    truth = library.get("table_7_3_elastomer") if truth is None else truth
-    rng = np.random.default_rng(seed)
-    freq = np.arange(0.5, 150.0, 0.5)
-    sets = []
-    for mass in MASSES:
-        for repetition in range(3):
-            noise = NOISE * (rng.standard_normal(freq.size) + 1j * rng.standard_normal(freq.size)) / np.sqrt(2)
-            sets.append(TransmissibilitySet(mass, freq, _transmissibility(truth, mass, freq) * (1 + noise),
-                                            f"{mass:.2f} kg #{repetition + 1}"))
-    return sets
+    return noisy_frf_sets(library.get("table_7_3_elastomer") if truth is None else truth, seed)
 
 
 @pytest.fixture(scope="module")
