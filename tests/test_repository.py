@@ -17,15 +17,19 @@ ROOT = Path(__file__).resolve().parents[1]
 
 # allowed idkit sub-packages each layer may import (one direction of flow)
 LAYERS = {
+    "io": {"io"},
+    "signal": {"signal"},
     "models": {"models"},
     "simulate": {"models", "simulate"},
-    "io": {"io"},
-    "analysis": {"models", "simulate", "io", "analysis"},
-    "synth": {"models", "simulate", "io", "analysis", "synth"},
-    "fit": {"models", "simulate", "io", "analysis", "fit"},
-    "validate": {"models", "simulate", "io", "analysis", "fit", "validate"},
-    "plot": {"models", "simulate", "io", "analysis", "fit", "validate", "plot"},
-    "report": {"models", "simulate", "io", "analysis", "synth", "fit", "validate", "plot", "report"},
+    "observe": {"io", "signal", "observe"},
+    "synth": {"models", "simulate", "io", "signal", "synth"},
+    "responses": {"models", "simulate", "signal", "responses"},
+    "fit": {"models", "simulate", "io", "signal", "observe", "responses", "fit"},
+    "validate": {"models", "simulate", "io", "signal", "observe", "responses", "validate"},
+    "studies": {"models", "simulate", "io", "signal", "observe", "responses", "fit", "validate", "studies"},
+    "plot": {"models", "simulate", "io", "signal", "observe", "responses", "fit", "validate", "studies", "plot"},
+    "report": {"models", "simulate", "io", "signal", "observe", "responses", "synth", "fit", "validate", "studies",
+               "plot", "report"},
 }
 CORE = {"errors", "params", "atomic", "inputfiles"}
 
@@ -114,7 +118,7 @@ def test_imports_flow_one_way(layer):
 
 
 def test_computation_modules_never_import_pyplot():
-    for layer in ("models", "simulate", "io", "analysis", "synth", "fit"):
+    for layer in ("models", "simulate", "io", "signal", "observe", "responses", "synth", "fit", "validate", "studies"):
         for path in (ROOT / "idkit" / layer).rglob("*.py"):
             assert "matplotlib" not in path.read_text(), path
 

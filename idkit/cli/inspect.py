@@ -89,11 +89,9 @@ def save_overview_plots(measurements, folder: str | Path, *, force: bool = False
     list of pathlib.Path
         The written PNG files.
     """
-    from idkit.analysis.measurements import (
-        frf_from_white_noise,
-        process_drop_measurement,
-        stepped_sine_sweep,
-    )
+    from idkit.observe.white_noise import frf_from_white_noise
+    from idkit.observe.drop import process_drop_measurement
+    from idkit.observe.stepped_sine import stepped_sine_sweep
     from idkit.plot.basic import plot_loops, plot_shock_levels, save_figure
 
     folder = Path(folder)
@@ -157,7 +155,7 @@ def save_overview_plots(measurements, folder: str | Path, *, force: bool = False
 
 
 def _cmd_inspect(args) -> None:
-    from idkit.analysis.measurements import summarize_measurements
+    from idkit.observe.quality import summarize_measurements
 
     if args.plots:
         from idkit.output_checks import check_output

@@ -59,7 +59,7 @@ from idkit.fit.iwan import LoopSet, _check_state, _prepare_group, iwan_start
 from idkit.fit.iwan import _Packed as _PackedSets
 from idkit.fit.result import BoucWenFitResult, BoucWenFitSettings, StageResult
 from idkit.models import BoucWenModel
-from idkit.models._hysteresis import boucwen_z_step
+from idkit.models.laws import boucwen_z_step
 
 __all__ = ["fit_boucwen", "boucwen_set_errors", "boucwen_set_forces"]
 

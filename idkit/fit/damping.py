@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from idkit.analysis.harmonics import hosidf, resonance_peak
+from idkit.signal.harmonics import hosidf, resonance_peak
 from idkit.errors import FitError
 from idkit.models import IwanModel, SDOFSystem
 from idkit.simulate import harmonic_response

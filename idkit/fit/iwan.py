@@ -69,7 +69,7 @@ import numpy as np
 import pandas as pd
 import scipy.optimize
 
-from idkit.analysis.cycles import resample_loops, reversal_threshold, split_cycles
+from idkit.signal.cycles import resample_loops, reversal_threshold, split_cycles
 from idkit.errors import FitError
 from idkit.fit._params import Transform, jacobian_statistics, to_lmfit, to_physical_statistics
 from idkit.fit.result import IwanFitResult, IwanFitSettings, IwanStart, StageResult
@@ -164,7 +164,7 @@ def prepare_loops(
         equal deflection spacing). ``None`` keeps the record as given after
         cutting it at the first and last reversal.
     min_excursion : float, optional
-        Reversal threshold in m; default :func:`idkit.analysis.cycles.reversal_threshold`
+        Reversal threshold in m; default :func:`idkit.signal.cycles.reversal_threshold`
         (ten times the record's deflection noise, at least 0.1 % of its range), so every
         loop the record holds enters the fit.
     name : str

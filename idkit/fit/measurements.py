@@ -12,7 +12,7 @@ turns them into those inputs and keeps where they came from:
   so either kind of set may over- or undershoot its nominal amplitude by 40 % and
   still be classified right.
 * :func:`transmissibility_sets` - white-noise records -> H1 estimates
-  (:func:`idkit.analysis.frf.estimate_frf`, top over base velocity or acceleration)
+  (:func:`idkit.signal.frf.estimate_frf`, top over base velocity or acceleration)
   of every top mass and repetition.
 * :func:`k0_from_measurements` - static stiffness of the elastomer from its
   quasi-static loops (:func:`~idkit.fit.estimate_k0` on all loops pooled, plus the
@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from idkit.analysis.frf import estimate_frf
+from idkit.signal.frf import estimate_frf
 from idkit.errors import DataError, FitError
 from idkit.fit.boucwen import fit_boucwen
 from idkit.fit.damping import ViscousDamping, fit_viscous_damping
@@ -463,7 +463,7 @@ def transmissibility_sets(
     """White-noise records -> H1 transmissibility of every top mass and repetition.
 
     ``H1 = S_xy / S_xx`` from base (x) to top (y) velocity, or acceleration when the
-    record has no velocities (:func:`idkit.analysis.frf.estimate_frf`, Hann window,
+    record has no velocities (:func:`idkit.signal.frf.estimate_frf`, Hann window,
     ``nperseg = round(fs / resolution_hz)`` capped at a quarter of the record).
 
     Returns

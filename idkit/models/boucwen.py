@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from idkit.errors import ParameterError
-from idkit.models._hysteresis import boucwen_z_history, kernel_array
+from idkit.models.laws import boucwen_z_history, kernel_array
 from idkit.models.base import (
     C_VISC_SPEC,
     IsolatorArrays,

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from idkit.errors import ParameterError
-from idkit.models._hysteresis import kernel_array, stop_operator
+from idkit.models.laws import kernel_array, stop_operator
 from idkit.models.base import (
     C_VISC_SPEC,
     IsolatorArrays,

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from idkit.errors import ParameterError
-from idkit.models._hysteresis import kernel_array, maxwell_states
+from idkit.models.laws import kernel_array, maxwell_states
 from idkit.models.base import (
     M_EFF_SPEC,
     IsolatorArrays,

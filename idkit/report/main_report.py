@@ -27,7 +27,7 @@ import numpy as np
 import pandas as pd
 
 from idkit import __version__
-from idkit.analysis import summarize_measurements
+from idkit.observe.quality import summarize_measurements
 from idkit.errors import DataError
 from idkit.fit import maxwell_order_table
 from idkit.fit.measurements import (

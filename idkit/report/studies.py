@@ -35,11 +35,9 @@ from pathlib import Path
 import numpy as np
 
 from idkit import __version__
-from idkit.analysis import (
-    harmonic_map,
-    linear_frf,
-    shock_sweep,
-)
+from idkit.responses.harmonic_map import harmonic_map
+from idkit.responses.linear import linear_frf
+from idkit.responses.shock import shock_sweep
 from idkit.errors import IdkitError
 from idkit.models import library
 from idkit.plot import (

@@ -2,12 +2,12 @@
 
 Which isolation system protects a payload best? The reference (viscous), the
 elastomer, the wire rope and seven hybrids, all tuned to a 5 Hz small-amplitude
-resonance (:mod:`idkit.analysis.transport`), are compared on
+resonance (:mod:`idkit.studies.transport`), are compared on
 
 * output acceleration PSDs for the six flat floor levels of SPEC 5
-  (30 seeded realizations, Welch; :func:`idkit.analysis.random_vibration.random_response`),
+  (30 seeded realizations, Welch; :func:`idkit.responses.random_vibration.random_response`),
 * the rest shock level versus impact velocity and drop height
-  (:func:`idkit.analysis.shock.shock_sweep`, conditioned free fall).
+  (:func:`idkit.responses.shock.shock_sweep`, conditioned free fall).
 """
 
 from __future__ import annotations
@@ -21,10 +21,10 @@ import numpy as np
 import pandas as pd
 
 from idkit import __version__
-from idkit.analysis.psd import PsdProfile
-from idkit.analysis.random_vibration import FLAT_LEVELS, random_response
-from idkit.analysis.shock import shock_sweep
-from idkit.analysis.transport import RK_VALUES, transport_systems, tuning_table
+from idkit.signal.psd import PsdProfile
+from idkit.responses.random_vibration import FLAT_LEVELS, random_response
+from idkit.responses.shock import shock_sweep
+from idkit.studies.transport import RK_VALUES, transport_systems, tuning_table
 from idkit.plot import save_figure
 from idkit.atomic import atomic_output_folder
 

@@ -27,7 +27,7 @@ import math
 import numba
 import numpy as np
 
-from idkit.models._hysteresis import boucwen_z_step
+from idkit.models.laws import boucwen_z_step
 
 FLAG_OK = 0
 FLAG_NEGATIVE_STIFFNESS = 1

@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 
 from idkit.errors import SimulationError
-from idkit.models._hysteresis import kernel_array
+from idkit.models.laws import kernel_array
 from idkit.models.base import IsolatorModel
 from idkit.simulate._arrays import STANDARD_GRAVITY, force_scale, resolve_system, system_arrays
 from idkit.simulate._kernel import FLAG_REASONS, run_time_batch

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from idkit.analysis.drop import process_drop
+from idkit.signal.drop import process_drop
 from idkit.errors import ValidationError
 from idkit.simulate import free_fall, relaxation_deflection, small_amplitude_resonance
 from idkit.validate.result import ValidationResult, check_thresholds
@@ -28,7 +28,7 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
     """Compare peak accelerations (compression, tension) and peak compression per drop.
 
     Each drop is processed (mean of the accelerometers, zero-phase 5-sample average,
-    impact from the relative-velocity step, see :func:`idkit.analysis.drop.process_drop`);
+    impact from the relative-velocity step, see :func:`idkit.signal.drop.process_drop`);
     the model is dropped (conditioned free fall, base fixed) at the impact velocity
     ``-sqrt(2 g h)`` from the drop height (``impact_velocity="height"``, the thesis's
     reading, eq. 3.18) or at the one measured from the relative-velocity step

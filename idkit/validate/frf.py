@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from idkit.analysis.frf import estimate_frf
+from idkit.signal.frf import estimate_frf
 from idkit.errors import ValidationError
 from idkit.validate.result import ValidationResult, check_thresholds
 from idkit.validate.systems import system_for
@@ -47,7 +47,7 @@ def validate_frf(measurements, *, system=None, isolator=None, band=(1.0, 100.0),
     """Error (7.5) and resonance/damping per held-out white-noise measurement.
 
     H1 = S_xy / S_xx of top over base velocity (Welch, Hann, 50 % overlap,
-    segments of ``1 / resolution`` s, see :func:`idkit.analysis.frf.estimate_frf`),
+    segments of ``1 / resolution`` s, see :func:`idkit.signal.frf.estimate_frf`),
     compared over ``band`` (Hz) with the model's small-amplitude transmissibility.
     """
     limits = check_thresholds(FRF_THRESHOLDS, thresholds)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from idkit.analysis.harmonics import hosidf, resonance_peak
+from idkit.signal.harmonics import hosidf, resonance_peak
 from idkit.errors import ValidationError
 from idkit.simulate import harmonic_response
 from idkit.validate.result import ValidationResult, check_thresholds

@@ -15,7 +15,7 @@
 import numpy as np
 import pytest
 
-from idkit.analysis.cycles import split_cycles
+from idkit.signal.cycles import split_cycles
 from idkit.fit import compare_loop_models, fit_boucwen, fit_complex_stiffness, fit_iwan, prepare_loops
 from idkit.io import read_mr_damper, read_prony_reference, read_pyvisco_complex_modulus, realdata_dir
 

@@ -215,10 +215,3 @@ def test_bad_time_grid_and_system_are_named():
         solve_ivp_reference(VOIGT.isolator, np.linspace(0, 0.1, 11))
     with pytest.raises(SimulationError, match="n_periods"):
         harmonic_reference(VOIGT, 5.0, 1e-3, n_periods=5)
-
-
-@pytest.mark.parametrize("name", ["reference", "moreau"])
-def test_docstring_examples_run(name):
-    module = importlib.import_module(f"idkit.simulate.{name}")
-    failures, attempted = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
-    assert attempted > 0 and failures == 0

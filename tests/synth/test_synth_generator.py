@@ -125,7 +125,7 @@ def test_elastomer_is_about_15_percent_stiffer_than_the_catalogue_and_softens_in
 
 
 def test_white_noise_frf_shows_the_internal_mode_near_200_hz(truth):
-    from idkit.analysis.measurements import frf_from_white_noise
+    from idkit.observe.white_noise import frf_from_white_noise
 
     run = _read("elastomer", "wn_el_0.99kg_1")
     frf = frf_from_white_noise(run, band=(120.0, 300.0), nperseg=2000)

@@ -1,16 +1,11 @@
-"""Tests of idkit.analysis.cycles: reversals, cycle split, resampling."""
+"""Tests of idkit.signal.cycles: reversals, cycle split, resampling."""
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from idkit.analysis.cycles import (
-    classify_amplitudes,
-    find_reversals,
-    resample_loops,
-    split_cycles,
-)
+from idkit.signal.cycles import classify_amplitudes, find_reversals, resample_loops, split_cycles
 from idkit.errors import DataError, FitError
 
 

@@ -1,11 +1,11 @@
-"""Tests of idkit.analysis.srs against independent SDOF solutions."""
+"""Tests of idkit.signal.srs against independent SDOF solutions."""
 
 import numpy as np
 import pytest
 from scipy import integrate
 from scipy import signal as sps
 
-from idkit.analysis.srs import shock_response_spectrum, smallwood_coefficients
+from idkit.signal.srs import shock_response_spectrum, smallwood_coefficients
 from idkit.errors import DataError
 
 AMPLITUDE = 100.0  # m/s^2

@@ -1,9 +1,9 @@
-"""Tests of idkit.analysis.harmonics: least-squares harmonics and HOSIDFs."""
+"""Tests of idkit.signal.harmonics: least-squares harmonics and HOSIDFs."""
 
 import numpy as np
 import pytest
 
-from idkit.analysis.harmonics import fit_harmonics, hosidf, input_flatness
+from idkit.signal.harmonics import fit_harmonics, hosidf, input_flatness
 from idkit.errors import DataError
 
 FS = 1000.0  # Hz

@@ -4,7 +4,7 @@ The SRS is the peak absolute acceleration of a bank of base-excited, linear, vis
 damped SDOF oscillators, one per natural frequency, driven by the record
 (ISO 18431-4:2007; Smallwood, "An improved recursive formula for calculating shock response
 spectra", Shock and Vibration Bulletin 51, 1981). It complements the rest shock level of
-:mod:`idkit.analysis.drop` when comparing isolators on a measured shock (SPEC sections 3, 6).
+:mod:`idkit.signal.drop` when comparing isolators on a measured shock (SPEC sections 3, 6).
 
 Each oscillator is evaluated with Smallwood's ramp-invariant digital filter: exact at the
 sample instants when the base acceleration is linear between samples. For natural

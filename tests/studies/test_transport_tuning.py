@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from idkit.analysis.transport import RK_VALUES, transport_systems, tuning_table
+from idkit.studies.transport import RK_VALUES, transport_systems, tuning_table
 from idkit.errors import ParameterError
 
 

@@ -1,12 +1,12 @@
-"""Tests of idkit.analysis.drop on synthetic drops of an undamped linear oscillator."""
+"""Tests of idkit.signal.drop on synthetic drops of an undamped linear oscillator."""
 
 import numpy as np
 import pytest
 
-from idkit.analysis.drop import (
-    STANDARD_GRAVITY,
+from idkit.signal.drop import (
     impact_velocity_from_height,
     process_drop,
+    STANDARD_GRAVITY,
     zero_phase_moving_average,
 )
 from idkit.errors import DataError

@@ -1,14 +1,14 @@
-"""Tests of idkit.analysis.psd: profiles, random-phase synthesis, Welch, RMS."""
+"""Tests of idkit.signal.psd: profiles, random-phase synthesis, Welch, RMS."""
 
 import numpy as np
 import pytest
 from scipy import integrate
 from scipy import signal as sps
 
-from idkit.analysis.psd import (
-    PsdProfile,
+from idkit.signal.psd import (
     cumulative_rms,
     output_psd,
+    PsdProfile,
     rms_from_psd,
     synthesize_random,
     welch_psd,

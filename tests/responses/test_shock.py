@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from idkit.analysis import ShockSweep, default_shock_grid, shock_sweep
+from idkit.responses.shock import default_shock_grid, shock_sweep, ShockSweep
 from idkit.errors import SimulationError
 from idkit.models import SDOFSystem, VoigtModel, library
 from idkit.simulate import STANDARD_GRAVITY

@@ -1,8 +1,8 @@
 """Random floor vibration through an isolation system (SPEC 5, thesis 8.2).
 
-A one-sided floor-acceleration PSD (:class:`~idkit.analysis.psd.PsdProfile`: a flat level
+A one-sided floor-acceleration PSD (:class:`~idkit.signal.psd.PsdProfile`: a flat level
 over a band or a breakpoint table, log-log interpolated) becomes ``n_realizations`` time
-signals by seeded random phases (:func:`~idkit.analysis.psd.synthesize_random`: conjugate
+signals by seeded random phases (:func:`~idkit.signal.psd.synthesize_random`: conjugate
 symmetric spectrum, ``fs`` = 800 Hz, frequency step 0.05 Hz, i.e. 20 s records). Each
 realization drives the base of the system (:func:`idkit.simulate.simulate` with
 ``base_acceleration``); the top-mass absolute acceleration is reduced to a Welch PSD (Hann
@@ -28,7 +28,14 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from idkit.analysis.psd import PsdEstimate, PsdProfile, cumulative_rms, rms_from_psd, synthesize_random, welch_psd
+from idkit.signal.psd import (
+    cumulative_rms,
+    PsdEstimate,
+    PsdProfile,
+    rms_from_psd,
+    synthesize_random,
+    welch_psd,
+)
 from idkit.errors import SimulationError
 from idkit.models import HybridSystem, SDOFSystem
 from idkit.simulate import simulate
@@ -183,7 +190,7 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
     settle_records : int, default 1
         Repetitions of the periodic record simulated before the analysed one.
     nperseg : int, optional
-        Welch segment length (default of :func:`~idkit.analysis.psd.welch_psd`).
+        Welch segment length (default of :func:`~idkit.signal.psd.welch_psd`).
     workers, executor : see :func:`idkit.simulate.harmonic_response`.
 
     Returns

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from idkit.analysis import (
+from idkit.responses.linear import (
     complex_stiffness,
     effective_stiffness,
     linear_frf,

@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from idkit.analysis import FLAT_LEVELS, PsdProfile, flat_input_psds, is_linear_system, random_response
+from idkit.responses.random_vibration import flat_input_psds, FLAT_LEVELS, is_linear_system, random_response
+from idkit.signal.psd import PsdProfile
 from idkit.models import SDOFSystem, VoigtModel, library
 
 # Statistical scatter (30 realizations x 22 Hann segments with 2/3 overlap, random phases with

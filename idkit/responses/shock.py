@@ -41,7 +41,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from idkit.analysis.srs import ShockResponseSpectrum, shock_response_spectrum
+from idkit.signal.srs import shock_response_spectrum, ShockResponseSpectrum
 from idkit.errors import SimulationError
 from idkit.models import HybridSystem, SDOFSystem
 from idkit.simulate import STANDARD_GRAVITY, free_fall, relaxation_deflection, small_amplitude_resonance
@@ -135,7 +135,7 @@ class ShockSweep:
         return self.flags == 0
 
     def srs(self, index: int, freq: ArrayLike, *, damping_ratio: float = 0.05) -> ShockResponseSpectrum:
-        """Shock response spectrum of drop ``index``'s top-mass acceleration (:mod:`idkit.analysis.srs`).
+        """Shock response spectrum of drop ``index``'s top-mass acceleration (:mod:`idkit.signal.srs`).
 
         ``freq`` in Hz must lie below half the record's sample rate ``1 / (time[1] - time[0])``.
         """

@@ -1,10 +1,10 @@
-"""Tests of idkit.analysis.frf against an exactly discretized linear SDOF transmissibility."""
+"""Tests of idkit.signal.frf against an exactly discretized linear SDOF transmissibility."""
 
 import numpy as np
 import pytest
 from scipy import signal as sps
 
-from idkit.analysis.frf import estimate_frf
+from idkit.signal.frf import estimate_frf
 from idkit.errors import DataError
 
 FS = 1000.0  # Hz

@@ -1,0 +1,93 @@
+"""Pure array maths of isolator signals (the role :mod:`scipy.signal` plays for idkit).
+
+Every function takes arrays and returns arrays or a frozen result; nothing here knows a
+measurement file, a model or a simulator. One concept per module:
+
+- :mod:`~idkit.signal.cycles` - quasi-static loops: reversals against the noise level, cycles,
+  resampling (SPEC 4);
+- :mod:`~idkit.signal.harmonics` - stepped sine: harmonics, subharmonic, bias, HOSIDF (SPEC 5);
+- :mod:`~idkit.signal.frf` - white-noise FRF estimators: H1, H2, coherence (SPEC 3);
+- :mod:`~idkit.signal.drop` - drop records: impact, shock peaks, peak deflection (SPEC 3, 5);
+- :mod:`~idkit.signal.srs` - shock response spectrum (Smallwood filter);
+- :mod:`~idkit.signal.psd` - random vibration: PSD profiles, synthesis, Welch, RMS (SPEC 5).
+"""
+
+from idkit.signal.cycles import (
+    classify_amplitudes,
+    CycleSplit,
+    find_reversals,
+    noise_level,
+    resample_loops,
+    ResampledLoops,
+    reversal_threshold,
+    split_cycles,
+)
+from idkit.signal.harmonics import (
+    fit_harmonics,
+    HarmonicFit,
+    hosidf,
+    HosidfResult,
+    input_flatness,
+    InputFlatness,
+    resonance_peak,
+)
+from idkit.signal.frf import (
+    estimate_frf,
+    FrfEstimate,
+)
+from idkit.signal.drop import (
+    DropResult,
+    impact_velocity_from_height,
+    process_drop,
+    STANDARD_GRAVITY,
+    zero_phase_moving_average,
+)
+from idkit.signal.srs import (
+    shock_response_spectrum,
+    ShockResponseSpectrum,
+    smallwood_coefficients,
+)
+from idkit.signal.psd import (
+    cumulative_rms,
+    output_psd,
+    PsdEstimate,
+    PsdProfile,
+    rms_from_psd,
+    synthesize_random,
+    welch_psd,
+)
+
+__all__ = [
+    "classify_amplitudes",
+    "cumulative_rms",
+    "CycleSplit",
+    "DropResult",
+    "estimate_frf",
+    "find_reversals",
+    "fit_harmonics",
+    "FrfEstimate",
+    "HarmonicFit",
+    "hosidf",
+    "HosidfResult",
+    "impact_velocity_from_height",
+    "input_flatness",
+    "InputFlatness",
+    "noise_level",
+    "output_psd",
+    "process_drop",
+    "PsdEstimate",
+    "PsdProfile",
+    "resample_loops",
+    "ResampledLoops",
+    "resonance_peak",
+    "reversal_threshold",
+    "rms_from_psd",
+    "shock_response_spectrum",
+    "ShockResponseSpectrum",
+    "smallwood_coefficients",
+    "split_cycles",
+    "STANDARD_GRAVITY",
+    "synthesize_random",
+    "welch_psd",
+    "zero_phase_moving_average",
+]
