@@ -16,6 +16,7 @@ from idkit.plot.basic import (
 
 from idkit.plot.fits import plot_error_landscape, plot_frf_fit, plot_loop_fit, plot_storage_loss, save_fit_plots
 from idkit.plot.validation import plot_drop_validation, plot_frf_validation, plot_harmonic_validation
+from idkit.plot.branches import plot_branch
 from idkit.plot.responses import (
     plot_complex_stiffness,
     plot_map_cross_sections,
@@ -33,5 +34,5 @@ __all__ = [
     "plot_map_surface", "plot_map_top_view", "plot_map_cross_sections", "plot_resonance_vs_amplitude",
     "plot_complex_stiffness", "plot_transmissibility", "plot_shock_sweep", "plot_shock_deflection",
     "plot_output_psd", "plot_loop_fit", "plot_frf_fit", "plot_storage_loss", "plot_error_landscape", "save_fit_plots",
-    "plot_harmonic_validation", "plot_frf_validation", "plot_drop_validation",
+    "plot_harmonic_validation", "plot_frf_validation", "plot_drop_validation", "plot_branch",
 ]
