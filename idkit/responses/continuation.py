@@ -32,8 +32,6 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from idkit.errors import SimulationError
-from idkit.simulate import default_steps_per_period
-from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS
 from idkit.responses.periodic import (
     PeriodMap,
     classify_multipliers,
@@ -41,8 +39,10 @@ from idkit.responses.periodic import (
     orbit_harmonics,
     periodic_response,
 )
+from idkit.simulate import default_steps_per_period
+from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS
 
-__all__ = ["Branch", "SpecialPoint", "continue_in_frequency", "continue_in_amplitude"]
+__all__ = ["Branch", "SpecialPoint", "continue_in_amplitude", "continue_in_frequency"]
 
 
 @dataclass(frozen=True)
@@ -244,7 +244,7 @@ class _Problem:
 def _tangent(g_z, g_p, previous):
     """Unit null vector of ``[g_z, g_p]`` (conserved directions held), oriented along ``previous``."""
     n = g_z.shape[0]
-    u, s, vt, null = conserved_directions(g_z)
+    u, _, _, null = conserved_directions(g_z)
     keep = np.setdiff1d(np.arange(n), null)
     extended = np.column_stack([g_z, g_p])
     rows = [u[:, keep].T @ extended]
@@ -270,7 +270,7 @@ def _correct(problem: _Problem, predicted, tangent, anchor, tolerance, max_itera
             return (y, (g, g_z, g_p, jacobian), iteration), FLAG_OK
         if iteration == max_iterations:
             return None, FLAG_OK
-        u, s, vt, null = conserved_directions(g_z)
+        u, _, _, null = conserved_directions(g_z)
         keep = np.setdiff1d(np.arange(n), null)
         extended = np.column_stack([g_z, g_p])
         rows = [u[:, keep].T @ extended]

@@ -32,8 +32,8 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from idkit.errors import SimulationError
-from idkit.simulate import harmonic_response
 from idkit.responses.periodic import periodic_response
+from idkit.simulate import harmonic_response
 
 __all__ = ["HarmonicMap", "harmonic_map", "parabolic_peak"]
 

@@ -49,10 +49,17 @@ from numpy.typing import ArrayLike, NDArray
 from idkit.errors import SimulationError
 from idkit.simulate import default_steps_per_period
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
-from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS, _initial_acceleration, _pack, _pack_states, _step
+from idkit.simulate._kernel import (
+    FLAG_OK,
+    FLAG_REASONS,
+    _initial_acceleration,
+    _pack,
+    _pack_states,
+    _step,
+)
 from idkit.simulate.harmonic import linear_initial_state
 
-__all__ = ["PeriodicResponse", "periodic_response", "period_map", "STABILITY_MARGIN"]
+__all__ = ["STABILITY_MARGIN", "PeriodicResponse", "period_map", "periodic_response"]
 
 #: Relative finite-difference step of the period-map Jacobian (times each state's scale).
 FD_STEP = 1e-6
@@ -630,7 +637,7 @@ def _solve_points(period_map, freq, amplitude, steps, guesses, flags, n_harmonic
             values = np.linalg.eigvals(shot.jacobian)
             multipliers[index] = values[np.argsort(-np.abs(values), kind="stable")]
             stable[index], instability[index] = classify_multipliers(values)
-    coefficients, deflection, half_range, peak, record_flags = orbit_harmonics(
+    coefficients, deflection, half_range, peak, _ = orbit_harmonics(
         period_map, freq, amplitude, np.where(converged[:, None], states, 0.0), steps, n_harmonics)
     for field in (coefficients, deflection, half_range, peak):
         field[~converged] = np.nan
