@@ -494,7 +494,7 @@ def continue_in_amplitude(system, freq: float, amplitude_range, *, start: float 
     --------
     >>> from idkit.models import library
     >>> branch = continue_in_amplitude(library.get("system_a1_asymmetric"), 20.0, (1e-4, 1e-3))
-    >>> bool(branch.success), branch.amplitude[-1] >= 1e-3
+    >>> bool(branch.success), bool(branch.amplitude[-1] >= 1e-3)
     (True, True)
     """
     return _continue(system, "amplitude", float(freq), amplitude_range, start, periods=periods,
