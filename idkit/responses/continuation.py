@@ -33,6 +33,7 @@ from numpy.typing import NDArray
 
 from idkit.errors import SimulationError
 from idkit.responses.periodic import (
+    NULL_TOLERANCE,
     PeriodMap,
     classify_multipliers,
     conserved_directions,
@@ -241,10 +242,21 @@ class _Problem:
         return phi_scaled - z, jacobian - np.eye(z.size), g_p, jacobian, flag
 
 
+def _conserved(g_z, g_p):
+    """Left singular vectors of ``g_z`` and the indices of its conserved directions: zero singular
+    values along which the parameter does not act either (``u . g_p = 0``). A zero singular value
+    with ``u . g_p != 0`` is a fold, where the arclength condition, not a constraint, closes the
+    system."""
+    u, _, _, null = conserved_directions(g_z)
+    scale = max(1.0, float(np.linalg.norm(g_p)))
+    null = np.array([k for k in null if abs(u[:, k] @ g_p) <= NULL_TOLERANCE * scale], dtype=int)
+    return u, null
+
+
 def _tangent(g_z, g_p, previous):
     """Unit null vector of ``[g_z, g_p]`` (conserved directions held), oriented along ``previous``."""
     n = g_z.shape[0]
-    u, _, _, null = conserved_directions(g_z)
+    u, null = _conserved(g_z, g_p)
     keep = np.setdiff1d(np.arange(n), null)
     extended = np.column_stack([g_z, g_p])
     rows = [u[:, keep].T @ extended]
@@ -270,7 +282,7 @@ def _correct(problem: _Problem, predicted, tangent, anchor, tolerance, max_itera
             return (y, (g, g_z, g_p, jacobian), iteration), FLAG_OK
         if iteration == max_iterations:
             return None, FLAG_OK
-        u, _, _, null = conserved_directions(g_z)
+        u, null = _conserved(g_z, g_p)
         keep = np.setdiff1d(np.arange(n), null)
         extended = np.column_stack([g_z, g_p])
         rows = [u[:, keep].T @ extended]
