@@ -341,7 +341,7 @@ def _special_points(parameter, p_values, tangent_p, multipliers, arclength, half
 
 
 def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_period, step, min_step, max_step,
-              max_points, n_harmonics, tolerance, initial_state, settle_periods) -> Branch:
+              max_points, n_harmonics, tolerance, initial_state, settle_periods, direction) -> Branch:
     low, high = (float(value) for value in bounds)
     unit = "Hz" if parameter == "freq" else "m"
     name = "freq_range" if parameter == "freq" else "amplitude_range"
@@ -350,9 +350,13 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
     if not (np.isfinite(fixed) and fixed > 0):
         raise SimulationError(f"{'amplitude' if parameter == 'freq' else 'freq'}: found {fixed!r}, expected a "
                               f"positive value in {'m' if parameter == 'freq' else 'Hz'}")
-    start = low if start is None else float(start)
+    if direction not in (1, -1):
+        raise SimulationError(f"direction: found {direction!r}, expected +1 (towards higher {parameter}) or -1")
+    start = (low if direction == 1 else high) if start is None else float(start)
     if not (low <= start <= high):
         raise SimulationError(f"start: found {start!r}, expected a value within {name} [{low:g}, {high:g}] {unit}")
+    if int(max_points) != max_points or max_points < 2:
+        raise SimulationError(f"max_points: found {max_points!r}, expected an integer >= 2")
     step = max_step / 5 if step is None else step
     if not (0 < min_step <= step <= max_step):
         raise SimulationError(f"step: found min_step={min_step!r}, step={step!r}, max_step={max_step!r}, "
@@ -383,7 +387,7 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
     z0 = first.states[0] / problem.scale(p0)
     g, g_z, g_p, jacobian, flag = problem.evaluate(z0, p0)
     y = np.append(z0, p0)
-    tangent = _tangent(g_z, g_p, np.append(np.zeros(z0.size), 1.0))
+    tangent = _tangent(g_z, g_p, np.append(np.zeros(z0.size), float(direction)))
     ys, tangents, jacobians, residuals = [y], [tangent], [jacobian], [float(np.max(np.abs(g)))]
     ds = step
     reason = "ok"
@@ -441,7 +445,8 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
 def continue_in_frequency(system, amplitude: float, freq_range, *, start: float | None = None, periods: int = 1,
                           steps_per_period: int | None = None, step: float | None = None, min_step: float = 1e-6,
                           max_step: float = 0.05, max_points: int = 400, n_harmonics: int = 3,
-                          tolerance: float = 1e-9, initial_state=None, settle_periods: int = 20) -> Branch:
+                          tolerance: float = 1e-9, initial_state=None, settle_periods: int = 20,
+                          direction: int = 1) -> Branch:
     """Branch of periodic responses over frequency at a fixed base amplitude.
 
     Parameters
@@ -452,8 +457,9 @@ def continue_in_frequency(system, amplitude: float, freq_range, *, start: float 
     freq_range : (float, float)
         Frequencies in Hz; the branch stops when it leaves this range (either end).
     start : float, optional
-        Start frequency in Hz (default the low end); the branch first moves towards higher
-        frequency.
+        Start frequency in Hz (default: the end of the range the branch leaves from).
+    direction : {1, -1}
+        The branch leaves the start towards higher (1) or lower (-1) frequency.
     periods : {1, 2}
         Orbits of one excitation period, or two (a 1/2 subharmonic branch; start it inside
         the period-doubling range).
@@ -490,13 +496,14 @@ def continue_in_frequency(system, amplitude: float, freq_range, *, start: float 
     return _continue(system, "freq", float(amplitude), freq_range, start, periods=periods,
                      steps_per_period=steps_per_period, step=step, min_step=min_step, max_step=max_step,
                      max_points=max_points, n_harmonics=n_harmonics, tolerance=tolerance,
-                     initial_state=initial_state, settle_periods=settle_periods)
+                     initial_state=initial_state, settle_periods=settle_periods, direction=direction)
 
 
 def continue_in_amplitude(system, freq: float, amplitude_range, *, start: float | None = None, periods: int = 1,
                           steps_per_period: int | None = None, step: float | None = None, min_step: float = 1e-6,
                           max_step: float = 0.2, max_points: int = 400, n_harmonics: int = 3,
-                          tolerance: float = 1e-9, initial_state=None, settle_periods: int = 20) -> Branch:
+                          tolerance: float = 1e-9, initial_state=None, settle_periods: int = 20,
+                          direction: int = 1) -> Branch:
     """Branch of periodic responses over base amplitude at a fixed frequency.
 
     Parameters are those of :func:`continue_in_frequency`, with ``freq`` (Hz) fixed and
@@ -512,5 +519,5 @@ def continue_in_amplitude(system, freq: float, amplitude_range, *, start: float 
     return _continue(system, "amplitude", float(freq), amplitude_range, start, periods=periods,
                      steps_per_period=steps_per_period, step=step, min_step=min_step, max_step=max_step,
                      max_points=max_points, n_harmonics=n_harmonics, tolerance=tolerance,
-                     initial_state=initial_state, settle_periods=settle_periods)
+                     initial_state=initial_state, settle_periods=settle_periods, direction=direction)
 

@@ -519,8 +519,9 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
     periods : {1, 2}
         Excitation periods of the sought orbit; 2 finds the 1/2 subharmonic (period doubling).
     initial_states : array_like (n_points, n_states), optional
-        Guesses at t = 0 (see :class:`PeriodMap` for the layout). Default: the linear
-        (small-amplitude) steady state, then ``settle_periods`` of time integration.
+        Starting states at t = 0 (layout: :class:`PeriodMap`); default the linear
+        (small-amplitude) steady state. Either is integrated over ``settle_periods`` before
+        Newton starts.
     settle_periods : int, default 20
         Excitation periods integrated from the guess before Newton starts.
     steps_per_period : int or array_like, optional
@@ -558,6 +559,10 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
         raise SimulationError(f"amplitude: found {amplitude[~(amplitude > 0)][:1]}, expected positive m")
     if not (np.isfinite(tolerance) and tolerance > 0):
         raise SimulationError(f"tolerance: found {tolerance!r}, expected a positive closing error")
+    if int(n_harmonics) != n_harmonics or n_harmonics < 1:
+        raise SimulationError(f"n_harmonics: found {n_harmonics!r}, expected an integer >= 1")
+    if int(settle_periods) != settle_periods or settle_periods < 0:
+        raise SimulationError(f"settle_periods: found {settle_periods!r}, expected an integer >= 0")
     if steps_per_period is None:
         steps = default_steps_per_period(period_map.system, freq)
     else:

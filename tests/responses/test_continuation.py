@@ -11,6 +11,7 @@ from idkit.responses.continuation import (
     continue_in_amplitude,
     continue_in_frequency,
 )
+from idkit.responses.periodic import periodic_response
 from idkit.simulate import harmonic_response
 
 MASS = 1.0  # kg
@@ -187,6 +188,21 @@ def test_report_table_and_bad_input(duffing_branch):
         continue_in_frequency(_duffing(), 1e-3, (4.0, 7.0), start=9.0)
     with pytest.raises(SimulationError, match="amplitude_range"):
         continue_in_amplitude(_duffing(), 5.0, (0.0, 1e-3))
+    with pytest.raises(SimulationError, match="direction"):
+        continue_in_frequency(_duffing(), 1e-3, (4.0, 7.0), direction=0)
+    with pytest.raises(SimulationError, match="max_points"):
+        continue_in_frequency(_duffing(), 1e-3, (4.0, 7.0), max_points=1)
+
+
+def test_a_branch_run_downwards_meets_the_same_solutions():
+    """From 4.5 Hz down to 4 Hz: the same (unique, stable) orbits as shooting point by point."""
+    downward = continue_in_frequency(_duffing(), BASE_AMPLITUDE, (4.0, 4.5), direction=-1, steps_per_period=STEPS)
+    assert downward.success and downward.freq[0] == 4.5 and downward.freq[-1] <= 4.0
+    assert np.all(np.diff(downward.freq) < 0)
+    inside = downward.freq >= 4.0
+    points = periodic_response(_duffing(), downward.freq[inside], BASE_AMPLITUDE, steps_per_period=STEPS)
+    # both closed to 1e-9 of the state scale: the same discrete orbits
+    assert np.allclose(downward.half_range[inside, 0], points.half_range[:, 0], rtol=1e-6, atol=0)
 
 
 def test_plot_branch_dashes_unstable_parts(duffing_branch):
