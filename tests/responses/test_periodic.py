@@ -150,3 +150,18 @@ def test_hybrid_with_maxwell_elements_is_shot():
                                 workers=1)
     error = np.abs(orbit.hosidf(1) - settled.hosidf(1)) / np.abs(settled.hosidf(1))
     assert error.max() < TIME_AGREEMENT
+
+
+def test_bouc_wen_orbit_is_the_time_integration_limit():
+    """Bouc-Wen z (advanced by Runge-Kutta sub-steps in the step) as a state of the period map."""
+    from idkit.models import BoucWenModel
+
+    isolator = BoucWenModel(k1=2e3, k2=1e4, k3=5e4, alpha=4e3, beta=3e3, gamma=1e3, n=1.0, b=1.5, c=5.0, c_visc=1.0)
+    system = SDOFSystem(2.0, isolator)
+    freq = np.array([3.0, 6.0, 20.0])
+    orbit = periodic_response(system, freq, 2e-3)
+    assert orbit.state_names == ("x1 [m]", "v1 [m/s]", "z1 [N]")
+    assert orbit.converged.all() and orbit.stable.all()
+    settled = harmonic_response(system, freq, 2e-3, tolerance=1e-8, start="linear", max_periods=40000, workers=1)
+    assert settled.converged.all()
+    assert np.max(np.abs(orbit.hosidf(1) / settled.hosidf(1) - 1)) < TIME_AGREEMENT
