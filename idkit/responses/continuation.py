@@ -341,7 +341,7 @@ def _special_points(parameter, p_values, tangent_p, multipliers, arclength, half
 
 
 def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_period, step, min_step, max_step,
-              max_points, n_harmonics, tolerance, initial_state, settle_periods, direction) -> Branch:
+              max_points, n_harmonics, tolerance, initial_state, settle_periods, direction, jacobian) -> Branch:
     low, high = (float(value) for value in bounds)
     unit = "Hz" if parameter == "freq" else "m"
     name = "freq_range" if parameter == "freq" else "amplitude_range"
@@ -361,7 +361,7 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
     if not (0 < min_step <= step <= max_step):
         raise SimulationError(f"step: found min_step={min_step!r}, step={step!r}, max_step={max_step!r}, "
                               "expected 0 < min_step <= step <= max_step")
-    period_map = PeriodMap(system, periods)
+    period_map = PeriodMap(system, periods, jacobian=jacobian)
     freq0, amplitude0 = (start, fixed) if parameter == "freq" else (fixed, start)
     if steps_per_period is None:
         lowest_freq = low if parameter == "freq" else fixed
@@ -371,6 +371,7 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
         if steps < 8 or steps % 2:
             raise SimulationError(f"steps_per_period: found {steps_per_period!r}, expected an even integer >= 8")
     first = periodic_response(period_map.system, freq0, amplitude0, periods=periods, steps_per_period=steps,
+                              jacobian=jacobian,
                               initial_states=None if initial_state is None else [initial_state],
                               settle_periods=settle_periods, n_harmonics=n_harmonics, tolerance=tolerance)
     if not first.converged[0]:
@@ -385,10 +386,10 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
     p_low, p_high = math.log(low), math.log(high)
     p0 = math.log(start)
     z0 = first.states[0] / problem.scale(p0)
-    g, g_z, g_p, jacobian, flag = problem.evaluate(z0, p0)
+    g, g_z, g_p, monodromy, flag = problem.evaluate(z0, p0)
     y = np.append(z0, p0)
     tangent = _tangent(g_z, g_p, np.append(np.zeros(z0.size), float(direction)))
-    ys, tangents, jacobians, residuals = [y], [tangent], [jacobian], [float(np.max(np.abs(g)))]
+    ys, tangents, jacobians, residuals = [y], [tangent], [monodromy], [float(np.max(np.abs(g)))]
     ds = step
     reason = "ok"
     success = True
@@ -407,12 +408,12 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
                 success = False
                 break
             continue
-        y_new, (g, g_z, g_p, jacobian), iterations = outcome
+        y_new, (g, g_z, g_p, monodromy), iterations = outcome
         tangent = _tangent(g_z, g_p, tangent)
         y = y_new
         ys.append(y)
         tangents.append(tangent)
-        jacobians.append(jacobian)
+        jacobians.append(monodromy)
         residuals.append(float(np.max(np.abs(g))))
         if iterations <= 3:
             ds = min(ds * 1.5, max_step)
@@ -446,7 +447,7 @@ def continue_in_frequency(system, amplitude: float, freq_range, *, start: float 
                           steps_per_period: int | None = None, step: float | None = None, min_step: float = 1e-6,
                           max_step: float = 0.05, max_points: int = 400, n_harmonics: int = 3,
                           tolerance: float = 1e-9, initial_state=None, settle_periods: int = 20,
-                          direction: int = 1) -> Branch:
+                          direction: int = 1, jacobian: str = "auto") -> Branch:
     """Branch of periodic responses over frequency at a fixed base amplitude.
 
     Parameters
@@ -481,6 +482,8 @@ def continue_in_frequency(system, amplitude: float, freq_range, *, start: float 
         Guess at t = 0 for the start point (default: linear start and ``settle_periods``).
     settle_periods : int
         Time integration before shooting the start point.
+    jacobian : {"auto", "exact", "finite differences"}
+        Jacobian of the period map (:func:`~idkit.responses.periodic.periodic_response`).
 
     Returns
     -------
@@ -496,14 +499,15 @@ def continue_in_frequency(system, amplitude: float, freq_range, *, start: float 
     return _continue(system, "freq", float(amplitude), freq_range, start, periods=periods,
                      steps_per_period=steps_per_period, step=step, min_step=min_step, max_step=max_step,
                      max_points=max_points, n_harmonics=n_harmonics, tolerance=tolerance,
-                     initial_state=initial_state, settle_periods=settle_periods, direction=direction)
+                     initial_state=initial_state, settle_periods=settle_periods, direction=direction,
+                     jacobian=jacobian)
 
 
 def continue_in_amplitude(system, freq: float, amplitude_range, *, start: float | None = None, periods: int = 1,
                           steps_per_period: int | None = None, step: float | None = None, min_step: float = 1e-6,
                           max_step: float = 0.2, max_points: int = 400, n_harmonics: int = 3,
                           tolerance: float = 1e-9, initial_state=None, settle_periods: int = 20,
-                          direction: int = 1) -> Branch:
+                          direction: int = 1, jacobian: str = "auto") -> Branch:
     """Branch of periodic responses over base amplitude at a fixed frequency.
 
     Parameters are those of :func:`continue_in_frequency`, with ``freq`` (Hz) fixed and
@@ -519,5 +523,6 @@ def continue_in_amplitude(system, freq: float, amplitude_range, *, start: float 
     return _continue(system, "amplitude", float(freq), amplitude_range, start, periods=periods,
                      steps_per_period=steps_per_period, step=step, min_step=min_step, max_step=max_step,
                      max_points=max_points, n_harmonics=n_harmonics, tolerance=tolerance,
-                     initial_state=initial_state, settle_periods=settle_periods, direction=direction)
+                     initial_state=initial_state, settle_periods=settle_periods, direction=direction,
+                     jacobian=jacobian)
 

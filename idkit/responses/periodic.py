@@ -15,15 +15,22 @@ Bouc-Wen ``z`` in N. Accelerations follow from equilibrium.
 
 Newton's method solves ``Phi(x) - x = 0`` in scaled variables (displacements over the
 response scale ``L``, velocities over ``omega L``, Jenkin forces over ``min(Fc, k L)``,
-Maxwell elongations over ``L``, Bouc-Wen ``z`` over ``alpha L``) with the Jacobian of the
-period map from **central finite differences**, each state perturbed by ``1e-6`` of its
-scale. Why finite differences: the map is piecewise smooth (the stop operator clips),
-and a perturbation of 1e-6 crosses a stick/slip switch only for orbits grazing one, where
-the central difference returns the average of the two one-sided slopes, still a good Newton
-direction. The truncation error is ``O(1e-12)`` and the round-off error about the step's
-Newton tolerance (1e-13 relative) over the step, ``1e-7``: the multipliers are good to
-about 1e-6 (tests compare a linear system's multipliers with the eigenvalues of the Newmark
-amplification matrix). All ``2 n + 1`` integrations of one Jacobian run as one compiled batch.
+Maxwell elongations over ``L``, Bouc-Wen ``z`` over ``alpha L``). The Jacobian of the period
+map (the monodromy matrix) is, by default, **propagated through the step**
+(:mod:`idkit.responses._sensitivity`: implicit function theorem on the converged Newmark
+step, derivatives of the exact Jenkin and Maxwell updates), exact for the discrete map
+except exactly on a stick/slip switch. Systems with Bouc-Wen elements (and
+``jacobian="finite differences"``) use **central finite differences**, each state perturbed by
+``FD_STEP = 1e-6`` of its scale: the map is piecewise smooth (the stop operator clips), a
+perturbation of 1e-6 crosses a stick/slip switch only for orbits grazing one, where the
+central difference returns the average of the two one-sided slopes (still a good Newton
+direction); truncation error ``O(1e-12)``, round-off about the step's Newton tolerance
+(1e-13 relative) over the perturbation, ``1e-7``. The ``2 n + 1`` integrations of one
+difference Jacobian run as one compiled batch. Tests: multipliers of a linear system against
+the eigenvalues of the Newmark amplification matrix (1e-11 propagated, 1e-6 by differences),
+and both Jacobians against each other on slipping, sticking and Maxwell systems. The
+derivative with respect to frequency or amplitude (continuation) is always a central
+difference in the logarithm of the parameter.
 
 Friction memory: while Jenkin elements stick, ``F_i - k_i y`` is conserved, so periodic
 orbits come in families (a Floquet multiplier exactly 1) and ``I - dPhi/dx`` is singular.
@@ -47,6 +54,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from idkit.errors import SimulationError
+from idkit.responses._sensitivity import run_period_tangent
 from idkit.simulate import default_steps_per_period
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
 from idkit.simulate._kernel import (
@@ -64,6 +72,7 @@ __all__ = ["STABILITY_MARGIN", "PeriodicResponse", "period_map", "periodic_respo
 #: Relative finite-difference step of the period-map Jacobian (times each state's scale).
 FD_STEP = 1e-6
 #: A multiplier is unstable when ``|mu| > 1 + STABILITY_MARGIN`` (100x the finite-difference error).
+#: The neutral multipliers of sticking friction memory sit at 1 within that error.
 STABILITY_MARGIN = 1e-4
 #: Singular values of the scaled ``I - dPhi/dx`` below this are conserved quantities (friction memory).
 NULL_TOLERANCE = 1e-5
@@ -144,7 +153,7 @@ class PeriodMap:
         isolator 1 is the one below the top mass.
     """
 
-    def __init__(self, system, periods: int = 1):
+    def __init__(self, system, periods: int = 1, *, jacobian: str = "auto"):
         self.system = resolve_system(system)
         self.arrays = system_arrays(self.system)
         if int(periods) not in (1, 2):
@@ -163,6 +172,21 @@ class PeriodMap:
         self.state_names = tuple(names)
         self.size = len(names)
         self._kernel_arrays = arrays.as_tuple()
+        if jacobian not in ("auto", "exact", "finite differences"):
+            raise SimulationError(f"jacobian: found {jacobian!r}, expected 'auto', 'exact' or 'finite differences'")
+        if jacobian == "exact" and self.boucwen.size:
+            raise SimulationError("jacobian: found 'exact' for a system with Bouc-Wen elements, expected "
+                                  "'finite differences' (z is not differentiated through its sub-steps)")
+        self.jacobian_method = ("finite differences" if jacobian == "finite differences" or self.boucwen.size
+                                else "exact")
+        nj, nm = arrays.jk.shape[1], arrays.mk.shape[1]
+        jenkin_flat = [j * nj + i for j, i in self.jenkin]
+        maxwell_flat = [j * nm + i for j, i in self.maxwell]
+        # rows and columns of the compiled tangent (see idkit.responses._sensitivity) in packed order
+        self._tangent_rows = np.array(list(range(2 * ndof)) + [3 * ndof + k for k in jenkin_flat]
+                                      + [3 * ndof + ndof * nj + k for k in maxwell_flat], dtype=int)
+        self._tangent_columns = np.array(list(range(2 * ndof)) + [2 * ndof + k for k in jenkin_flat]
+                                         + [2 * ndof + ndof * nj + k for k in maxwell_flat], dtype=int)
 
     # -- packing -----------------------------------------------------------------------------
     def pack(self, q, v, jforce, mstate, bwz) -> NDArray[np.float64]:
@@ -242,6 +266,8 @@ class PeriodMap:
         ``jacobian[i, k] = d(Phi_i / s_i) / d(x_k / s_k)``, and, when ``parameter`` is
         ``"freq"`` or ``"amplitude"``, ``d(Phi_i / s_i) / d ln(parameter)`` (else None).
         """
+        if self.jacobian_method == "exact":
+            return self._exact_jacobian(freq, amplitude, state, scale, steps_per_period, parameter)
         n = self.size
         perturbation = FD_STEP * scale
         members = [state]
@@ -268,6 +294,29 @@ class PeriodMap:
         if parameter is not None:
             derivative = (end[-2] - end[-1]) / (2.0 * FD_STEP) / scale
         return phi, jacobian, derivative, flag
+
+
+    def _exact_jacobian(self, freq, amplitude, state, scale, steps_per_period, parameter):
+        """As :meth:`jacobian`, the state derivatives propagated through the step
+        (:func:`idkit.responses._sensitivity.run_period_tangent`); the parameter derivative by
+        central differences of ``ln(parameter)`` (step :data:`FD_STEP`)."""
+        q, v, jforce, mstate, _ = self.unpack(state[None])
+        force_level = force_scale(self.arrays, amplitude * (2 * np.pi * freq) ** 2)
+        q_end, v_end, j_end, m_end, flag, tangent = run_period_tangent(
+            *self._kernel_arrays, float(freq), float(amplitude), int(steps_per_period), self.periods, force_level,
+            np.ascontiguousarray(q[0]), np.ascontiguousarray(v[0]), np.ascontiguousarray(jforce[0]),
+            np.ascontiguousarray(mstate[0]))
+        phi = self.pack(q_end[None], v_end[None], j_end[None], m_end[None], np.zeros((1, self.ndof)))[0]
+        jacobian = tangent[np.ix_(self._tangent_rows, self._tangent_columns)] * scale[None, :] / scale[:, None]
+        derivative = None
+        if parameter is not None and flag == FLAG_OK:
+            factors = np.exp([FD_STEP, -FD_STEP])
+            freqs = freq * factors if parameter == "freq" else np.full(2, freq)
+            amplitudes = amplitude * factors if parameter == "amplitude" else np.full(2, amplitude)
+            end, flags, _, _ = self.run(freqs, amplitudes, np.array([state, state]), steps_per_period)
+            flag = int(flags.max())
+            derivative = (end[0] - end[1]) / (2.0 * FD_STEP) / scale
+        return phi, jacobian, derivative, int(flag)
 
 
 def conserved_directions(matrix):
@@ -508,7 +557,7 @@ def settle(period_map: PeriodMap, freq, amplitude, steps_per_period, n_periods: 
 def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods: int = 1, initial_states=None,
                       settle_periods: int = 20, steps_per_period=None, n_harmonics: int = 3,
                       tolerance: float = 1e-9, max_iterations: int = 30,
-                      seek_stable: bool | None = None) -> PeriodicResponse:
+                      seek_stable: bool | None = None, jacobian: str = "auto") -> PeriodicResponse:
     """Periodic steady states of ``system`` under ``x_b = A sin(2 pi f t)`` by shooting.
 
     Parameters
@@ -537,6 +586,9 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
         shoot again, keeping the first stable orbit: the attractor a long time integration
         would reach. Default: only for ``periods=2``, where the doubled period-1 orbit inside a
         period-doubling tongue is such an unstable fixed point next to the subharmonic.
+    jacobian : {"auto", "exact", "finite differences"}
+        Jacobian of the period map: propagated through the step (``"exact"``; "auto" uses it
+        unless the system has Bouc-Wen elements) or by central differences (module docstring).
 
     Returns
     -------
@@ -549,7 +601,7 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
     >>> bool(orbit.converged[0]), bool(orbit.stable[0])
     (True, True)
     """
-    period_map = PeriodMap(system, periods)
+    period_map = PeriodMap(system, periods, jacobian=jacobian)
     freq, amplitude = np.broadcast_arrays(np.atleast_1d(np.asarray(freq, dtype=float)),
                                           np.atleast_1d(np.asarray(amplitude, dtype=float)))
     freq, amplitude = freq.ravel().copy(), amplitude.ravel().copy()

@@ -12,6 +12,9 @@ from idkit.simulate import harmonic_response
 # Multipliers from central differences with a step of 1e-6 of each state's scale: truncation
 # O(1e-12), round-off about the step's Newton tolerance over the perturbation, 1e-13 / 1e-6.
 MULTIPLIER_TOLERANCE = 1e-6
+# Sensitivities propagated through the step: the matrix power of the amplification matrix,
+# accumulated over up to 1800 steps in a different order; round-off ~ steps x 1e-16.
+EXACT_MULTIPLIER_TOLERANCE = 1e-11
 # Time integration run to a window change of 1e-8 (its geometric tail included) against an
 # orbit closed to 1e-9 of its scale, same steps: both are the same discrete steady state.
 TIME_AGREEMENT = 1e-5
@@ -29,10 +32,12 @@ def _newmark_monodromy(mass, stiffness, damping, step, n_steps):
     return np.linalg.matrix_power(np.linalg.solve(left, right), n_steps)
 
 
-def test_linear_multipliers_are_the_newmark_amplification_eigenvalues():
+@pytest.mark.parametrize("jacobian, tolerance", [("exact", EXACT_MULTIPLIER_TOLERANCE),
+                                                 ("finite differences", MULTIPLIER_TOLERANCE)])
+def test_linear_multipliers_are_the_newmark_amplification_eigenvalues(jacobian, tolerance):
     system = _voigt_system()
     freq = np.array([2.0, 5.0, 40.0])
-    orbit = periodic_response(system, freq, 1e-3)
+    orbit = periodic_response(system, freq, 1e-3, jacobian=jacobian)
     assert orbit.converged.all() and orbit.stable.all()
     assert np.max(orbit.residual) < 1e-9
     for index, f in enumerate(freq):
@@ -40,7 +45,7 @@ def test_linear_multipliers_are_the_newmark_amplification_eigenvalues():
         exact = np.linalg.eigvals(_newmark_monodromy(system.mass, system.isolator.k, system.isolator.damping,
                                                      1.0 / (f * steps), steps))
         found = orbit.multipliers[index]
-        assert np.max(np.abs(np.sort_complex(found) - np.sort_complex(exact))) < MULTIPLIER_TOLERANCE
+        assert np.max(np.abs(np.sort_complex(found) - np.sort_complex(exact))) < tolerance
 
 
 def test_voigt_orbit_is_the_time_integration_limit():
@@ -165,3 +170,28 @@ def test_bouc_wen_orbit_is_the_time_integration_limit():
     settled = harmonic_response(system, freq, 2e-3, tolerance=1e-8, start="linear", max_periods=40000, workers=1)
     assert settled.converged.all()
     assert np.max(np.abs(orbit.hosidf(1) / settled.hosidf(1) - 1)) < TIME_AGREEMENT
+
+
+@pytest.mark.parametrize("name, freq, amplitude", [("system_a1_asymmetric", 5.0, 3e-3),
+                                                   ("system_a1_asymmetric", 20.0, 1e-3),
+                                                   ("hybrid_asymmetric", 4.0, 1e-3)])
+def test_step_sensitivities_agree_with_finite_differences(name, freq, amplitude):
+    """The Jacobian propagated through the step (slipping and sticking Jenkin elements, Maxwell
+    elements) against central differences, whose own error is about 1e-7 (module docstring)."""
+    from idkit.responses.periodic import PeriodMap
+
+    system = library.get(name)
+    orbit = periodic_response(system, freq, amplitude)
+    exact, differences = PeriodMap(system), PeriodMap(system, jacobian="finite differences")
+    assert exact.jacobian_method == "exact"
+    scale = exact.scales(freq, amplitude, orbit.half_range[0].max())[0]
+    steps = int(orbit.steps_per_period[0])
+    phi, jacobian, derivative, flag = exact.jacobian(freq, amplitude, orbit.states[0], scale, steps, parameter="freq")
+    phi_fd, jacobian_fd, derivative_fd, flag_fd = differences.jacobian(freq, amplitude, orbit.states[0], scale, steps,
+                                                                       parameter="freq")
+    assert flag == flag_fd == 0
+    assert np.array_equal(phi, phi_fd)
+    assert np.max(np.abs(jacobian - jacobian_fd)) < 10 * MULTIPLIER_TOLERANCE * max(1.0, np.abs(jacobian).max())
+    assert np.allclose(derivative, derivative_fd, rtol=0, atol=1e-12)
+    with pytest.raises(SimulationError, match="jacobian"):
+        PeriodMap(system, jacobian="analytic")
