@@ -13,17 +13,16 @@ here: systems with Bouc-Wen elements use finite differences.
 
 Tangent layout (rows): ``q (ndof), v (ndof), a (ndof), F (ndof x nj), u (ndof x nm)``;
 columns: the independent initial values ``q, v, F, u`` (the initial acceleration follows from
-equilibrium).
+equilibrium). The functions here never call the step itself: the period-map kernel
+(:func:`idkit.responses.periodic._run_periods`) calls them around it, so that the (large,
+inlined) step is compiled once.
 """
 
 from __future__ import annotations
 
-import math
-
 import numba
 import numpy as np
 
-from idkit.simulate._kernel import FLAG_OK, _initial_acceleration, _pack, _pack_states, _step
 
 
 @numba.njit(cache=True, inline="always")
@@ -31,53 +30,28 @@ def _poly_slope(P, j, y):
     return P[j, 0, 0] + y * (2.0 * P[j, 0, 1] + 3.0 * P[j, 0, 2] * y)
 
 
-@numba.njit(cache=True, nogil=True)
-def run_period_tangent(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplitude, steps_per_period, n_periods,
-                       scale, q0, v0, jforce0, mstate0):
-    """One member over ``n_periods``: end state and its derivative with respect to the start.
+def tangent_shape(ndof, nj, nm):
+    """``(n_rows, n_cols)`` of the tangent for ``ndof`` masses, ``nj`` Jenkin and ``nm`` Maxwell slots."""
+    return 3 * ndof + ndof * (nj + nm), 2 * ndof + ndof * (nj + nm)
 
-    Parameters as :func:`idkit.responses.periodic._run_periods` for one member (``q0, v0``:
-    (ndof,), ``jforce0``: (ndof, nj), ``mstate0``: (ndof, nm)); no Bouc-Wen elements.
 
-    Returns
-    -------
-    q, v, jforce, mstate : end state; flag : int; tangent : (n_rows, n_cols) with the layout
-    of the module docstring (rows of ``a`` included).
-    """
-    ndof = masses.shape[0]
-    nj = jk.shape[1]
-    nm = mk.shape[1]
-    m0 = masses[0]
-    m1 = masses[1] if ndof == 2 else 1.0
+@numba.njit(cache=True)
+def tangent_start(ndof, masses, P, state, tangent, nj, nm):
+    """Identity on the independent initial values; acceleration rows from equilibrium at t = 0
+    (``a0 = -f0 / m0``, ``a1 = (f0 - f1) / m1``, base at rest at zero)."""
     row_a = 2 * ndof
     row_f = 3 * ndof
     row_u = 3 * ndof + ndof * nj
-    n_rows = row_u + ndof * nm
-    n_cols = 2 * ndof + ndof * (nj + nm)
-    omega = 2.0 * math.pi * freq
-    h = 1.0 / (freq * steps_per_period)
-    c2 = 2.0 / h
-    c4 = c2 * c2
-    P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, h)
-    state = np.zeros(6)
-    for d in range(ndof):
-        state[d] = q0[d]
-        state[2 + d] = v0[d]
-    S = _pack_states(P, jforce0, mstate0, np.zeros(ndof))
-    _initial_acceleration(ndof, masses, state, 0.0, 0.0, amplitude * omega, P, S)
-    tangent = np.zeros((n_rows, n_cols))
+    n_cols = tangent.shape[1]
+    tangent[:, :] = 0.0
     for d in range(ndof):
         tangent[d, d] = 1.0
         tangent[ndof + d, ndof + d] = 1.0
     for k in range(ndof * (nj + nm)):
         tangent[row_f + k, 2 * ndof + k] = 1.0
-    # initial accelerations from equilibrium: a0 = -f0 / m0, a1 = (f0 - f1) / m1
     slope = np.zeros(2)
     for j in range(ndof):
-        if ndof == 2 and j == 0:
-            y = state[0] - state[1]
-        else:
-            y = state[j] - 0.0
+        y = state[0] - state[1] if (ndof == 2 and j == 0) else state[j]
         slope[j] = _poly_slope(P, j, y)
     df = np.zeros(2)
     for c in range(n_cols):
@@ -94,116 +68,100 @@ def run_period_tangent(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplit
             for i in range(int(P[j, 0, 6])):
                 value += P[j, 3, i] * tangent[row_u + j * nm + i, c]
             df[j] = value
-        tangent[row_a, c] = -df[0] / m0
+        tangent[row_a, c] = -df[0] / masses[0]
         if ndof == 2:
-            tangent[row_a + 1, c] = (df[0] - df[1]) / m1
-    old_force = np.zeros((ndof, max(nj, 1)))
-    stuck = np.zeros((ndof, max(nj, 1)))
-    stiff = np.zeros(2)  # K_j = sum of stuck k + mgsum: d f / d(dy)
-    old_q = np.zeros(2)
-    r = np.zeros(2)
+            tangent[row_a + 1, c] = (df[0] - df[1]) / masses[1]
+
+
+@numba.njit(cache=True)
+def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h, tangent, nj, nm):
+    """Carry the tangent over one converged step.
+
+    ``state`` holds the new positions (``[q0, q1, ...]``), ``old_q`` and ``old_force`` the
+    positions (m) and Jenkin forces (N) before the step, ``base_old``/``base_new`` the base
+    displacement (m) at its ends, ``h`` the step (s).
+    """
+    m0 = masses[0]
+    m1 = masses[1] if ndof == 2 else 1.0
+    row_a = 2 * ndof
+    row_f = 3 * ndof
+    row_u = 3 * ndof + ndof * nj
+    n_cols = tangent.shape[1]
+    c2 = 2.0 / h
+    c4 = c2 * c2
+    slope = np.zeros(2)
+    stiff = np.zeros(2)  # d f / d(dy): stuck Jenkin stiffnesses + Maxwell gains
+    stuck = np.zeros((2, max(nj, 1)))
+    for j in range(ndof):
+        if ndof == 2 and j == 0:
+            y = state[0] - state[1]
+            step_dy = y - (old_q[0] - old_q[1])
+        elif ndof == 2:
+            y = state[1] - base_new
+            step_dy = (state[1] - old_q[1]) - (base_new - base_old)
+        else:
+            y = state[0] - base_new
+            step_dy = (state[0] - old_q[0]) - (base_new - base_old)
+        slope[j] = _poly_slope(P, j, y)
+        total = P[j, 0, 4]
+        for i in range(int(P[j, 0, 5])):
+            trial = old_force[j, i] + P[j, 1, i] * step_dy
+            if -P[j, 2, i] <= trial <= P[j, 2, i]:  # the kernel's stick test
+                stuck[j, i] = 1.0
+                total += P[j, 1, i]
+        stiff[j] = total
+    t0 = slope[0] + P[0, 0, 3] * c2 + stiff[0]
+    j00 = c4 * m0 + t0
+    j01 = 0.0
+    j11 = 1.0
+    if ndof == 2:
+        j01 = -t0
+        j11 = c4 * m1 + t0 + slope[1] + P[1, 0, 3] * c2 + stiff[1]
+    det = j00 * j11 - j01 * j01
     dq = np.zeros(2)
     dqn = np.zeros(2)
     dvn = np.zeros(2)
     dan = np.zeros(2)
     ddy = np.zeros(2)
-    flag = FLAG_OK
-    for n in range(steps_per_period * n_periods):
-        base_old = amplitude * math.sin(omega * n * h)
-        phase = omega * (n + 1) * h
-        base_new = amplitude * math.sin(phase)
-        for j in range(ndof):
-            for i in range(nj):
-                old_force[j, i] = S[j, 0, i]
-        old_q[0] = state[0]
-        old_q[1] = state[1]
-        flag = _step(ndof, m0, m1, state, h, 0.0, base_old, base_new, amplitude * omega * math.cos(phase), P, S,
-                     scale)
-        if flag != FLAG_OK:
-            break
-        # step coefficients at the converged positions
+    df = np.zeros(2)
+    for c in range(n_cols):
+        for d in range(ndof):
+            dqn[d] = tangent[d, c]
+            dvn[d] = tangent[ndof + d, c]
+            dan[d] = tangent[row_a + d, c]
+        # change of the residual M a + f by the old values, new positions held
         for j in range(ndof):
             if ndof == 2 and j == 0:
-                y = state[0] - state[1]
-                step_dy = y - (old_q[0] - old_q[1])
-            elif ndof == 2:
-                y = state[1] - base_new
-                step_dy = (state[1] - old_q[1]) - (base_new - base_old)
+                ddy[j] = -(dqn[0] - dqn[1])
+                dvrel = -(c2 * dqn[0] + dvn[0]) + (c2 * dqn[1] + dvn[1])
             else:
-                y = state[0] - base_new
-                step_dy = (state[0] - old_q[0]) - (base_new - base_old)
-            slope[j] = _poly_slope(P, j, y)
-            total = P[j, 0, 4]
+                ddy[j] = -dqn[j]
+                dvrel = -(c2 * dqn[j] + dvn[j])
+            value = P[j, 0, 3] * dvrel + stiff[j] * ddy[j]
             for i in range(int(P[j, 0, 5])):
-                trial = old_force[j, i] + P[j, 1, i] * step_dy
-                if -P[j, 2, i] <= trial <= P[j, 2, i]:
-                    stuck[j, i] = 1.0
-                    total += P[j, 1, i]
-                else:
-                    stuck[j, i] = 0.0
-            stiff[j] = total
-        t0 = slope[0] + P[0, 0, 3] * c2 + stiff[0]
-        if ndof == 1:
-            j00 = c4 * m0 + t0
-            j01 = 0.0
-            j11 = 1.0
+                value += stuck[j, i] * tangent[row_f + j * nj + i, c]
+            for i in range(int(P[j, 0, 6])):
+                value += P[j, 3, i] * P[j, 4, i] * tangent[row_u + j * nm + i, c]
+            df[j] = value
+        r0 = -m0 * (c4 * dqn[0] + 2.0 * c2 * dvn[0] + dan[0]) + df[0]
+        if ndof == 2:
+            r1 = -m1 * (c4 * dqn[1] + 2.0 * c2 * dvn[1] + dan[1]) - df[0] + df[1]
+            dq[0] = -(j11 * r0 - j01 * r1) / det
+            dq[1] = -(j00 * r1 - j01 * r0) / det
         else:
-            t1 = slope[1] + P[1, 0, 3] * c2 + stiff[1]
-            j00 = c4 * m0 + t0
-            j01 = -t0
-            j11 = c4 * m1 + t0 + t1
-        det = j00 * j11 - j01 * j01
-        for c in range(n_cols):
-            for d in range(ndof):
-                dqn[d] = tangent[d, c]
-                dvn[d] = tangent[ndof + d, c]
-                dan[d] = tangent[row_a + d, c]
-            # residual change of the old values at fixed new positions
-            for j in range(ndof):
-                if ndof == 2 and j == 0:
-                    ddy[j] = -(dqn[0] - dqn[1])
-                    dvrel = -(c2 * dqn[0] + dvn[0]) + (c2 * dqn[1] + dvn[1])
-                else:
-                    ddy[j] = -dqn[j]
-                    dvrel = -(c2 * dqn[j] + dvn[j])
-                value = P[j, 0, 3] * dvrel + stiff[j] * ddy[j]
-                for i in range(int(P[j, 0, 5])):
-                    value += stuck[j, i] * tangent[row_f + j * nj + i, c]
-                for i in range(int(P[j, 0, 6])):
-                    value += P[j, 3, i] * P[j, 4, i] * tangent[row_u + j * nm + i, c]
-                df[j] = value
-            r[0] = -m0 * (c4 * dqn[0] + 2.0 * c2 * dvn[0] + dan[0]) + df[0]
-            if ndof == 2:
-                r[1] = -m1 * (c4 * dqn[1] + 2.0 * c2 * dvn[1] + dan[1]) - df[0] + df[1]
-                dq[0] = -(j11 * r[0] - j01 * r[1]) / det
-                dq[1] = -(j00 * r[1] - j01 * r[0]) / det
-            else:
-                dq[0] = -r[0] / j00
-            for d in range(ndof):
-                tangent[d, c] = dq[d]
-                tangent[ndof + d, c] = c2 * (dq[d] - dqn[d]) - dvn[d]
-                tangent[row_a + d, c] = c4 * (dq[d] - dqn[d]) - 2.0 * c2 * dvn[d] - dan[d]
-            for j in range(ndof):
-                if ndof == 2 and j == 0:
-                    ddy[j] = (dq[0] - dq[1]) - (dqn[0] - dqn[1])
-                else:
-                    ddy[j] = dq[j] - dqn[j]
-                for i in range(int(P[j, 0, 5])):
-                    index = row_f + j * nj + i
-                    tangent[index, c] = stuck[j, i] * (tangent[index, c] + P[j, 1, i] * ddy[j])
-                for i in range(int(P[j, 0, 6])):
-                    index = row_u + j * nm + i
-                    tangent[index, c] = P[j, 4, i] * tangent[index, c] + P[j, 5, i] * ddy[j]
-    q_end = np.full(ndof, np.nan)
-    v_end = np.full(ndof, np.nan)
-    j_end = np.full((ndof, nj), np.nan)
-    m_end = np.full((ndof, nm), np.nan)
-    if flag == FLAG_OK:
+            dq[0] = -r0 / j00
         for d in range(ndof):
-            q_end[d] = state[d]
-            v_end[d] = state[2 + d]
-            for i in range(nj):
-                j_end[d, i] = S[d, 0, i]
-            for i in range(nm):
-                m_end[d, i] = S[d, 1, i]
-    return q_end, v_end, j_end, m_end, flag, tangent
+            tangent[d, c] = dq[d]
+            tangent[ndof + d, c] = c2 * (dq[d] - dqn[d]) - dvn[d]
+            tangent[row_a + d, c] = c4 * (dq[d] - dqn[d]) - 2.0 * c2 * dvn[d] - dan[d]
+        for j in range(ndof):
+            if ndof == 2 and j == 0:
+                ddy[j] = (dq[0] - dq[1]) - (dqn[0] - dqn[1])
+            else:
+                ddy[j] = dq[j] - dqn[j]
+            for i in range(int(P[j, 0, 5])):
+                index = row_f + j * nj + i
+                tangent[index, c] = stuck[j, i] * (tangent[index, c] + P[j, 1, i] * ddy[j])
+            for i in range(int(P[j, 0, 6])):
+                index = row_u + j * nm + i
+                tangent[index, c] = P[j, 4, i] * tangent[index, c] + P[j, 5, i] * ddy[j]

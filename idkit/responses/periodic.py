@@ -54,7 +54,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from idkit.errors import SimulationError
-from idkit.responses._sensitivity import run_period_tangent
+from idkit.responses._sensitivity import tangent_start, tangent_step
 from idkit.simulate import default_steps_per_period
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
 from idkit.simulate._kernel import (
@@ -80,15 +80,19 @@ NULL_TOLERANCE = 1e-5
 
 @numba.njit(cache=True, nogil=True)
 def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplitude, steps_per_period, n_periods,
-                 scale, q0, v0, jforce0, mstate0, bwz0, n_record):
+                 scale, q0, v0, jforce0, mstate0, bwz0, n_record, with_tangent):
     """Integrate each member over ``n_periods`` excitation periods from its state at t = 0.
 
     Same base motion and step as :func:`idkit.simulate._kernel.run_harmonic_batch`. Returns the
-    end states ``(q, v, jforce, mstate, bwz)``, ``flags`` and, over the first ``n_record``
-    steps, the absolute mass displacements (m) and top acceleration (m/s^2) at each step start.
+    end states ``(q, v, jforce, mstate, bwz)``, ``flags``, over the first ``n_record`` steps the
+    absolute mass displacements (m) and top acceleration (m/s^2) at each step start, and, if
+    ``with_tangent``, the derivative of the end state with respect to the start
+    (:mod:`idkit.responses._sensitivity`; no Bouc-Wen), else an empty array.
     """
     batch = freq.shape[0]
     ndof = masses.shape[0]
+    nj = jk.shape[1]
+    nm = mk.shape[1]
     m0 = masses[0]
     m1 = masses[1] if ndof == 2 else 1.0
     q_end = np.full((batch, ndof), np.nan)
@@ -99,6 +103,11 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplitude, s
     rec_q = np.full((batch, ndof, n_record), np.nan)
     rec_a = np.full((batch, n_record), np.nan)
     flags = np.zeros(batch, dtype=np.int64)
+    n_rows = 3 * ndof + ndof * (nj + nm) if with_tangent else 0
+    n_cols = 2 * ndof + ndof * (nj + nm) if with_tangent else 0
+    tangents = np.zeros((batch, n_rows, n_cols))
+    old_q = np.zeros(2)
+    old_force = np.zeros((ndof, max(nj, 1)))
     for b in range(batch):
         omega = 2.0 * math.pi * freq[b]
         n_per = steps_per_period[b]
@@ -111,6 +120,8 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplitude, s
             state[2 + d] = v0[b, d]
         S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
         _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
+        if with_tangent:
+            tangent_start(ndof, masses, P, state, tangents[b], nj, nm)
         flag = FLAG_OK
         for n in range(n_per * n_periods):
             if n < n_record:
@@ -119,10 +130,18 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplitude, s
                 rec_a[b, n] = state[4]
             base = amp * math.sin(omega * n * h)
             phase = omega * (n + 1) * h
-            flag = _step(ndof, m0, m1, state, h, 0.0, base, amp * math.sin(phase), amp * omega * math.cos(phase),
-                         P, S, scale[b])
+            base_new = amp * math.sin(phase)
+            if with_tangent:
+                old_q[0] = state[0]
+                old_q[1] = state[1]
+                for d in range(ndof):
+                    for i in range(nj):
+                        old_force[d, i] = S[d, 0, i]
+            flag = _step(ndof, m0, m1, state, h, 0.0, base, base_new, amp * omega * math.cos(phase), P, S, scale[b])
             if flag != FLAG_OK:
                 break
+            if with_tangent:
+                tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangents[b], nj, nm)
         flags[b] = flag
         if flag == FLAG_OK:
             for d in range(ndof):
@@ -133,7 +152,7 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplitude, s
                     j_end[b, d, i] = S[d, 0, i]
                 for i in range(mstate0.shape[2]):
                     m_end[b, d, i] = S[d, 1, i]
-    return q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a
+    return q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents
 
 
 class PeriodMap:
@@ -244,8 +263,9 @@ class PeriodMap:
         return np.column_stack(np.broadcast_arrays(*columns))
 
     # -- evaluation ----------------------------------------------------------------------------
-    def run(self, freq, amplitude, states, steps_per_period, *, n_periods=None, n_record=0):
-        """Integrate packed states; returns ``(end_states, flags, record_q, record_a)``."""
+    def run(self, freq, amplitude, states, steps_per_period, *, n_periods=None, n_record=0, with_tangent=False):
+        """Integrate packed states; returns ``(end_states, flags, record_q, record_a)``, or
+        ``(end_states, flags, tangents)`` with ``with_tangent`` (compiled-tangent layout)."""
         states = np.atleast_2d(np.asarray(states, dtype=float))
         batch = states.shape[0]
         freq, amplitude, steps = (np.ascontiguousarray(np.broadcast_to(value, (batch,)))
@@ -254,10 +274,13 @@ class PeriodMap:
         scale = np.array([force_scale(self.arrays, a * (2 * np.pi * f) ** 2) for f, a in zip(freq, amplitude)])
         n_periods = self.periods if n_periods is None else int(n_periods)
         q, v, jforce, mstate, bwz = (np.ascontiguousarray(value) for value in self.unpack(states))
-        q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a = _run_periods(
+        q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents = _run_periods(
             *self._kernel_arrays, freq.astype(float), amplitude.astype(float), steps.astype(np.int64),
-            n_periods, scale, q, v, jforce, mstate, bwz, int(n_record))
-        return self.pack(q_end, v_end, j_end, m_end, z_end), flags, rec_q, rec_a
+            n_periods, scale, q, v, jforce, mstate, bwz, int(n_record), bool(with_tangent))
+        end = self.pack(q_end, v_end, j_end, m_end, z_end)
+        if with_tangent:
+            return end, flags, tangents
+        return end, flags, rec_q, rec_a
 
     def jacobian(self, freq, amplitude, state, scale, steps_per_period, *, parameter=None):
         """Map value and central-difference Jacobian, in scaled variables.
@@ -298,16 +321,11 @@ class PeriodMap:
 
     def _exact_jacobian(self, freq, amplitude, state, scale, steps_per_period, parameter):
         """As :meth:`jacobian`, the state derivatives propagated through the step
-        (:func:`idkit.responses._sensitivity.run_period_tangent`); the parameter derivative by
+        (:mod:`idkit.responses._sensitivity`); the parameter derivative by
         central differences of ``ln(parameter)`` (step :data:`FD_STEP`)."""
-        q, v, jforce, mstate, _ = self.unpack(state[None])
-        force_level = force_scale(self.arrays, amplitude * (2 * np.pi * freq) ** 2)
-        q_end, v_end, j_end, m_end, flag, tangent = run_period_tangent(
-            *self._kernel_arrays, float(freq), float(amplitude), int(steps_per_period), self.periods, force_level,
-            np.ascontiguousarray(q[0]), np.ascontiguousarray(v[0]), np.ascontiguousarray(jforce[0]),
-            np.ascontiguousarray(mstate[0]))
-        phi = self.pack(q_end[None], v_end[None], j_end[None], m_end[None], np.zeros((1, self.ndof)))[0]
-        jacobian = tangent[np.ix_(self._tangent_rows, self._tangent_columns)] * scale[None, :] / scale[:, None]
+        end, flags, tangents = self.run(freq, amplitude, state[None], steps_per_period, with_tangent=True)
+        phi, flag = end[0], int(flags[0])
+        jacobian = tangents[0][np.ix_(self._tangent_rows, self._tangent_columns)] * scale[None, :] / scale[:, None]
         derivative = None
         if parameter is not None and flag == FLAG_OK:
             factors = np.exp([FD_STEP, -FD_STEP])
