@@ -24,15 +24,9 @@ import numba
 import numpy as np
 
 
-
 @numba.njit(cache=True, inline="always")
 def _poly_slope(P, j, y):
     return P[j, 0, 0] + y * (2.0 * P[j, 0, 1] + 3.0 * P[j, 0, 2] * y)
-
-
-def tangent_shape(ndof, nj, nm):
-    """``(n_rows, n_cols)`` of the tangent for ``ndof`` masses, ``nj`` Jenkin and ``nm`` Maxwell slots."""
-    return 3 * ndof + ndof * (nj + nm), 2 * ndof + ndof * (nj + nm)
 
 
 @numba.njit(cache=True)
