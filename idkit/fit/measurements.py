@@ -57,6 +57,7 @@ __all__ = [
     "fit_maxwell_measurements",
 ]
 
+
 @dataclass(frozen=True)
 class MeasurementFit:
     """A fit to measurements: the array-level result plus its data and provenance.
@@ -65,7 +66,9 @@ class MeasurementFit:
     ----------
     kind : {"iwan", "boucwen", "maxwell"}
     result : IwanFitResult, BoucWenFitResult or MaxwellFitResult
-    data : LoopData or tuple of TransmissibilitySet
+    data : LoopData or ElastomerData
+        The observables the fit saw: loop sets (Iwan, Bouc-Wen) or the elastomer's FRFs and k0
+        (Maxwell; iterating over it gives the transmissibility sets).
     provenance : DataProvenance
     k0 : K0FromLoops or None
         Maxwell fits: the static stiffness used.
@@ -291,6 +294,39 @@ def fit_iwan_measurements(
     one the documented order rule recommends; the table is in ``fit.order_table`` and
     the model file's provenance.
 
+    Parameters
+    ----------
+    measurements : MeasurementSet or sequence of measurements
+        Selected by :func:`idkit.io.provenance.select_measurements`.
+    order : int or "auto", default 2
+        Number of Jenkin elements, or ``"auto"`` for the order rule.
+    small_threshold : float, default :data:`~idkit.observe.quasi_static.SMALL_THRESHOLD` (8e-3 m)
+        Amplitude (m) at or below which a record is a small-loop set.
+    isolator : str or None, default "wire_rope"
+    split : {"fit", "validation", "all", None}, default "fit"
+    points_per_set : int or None, default :data:`~idkit.observe.quasi_static.LOOP_POINTS_PER_SET`
+        Resampled points per record (:func:`~idkit.observe.quasi_static.prepare_loops`).
+    backend : {"nlopt", "scipy"}
+    seed : int, default 0
+    damping_level : float, "largest" or None, default "largest"
+        Stepped-sine level whose resonance gives ``c_visc`` (None: keep ``c_visc = 0``).
+    **options
+        Passed to :func:`idkit.fit.fit_iwan`.
+
+    Returns
+    -------
+    MeasurementFit
+        ``kind="iwan"``; ``data`` the :class:`~idkit.observe.quasi_static.LoopData`;
+        ``checks`` the measurement-level problems (the spring turns negative-stiff inside the
+        data set's deflections, the model cannot simulate its highest drop).
+
+    Raises
+    ------
+    FitError
+        Bad records or options, only small or only large sets.
+    DataError
+        No quasi-static record matches the selection.
+
     Examples
     --------
     >>> from idkit.io import load_measurement_set          # doctest: +SKIP
@@ -387,7 +423,28 @@ def fit_boucwen_measurements(
     seed: int = 0,
     **options,
 ) -> MeasurementFit:
-    """Bouc-Wen fit (:func:`idkit.fit.fit_boucwen`) on the same loop sets as :func:`fit_iwan_measurements`."""
+    """Bouc-Wen fit (:func:`idkit.fit.fit_boucwen`) on the same loop sets as :func:`fit_iwan_measurements`.
+
+    Parameters
+    ----------
+    measurements : MeasurementSet or sequence of measurements
+    small_threshold, isolator, split, points_per_set, backend, seed :
+        As :func:`fit_iwan_measurements`.
+    **options
+        Passed to :func:`idkit.fit.fit_boucwen`.
+
+    Returns
+    -------
+    MeasurementFit
+        ``kind="boucwen"``; ``data`` the :class:`~idkit.observe.quasi_static.LoopData`.
+
+    Raises
+    ------
+    FitError
+        Bad records or options, only small or only large sets.
+    DataError
+        No quasi-static record matches the selection.
+    """
     data = loop_sets(measurements, small_threshold=small_threshold, isolator=isolator, split=split,
                      points_per_set=points_per_set)
     result = fit_boucwen(list(data.small), list(data.large), backend=backend, seed=seed, **options)
