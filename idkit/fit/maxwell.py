@@ -69,19 +69,95 @@ _AT_BOUND = 1e-6  # scaled distance to a bound below which a parameter is "at th
 # --------------------------------------------------------------------------- the problem
 
 
-class _Problem:
-    """Objective, gradient and constraints in scaled coordinates ``z`` in [0, 1]^P."""
+class _MaxwellLaw:
+    """``k*(s) = k0 + sum k_i s / (s + rate_i)`` over ``[k0], k_1..k_n, rate_1..rate_n, [m_eff]``.
 
-    def __init__(self, *, model: str, data: str, omega, measured, mass, weights, set_index, set_names,
-                 k0, transforms: list[Transform], order: int, loss_omega, monotone_loss: bool):
-        self.model, self.data, self.order = model, data, order
+    ``k0`` is a parameter when ``k0_fixed`` is None; ``m_eff`` the last one when ``with_m_eff``.
+    """
+
+    name = "maxwell"
+
+    def __init__(self, order: int, k0_fixed: float | None, with_m_eff: bool):
+        self.order, self.k0_fixed, self.with_m_eff = order, k0_fixed, with_m_eff
+
+    def values(self, p) -> dict:
+        index = 0
+        if self.k0_fixed is None:
+            k0, index = p[0], 1
+        else:
+            k0 = self.k0_fixed
+        n = self.order
+        k, rate = p[index : index + n], p[index + n : index + 2 * n]
+        m_eff = p[index + 2 * n] if self.with_m_eff else 0.0
+        return {"k0": k0, "k": k, "rate": rate, "m_eff": m_eff}
+
+    def model(self, values) -> GeneralizedMaxwell:
+        return GeneralizedMaxwell(k0=values["k0"], k=values["k"], rate=values["rate"], m_eff=values["m_eff"])
+
+    def stiffness(self, values, s, with_jacobian: bool = True):
+        """k*(s) and dk*/dp (columns in parameter order, the m_eff column zero)."""
+        shift = s[:, None] + values["rate"][None, :]
+        element = s[:, None] / shift
+        stiffness = values["k0"] + element.dot(values["k"].astype(complex))
+        if not with_jacobian:
+            return stiffness, None
+        columns = []
+        if self.k0_fixed is None:
+            columns.append(np.ones((s.size, 1), dtype=complex))
+        columns.append(element)
+        columns.append(-values["k"][None, :] * element / shift)
+        if self.with_m_eff:
+            columns.append(np.zeros((s.size, 1), dtype=complex))
+        return stiffness, np.hstack(columns)
+
+
+class _VoigtLaw:
+    """``k*(s) = k + d s`` over ``k, damping, [m_eff]``."""
+
+    name = "voigt"
+    order = 1
+    k0_fixed = None
+
+    def __init__(self, with_m_eff: bool):
+        self.with_m_eff = with_m_eff
+
+    def values(self, p) -> dict:
+        return {"k": p[0], "damping": p[1], "m_eff": p[2] if self.with_m_eff else 0.0}
+
+    def model(self, values) -> VoigtModel:
+        return VoigtModel(k=values["k"], damping=values["damping"], m_eff=values["m_eff"])
+
+    def stiffness(self, values, s, with_jacobian: bool = True):
+        """k*(s) and dk*/dp (columns in parameter order, the m_eff column zero)."""
+        stiffness = values["k"] + values["damping"] * s
+        if not with_jacobian:
+            return stiffness, None
+        columns = [np.ones_like(s), s]
+        if self.with_m_eff:
+            columns.append(np.zeros_like(s))
+        return stiffness, np.column_stack(columns)
+
+
+class _Problem:
+    """Objective, gradient and constraints in scaled coordinates ``z`` in [0, 1]^P.
+
+    A stiffness law (:class:`_MaxwellLaw`, :class:`_VoigtLaw`) seen through an observation:
+    :class:`_TransmissibilityProblem` (H of a top mass on the isolator) or
+    :class:`_StiffnessProblem` (k* itself, DMA data); the subclass defines :meth:`prediction`.
+    Satisfies :class:`idkit.fit._optim.ConstrainedProblem`.
+    """
+
+    data = ""
+
+    def __init__(self, law, *, omega, measured, mass, weights, set_index, set_names, transforms: list[Transform],
+                 loss_omega, monotone_loss: bool):
+        self.law = law
         self.omega, self.measured = omega, measured
         self.s = 1j * omega
         self.mass = mass
         self.abs_measured = np.abs(measured)
         self.weights = weights
         self.set_index, self.set_names = set_index, set_names
-        self.k0_fixed = k0
         self.transforms = transforms
         self.names = [t.name for t in transforms]
         self.loss_s = 1j * loss_omega if loss_omega is not None else None
@@ -89,6 +165,10 @@ class _Problem:
         self.rate_columns = [i for i, name in enumerate(self.names) if name.startswith("rate_")]
         self.evaluations = 0
         self._condense()
+
+    model = property(lambda self: self.law.name, doc="``\"maxwell\"`` or ``\"voigt\"``.")
+    order = property(lambda self: self.law.order, doc="Number of Maxwell elements (1 for Voigt).")
+    k0_fixed = property(lambda self: self.law.k0_fixed, doc="The fixed k0 in N/m, None when fitted.")
 
     # physical parameters -----------------------------------------------------------------
     def physical(self, z) -> np.ndarray:
@@ -100,68 +180,13 @@ class _Problem:
     def chain(self, z) -> np.ndarray:
         return np.array([float(t.derivative(u)) for t, u in zip(self.transforms, z)])
 
-    def _split(self, p):
-        index = 0
-        if self.model == "voigt":
-            return {"k": p[0], "damping": p[1], "m_eff": p[2] if self.data == "transmissibility" else 0.0}
-        if self.k0_fixed is None:
-            k0, index = p[0], 1
-        else:
-            k0 = self.k0_fixed
-        n = self.order
-        k, rate = p[index : index + n], p[index + n : index + 2 * n]
-        m_eff = p[index + 2 * n] if self.data == "transmissibility" else 0.0
-        return {"k0": k0, "k": k, "rate": rate, "m_eff": m_eff}
-
     def make_model(self, z):
-        values = self._split(self.physical(z))
-        if self.model == "voigt":
-            return VoigtModel(k=values["k"], damping=values["damping"], m_eff=values["m_eff"])
-        return GeneralizedMaxwell(k0=values["k0"], k=values["k"], rate=values["rate"], m_eff=values["m_eff"])
-
-    def _stiffness(self, values, s, with_jacobian: bool = True):
-        """k*(s) and dk*/dp (columns in physical parameter order, m_eff column zero)."""
-        if self.model == "voigt":
-            stiffness = values["k"] + values["damping"] * s
-            if not with_jacobian:
-                return stiffness, None
-            columns = [np.ones_like(s), s]
-            if self.data == "transmissibility":
-                columns.append(np.zeros_like(s))
-            return stiffness, np.column_stack(columns)
-        shift = s[:, None] + values["rate"][None, :]
-        element = s[:, None] / shift
-        stiffness = values["k0"] + element.dot(values["k"].astype(complex))
-        if not with_jacobian:
-            return stiffness, None
-        columns = []
-        if self.k0_fixed is None:
-            columns.append(np.ones((s.size, 1), dtype=complex))
-        columns.append(element)
-        columns.append(-values["k"][None, :] * element / shift)
-        if self.data == "transmissibility":
-            columns.append(np.zeros((s.size, 1), dtype=complex))
-        return stiffness, np.hstack(columns)
+        return self.law.model(self.law.values(self.physical(z)))
 
     def prediction(self, p, points=None, with_jacobian: bool = True):
-        """Model prediction (H or k*) and its Jacobian wrt the physical parameters.
-
-        ``points`` = (omega, mass) to evaluate; default the measured points.
-        """
-        omega, mass = (self.omega, self.mass) if points is None else points
-        values = self._split(p)
-        stiffness, d_stiffness = self._stiffness(values, 1j * omega, with_jacobian)
-        if self.data == "stiffness":
-            return stiffness, d_stiffness
-        moving_mass = mass + values["m_eff"]
-        prediction = sdof_transmissibility(stiffness, moving_mass, omega)
-        inertia = moving_mass * omega**2
-        denominator = stiffness - inertia
-        if not with_jacobian:
-            return prediction, None
-        jacobian = (-inertia / denominator**2)[:, None] * d_stiffness
-        jacobian[:, -1] = stiffness * omega**2 / denominator**2
-        return prediction, jacobian
+        """Model prediction and its Jacobian wrt the physical parameters at ``points``
+        (``(omega, mass)``; default the measured points)."""
+        raise NotImplementedError
 
     def _condense(self):
         """Merge points with equal (omega, mass): repetitions cost one model evaluation.
@@ -220,8 +245,8 @@ class _Problem:
             row[a], row[b] = 1.0, -1.0
             jac_rows.append(row)
         if self.monotone_loss:
-            values = self._split(self.physical(z))
-            stiffness, d_stiffness = self._stiffness(values, self.loss_s)
+            values = self.law.values(self.physical(z))
+            stiffness, d_stiffness = self.law.stiffness(values, self.loss_s)
             real, imag = stiffness.real, stiffness.imag
             eta = imag / real
             d_eta = (d_stiffness.imag * real[:, None] - imag[:, None] * d_stiffness.real) / real[:, None] ** 2
@@ -231,6 +256,37 @@ class _Problem:
         if not rows:
             return np.zeros(0), np.zeros((0, z.size))
         return np.asarray(rows, dtype=float), np.vstack(jac_rows)
+
+
+class _TransmissibilityProblem(_Problem):
+    """The law seen as the transmissibility of top masses: :func:`~idkit.models.laws.sdof_transmissibility`
+    of ``k*`` with ``mass + m_eff``; ``m_eff`` is the last parameter."""
+
+    data = "transmissibility"
+
+    def prediction(self, p, points=None, with_jacobian: bool = True):
+        omega, mass = (self.omega, self.mass) if points is None else points
+        values = self.law.values(p)
+        stiffness, d_stiffness = self.law.stiffness(values, 1j * omega, with_jacobian)
+        moving_mass = mass + values["m_eff"]
+        prediction = sdof_transmissibility(stiffness, moving_mass, omega)
+        if not with_jacobian:
+            return prediction, None
+        inertia = moving_mass * omega**2
+        denominator = stiffness - inertia
+        jacobian = (-inertia / denominator**2)[:, None] * d_stiffness
+        jacobian[:, -1] = stiffness * omega**2 / denominator**2
+        return prediction, jacobian
+
+
+class _StiffnessProblem(_Problem):
+    """The law seen as the complex stiffness itself (DMA data, no mass)."""
+
+    data = "stiffness"
+
+    def prediction(self, p, points=None, with_jacobian: bool = True):
+        omega = self.omega if points is None else points[0]
+        return self.law.stiffness(self.law.values(p), 1j * omega, with_jacobian)
 
 
 # --------------------------------------------------------------------------- input handling
@@ -475,10 +531,10 @@ def _frf_problem(frfs, *, model, order, k0, band, stiffness_bounds, rate_bounds,
                       Transform("m_eff", specs["m_eff"].unit, "linear01", 0.0, m_eff_max)]
         loss_omega, monotone_loss = None, False  # a Voigt loss factor omega d / k always increases
     omega, measured, mass, set_index, weights = _stack(parts)
-    return _Problem(model=model, data="transmissibility", omega=omega, measured=measured, mass=mass, weights=weights,
-                    set_index=set_index, set_names=[item.name for item in sets],
-                    k0=float(k0) if model == "maxwell" else None, transforms=transforms, order=order,
-                    loss_omega=loss_omega, monotone_loss=monotone_loss), band
+    law = _MaxwellLaw(order, float(k0), with_m_eff=True) if model == "maxwell" else _VoigtLaw(with_m_eff=True)
+    return _TransmissibilityProblem(law, omega=omega, measured=measured, mass=mass, weights=weights,
+                                    set_index=set_index, set_names=[item.name for item in sets], transforms=transforms,
+                                    loss_omega=loss_omega, monotone_loss=monotone_loss), band
 
 
 def fit_maxwell(
@@ -680,11 +736,12 @@ def fit_complex_stiffness(
                                      k0_bounds=None if k0 is not None else k0_bounds)
     order_index = np.argsort(f_in)
     omega = 2 * np.pi * f_in[order_index]
-    problem = _Problem(model="maxwell", data="stiffness", omega=omega, measured=k_in[order_index], mass=None,
-                       weights=np.full(omega.size, 1.0 / omega.size), set_index=np.zeros(omega.size, int),
-                       set_names=["complex stiffness"], k0=None if k0 is None else float(k0), transforms=transforms,
-                       order=order, loss_omega=_loss_grid(band, loss_grid_points) if monotone_loss else None,
-                       monotone_loss=monotone_loss)
+    law = _MaxwellLaw(order, None if k0 is None else float(k0), with_m_eff=False)
+    problem = _StiffnessProblem(law, omega=omega, measured=k_in[order_index], mass=None,
+                                weights=np.full(omega.size, 1.0 / omega.size), set_index=np.zeros(omega.size, int),
+                                set_names=["complex stiffness"], transforms=transforms,
+                                loss_omega=_loss_grid(band, loss_grid_points) if monotone_loss else None,
+                                monotone_loss=monotone_loss)
     return _solve(problem, start=None, band=band, backend=backend, max_evals=max_evals, ftol=ftol,
                   cross_check=cross_check, global_method=global_method, global_max_evals=global_max_evals,
                   seed=seed, settings_extra={})
