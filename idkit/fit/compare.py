@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from idkit.errors import FitError
 from idkit.fit.iwan import fit_iwan
 from idkit.fit.iwan_start import smallest_branch_secant
 from idkit.fit.maxwell import fit_maxwell, fit_voigt
@@ -58,10 +59,8 @@ def compare_loop_models(results: dict) -> LoopModelComparison:
     """Tabulate loop fits (e.g. ``{"iwan": IwanFitResult, "bouc_wen": BoucWenFitResult}``) set by set.
 
     Every result must have been fitted to the same sets (same names, same order);
-    otherwise :class:`ValueError` names the first difference.
+    otherwise a :class:`~idkit.errors.FitError` names the first difference.
     """
-    from idkit.errors import FitError
-
     items = list(results.items())
     if not items:
         raise FitError("results: found none, expected at least one fit result")

@@ -301,7 +301,7 @@ class IwanFitResult(_LoopFitResult):
             f"[[Iwan fit, order {s.order}, three stages, Nelder-Mead ({s.backend}), initial state "
             f"'{s.initial_state}']]",
             *self._summary_lines(),
-            *([f"    start state per set: " + ", ".join(f"{n}: {v}" for n, v in self.start_states.items())]
+            *(["    start state per set: " + ", ".join(f"{n}: {v}" for n, v in self.start_states.items())]
               if self.start_states else []),
             "[[Start (from the loops)]]",
             f"    stuck stiffness {self.start.stuck_stiffness:.4g} N/m, half loop height "
