@@ -19,7 +19,7 @@ import pandas as pd
 from idkit.errors import DataError, FitError
 from idkit.io import WhiteNoiseMeasurement
 from idkit.io.provenance import DataProvenance, select_measurements
-from idkit.observe._common import _require, _sample_rate
+from idkit.observe._common import _require
 from idkit.signal.frf import FrfEstimate, estimate_frf
 
 __all__ = ["FRF_RESOLUTION_HZ", "WhiteNoiseFrf", "frf_from_white_noise", "TransmissibilitySet",
@@ -142,7 +142,8 @@ def frf_from_white_noise(measurement: WhiteNoiseMeasurement, *,
 
     Notes
     -----
-    The sample rate comes from the time column (1 / median step, to 10 significant digits);
+    The sample rate is the measurement's ``sample_rate_hz`` (1 / median step of the time
+    column, :func:`idkit.io.measurements.sample_rate_of`) to 10 significant digits;
     a declared ``info.sample_rate_hz`` was checked against it to 1 % when the measurement was
     built.
 
@@ -173,7 +174,7 @@ def frf_from_white_noise(measurement: WhiteNoiseMeasurement, *,
     # the rate of the time column to 10 significant digits: a column written as decimals
     # (0.0005 s steps) reads as 1999.9999999999984 Hz, which would move every frequency line
     # by a hair and drop the line at a band edge (1.0 Hz) that the exact rate keeps
-    fs = float(f"{_sample_rate(measurement.time):.10g}")
+    fs = float(f"{measurement.sample_rate_hz:.10g}")
     nyquist = fs / 2
     notes = []
     if band is None:
