@@ -55,7 +55,7 @@ from idkit.fit._optim import global_search as _global_search
 from idkit.fit._optim import nelder_mead
 from idkit.fit._params import Transform, central_jacobian, jacobian_statistics, to_lmfit
 from idkit.fit.iwan_start import iwan_start
-from idkit.fit.loop_objective import BoucWenLoops as _Packed
+from idkit.fit.loop_objective import BoucWenLoops
 from idkit.fit.loop_objective import boucwen_set_errors, boucwen_set_forces, boucwen_values, check_state
 from idkit.fit.result import BoucWenFitResult, BoucWenFitSettings, StageResult
 from idkit.models import BoucWenModel
@@ -220,7 +220,7 @@ def fit_boucwen(
     else:
         values = _shape_values(boucwen_values(start))
     values = space.clip_values(values)
-    small_packed, large_packed = _Packed(small_sets, initial_state), _Packed(large_sets, initial_state)
+    small_packed, large_packed = BoucWenLoops(small_sets, initial_state), BoucWenLoops(large_sets, initial_state)
 
     def mean_error(u):
         q = space.physical(u)
@@ -315,14 +315,14 @@ def _declared() -> dict:
     return {**{spec.name: (spec.unit, spec.lower, spec.upper) for spec in reference.param_specs()}, **_DERIVED}
 
 
-def _stacked_residuals(space: _Space, u, small: _Packed, large: _Packed) -> np.ndarray:
+def _stacked_residuals(space: _Space, u, small: BoucWenLoops, large: BoucWenLoops) -> np.ndarray:
     """Per-set normalised residuals; each group weighs as in the objective (1 / sqrt(2 n_sets))."""
     q = space.physical(u)
     return np.concatenate([small.residuals(q) / math.sqrt(2 * len(small.names)),
                            large.residuals(q) / math.sqrt(2 * len(large.names))])
 
 
-def _lmfit_view(space: _Space, u: np.ndarray, small: _Packed, large: _Packed):
+def _lmfit_view(space: _Space, u: np.ndarray, small: BoucWenLoops, large: BoucWenLoops):
     """lmfit Parameters and statistics at the optimum; condition numbers; parameters at a bound.
 
     Returns ``(parameters, statistics, conditioning, at_bound)`` (see :func:`fit_boucwen`).

@@ -30,7 +30,16 @@ when ``monotone_loss``, ``eta(f_g) - eta(f_(g+1)) <= 0`` on a logarithmic grid o
 **Global cross-check**: nlopt ``GN_ISRES`` (evolution strategy with stochastic
 ranking of the constraints) or scipy ``differential_evolution`` (with the same
 constraints), seeded, each polished by the same SQP; the result reports whether
-the SQP optimum was global and the gap.
+the SQP optimum was global and the gap. Both searches are :mod:`idkit.fit._optim`'s
+(:func:`~idkit.fit._optim.sqp`, :func:`~idkit.fit._optim.constrained_global_search`),
+whose status the result's ``success`` reads.
+
+**The problem.** A stiffness law (:class:`_MaxwellLaw`, :class:`_VoigtLaw`: ``k*`` and its
+parameter Jacobian) seen through an observation (:class:`_TransmissibilityProblem`:
+:func:`idkit.models.laws.sdof_transmissibility` of each top mass; :class:`_StiffnessProblem`:
+``k*`` itself). A new law or observation is a new class, not a new string branch. The data
+(:class:`~idkit.observe.white_noise.TransmissibilitySet`, the band and its checks) come from
+:mod:`idkit.fit.frf_objective`; the order table is :func:`idkit.fit.compare.maxwell_order_table`.
 """
 
 from __future__ import annotations
