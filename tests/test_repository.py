@@ -31,7 +31,7 @@ LAYERS = {
     "report": {"models", "simulate", "io", "signal", "observe", "responses", "synth", "fit", "validate", "studies",
                "plot", "report"},
 }
-CORE = {"errors", "params", "atomic", "inputfiles"}
+CORE = {"errors", "params", "atomic", "inputfiles", "gravity"}
 
 
 def readme_commands():

@@ -109,30 +109,24 @@ def _cmd_simulate_harmonic(args):
 
 
 def _cmd_simulate_drop(args):
-    import pandas as pd
-
-    from idkit.simulate import STANDARD_GRAVITY, free_fall
+    """Conditioned free falls through :func:`idkit.responses.shock.shock_sweep` (the one drop reduction)."""
+    from idkit.responses.shock import default_shock_grid, shock_sweep
 
     if (args.velocity is None) == (args.height is None):
         raise IdkitError("give exactly one of --velocity and --height")
-    opt.check_drop(len(args.velocity or args.height), args.duration, args.time_step, args.max_samples)
     _check_table_output(args)
     system = _model_or_system(args.model, args.mass)
+    auto_duration, auto_step = default_shock_grid(system)
+    duration = auto_duration if args.duration is None else args.duration
+    time_step = auto_step if args.time_step is None else args.time_step
+    opt.check_drop(len(args.velocity or args.height), duration, time_step, args.max_samples)
     if args.velocity is not None:
-        velocity = -np.abs(np.asarray(args.velocity, dtype=float))
+        sweep = shock_sweep(system, impact_velocity=-np.abs(np.asarray(args.velocity, dtype=float)),
+                            duration=duration, time_step=time_step, gravity=args.gravity)
     else:
-        velocity = -np.sqrt(2 * STANDARD_GRAVITY * np.asarray(args.height, dtype=float))
-    response = free_fall(system, impact_velocity=velocity, duration=args.duration, time_step=args.time_step,
-                         gravity=args.gravity)
-    top = response.acceleration[:, 0]
-    columns = {"impact_velocity [m/s]": velocity,
-               "peak_accel_compression [m/s^2]": np.nanmax(top, axis=1),
-               "peak_accel_tension [m/s^2]": -np.nanmin(top, axis=1),
-               "rest_shock [m/s^2]": np.nanmax(np.abs(top), axis=1)}
-    for j in range(response.deflection.shape[1]):
-        columns[f"max_compression_{j} [m]"] = -np.nanmin(response.deflection[:, j], axis=1)
-    columns["status"] = list(response.reasons)
-    _write_table(pd.DataFrame(columns), args.output)
+        sweep = shock_sweep(system, drop_height=args.height, duration=duration, time_step=time_step,
+                            gravity=args.gravity)
+    _write_table(sweep.to_dataframe(), args.output)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -182,11 +176,13 @@ def build_parser() -> argparse.ArgumentParser:
     drop.add_argument("--velocity", type=opt.real(at_least=0, unit="m/s", why="a speed; idkit sets the sign "
                                                    "downward"), nargs="+", help="impact speeds |v0| in m/s")
     drop.add_argument("--height", type=opt.real(at_least=0, unit="m"), nargs="+", help="drop heights in m")
-    drop.add_argument("--duration", type=opt.real(above=0, unit="s"), default=0.5, help="simulated time in s")
-    drop.add_argument("--time-step", default=2e-5,
+    drop.add_argument("--duration", type=opt.real(above=0, unit="s"),
+                      help="simulated time in s (default: 4 periods of the small-amplitude resonance)")
+    drop.add_argument("--time-step",
                       type=opt.real(at_least=opt.MIN_TIME_STEP, unit="s", why="a smaller step makes the number "
                                     "of steps duration/time_step too large"),
-                      help=f"integration step in s (at least {opt.MIN_TIME_STEP:g}, default 2e-5)")
+                      help=f"integration step in s (at least {opt.MIN_TIME_STEP:g}; default: 2000 per period of "
+                           "the small-amplitude resonance, see idkit.responses.shock)")
     drop.add_argument("--max-samples", type=opt.integer(), default=opt.DEFAULT_MAX_SAMPLES,
                       help=f"refuse drops x steps above this (default {opt.DEFAULT_MAX_SAMPLES})")
     drop.add_argument("--gravity", action="store_true", help="include gravity")

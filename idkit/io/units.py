@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from idkit.errors import DataError
+from idkit.gravity import STANDARD_GRAVITY
 
 __all__ = [
     "QUANTITIES",
@@ -39,7 +40,7 @@ __all__ = [
 ]
 
 #: Standard gravity in m/s^2 (CGPM 1901), used for ``g`` and ``1000g``.
-STANDARD_GRAVITY_M_PER_S2 = 9.80665
+STANDARD_GRAVITY_M_PER_S2 = STANDARD_GRAVITY  # one value of g (idkit.gravity)
 
 
 @dataclass(frozen=True)

@@ -7,13 +7,17 @@ The base stands still; every mass starts at the impact velocity ``v0 < 0``
 - **rest shock level**: ``max |a_top|`` over the record, the absolute (kinematic)
   acceleration of the top mass in m/s^2 (with ``gravity`` it is 0 at rest and ``-g`` in
   flight);
-- **compression / tension phase**: the samples where the deflection of the *top isolator*
-  (isolator 0, the one carrying the top mass; the only one in an SDOF system) is negative /
-  positive. The peak ``|a_top|`` in each phase, and which phase **governs** (holds the rest
-  shock level; thesis fig. 3.21b: compression below about 0.9 m/s for the asymmetric wire
-  rope, the subsequent tension above);
-- **peak deflection** of every isolator (hybrid: elastomer and wire rope separately,
-  fig. 5.16), in compression (``-min``) and tension (``max``), m, positive numbers.
+- **compression / tension phase**: the samples where the top mass is below / above its
+  position relative to the base at impact, i.e. where the deflection summed over the
+  isolators (``x_top - x_base``, the quantity a drop rig measures; the isolator's own
+  deflection in an SDOF system) is below / above its value at the start. This is the one
+  reduction of :func:`idkit.signal.drop.drop_phase_peaks`, which the measured drops, the drop
+  validation and ``idkit simulate drop`` use too. The peak ``|a_top|`` in each phase, and
+  which phase **governs** (holds the rest shock level; thesis fig. 3.21b: compression below
+  about 0.9 m/s for the asymmetric wire rope, the subsequent tension above);
+- **peak travel** of the top mass relative to the base, and **peak deflection** of every
+  isolator (hybrid: elastomer and wire rope separately, fig. 5.16), in compression and
+  tension, measured from the deflection at impact, m, positive numbers.
 
 Runs that leave the model's valid range (simulator flag) get NaN summary values and keep
 their flag and reason.
@@ -41,7 +45,9 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from idkit.signal.srs import shock_response_spectrum, ShockResponseSpectrum
+from idkit.gravity import impact_velocity_from_height
+from idkit.signal.drop import drop_phase_peaks
+from idkit.signal.srs import ShockResponseSpectrum, shock_response_spectrum
 from idkit.errors import SimulationError
 from idkit.models import HybridSystem, SDOFSystem
 from idkit.simulate import STANDARD_GRAVITY, free_fall, relaxation_deflection, small_amplitude_resonance
@@ -82,12 +88,16 @@ class ShockSweep:
     rest_shock_level : ndarray, shape (n,)
         ``max |a_top|``, m/s^2.
     peak_acceleration_compression, peak_acceleration_tension : ndarray, shape (n,)
-        ``max |a_top|`` while the top isolator is compressed / extended, m/s^2.
+        ``max |a_top|`` while the top mass is below / above its position at impact relative to
+        the base (module docstring), m/s^2 (``nan`` for a phase that never occurs).
     governing_phase : ndarray of str, shape (n,)
         "compression" or "tension": the phase holding the rest shock level ("" if flagged).
+    travel_compression, travel_tension : ndarray, shape (n,)
+        Largest travel of the top mass relative to the base below / above its value at
+        impact (the deflection summed over the isolators), m, >= 0.
     peak_compression, peak_tension : ndarray, shape (n, n_isolators)
-        Largest compression ``-min(deflection)`` and extension ``max(deflection)`` of each
-        isolator, m (top isolator first).
+        Largest compression and extension of each isolator from its deflection at impact, m
+        (top isolator first), >= 0.
     isolator_names : tuple of str
         ``("isolator",)`` or ``("upper", "lower")``.
     time : ndarray, shape (n_records,)
@@ -111,6 +121,8 @@ class ShockSweep:
     peak_acceleration_compression: NDArray[np.float64]
     peak_acceleration_tension: NDArray[np.float64]
     governing_phase: NDArray[np.str_]
+    travel_compression: NDArray[np.float64]
+    travel_tension: NDArray[np.float64]
     peak_compression: NDArray[np.float64]
     peak_tension: NDArray[np.float64]
     isolator_names: tuple[str, ...]
@@ -156,6 +168,8 @@ class ShockSweep:
             "peak_accel_compression_m_s2": self.peak_acceleration_compression,
             "peak_accel_tension_m_s2": self.peak_acceleration_tension,
             "governing_phase": self.governing_phase,
+            "travel_compression_m": self.travel_compression,
+            "travel_tension_m": self.travel_tension,
         }
         for j, name in enumerate(self.isolator_names):
             columns[f"max_compression_{name}_m"] = self.peak_compression[:, j]
@@ -192,9 +206,10 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
     system : SDOFSystem or HybridSystem
     impact_velocity : array_like, shape (n,), optional
         ``v0`` in m/s, negative downward (a positive value throws the mass upward, i.e.
-        starts in tension: useful for symmetry checks). Give this or ``drop_height``.
+        starts in tension: useful for symmetry checks; 0 sets the mass down without speed,
+        which only moves under ``gravity``). Give this or ``drop_height``.
     drop_height : array_like, shape (n,), optional
-        Heights in m, ``v0 = -sqrt(2 g h)``.
+        Heights in m, ``v0 = -sqrt(2 g h)`` (:func:`idkit.gravity.impact_velocity_from_height`).
     duration, time_step : float, optional
         Simulated time and integration step in s; default :func:`default_shock_grid`.
     gravity : bool or float, default False
@@ -221,14 +236,13 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
     if (impact_velocity is None) == (drop_height is None):
         raise SimulationError("shock_sweep: give exactly one of impact_velocity (m/s) and drop_height (m)")
     if drop_height is not None:
-        heights = np.atleast_1d(np.asarray(drop_height, dtype=float))
-        if heights.ndim != 1 or not np.all(np.isfinite(heights) & (heights > 0)):
-            raise SimulationError(f"drop_height: found {heights!r}, expected positive heights in m")
-        velocity = -np.sqrt(2.0 * STANDARD_GRAVITY * heights)
+        velocity = np.atleast_1d(impact_velocity_from_height(drop_height))
+        if velocity.ndim != 1:
+            raise SimulationError(f"drop_height: found shape {np.shape(drop_height)}, expected a 1-D array of m")
     else:
         velocity = np.atleast_1d(np.asarray(impact_velocity, dtype=float))
-        if velocity.ndim != 1 or not np.all(np.isfinite(velocity) & (velocity != 0)):
-            raise SimulationError(f"impact_velocity: found {velocity!r}, expected non-zero finite m/s (drop: < 0)")
+        if velocity.ndim != 1 or not np.all(np.isfinite(velocity)):
+            raise SimulationError(f"impact_velocity: found {velocity!r}, expected finite m/s (drop: < 0)")
     auto_duration, auto_step = default_shock_grid(system)
     duration = auto_duration if duration is None else float(duration)
     time_step = auto_step if time_step is None else float(time_step)
@@ -238,27 +252,25 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
     response = free_fall(system, impact_velocity=velocity, duration=duration, time_step=time_step, gravity=g,
                          initial_deflection=initial if relaxation else None, workers=workers, executor=executor)
     accel = response.acceleration[:, 0, :]
-    magnitude = np.abs(accel)
-    top_deflection = response.deflection[:, 0, :]
     ok = response.flags == 0
     nan = np.full(velocity.size, np.nan)
-
-    def masked_max(values, mask):
-        return np.max(np.where(mask, values, 0.0), axis=-1, initial=0.0)
-
+    total = drop_phase_peaks(response.deflection.sum(axis=1), accel)
+    each = drop_phase_peaks(response.deflection, np.broadcast_to(accel[:, None, :], response.deflection.shape))
+    rest = np.where(ok, total.rest_shock_level, nan)
+    compression = np.where(ok, total.acceleration_compression, nan)
+    tension = np.where(ok, total.acceleration_tension, nan)
     with np.errstate(invalid="ignore"):
-        rest = np.where(ok, np.max(np.where(np.isfinite(magnitude), magnitude, 0.0), axis=-1), nan)
-        compression = np.where(ok, masked_max(magnitude, top_deflection < 0), nan)
-        tension = np.where(ok, masked_max(magnitude, top_deflection > 0), nan)
-        deflection = np.where(np.isfinite(response.deflection), response.deflection, 0.0)
-        peak_compression = np.where(ok[:, None], -np.min(deflection, axis=-1), np.nan)
-        peak_tension = np.where(ok[:, None], np.max(deflection, axis=-1), np.nan)
-    governing = np.where(~ok, "", np.where(compression >= tension, "compression", "tension"))
+        governing = np.where(~ok | np.isnan(rest), "",
+                             np.where(np.fmax(compression, -np.inf) >= np.fmax(tension, -np.inf),
+                                      "compression", "tension"))
     names = ("isolator",) if n_isolators == 1 else ("upper", "lower")
     return ShockSweep(
         impact_velocity=velocity, drop_height=velocity**2 / (2.0 * STANDARD_GRAVITY), rest_shock_level=rest,
         peak_acceleration_compression=compression, peak_acceleration_tension=tension,
-        governing_phase=governing.astype(str), peak_compression=peak_compression, peak_tension=peak_tension,
+        governing_phase=governing.astype(str), travel_compression=np.where(ok, total.compression, nan),
+        travel_tension=np.where(ok, total.tension, nan),
+        peak_compression=np.where(ok[:, None], each.compression, np.nan),
+        peak_tension=np.where(ok[:, None], each.tension, np.nan),
         isolator_names=names, time=response.time, top_acceleration=accel,
         flags=np.asarray(response.flags, dtype=np.int64), reasons=tuple(response.reasons), duration=duration,
         time_step=time_step, gravity=g, relaxation=bool(relaxation), initial_deflection=initial,

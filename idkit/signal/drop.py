@@ -24,16 +24,17 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import signal as sps
 
 from idkit.errors import DataError
+from idkit.gravity import STANDARD_GRAVITY, impact_velocity_from_height
 
 __all__ = [
     "STANDARD_GRAVITY",
     "DropResult",
+    "PhasePeaks",
+    "drop_phase_peaks",
     "impact_velocity_from_height",
     "process_drop",
     "zero_phase_moving_average",
 ]
-
-STANDARD_GRAVITY = 9.80665  # m/s^2, CGPM 1901 conventional value
 
 
 def zero_phase_moving_average(signal: ArrayLike, *, window: int = 5) -> NDArray[np.float64]:
@@ -84,35 +85,100 @@ def zero_phase_moving_average(signal: ArrayLike, *, window: int = 5) -> NDArray[
     return sps.filtfilt(np.full(window, 1.0 / window), [1.0], values)
 
 
-def impact_velocity_from_height(
-    height: ArrayLike, *, g: float = STANDARD_GRAVITY
-) -> NDArray[np.float64] | float:
-    """Impact velocity of a frictionless fall from ``height``: ``v0 = -sqrt(2 g h)``.
+@dataclass(frozen=True)
+class PhasePeaks:
+    """Shock peaks of drop records, per phase (the one reduction idkit uses for drops).
 
-    Thesis eq. (3.18); negative because the top mass moves down (compression).
+    Every array has the leading shape of the records given to :func:`drop_phase_peaks`.
+
+    Attributes
+    ----------
+    acceleration_compression, acceleration_tension : ndarray
+        Largest acceleration magnitude of the top mass while the deflection is below / above
+        its reference, m/s^2 (``nan`` when the phase never occurs).
+    index_compression, index_tension : ndarray of int
+        Sample of each peak (-1 when the phase never occurs).
+    compression, tension : ndarray
+        Largest travel below / above the reference, ``reference - min`` and
+        ``max - reference``, m, >= 0.
+    """
+
+    acceleration_compression: NDArray[np.float64]
+    acceleration_tension: NDArray[np.float64]
+    index_compression: NDArray[np.int64]
+    index_tension: NDArray[np.int64]
+    compression: NDArray[np.float64]
+    tension: NDArray[np.float64]
+
+    @property
+    def rest_shock_level(self) -> NDArray[np.float64]:
+        """The larger of the two phase peaks, m/s^2 (thesis 8.3)."""
+        with np.errstate(invalid="ignore"):
+            return np.fmax(self.acceleration_compression, self.acceleration_tension)
+
+
+def drop_phase_peaks(deflection: ArrayLike, acceleration: ArrayLike, *, reference: ArrayLike | None = None,
+                     start: int = 0) -> PhasePeaks:
+    """Peak accelerations and travels of drop records in compression and in tension.
+
+    The one definition of a drop's phases, shared by the measured records
+    (:func:`process_drop`), the simulated ones (:func:`idkit.responses.shock.shock_sweep`),
+    the drop validation and the CLI: from sample ``start`` on, the record is in
+    **compression** where ``deflection < reference`` and in **tension** where it is above;
+    ``deflection`` is the travel of the top mass relative to the base (``x_top - x_base``,
+    the quantity a drop rig measures; for a hybrid the sum over both isolators). The peaks
+    are magnitudes, so the compression peak (acceleration upward) and the tension peak
+    (downward) compare directly. Non-finite samples (a simulation stopped by a validity
+    flag) are ignored.
 
     Parameters
     ----------
-    height : float or array_like
-        Drop height(s), m, >= 0.
-    g : float, default 9.80665
-        Gravitational acceleration, m/s^2.
+    deflection : array_like, shape (..., n)
+        Deflection records, m, positive = tension.
+    acceleration : array_like, shape (..., n)
+        Top-mass acceleration records, m/s^2.
+    reference : array_like, shape (...), optional
+        Deflection taken as the start of the phases, m; default the deflection at ``start``.
+    start : int, default 0
+        First sample considered (the impact).
 
     Returns
     -------
-    float or ndarray
-        Impact velocity, m/s (<= 0).
+    PhasePeaks
 
     Examples
     --------
-    >>> round(impact_velocity_from_height(0.08), 4)
-    -1.2526
+    >>> t = np.linspace(0.0, 0.2, 2001)
+    >>> x = -0.01 * np.sin(2 * np.pi * 10 * t)  # one compression, then one tension
+    >>> peaks = drop_phase_peaks(x, -(2 * np.pi * 10) ** 2 * x)
+    >>> round(float(peaks.compression), 6), round(float(peaks.acceleration_tension), 3)
+    (0.01, 39.478)
     """
-    h = np.asarray(height, dtype=float)
-    if not np.all(np.isfinite(h) & (h >= 0)):
-        raise DataError(f"height must be finite and >= 0 m; found {height!r}")
-    v0 = -np.sqrt(2.0 * g * h)
-    return float(v0) if v0.ndim == 0 else v0
+    x = np.asarray(deflection, dtype=float)
+    a = np.asarray(acceleration, dtype=float)
+    if x.shape != a.shape or x.ndim < 1:
+        raise DataError(f"deflection and acceleration: found shapes {x.shape} and {a.shape}, expected equal (..., n)")
+    if not (0 <= int(start) < x.shape[-1]):
+        raise DataError(f"start: found {start!r}, expected a sample index in [0, {x.shape[-1]})")
+    x, a = x[..., int(start):], a[..., int(start):]
+    ref = x[..., 0] if reference is None else np.broadcast_to(np.asarray(reference, dtype=float), x.shape[:-1])
+    relative = x - ref[..., None]
+    finite = np.isfinite(relative) & np.isfinite(a)
+    magnitude = np.where(finite, np.abs(a), -np.inf)
+
+    def phase(mask):
+        values = np.where(mask & finite, magnitude, -np.inf)
+        index = np.argmax(values, axis=-1)
+        peak = np.take_along_axis(values, index[..., None], axis=-1)[..., 0]
+        present = np.isfinite(peak)
+        return np.where(present, peak, np.nan), np.where(present, index + int(start), -1).astype(np.int64)
+
+    acc_c, idx_c = phase(relative < 0)
+    acc_t, idx_t = phase(relative > 0)
+    safe = np.where(finite, relative, 0.0)
+    return PhasePeaks(acceleration_compression=acc_c, acceleration_tension=acc_t, index_compression=idx_c,
+                      index_tension=idx_t, compression=np.maximum(-safe.min(axis=-1), 0.0),
+                      tension=np.maximum(safe.max(axis=-1), 0.0))
 
 
 @dataclass(frozen=True)
@@ -344,21 +410,13 @@ def process_drop(
     else:
         reference = float(deflection_reference)
     relative = x - reference
-    after = np.arange(t.size) >= impact
-    compression = after & (relative < 0)
-    tension = after & (relative > 0)
-    if not np.any(compression):
+    peaks = drop_phase_peaks(x, acc, reference=reference, start=impact)
+    if peaks.index_compression < 0:
         raise DataError("the deflection never goes below its reference after the impact")
 
-    def phase_peak(mask: NDArray[np.bool_]) -> tuple[float, float]:
-        if not np.any(mask):
-            return float("nan"), float("nan")
-        magnitude = np.where(mask, np.abs(acc), -np.inf)
-        index = int(np.argmax(magnitude))
-        return float(magnitude[index]), float(t[index])
+    def at(index) -> float:
+        return float(t[index]) if index >= 0 else float("nan")
 
-    peak_compression, time_compression = phase_peak(compression)
-    peak_tension, time_tension = phase_peak(tension)
     # First compression phase: from the impact until the relative velocity turns upward
     # (the peak compression of the first stroke); velocity[impact] < 0 so it is not empty.
     turning = np.flatnonzero(velocity[impact:] >= 0)
@@ -371,12 +429,12 @@ def process_drop(
         impact_velocity_from_height=(
             float("nan") if drop_height is None else impact_velocity_from_height(drop_height, g=g)
         ),
-        peak_acceleration_compression=peak_compression,
-        time_peak_acceleration_compression=time_compression,
-        peak_acceleration_tension=peak_tension,
-        time_peak_acceleration_tension=time_tension,
-        max_compression=float(-relative[impact:].min()),
-        max_tension=float(max(relative[impact:].max(), 0.0)),
+        peak_acceleration_compression=float(peaks.acceleration_compression),
+        time_peak_acceleration_compression=at(int(peaks.index_compression)),
+        peak_acceleration_tension=float(peaks.acceleration_tension),
+        time_peak_acceleration_tension=at(int(peaks.index_tension)),
+        max_compression=float(peaks.compression),
+        max_tension=float(peaks.tension),
         deflection_reference=reference,
         time=t,
         acceleration=acc,

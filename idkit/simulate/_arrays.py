@@ -8,8 +8,8 @@ import numpy as np
 
 from idkit.errors import SimulationError
 from idkit.models.systems import CoulombSpringSystem, HybridSystem, SDOFSystem
+from idkit.gravity import STANDARD_GRAVITY
 
-STANDARD_GRAVITY = 9.80665  # m/s^2
 
 
 @dataclass(frozen=True)

@@ -10,6 +10,7 @@ import pandas as pd
 from idkit.errors import SimulationError
 from idkit.models.laws import kernel_array
 from idkit.models.base import IsolatorModel
+from idkit.gravity import impact_velocity_from_height
 from idkit.simulate._arrays import STANDARD_GRAVITY, force_scale, resolve_system, system_arrays
 from idkit.simulate._kernel import FLAG_REASONS, run_time_batch
 from idkit.simulate._parallel import run_chunked
@@ -257,10 +258,7 @@ def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float
     if (impact_velocity is None) == (drop_height is None):
         raise SimulationError("free_fall: give exactly one of impact_velocity and drop_height")
     if drop_height is not None:
-        heights = np.atleast_1d(np.asarray(drop_height, dtype=float))
-        if np.any(~np.isfinite(heights)) or np.any(heights < 0):
-            raise SimulationError(f"drop_height: found {heights[~(heights >= 0)][:1]}, expected finite heights >= 0 m")
-        v0 = -np.sqrt(2.0 * STANDARD_GRAVITY * heights)
+        v0 = np.atleast_1d(impact_velocity_from_height(drop_height))
     else:
         v0 = np.atleast_1d(np.asarray(impact_velocity, dtype=float))
     if not (duration > 0 and time_step > 0 and duration / time_step < 1e8):

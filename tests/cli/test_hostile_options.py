@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from cli.hostile import check, run_main
+from tests.cli.hostile import check, run_main
 from idkit.models import library, save_model
 
 DATA = Path(__file__).resolve().parents[2] / "data"
@@ -101,9 +101,9 @@ ERRORS = [
     ("time-step-zero", DROP + ["--velocity", "1", "--time-step", "0"], ["--time-step", "found '0'"]),
     ("time-step-over-duration", DROP + ["--velocity", "1", "--duration", "0.01", "--time-step", "0.1"],
      ["--time-step", "found 0.1 s", "--duration 0.01", "<= the duration"]),
-    ("samples-over-limit", DROP + ["--velocity", "1", "--time-step", "1e-8"],
+    ("samples-over-limit", DROP + ["--velocity", "1", "--duration", "0.5", "--time-step", "1e-8"],
      ["--time-step 1e-08", "5e+07 samples", "--max-samples 10000000"]),
-    ("many-drops-over-limit", DROP + ["--velocity"] + ["1"] * 500,
+    ("many-drops-over-limit", DROP + ["--velocity"] + ["1"] * 500 + ["--duration", "0.5", "--time-step", "2e-5"],
      ["500 drop(s)", "--max-samples 10000000"]),
     ("steps-over-simulator-limit", DROP + ["--velocity", "1", "--duration", "1e9", "--time-step", "1e-3",
                                            "--max-samples", "1e15"], ["--duration 1e+09", "1e+12 steps", "1e+08"]),

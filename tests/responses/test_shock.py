@@ -94,4 +94,4 @@ def test_input_checks():
     with pytest.raises(SimulationError, match="exactly one"):
         shock_sweep(system)
     with pytest.raises(SimulationError, match="impact_velocity"):
-        shock_sweep(system, impact_velocity=[0.0])
+        shock_sweep(system, impact_velocity=[np.nan])

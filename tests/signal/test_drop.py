@@ -9,7 +9,7 @@ from idkit.signal.drop import (
     STANDARD_GRAVITY,
     zero_phase_moving_average,
 )
-from idkit.errors import DataError
+from idkit.errors import DataError, ParameterError
 
 FS = 10_000.0  # Hz
 F0 = 20.0  # Hz, natural frequency of the synthetic isolator
@@ -103,7 +103,7 @@ def test_impact_velocity_from_height():
     np.testing.assert_allclose(impact_velocity_from_height([0.0, 0.02], g=10.0),
                                [0.0, -0.632455532],
                                rtol=1e-9)
-    with pytest.raises(DataError, match="height"):
+    with pytest.raises(ParameterError, match="height"):
         impact_velocity_from_height(-0.01)
 
 
