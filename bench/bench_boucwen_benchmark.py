@@ -28,7 +28,7 @@ import numpy as np
 
 from idkit.fit import OUTPUT_PARAMETERS, fit_boucwen_output
 from idkit.fit.boucwen_output import OUTPUT_UNITS
-from idkit.io import read_boucwen_benchmark, realdata_dir
+from idkit.datasets import read_boucwen_benchmark, realdata_dir
 from idkit.simulate import benchmark_truth, simulate_force_driven
 
 BEST_BLACK_BOX_M = 7.53e-6
@@ -83,8 +83,8 @@ def main(argv=None):
     print(f"  success {fit.success}{'' if fit.success else ' ' + '; '.join(fit.reasons)}")
     print(f"  training RMS error {fit.rms_error_m:.3g} m (start {fit.start_rms_error_m:.3g} m), "
           f"residual lag-1 autocorrelation {fit.residual_lag1_autocorrelation:.2f}")
-    truth_values = dict(mass_kg=truth_mass, c_visc=truth.c_visc, k1=truth.k1, k2=0.0, k3=0.0, alpha=truth.alpha,
-                        beta=truth.beta, gamma=truth.gamma, n=truth.n, c=0.0)
+    truth_values = {"mass_kg": truth_mass, "c_visc": truth.c_visc, "k1": truth.k1, "k2": 0.0, "k3": 0.0, "alpha": truth.alpha,
+                        "beta": truth.beta, "gamma": truth.gamma, "n": truth.n, "c": 0.0}
     print(f"  {'parameter':9s} {'value':>13s} {'stderr':>10s} {'truth':>10s} {'(v-t)/se':>9s}  unit")
     for name in OUTPUT_PARAMETERS:
         value, error = fit.params[name], fit.stderr[name]

@@ -32,7 +32,12 @@ from idkit.fit.bootstrap import (
     bootstrap_transmissibility,
 )
 from idkit.fit.boucwen import boucwen_set_errors, boucwen_set_forces, fit_boucwen
-from idkit.fit.boucwen_output import OUTPUT_PARAMETERS, BoucWenOutputFit, boucwen_output_start, fit_boucwen_output
+from idkit.fit.boucwen_output import (
+    OUTPUT_PARAMETERS,
+    BoucWenOutputFit,
+    boucwen_output_start,
+    fit_boucwen_output,
+)
 from idkit.fit.compare import LoopModelComparison, compare_loop_models
 from idkit.fit.damping import ViscousDamping, fit_viscous_damping
 from idkit.fit.iwan import (

@@ -187,15 +187,15 @@ def boucwen_output_start(force, displacement, sample_rate_hz: float, *,
             grid.append((cost(shape), shape))
     best = min(grid)[1]
     refined = minimize(cost, np.array(best), method="Nelder-Mead",
-                       options=dict(xatol=1e-3 / x_rms, fatol=0.0, maxfev=200))
+                       options={"xatol": 1e-3 / x_rms, "fatol": 0.0, "maxfev": 200})
     shape = tuple(refined.x) if refined.fun < cost(best) else best
     (mass, damping, stiffness, alpha), _ = solve(shape)
     if not (mass > 0.0 and stiffness > 0.0 and alpha > 0.0):
         raise FitError(f"start: the equation-error regression gave mass {mass:g} kg, k1 {stiffness:g} N/m, "
                        f"alpha {alpha:g} N/m; expected all positive (is the record force in N and displacement in m?)")
-    return dict(mass_kg=float(mass), c_visc=float(max(damping, 1e-3 * 2.0 * math.sqrt(stiffness * mass))),
-                k1=float(stiffness), k2=0.0, k3=0.0, alpha=float(alpha), beta=float(shape[0]),
-                gamma=float(shape[1]), n=1.0, c=0.0)
+    return {"mass_kg": float(mass), "c_visc": float(max(damping, 1e-3 * 2.0 * math.sqrt(stiffness * mass))),
+                "k1": float(stiffness), "k2": 0.0, "k3": 0.0, "alpha": float(alpha), "beta": float(shape[0]),
+                "gamma": float(shape[1]), "n": 1.0, "c": 0.0}
 
 
 @dataclass(frozen=True, eq=False)
@@ -251,11 +251,11 @@ class BoucWenOutputFit:
     def report(self) -> str:
         """A table of parameters with standard errors, errors and status."""
         lines = [f"Bouc-Wen output-error fit: {'success' if self.success else 'NOT trustworthy'}",
-                 f"  RMS displacement error {self.rms_error_m:.4g} m ({100 * self.relative_rms_error:.3f} % of RMS), "
+                 (f"  RMS displacement error {self.rms_error_m:.4g} m ({100 * self.relative_rms_error:.3f} % of RMS), "
                  f"start {self.start_rms_error_m:.4g} m; {self.n_samples} samples, {self.n_evaluations} simulations, "
-                 f"{self.elapsed_s:.1f} s",
-                 f"  residual lag-1 autocorrelation {self.residual_lag1_autocorrelation:.3f} "
-                 "(standard errors assume white residuals)"]
+                 f"{self.elapsed_s:.1f} s"),
+                 (f"  residual lag-1 autocorrelation {self.residual_lag1_autocorrelation:.3f} "
+                 "(standard errors assume white residuals)")]
         for name in OUTPUT_PARAMETERS:
             fixed = "" if name in self.varied else "  (fixed)"
             lines.append(f"  {name:8s} = {self.params[name]: .6g} +- {self.stderr[name]:.2g} {OUTPUT_UNITS[name]}"

@@ -50,8 +50,13 @@ from idkit.models.boucwen import BoucWenModel
 from idkit.models.laws import kernel_array
 
 __all__ = [
-    "SUBSTEPS_PER_SAMPLE", "INTERPOLATIONS", "ForceInput", "ForceDrivenResponse", "simulate_force_driven",
-    "benchmark_truth", "force_driven_rates",
+    "INTERPOLATIONS",
+    "SUBSTEPS_PER_SAMPLE",
+    "ForceDrivenResponse",
+    "ForceInput",
+    "benchmark_truth",
+    "force_driven_rates",
+    "simulate_force_driven",
 ]
 
 #: Runge-Kutta steps per force sample (the benchmark's own 20x internal rate).
@@ -281,8 +286,8 @@ def simulate_force_driven(model: BoucWenModel, mass_kg: float, force, sample_rat
     n_samples = force.force.size
     reasons = ()
     if completed < n_samples:
-        reasons = (f"the state became non-finite or |x| exceeded {RUNAWAY_DISPLACEMENT:g} m at sample {completed} "
-                   f"of {n_samples} (t = {completed / force.sample_rate_hz:g} s)",)
+        reasons = ((f"the state became non-finite or |x| exceeded {RUNAWAY_DISPLACEMENT:g} m at sample {completed} "
+                   f"of {n_samples} (t = {completed / force.sample_rate_hz:g} s)"),)
     return ForceDrivenResponse(
         time=np.arange(n_samples) / force.sample_rate_hz, force=force.force, displacement=states[:, 0],
         velocity=states[:, 1], hysteretic_force=states[:, 2], substeps=force.substeps,

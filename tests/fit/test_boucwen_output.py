@@ -5,7 +5,7 @@ import pytest
 
 from idkit.errors import FitError
 from idkit.fit import OUTPUT_PARAMETERS, fit_boucwen_output
-from idkit.io import read_boucwen_benchmark, realdata_dir
+from idkit.datasets import read_boucwen_benchmark, realdata_dir
 from idkit.simulate import benchmark_truth, simulate_force_driven
 
 RATE_HZ = 750.0
@@ -39,8 +39,8 @@ def test_recovers_the_true_parameters_within_their_standard_errors(seed):
     measured = clean + NOISE_M * np.random.default_rng(seed + 100).standard_normal(clean.size)
     fit = fit_boucwen_output(force, measured, RATE_HZ, interpolation="fourier", substeps=10)
     assert fit.success, fit.reasons
-    truth = dict(mass_kg=mass, c_visc=model.c_visc, k1=model.k1, k2=0.0, k3=0.0, alpha=model.alpha,
-                 beta=model.beta, gamma=model.gamma, n=model.n, c=0.0)
+    truth = {"mass_kg": mass, "c_visc": model.c_visc, "k1": model.k1, "k2": 0.0, "k3": 0.0, "alpha": model.alpha,
+                 "beta": model.beta, "gamma": model.gamma, "n": model.n, "c": 0.0}
     z_scores = {name: (fit.params[name] - truth[name]) / fit.stderr[name] for name in OUTPUT_PARAMETERS}
     assert all(abs(z) < N_SIGMA for z in z_scores.values()), z_scores
     # the residual is the added white noise: its RMS within 5 % of NOISE_M (16384 samples
@@ -52,8 +52,8 @@ def test_an_unfinished_fit_says_so():
     model, mass = benchmark_truth()
     force = _multisine(5, 2048)
     measured = simulate_force_driven(model, mass, force, RATE_HZ, interpolation="fourier").displacement
-    start = dict(mass_kg=1.5, c_visc=20.0, k1=4e4, k2=0.0, k3=0.0, alpha=4e4, beta=600.0, gamma=-900.0, n=1.0,
-                 c=0.0)
+    start = {"mass_kg": 1.5, "c_visc": 20.0, "k1": 4e4, "k2": 0.0, "k3": 0.0, "alpha": 4e4, "beta": 600.0, "gamma": -900.0, "n": 1.0,
+                 "c": 0.0}
     fit = fit_boucwen_output(force, measured, RATE_HZ, start=start, interpolation="fourier", substeps=5,
                              max_simulations=12)
     assert not fit.success
@@ -61,16 +61,16 @@ def test_an_unfinished_fit_says_so():
 
 
 @pytest.mark.parametrize("kwargs, word", [
-    (dict(displacement=np.zeros(100)), "displacement"),
-    (dict(vary=("mass_kg", "mass")), "vary"),
-    (dict(interpolation="spline"), "interpolation"),
-    (dict(skip_samples=5000), "skip_samples"),
-    (dict(start=dict(mass_kg=2.0, c_visc=10.0, k1=5e4, k2=0.0, k3=0.0, alpha=5e4, beta=-800.0, gamma=-1100.0,
-                     n=1.0, c=0.0)), "beta"),
+    ({"displacement": np.zeros(100)}, "displacement"),
+    ({"vary": ("mass_kg", "mass")}, "vary"),
+    ({"interpolation": "spline"}, "interpolation"),
+    ({"skip_samples": 5000}, "skip_samples"),
+    ({"start": {"mass_kg": 2.0, "c_visc": 10.0, "k1": 5e4, "k2": 0.0, "k3": 0.0, "alpha": 5e4, "beta": -800.0, "gamma": -1100.0,
+                     "n": 1.0, "c": 0.0}}, "beta"),
 ])
 def test_bad_input_is_named(kwargs, word):
     force = _multisine(1, 1024)
-    arguments = dict(displacement=1e-3 * np.sin(np.arange(1024) / 10.0)) | kwargs
+    arguments = {"displacement": 1e-3 * np.sin(np.arange(1024) / 10.0)} | kwargs
     with pytest.raises(FitError, match=word):
         fit_boucwen_output(force, arguments.pop("displacement"), RATE_HZ, **arguments)
 

@@ -8,7 +8,7 @@ from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline
 
 from idkit.errors import ParameterError, SimulationError
-from idkit.io import read_boucwen_benchmark, realdata_dir
+from idkit.datasets import read_boucwen_benchmark, realdata_dir
 from idkit.models import BoucWenModel
 from idkit.simulate import ForceInput, benchmark_truth, simulate_force_driven
 
@@ -102,14 +102,14 @@ def test_runaway_is_reported_not_returned_as_numbers():
 
 
 @pytest.mark.parametrize("kwargs, word", [
-    (dict(force=np.ones(3)), "force"),
-    (dict(force=np.array([1.0, np.nan, 0.0, 1.0])), "non-finite"),
-    (dict(force=np.ones(10), sample_rate_hz=-1.0), "sample_rate_hz"),
-    (dict(force=np.ones(10), interpolation="spline"), "interpolation"),
-    (dict(force=np.ones(10), substeps=0), "substeps"),
+    ({"force": np.ones(3)}, "force"),
+    ({"force": np.array([1.0, np.nan, 0.0, 1.0])}, "non-finite"),
+    ({"force": np.ones(10), "sample_rate_hz": -1.0}, "sample_rate_hz"),
+    ({"force": np.ones(10), "interpolation": "spline"}, "interpolation"),
+    ({"force": np.ones(10), "substeps": 0}, "substeps"),
 ])
 def test_bad_input_is_named(kwargs, word):
-    arguments = dict(sample_rate_hz=RATE_HZ) | kwargs
+    arguments = {"sample_rate_hz": RATE_HZ} | kwargs
     with pytest.raises(SimulationError, match=word):
         ForceInput.from_samples(arguments.pop("force"), arguments.pop("sample_rate_hz"), **arguments)
     model, _ = benchmark_truth()
