@@ -42,10 +42,12 @@ import math
 import time
 from dataclasses import dataclass
 
+import lmfit
 import numpy as np
 from scipy.optimize import least_squares, minimize
 
 from idkit.errors import FitError, ParameterError
+from idkit.fit._params import to_lmfit
 from idkit.models.boucwen import BoucWenModel
 from idkit.models.laws import boucwen_z_history, kernel_array
 from idkit.simulate.force_driven import (
@@ -214,6 +216,11 @@ class BoucWenOutputFit:
         have stderr 0.
     varied : tuple of str
         The parameters that were fitted.
+    bounds : dict
+        ``name -> (lower, upper)`` in SI for the varied parameters.
+    covariance : numpy.ndarray
+        Covariance of the varied parameters (order of ``varied``, SI; NaN if
+        ``J^T J`` is singular).
     rms_error_m : float
         RMS of the simulated minus measured displacement over the fitted samples (m).
     relative_rms_error : float
@@ -238,6 +245,8 @@ class BoucWenOutputFit:
     stderr: dict
     start: dict
     varied: tuple
+    bounds: dict
+    covariance: np.ndarray
     rms_error_m: float
     relative_rms_error: float
     start_rms_error_m: float
@@ -247,6 +256,24 @@ class BoucWenOutputFit:
     elapsed_s: float
     success: bool
     reasons: tuple = ()
+
+    @property
+    def parameters(self) -> lmfit.Parameters:
+        """The result as :class:`lmfit.Parameters` (stderr, correlations, unit in ``user_data``)."""
+        bounds = {name: self.bounds.get(name, (-math.inf, math.inf)) for name in OUTPUT_PARAMETERS}
+        parameters = to_lmfit(
+            OUTPUT_PARAMETERS, [self.params[name] for name in OUTPUT_PARAMETERS],
+            units=[OUTPUT_UNITS[name] for name in OUTPUT_PARAMETERS],
+            lower=[bounds[name][0] for name in OUTPUT_PARAMETERS], upper=[bounds[name][1] for name in OUTPUT_PARAMETERS],
+            vary=[name in self.varied for name in OUTPUT_PARAMETERS],
+            stderr=[self.stderr[name] if name in self.varied else None for name in OUTPUT_PARAMETERS])
+        sigma = np.sqrt(np.diag(self.covariance))
+        if np.all(np.isfinite(sigma)) and np.all(sigma > 0.0):
+            correlation = self.covariance / np.outer(sigma, sigma)
+            for i, name in enumerate(self.varied):
+                parameters[name].correl = {other: float(correlation[i, j])
+                                           for j, other in enumerate(self.varied) if j != i}
+        return parameters
 
     def report(self) -> str:
         """A table of parameters with standard errors, errors and status."""
@@ -347,7 +374,7 @@ def fit_boucwen_output(force, displacement, sample_rate_hz: float, *, start: dic
                 raise FitError(f"start: found {name} = {value:g}, expected > 0")
             lower.append(math.log(low))
             upper.append(math.log(high))
-            theta0.append(math.log(min(max(value, low), high)))
+            theta0.append(math.log(value))
         else:
             lower.append(-1e3)
             upper.append(1e3)
@@ -397,6 +424,11 @@ def fit_boucwen_output(force, displacement, sample_rate_hz: float, *, start: dic
     dof = max(1, y_used.size - len(varied))
     variance = float(np.sum(fit_residual ** 2)) / dof / y_rms ** 2
     stderr = {name: 0.0 for name in OUTPUT_PARAMETERS}
+    covariance = np.full((len(varied), len(varied)), np.nan)
+    # d(physical)/d(theta): p for log coordinates, the scale for scaled ones
+    chain = np.array([params[name] if name in _POSITIVE else scales[name] for name in varied])
+    bounds = {name: ((math.exp(low), math.exp(high)) if name in _POSITIVE else (low * scales[name], high * scales[name]))
+              for name, low, high in zip(varied, lower, upper)}
     normal = jacobian.T @ jacobian
     if np.linalg.cond(normal) > 1e14 or not np.all(np.isfinite(normal)):
         reasons.append(f"J^T J is singular (condition {np.linalg.cond(normal):.3g}): some parameters are not "
@@ -404,10 +436,9 @@ def fit_boucwen_output(force, displacement, sample_rate_hz: float, *, start: dic
         for name in varied:
             stderr[name] = math.nan
     else:
-        covariance = variance * np.linalg.inv(normal)
+        covariance = variance * np.linalg.inv(normal) * np.outer(chain, chain)
         for index, name in enumerate(varied):
-            sigma = math.sqrt(max(covariance[index, index], 0.0))
-            stderr[name] = params[name] * sigma if name in _POSITIVE else scales[name] * sigma
+            stderr[name] = math.sqrt(max(covariance[index, index], 0.0))
     centred = fit_residual - np.mean(fit_residual)
     lag1 = float(np.dot(centred[1:], centred[:-1]) / np.dot(centred, centred)) if np.any(centred) else 0.0
     try:
@@ -416,7 +447,8 @@ def fit_boucwen_output(force, displacement, sample_rate_hz: float, *, start: dic
         raise FitError(f"the optimiser returned an inadmissible model: {error}") from None
     rms = float(np.sqrt(np.mean(fit_residual ** 2)))
     return BoucWenOutputFit(
-        model=model, mass_kg=mass, params=params, stderr=stderr, start=start, varied=varied, rms_error_m=rms,
+        model=model, mass_kg=mass, params=params, stderr=stderr, start=start, varied=varied, bounds=bounds,
+        covariance=covariance, rms_error_m=rms,
         relative_rms_error=rms / y_rms, start_rms_error_m=float(y_rms * np.sqrt(np.mean(start_residual ** 2))),
         residual_lag1_autocorrelation=lag1, n_samples=int(y_used.size), n_evaluations=count[0],
         elapsed_s=time.perf_counter() - clock, success=not reasons, reasons=tuple(reasons))

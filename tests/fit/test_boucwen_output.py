@@ -43,6 +43,9 @@ def test_recovers_the_true_parameters_within_their_standard_errors(seed):
                  "beta": model.beta, "gamma": model.gamma, "n": model.n, "c": 0.0}
     z_scores = {name: (fit.params[name] - truth[name]) / fit.stderr[name] for name in OUTPUT_PARAMETERS}
     assert all(abs(z) < N_SIGMA for z in z_scores.values()), z_scores
+    parameters = fit.parameters                                  # the same numbers as lmfit Parameters
+    assert parameters["gamma"].stderr == fit.stderr["gamma"]
+    assert -1.0 <= parameters["k1"].correl["alpha"] <= 1.0
     # the residual is the added white noise: its RMS within 5 % of NOISE_M (16384 samples
     # give a 0.6 % standard deviation of the RMS; the rest is model-fit absorption, p/N).
     assert fit.rms_error_m == pytest.approx(NOISE_M, rel=0.05)
