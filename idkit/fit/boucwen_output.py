@@ -151,6 +151,9 @@ def boucwen_output_start(force, displacement, sample_rate_hz: float, *,
     -------
     dict
         Values of :data:`OUTPUT_PARAMETERS` (``n = 1``, ``k2 = k3 = c = 0``).
+        A regressed ``c_visc`` below 0.1 % of critical damping (hysteresis can
+        take all the dissipation) starts at 0.1 % of critical, so that its log
+        coordinate exists.
 
     Raises
     ------
