@@ -14,6 +14,8 @@
 - :func:`fit_boucwen` - staged (elastic, loop shape), scaled, globally searched
   fit of the modified Bouc-Wen model to the same loops; :func:`compare_loop_models`
   tabulates Iwan against Bouc-Wen set by set.
+- :func:`fit_boucwen_output` - the force-driven Bouc-Wen oscillator fitted to a
+  time record by output (simulation) error, with standard errors.
 - :mod:`idkit.fit.measurements` - the same fits on measurement sets
   (:func:`fit_iwan_measurements`, :func:`fit_maxwell_measurements` on one
   :class:`ElastomerData`, :func:`fit_boucwen_measurements`) with provenance and model files.
@@ -35,6 +37,13 @@ from idkit.fit.bootstrap import (
     bootstrap_loops,
     bootstrap_measurements,
     bootstrap_transmissibility,
+)
+from idkit.fit.boucwen import fit_boucwen
+from idkit.fit.boucwen_output import (
+    OUTPUT_PARAMETERS,
+    BoucWenOutputFit,
+    boucwen_output_start,
+    fit_boucwen_output,
 )
 from idkit.fit.boucwen import fit_boucwen
 from idkit.fit.compare import (
@@ -97,4 +106,5 @@ __all__ = [
     "fit_maxwell_measurements", "ElastomerData", "elastomer_data",
     "BootstrapResult", "bootstrap_fit", "bootstrap_loops", "bootstrap_transmissibility", "bootstrap_measurements",
     "LoopModelComparison", "compare_loop_models", "ErrorLandscape", "maxwell_error_landscape",
+    "fit_boucwen_output", "boucwen_output_start", "BoucWenOutputFit", "OUTPUT_PARAMETERS",
 ]
