@@ -26,7 +26,8 @@ from idkit.fit import (
     loop_sets,
     transmissibility_sets,
 )
-from idkit.io import load_measurement_set, read_pyvisco_complex_modulus, realdata_dir
+from idkit.io import load_measurement_set
+from idkit.datasets import read_pyvisco_complex_modulus, realdata_dir
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

@@ -39,23 +39,11 @@ from idkit.io.measurements import (
     WhiteNoiseMeasurement,
 )
 from idkit.io.provenance import Source, file_sha256
-from idkit.io.realdata import (
-    BoucWenBenchmark,
-    PronyReference,
-    read_afrl_accel,
-    read_boucwen_benchmark,
-    read_mr_damper,
-    read_prony_reference,
-    read_pyvisco_complex_modulus,
-    read_pyvisco_shift_factors,
-    realdata_dir,
-)
 from idkit.io.units import accepted_units
 
 __all__ = [
     "SAMPLE_RATE_TOLERANCE",
     "AccelerationRecord",
-    "BoucWenBenchmark",
     "ComplexStiffnessTable",
     "DropMeasurement",
     "Excitation",
@@ -65,7 +53,6 @@ __all__ = [
     "Measurement",
     "MeasurementInfo",
     "MeasurementSet",
-    "PronyReference",
     "QuasiStaticMeasurement",
     "ShiftFactorTable",
     "Source",
@@ -75,18 +62,11 @@ __all__ = [
     "build_measurement",
     "file_sha256",
     "load_measurement_set",
-    "read_afrl_accel",
-    "read_boucwen_benchmark",
     "read_complex_stiffness",
     "read_csv_measurement",
     "read_manifest",
     "read_mat",
-    "read_mr_damper",
-    "read_prony_reference",
-    "read_pyvisco_complex_modulus",
-    "read_pyvisco_shift_factors",
     "read_shift_factors",
-    "realdata_dir",
     "write_complex_stiffness",
     "write_csv_measurement",
     "write_measurement_set",

@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 
 from idkit.errors import DataError
-from idkit.io.atomic import write_bytes_atomic
+from idkit.atomic import write_bytes_atomic
 from idkit.io.columns import COMPLEX_STIFFNESS_SCHEMA, KindSchema
 from idkit.io.csv_measurement import format_csv
 from idkit.io.csv_table import read_csv_table

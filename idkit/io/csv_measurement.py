@@ -7,7 +7,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from idkit.errors import DataError
-from idkit.io.atomic import write_bytes_atomic
+from idkit.atomic import write_bytes_atomic
 from idkit.io.columns import KIND_SCHEMAS
 from idkit.io.csv_table import read_csv_table
 from idkit.io.info import MeasurementInfo

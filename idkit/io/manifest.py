@@ -24,10 +24,9 @@ import pandas as pd
 
 from idkit.errors import DataError
 from idkit.inputfiles import load_json, read_input_bytes
-from idkit.io.atomic import write_bytes_atomic
+from idkit.atomic import write_bytes_atomic
 from idkit.io.columns import KINDS
 from idkit.io.csv_measurement import read_csv_measurement, write_csv_measurement
-from idkit.io.csv_table import read_file_bytes
 from idkit.io.info import Excitation, MeasurementInfo
 from idkit.io.matfile import MatColumn, parse_mat_column, read_mat
 from idkit.io.measurements import Measurement

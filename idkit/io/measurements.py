@@ -62,6 +62,11 @@ def _as_signal(value: object, name: str, source: Source) -> np.ndarray:
     return array
 
 
+def sample_rate_of(time: np.ndarray) -> float:
+    """Sample rate in Hz of a time column: ``1 / median(diff(time))`` (robust to one odd step)."""
+    return 1.0 / float(np.median(np.diff(np.asarray(time, dtype=float))))
+
+
 def check_time(time: np.ndarray, source: Source, sample_rate_hz: float | None) -> None:
     """Check a time column: at least two samples, strictly increasing, declared rate.
 
@@ -129,6 +134,12 @@ class _SignalMeasurement:
                                 f"expected {length} (as many as time)")
             object.__setattr__(self, name, array)
         check_time(self.time, self.source, self.info.sample_rate_hz)
+
+    @property
+    def sample_rate_hz(self) -> float:
+        """Sample rate in Hz from the median time step (the one rule; ``info.sample_rate_hz``,
+        when declared, has been checked against it within :data:`SAMPLE_RATE_TOLERANCE`)."""
+        return sample_rate_of(self.time)
 
     @property
     def n_samples(self) -> int:
@@ -435,7 +446,7 @@ class AccelerationRecord:
     @property
     def sample_rate_hz(self) -> float:
         """Sample rate in Hz from the median time step."""
-        return 1.0 / float(np.median(np.diff(self.time)))
+        return sample_rate_of(self.time)
 
     def to_dataframe(self) -> pd.DataFrame:
         """Time and one acceleration column per test (``test_1 [m/s^2]`` ...)."""

@@ -12,7 +12,6 @@ from idkit.io import (
     SteppedSineMeasurement,
     WhiteNoiseMeasurement,
 )
-from idkit.observe._common import _sample_rate
 from idkit.observe.white_noise import frf_from_white_noise
 from idkit.observe.stepped_sine import stepped_sine_sweep
 
@@ -164,7 +163,7 @@ def summarize_measurements(measurements: Sequence, *, clip_run: int = 5,
     for m in measurements:
         info = m.info
         exc = info.excitation
-        fs = _sample_rate(m.time)
+        fs = m.sample_rate_hz
         row = {"id": m.id, "kind": m.kind, "isolator": info.isolator, "split": info.split,
                "sample_rate_Hz": fs, "duration_s": float(m.time[-1] - m.time[0]),
                "n_samples": m.n_samples, "top_mass_kg": info.top_mass_kg,

@@ -13,7 +13,7 @@ from idkit.errors import DataError
 from idkit.io import (
     SteppedSineMeasurement,
 )
-from idkit.observe._common import _require, _sample_rate
+from idkit.observe._common import _require
 
 
 # ---------------------------------------------------------------------------------------------
@@ -91,7 +91,7 @@ def hosidf_from_stepped_sine(measurement: SteppedSineMeasurement, *, n_harmonics
     SteppedSinePoint
     """
     _require(measurement, SteppedSineMeasurement, "hosidf_from_stepped_sine")
-    fs = _sample_rate(measurement.time)
+    fs = measurement.sample_rate_hz
     freq = measurement.freq
     usable = int(np.ceil(fs / 2 / freq)) - 1
     if usable < 1:

@@ -33,7 +33,7 @@ from pathlib import Path
 from idkit import __version__
 from idkit.io import file_sha256, write_measurement_set
 from idkit.atomic import atomic_output_folder
-from idkit.io.atomic import write_bytes_atomic
+from idkit.atomic import write_bytes_atomic
 from idkit.synth.experiments import CONTACT, NOISE, RESOLUTION, Planned, plan, realize
 from idkit.synth.truth import TRUTH_NAMES, truth_models
 

@@ -17,7 +17,7 @@ import pytest
 
 from idkit.signal.cycles import split_cycles
 from idkit.fit import compare_loop_models, fit_boucwen, fit_complex_stiffness, fit_iwan, prepare_loops
-from idkit.io import read_mr_damper, read_prony_reference, read_pyvisco_complex_modulus, realdata_dir
+from idkit.datasets import read_mr_damper, read_prony_reference, read_pyvisco_complex_modulus, realdata_dir
 
 DMA_REL_TOL = 1.02  # idkit's error at most 2 % (relative) above the reference series' error
 DMA_MAX_ERROR = 0.08

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from idkit.io.realdata import realdata_dir
+from idkit.datasets import realdata_dir
 
 CORPUS_DIR = Path(__file__).resolve().parents[1] / "data_corpus"
 

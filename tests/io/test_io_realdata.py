@@ -8,17 +8,9 @@ import numpy as np
 import pytest
 
 from idkit.errors import DataError
-from idkit.io import (
-    file_sha256,
-    load_measurement_set,
-    read_afrl_accel,
-    read_boucwen_benchmark,
-    read_mr_damper,
-    read_prony_reference,
-    read_pyvisco_complex_modulus,
-    read_pyvisco_shift_factors,
-)
-from idkit.io.realdata import realdata_dir
+from idkit.io import file_sha256, load_measurement_set
+from idkit.datasets import read_afrl_accel, read_boucwen_benchmark, read_mr_damper, read_prony_reference, read_pyvisco_complex_modulus, read_pyvisco_shift_factors
+from idkit.datasets import realdata_dir
 
 
 def test_realdata_dir_honours_env(monkeypatch, tmp_path):

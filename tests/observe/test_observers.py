@@ -15,17 +15,9 @@ from idkit.signal.cycles import noise_level
 from idkit.observe.drop import process_drop_measurement
 from idkit.observe.quasi_static import process_quasi_static
 from idkit.errors import DataError
-from idkit.io import (
-    DropMeasurement,
-    Excitation,
-    MeasurementInfo,
-    SteppedSineMeasurement,
-    WhiteNoiseMeasurement,
-    read_csv_measurement,
-    read_manifest,
-    read_mr_damper,
-)
-from idkit.io.realdata import realdata_dir
+from idkit.io import DropMeasurement, Excitation, MeasurementInfo, SteppedSineMeasurement, WhiteNoiseMeasurement, read_csv_measurement, read_manifest
+from idkit.datasets import read_mr_damper
+from idkit.datasets import realdata_dir
 from idkit.models import GeneralizedMaxwell, IwanModel, SDOFSystem
 from idkit.simulate import STANDARD_GRAVITY, free_fall, simulate
 

@@ -1,4 +1,6 @@
-"""Adapters for the public real data sets in ``shared/realdata`` (read in place).
+"""Adapters for four public real data sets in ``shared/realdata`` (read in place).
+
+Data-set-specific readers live here, apart from the format readers of :mod:`idkit.io`.
 
 The data live beside the repository (``<repo>/../shared/realdata``) or where
 the environment variable ``IDKIT_REALDATA`` points; they are never copied
@@ -81,7 +83,7 @@ def realdata_dir(subfolder: str | None = None) -> Path | None:
         does not exist (tests skip then).
     """
     env = os.environ.get("IDKIT_REALDATA")
-    base = Path(env) if env else Path(__file__).resolve().parents[2] / ".." / "shared" / "realdata"
+    base = Path(env) if env else Path(__file__).resolve().parents[1] / ".." / "shared" / "realdata"
     path = (base / subfolder) if subfolder else base
     return path.resolve() if path.is_dir() else None
 
