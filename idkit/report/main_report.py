@@ -198,7 +198,7 @@ def write_report(data: ReportData, folder) -> ReportSummary:
     report.section("Provenance", "provenance")
     report.paragraph(f"idkit {__version__}; seed {data.seed}; models in models/, tables in tables/.")
     so_far = {**data.timings_s, f"{WRITING} (until this table)": round(time.perf_counter() - started, 3)}
-    report.table(pd.DataFrame([{"stage": stage, "seconds": seconds} for stage, seconds in so_far.items()]),
+    report.table(pd.DataFrame([{"stage": stage, "duration [s]": seconds} for stage, seconds in so_far.items()]),
                  caption="timings (durations)")
     hashes = {isolator: s.hashes() for isolator, s in data.sets.items()}
     report.table(pd.DataFrame([{"isolator": isolator, "file": name, "sha256": digest}

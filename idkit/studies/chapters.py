@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
@@ -119,12 +119,15 @@ class ShockCase:
         Highest impact speed |v0| in m/s.
     max_height : float
         Highest drop height in m.
+    seconds : float
+        Wall time of the two sweeps.
     """
 
     by_speed: ShockSweep
     by_height: ShockSweep
     max_speed: float
     max_height: float
+    seconds: float = 0.0
 
     @property
     def tension_governs_from(self) -> float | None:
@@ -171,6 +174,8 @@ class MapCase:
     linear : LinearFrf
         Small-amplitude response at 1 Hz (its resonance).
     shock : ShockCase
+    map_seconds : float
+        Wall time of the harmonic map.
     """
 
     name: str
@@ -180,6 +185,12 @@ class MapCase:
     cross_amplitudes: tuple[float, ...]
     linear: LinearFrf
     shock: ShockCase
+    map_seconds: float = 0.0
+
+    @property
+    def timings_s(self) -> dict[str, float]:
+        """Wall time of the map and of the shock sweeps, s."""
+        return {f"map_{self.name}": self.map_seconds, f"shock_{self.name}": self.shock.seconds}
 
     @property
     def top_view_orders(self) -> tuple[float, ...]:
@@ -227,6 +238,8 @@ class ElastomerCase:
     check_linear : ndarray of complex
         The linear transmissibility at ``check_freq``.
     shock : ShockCase
+    check_seconds : float
+        Wall time of the time-domain check.
     """
 
     name: str
@@ -237,6 +250,12 @@ class ElastomerCase:
     check_hosidf: np.ndarray
     check_linear: np.ndarray
     shock: ShockCase
+    check_seconds: float = 0.0
+
+    @property
+    def timings_s(self) -> dict[str, float]:
+        """Wall time of the time-domain check and of the shock sweeps, s."""
+        return {f"harmonic_check_{self.name}": self.check_seconds, f"shock_{self.name}": self.shock.seconds}
 
     @property
     def check_deviation(self) -> np.ndarray:
@@ -270,8 +289,8 @@ class ChapterStudy:
     cases : tuple of MapCase or of ElastomerCase
     hybrid_linear : LinearFrf or None
         Hybrid study: the symmetric hybrid's small-amplitude response, 1e-2-1e6 Hz.
-    timings_s : dict
-        Seconds per computing stage.
+    total_seconds : float
+        Wall time of the whole computation.
     """
 
     name: str
@@ -279,7 +298,15 @@ class ChapterStudy:
     grid: StudyGrid
     cases: tuple[MapCase, ...] | tuple[ElastomerCase, ...]
     hybrid_linear: LinearFrf | None = None
-    timings_s: dict = field(default_factory=dict)
+    total_seconds: float = 0.0
+
+    @property
+    def timings_s(self) -> dict[str, float]:
+        """Seconds per computing stage (maps, checks, shock sweeps) and in total."""
+        timings: dict[str, float] = {}
+        for case in self.cases:
+            timings.update(case.timings_s)
+        return {**timings, "total": self.total_seconds}
 
     def case(self, name: str) -> MapCase | ElastomerCase:
         """The case called ``name``."""
@@ -326,8 +353,8 @@ def _total_work(name: str, grid: StudyGrid) -> int:
     return grid.freq.size * (grid.amplitude_symmetric.size + grid.amplitude_asymmetric.size) + 2 * shocks
 
 
-def _shock_case(system, max_speed: float, max_height: float, grid: StudyGrid, progress: _Progress, workers,
-                timings: dict, case: str) -> ShockCase:
+def _shock_case(system, max_speed: float, max_height: float, grid: StudyGrid, progress: _Progress,
+                workers) -> ShockCase:
     start = time.perf_counter()
     by_speed = shock_sweep(system, impact_velocity=-np.linspace(max_speed / grid.n_drops, max_speed, grid.n_drops),
                            workers=workers)
@@ -335,8 +362,7 @@ def _shock_case(system, max_speed: float, max_height: float, grid: StudyGrid, pr
     by_height = shock_sweep(system, drop_height=np.linspace(max_height / grid.n_heights, max_height, grid.n_heights),
                             workers=workers)
     progress.advance(grid.n_heights)
-    timings[f"shock_{case}"] = time.perf_counter() - start
-    return ShockCase(by_speed, by_height, float(max_speed), float(max_height))
+    return ShockCase(by_speed, by_height, float(max_speed), float(max_height), time.perf_counter() - start)
 
 
 # library names of the nonlinear studies' systems and the ranges of their shock sweeps (|v0| m/s, h m)
@@ -347,7 +373,7 @@ _MAP_SYSTEMS = {
 _SHOCK_RANGE = {"wire-rope": (1.5, 0.05), "hybrid": (3.0, 0.25), "elastomer": (1.5, 0.1)}
 
 
-def _map_cases(name: str, grid: StudyGrid, progress: _Progress, workers, timings: dict) -> tuple[MapCase, ...]:
+def _map_cases(name: str, grid: StudyGrid, progress: _Progress, workers) -> tuple[MapCase, ...]:
     cases = []
     for symmetry, library_name in _MAP_SYSTEMS[name].items():
         system = library.get(library_name)
@@ -357,15 +383,15 @@ def _map_cases(name: str, grid: StudyGrid, progress: _Progress, workers, timings
         hmap = harmonic_map(system, grid.freq, amplitude, n_harmonics=3, max_periods=grid.max_periods,
                             tolerance=STEADY_STATE_TOLERANCE, workers=workers,
                             progress=progress.stage(amplitude.size * grid.freq.size))
-        timings[f"map_{case}"] = time.perf_counter() - start
+        map_seconds = time.perf_counter() - start
         cross = (float(amplitude[0]), float(amplitude[len(amplitude) // 2]), float(amplitude[-1]))
-        shock = _shock_case(system, *_SHOCK_RANGE[name], grid, progress, workers, timings, case)
+        shock = _shock_case(system, *_SHOCK_RANGE[name], grid, progress, workers)
         cases.append(MapCase(case, symmetry, library.describe(library_name), hmap, cross,
-                             linear_frf(system, [1.0]), shock))
+                             linear_frf(system, [1.0]), shock, map_seconds))
     return tuple(cases)
 
 
-def _elastomer_cases(grid: StudyGrid, progress: _Progress, workers, timings: dict) -> tuple[ElastomerCase, ...]:
+def _elastomer_cases(grid: StudyGrid, progress: _Progress, workers) -> tuple[ElastomerCase, ...]:
     freq = np.geomspace(1e-2, 1e6, grid.linear_points)
     check_freq = np.geomspace(1.0, 100.0, grid.check_points)
     cases = []
@@ -375,11 +401,12 @@ def _elastomer_cases(grid: StudyGrid, progress: _Progress, workers, timings: dic
         system = library.get(library_name)
         start = time.perf_counter()
         check = harmonic_response(system, check_freq, 1e-3, workers=workers)
-        timings[f"harmonic_check_{case}"] = time.perf_counter() - start
+        check_seconds = time.perf_counter() - start
         progress.advance(check_freq.size)
-        shock = _shock_case(system, *_SHOCK_RANGE["elastomer"], grid, progress, workers, timings, case)
+        shock = _shock_case(system, *_SHOCK_RANGE["elastomer"], grid, progress, workers)
         cases.append(ElastomerCase(case, variant, library.describe(library_name), linear_frf(system, freq),
-                                   check_freq, check.hosidf(1), system.transmissibility(check_freq), shock))
+                                   check_freq, check.hosidf(1), system.transmissibility(check_freq), shock,
+                                   check_seconds))
     return tuple(cases)
 
 
@@ -412,14 +439,12 @@ def compute_chapter_study(name: str, *, quick: bool = False, workers: int | None
         raise StudyError(f"study: found {name!r}, expected one of {list(STUDY_NAMES)}")
     grid = study_grid(quick)
     tracker = _Progress(progress, _total_work(name, grid))
-    timings: dict[str, float] = {}
     started = time.perf_counter()
     if name == "elastomer":
-        cases = _elastomer_cases(grid, tracker, workers, timings)
+        cases = _elastomer_cases(grid, tracker, workers)
         hybrid_linear = None
     else:
-        cases = _map_cases(name, grid, tracker, workers, timings)
+        cases = _map_cases(name, grid, tracker, workers)
         hybrid_linear = linear_frf(library.get("hybrid_symmetric"), np.geomspace(1e-2, 1e6, 600)) \
             if name == "hybrid" else None
-    timings["total"] = time.perf_counter() - started
-    return ChapterStudy(name, bool(quick), grid, cases, hybrid_linear, timings)
+    return ChapterStudy(name, bool(quick), grid, cases, hybrid_linear, time.perf_counter() - started)
