@@ -157,12 +157,12 @@ def register(commands) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``idkit`` parser: every command family adds itself with its module's ``register(commands)``."""
-    from idkit.cli import data, fit, inspect, report, study
+    from idkit.cli import data, fit, inspect, report, shock, study
 
     parser = opt.IdkitArgumentParser(prog="idkit", description="Identify, validate and simulate isolator models.")
     parser.add_argument("--version", action="version", version=f"idkit {__version__}")
     commands = parser.add_subparsers(dest="command", required=True)
-    for register_family in (register, data.register, fit.register, inspect.register, report.register,
+    for register_family in (register, data.register, fit.register, inspect.register, report.register, shock.register,
                             study.register):
         register_family(commands)
     return parser

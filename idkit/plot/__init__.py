@@ -1,9 +1,12 @@
-"""Figures. Every function takes ``ax=None``, returns what it drew and never calls ``show``.
+"""Figures of results. Every function takes ``ax``/``axes=None``, returns the Axes it drew into and never calls ``show``.
 
-matplotlib is imported lazily so that computation never pulls it in. With ``ax=None`` a
-:class:`matplotlib.figure.Figure` is created directly (no pyplot, no figure registry to
-leak); pass axes from ``plt.subplots`` to draw into a figure pyplot/Jupyter displays.
-The backend is never chosen here: that is the caller's (``MPLBACKEND``, ``%matplotlib``).
+Plots draw what the caller computed: they never run a fitter or a simulation (model forces
+along loops and error landscapes come from :mod:`idkit.fit.predictions`, studies from
+:mod:`idkit.studies`). matplotlib is imported lazily, and only by the one axes helper
+:mod:`idkit.plot._figure`: with ``ax=None`` it creates a :class:`matplotlib.figure.Figure`
+directly (no pyplot, no figure registry to leak); pass axes from pyplot to draw into a
+figure pyplot/Jupyter displays. The backend is never chosen here: that is the caller's
+(``MPLBACKEND``, ``%matplotlib``).
 """
 
 from idkit.plot.basic import (
