@@ -52,3 +52,25 @@ def test_one_parser_with_every_command_and_study():
         assert parser.parse_args(["study", name]).output == f"idkit-study-{name}"
     with pytest.raises(SystemExit):  # the demo is gone: `idkit study NAME --quick` replaces it
         parser.parse_args(["demo"])
+
+
+def test_every_command_module_is_registered(capsys):
+    """Each ``idkit/cli/<family>.py`` with ``register(commands)`` is listed in ``build_parser``: its commands answer."""
+    import argparse
+    import importlib
+    import pkgutil
+
+    import idkit.cli
+
+    parser = build_parser()
+    for info in pkgutil.iter_modules(idkit.cli.__path__):
+        module = importlib.import_module(f"idkit.cli.{info.name}")
+        if not callable(getattr(module, "register", None)):
+            continue
+        probe = argparse.ArgumentParser(prog="probe").add_subparsers(dest="command")
+        module.register(probe)
+        for name in probe.choices:
+            with pytest.raises(SystemExit) as stop:
+                parser.parse_args([name, "--help"])
+            assert stop.value.code == 0, f"idkit {name} ({info.name}.py) is not registered"
+    capsys.readouterr()
