@@ -8,6 +8,7 @@ reference paths for cross-checks live in :mod:`idkit.simulate.reference`.
 
 from idkit.simulate._arrays import STANDARD_GRAVITY
 from idkit.simulate.base_motion import BaseMotion
+from idkit.simulate.force_driven import ForceDrivenResponse, ForceInput, benchmark_truth, simulate_force_driven
 from idkit.simulate.moreau import MoreauResponse, moreau_coulomb_spring
 from idkit.simulate.reference import ReferenceHarmonic, ReferenceResponse, harmonic_reference, solve_ivp_reference
 from idkit.simulate.harmonic import (
@@ -30,4 +31,5 @@ __all__ = [
     "HarmonicResponse", "harmonic_response", "default_steps_per_period", "small_amplitude_resonance",
     "STANDARD_GRAVITY", "solve_ivp_reference", "harmonic_reference", "ReferenceResponse", "ReferenceHarmonic",
     "moreau_coulomb_spring", "MoreauResponse",
+    "ForceInput", "ForceDrivenResponse", "simulate_force_driven", "benchmark_truth",
 ]
