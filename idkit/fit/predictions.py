@@ -14,10 +14,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from idkit.errors import FitError
-from idkit.fit.boucwen import boucwen_set_forces
-from idkit.fit.iwan import LoopSet, iwan_set_forces
+from idkit.fit.loop_objective import boucwen_set_forces, iwan_set_forces
 from idkit.fit.landscape import ErrorLandscape, maxwell_error_landscape
 from idkit.models import BoucWenModel, IwanModel
+from idkit.observe.quasi_static import LoopSet
 
 __all__ = ["FitPrediction", "LoopFitPrediction", "LoopPrediction", "predict_fit", "predict_loops"]
 

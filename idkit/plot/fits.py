@@ -2,7 +2,7 @@
 
 Compute first, plot second: the model forces along the loops and the error landscape come
 from :mod:`idkit.fit.predictions` (this module runs no fitter and no loop model); the
-transmissibility of a model is the law of :class:`idkit.models.SDOFSystem`. Every
+transmissibility of a model is the law :func:`idkit.models.laws.sdof_transmissibility`. Every
 function accepts ``ax``/``axes=None`` (a new figure then) and returns the Axes it drew
 into. :func:`save_fit_plots` writes the figures of a fit (``idkit fit ... --plots DIR``).
 """
@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from idkit.models import SDOFSystem
+from idkit.models.laws import sdof_transmissibility
 from idkit.plot._figure import axes_or_new, save_figure
 
 if TYPE_CHECKING:  # types only: plotting never runs a fitter
@@ -71,7 +71,7 @@ def plot_frf_fit(model, frfs, *, band=(1.0, 100.0), axes=None):
     Parameters
     ----------
     model : GeneralizedMaxwell or VoigtModel
-        Its transmissibility on each top mass is :meth:`idkit.models.SDOFSystem.transmissibility`.
+        Its transmissibility on each top mass is :func:`idkit.models.laws.sdof_transmissibility`.
     frfs : sequence of TransmissibilitySet
         Every repetition is drawn (thin); the model once per mass (dashed).
     band : (float, float)
@@ -97,7 +97,7 @@ def plot_frf_fit(model, frfs, *, band=(1.0, 100.0), axes=None):
             phase_ax.semilogx(item.freq[inside], np.degrees(np.angle(item.transmissibility[inside])), color=colour,
                               lw=0.6, alpha=0.6)
         freq = np.geomspace(band[0], band[1], 400)
-        response = SDOFSystem(mass, model).transmissibility(freq)
+        response = sdof_transmissibility(model.small_amplitude_stiffness(freq), mass + model.m_eff, 2 * np.pi * freq)
         magnitude_ax.loglog(freq, np.abs(response), color=colour, ls="--", lw=1.2, label=f"{mass:.2f} kg")
         phase_ax.semilogx(freq, np.degrees(np.angle(response)), color=colour, ls="--", lw=1.2)
     magnitude_ax.set_ylabel("|H| [-]")
