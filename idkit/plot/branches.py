@@ -8,6 +8,7 @@ imported lazily.
 from __future__ import annotations
 
 import numpy as np
+from idkit.plot._figure import axes_or_new
 
 __all__ = ["plot_branch"]
 
@@ -51,10 +52,7 @@ def plot_branch(branch, quantity="ratio", *, hmap=None, ax=None, color=None, lab
         Stable parts solid, unstable parts dashed; folds (circles) and period-doubling points
         (diamonds) at their located parameter value, on log axes.
     """
-    if ax is None:
-        from matplotlib.figure import Figure
-
-        ax = Figure(figsize=(6.4, 4.4), layout="constrained").subplots()
+    ax = axes_or_new(ax, figsize=(6.4, 4.4))
     values, ylabel = _branch_values(branch, quantity)
     x = branch.values
     if hmap is not None:
