@@ -232,10 +232,10 @@ class HarmonicMap:
         """
         grid_freq, grid_amp = np.meshgrid(self.freq, self.amplitude, indexing="ij")
         point_columns = {
-            "half_range_m": self.half_range.ravel(),
+            "half_range [m]": self.half_range.ravel(),
             "amplitude_ratio": self.amplitude_ratio.ravel(),
-            "bias_m": self.bias.ravel(),
-            "peak_acceleration_m_s2": self.peak_acceleration.ravel(),
+            "bias [m]": self.bias.ravel(),
+            "peak_acceleration [m/s^2]": self.peak_acceleration.ravel(),
             "periods": self.periods.ravel(),
             "converged": self.converged.ravel(),
             "flag": self.flags.ravel(),
@@ -246,8 +246,8 @@ class HarmonicMap:
         for index, order in enumerate(self.orders):
             value = self.hosidf_values[index].ravel()
             frames.append(pd.DataFrame({
-                "freq_Hz": grid_freq.ravel(), "amplitude_m": grid_amp.ravel(), "order": order,
-                "magnitude": np.abs(value), "phase_deg": np.degrees(np.angle(value)), **point_columns,
+                "freq [Hz]": grid_freq.ravel(), "amplitude [m]": grid_amp.ravel(), "order": order,
+                "magnitude": np.abs(value), "phase [deg]": np.degrees(np.angle(value)), **point_columns,
             }))
         return pd.concat(frames, ignore_index=True)
 

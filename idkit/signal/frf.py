@@ -77,7 +77,7 @@ class FrfEstimate:
         """One row per frequency: freq_Hz, h1, h2 (complex), coherence, random_error."""
         return pd.DataFrame(
             {
-                "freq_Hz": self.freq,
+                "freq [Hz]": self.freq,
                 "h1": self.h1,
                 "h2": self.h2,
                 "coherence": self.coherence,
