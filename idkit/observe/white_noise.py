@@ -160,7 +160,7 @@ def frf_from_white_noise(measurement: WhiteNoiseMeasurement, *,
     >>> run = WhiteNoiseMeasurement(time=t, v_base=v, v_top=0.5 * v, info=MeasurementInfo(id="wn"))
     >>> frf = frf_from_white_noise(run, band=(1.0, 100.0))
     >>> float(frf.freq[1] - frf.freq[0]), round(float(np.abs(frf.h1).mean()), 6)
-    (0.5, 0.5)
+    (0.25, 0.5)
     """
     _require(measurement, WhiteNoiseMeasurement, "frf_from_white_noise")
     if signals is None:
