@@ -34,6 +34,7 @@ from idkit.signal.harmonics import (
 from idkit.signal.frf import (
     estimate_frf,
     FrfEstimate,
+    mean_squared_relative_error,
 )
 from idkit.signal.drop import (
     DropResult,

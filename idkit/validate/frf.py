@@ -7,6 +7,7 @@ import pandas as pd
 
 from idkit.errors import DataError, ValidationError
 from idkit.io import WhiteNoiseMeasurement
+from idkit.signal.frf import mean_squared_relative_error
 from idkit.observe.white_noise import FRF_RESOLUTION_HZ, frf_from_white_noise
 from idkit.validate.result import ValidationResult, check_thresholds
 from idkit.validate.systems import system_for
@@ -95,7 +96,7 @@ def validate_frf(measurements, *, system=None, isolator=None, band=(1.0, 100.0),
         predicted = model.transmissibility(estimate.freq)
         if np.any(np.abs(estimate.h1) == 0) or not np.all(np.isfinite(estimate.h1)):
             raise ValidationError(f"{where}: measured H1 has zero or non-finite values in the band")
-        error = float(np.sqrt(np.mean(np.abs(predicted - estimate.h1) ** 2 / np.abs(estimate.h1) ** 2)))
+        error = float(np.sqrt(mean_squared_relative_error(predicted, estimate.h1)))
         f_meas, zeta_meas = half_power_damping(estimate.freq, np.abs(estimate.h1))
         f_model, zeta_model = half_power_damping(estimate.freq, np.abs(predicted))
         rows.append({"id": info.id, "top mass [kg]": info.top_mass_kg, "repetition": info.repetition,
