@@ -9,7 +9,7 @@ turns them into those inputs and keeps where they came from:
   (small and large loop sets, :class:`~idkit.observe.quasi_static.LoopData`),
   :func:`~idkit.observe.white_noise.transmissibility_sets` (one H1 per white-noise run) and
   :func:`~idkit.observe.quasi_static.k0_from_measurements` (the elastomer's static stiffness);
-  the selection and its provenance from :func:`idkit.io.provenance.select_measurements`.
+  the selection and its provenance from :func:`idkit.io.selection.select_measurements`.
 * :func:`elastomer_data` - the elastomer's observables selected once into one
   :class:`ElastomerData` (FRFs, k0 with its loops, provenance, repetitions), handed to
   :func:`~idkit.fit.fit_maxwell` by :func:`fit_maxwell_measurements`.
@@ -36,7 +36,7 @@ from idkit.fit.damping import ViscousDamping, fit_viscous_damping
 from idkit.fit.iwan import fit_iwan
 from idkit.fit.maxwell import fit_maxwell
 from idkit.io import QuasiStaticMeasurement
-from idkit.io.provenance import DataProvenance, select_measurements
+from idkit.io.selection import DataProvenance, select_measurements
 from idkit.models import save_model
 from idkit.observe.quasi_static import (
     LOOP_POINTS_PER_SET,
@@ -298,7 +298,7 @@ def fit_iwan_measurements(
     Parameters
     ----------
     measurements : MeasurementSet or sequence of measurements
-        Selected by :func:`idkit.io.provenance.select_measurements`.
+        Selected by :func:`idkit.io.selection.select_measurements`.
     order : int or "auto", default 2
         Number of Jenkin elements, or ``"auto"`` for the order rule.
     small_threshold : float, default :data:`~idkit.observe.quasi_static.SMALL_THRESHOLD` (8e-3 m)
@@ -517,7 +517,7 @@ def elastomer_data(
     Parameters
     ----------
     measurements : MeasurementSet or sequence of measurements
-        Selected by :func:`idkit.io.provenance.select_measurements`.
+        Selected by :func:`idkit.io.selection.select_measurements`.
     k0 : float, optional
         Static stiffness in N/m; default from the quasi-static loops
         (:func:`~idkit.observe.quasi_static.k0_from_records`, window ``k0_window``).

@@ -30,7 +30,7 @@ import pandas as pd
 
 from idkit.errors import FitError
 from idkit.io import QuasiStaticMeasurement
-from idkit.io.provenance import DataProvenance, select_measurements
+from idkit.io.selection import DataProvenance, select_measurements
 from idkit.observe._common import _require
 from idkit.signal.cycles import (
     CycleSplit,
@@ -409,7 +409,7 @@ def loop_sets(
     Parameters
     ----------
     measurements : MeasurementSet or sequence of measurements
-        Selected by :func:`idkit.io.provenance.select_measurements`.
+        Selected by :func:`idkit.io.selection.select_measurements`.
     small_threshold : float, default :data:`SMALL_THRESHOLD` (8e-3 m)
         A record whose amplitude (half its peak-to-peak deflection) is at most this
         is a small-loop set, otherwise a large-loop set.
