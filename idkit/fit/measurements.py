@@ -181,11 +181,20 @@ class MeasurementFit:
         p = self.provenance
         lines = [f"[[Data]] {p.folder or 'in-memory measurements'}: {len(p.ids)} measurements "
                  f"({', '.join(f'{k}={v}' for k, v in p.selection.items())})"]
-        if isinstance(self.data, LoopData):
+        if isinstance(self.data, LoopData) and self.data.single_amplitude:
+            names = ", ".join(s.name for s in self.data.small)
+            lines.append(f"    one-amplitude test ({names}): every stage fits the same loops, so the small- and "
+                         "large-loop errors are one number")
+        elif isinstance(self.data, LoopData):
             small = ", ".join(s.name for s in self.data.small)
             large = ", ".join(s.name for s in self.data.large)
             lines.append(f"    small loops (amplitude <= {1e3 * self.data.threshold:g} mm): {small}")
             lines.append(f"    large loops: {large}")
+        if isinstance(self.data, LoopData) and self.data.offset_corrections:
+            lines.append("    offsets removed before fitting: " + ", ".join(
+                f"{c.measurement_id} (force {c.force_offset:+.4g} N"
+                + (f", centre drift {1e3 * float(np.ptp(c.center_knots)):.3g} mm" if c.center_knots.size else "")
+                + ")" for c in self.data.offset_corrections))
         if self.k0 is not None:
             k = self.k0
             lines.append(f"    k0 = {k.k0:.5g} +- {k.stderr:.2g} N/m from the quasi-static loops (|deflection| <= "
@@ -361,7 +370,7 @@ def fit_iwan_measurements(
     return MeasurementFit(kind="iwan", result=result, data=data, provenance=data.provenance,
                           options={"small_threshold": small_threshold, "points_per_set": points_per_set,
                                    "order": order, "backend": backend, "damping_level": damping_level,
-                                   "remove_offsets": remove_offsets,
+                                   "remove_offsets": remove_offsets, "single_amplitude": data.single_amplitude,
                                    "offset_corrections": [c.to_dict() for c in data.offset_corrections], **options},
                           damping=damping, damping_note=damping_note, order_table=order_table,
                           checks=_valid_over_the_data(result.model, measurements, isolator)
@@ -459,6 +468,7 @@ def fit_boucwen_measurements(
     return MeasurementFit(kind="boucwen", result=result, data=data, provenance=data.provenance,
                           options={"small_threshold": small_threshold, "points_per_set": points_per_set,
                                    "backend": backend, "remove_offsets": remove_offsets,
+                                   "single_amplitude": data.single_amplitude,
                                    "offset_corrections": [c.to_dict() for c in data.offset_corrections], **options})
 
 

@@ -57,6 +57,9 @@ SMALL_THRESHOLD = 8e-3
 #: Default resampled points per quasi-static record: about 20 per branch for the
 #: study's 15-loop records (30 branches); 200 would leave 7 points on a 4.5 mm branch.
 LOOP_POINTS_PER_SET = 600
+#: Records whose amplitudes all lie within this fraction of their median form a one-amplitude
+#: test: there is no small/large split to make, and every fit stage uses all of its loops.
+SINGLE_AMPLITUDE_SPREAD = 0.25
 
 
 def record_cycles(deflection, *, min_excursion: float | None = None,
@@ -392,6 +395,7 @@ class LoopData:
     threshold: float
     provenance: DataProvenance
     offset_corrections: tuple = ()
+    single_amplitude: bool = False
 
 
 def loop_sets(
@@ -430,12 +434,16 @@ def loop_sets(
     Returns
     -------
     LoopData
+        With ``single_amplitude=True`` when every record's amplitude lies within
+        :data:`SINGLE_AMPLITUDE_SPREAD` of the median (a one-amplitude test): ``small`` and
+        ``large`` then hold the same sets, whatever ``small_threshold`` says.
 
     Raises
     ------
     FitError
-        No matching record, a record without reversals, or only small or only
-        large sets (the message lists the amplitudes and the threshold).
+        No matching record, a record without reversals, or records of different amplitudes
+        that ``small_threshold`` puts all on one side (the message lists the amplitudes and
+        the threshold).
     """
     if not (math.isfinite(small_threshold) and small_threshold > 0):
         raise FitError(f"small_threshold: found {small_threshold!r}, expected a positive amplitude in m")
@@ -460,6 +468,14 @@ def loop_sets(
         else:
             large.append(prepared)
             large_rep.append(repetition)
+    single = False
+    if not small or not large:
+        values = np.array(list(amplitudes.values()))
+        if np.all(np.abs(values / np.median(values) - 1.0) <= SINGLE_AMPLITUDE_SPREAD):
+            # a one-amplitude test: every stage fits the same loops (said in the fit's report)
+            single = True
+            group, reps = (small, small_rep) if small else (large, large_rep)
+            small, large, small_rep, large_rep = group, group, reps, reps
     if not small or not large:
         listed = ", ".join(f"{name}: {1e3 * a:.3g} mm" for name, a in amplitudes.items())
         missing = "small" if not small else "large"
@@ -467,7 +483,7 @@ def loop_sets(
                        f"(amplitudes {listed}); expected both small and large loop sets")
     return LoopData(small=tuple(small), large=tuple(large), small_repetitions=tuple(small_rep),
                     large_repetitions=tuple(large_rep), amplitudes=amplitudes, threshold=float(small_threshold),
-                    provenance=provenance, offset_corrections=tuple(corrections))
+                    provenance=provenance, offset_corrections=tuple(corrections), single_amplitude=single)
 
 
 # ---------------------------------------------------------------------------------------------

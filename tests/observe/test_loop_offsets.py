@@ -97,3 +97,12 @@ def test_growing_amplitude_protocol_is_not_drift():
     record = QuasiStaticMeasurement(time=time, deflection=deflection, force=ROPE.force(deflection),
                                     info=MeasurementInfo(id="steps"))
     assert cycle_statistics(record).findings() == []
+
+
+def test_one_amplitude_test_is_one_group_and_different_amplitudes_still_need_a_threshold():
+    same = [rig_record(amplitude=a, name=f"qs_{k}", seed=k) for k, a in enumerate((4.0e-3, 4.2e-3))]
+    data = loop_sets(same, small_threshold=8e-3)
+    assert data.single_amplitude and data.small == data.large
+    different = [rig_record(amplitude=a, name=f"qs_{k}") for k, a in enumerate((1e-3, 4e-3))]
+    with pytest.raises(Exception, match="no large-loop record"):
+        loop_sets(different, small_threshold=8e-3)
