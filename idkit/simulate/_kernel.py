@@ -9,7 +9,10 @@ Scheme (documented in ``docs/simulator.md``):
   the difference of two large numbers. Unconditionally stable and second-order accurate, so the
   small intermediate mass of the hybrid does not force small steps.
 * Constitutive updates, exact for deflection linear over a step: the Jenkin
-  stop operator ``F <- clip(F + k dy, -Fc, Fc)`` and the Maxwell exponential
+  stop operator ``F <- clip(F + k dy, -Fc, Fc)`` (with a slip modulation, ``Fc`` is
+  ``s(y) Fc`` at the end-of-step deflection, ``s(y) = 1 - a tanh(y / y_ref)``, an element
+  force above a shrunken limit is clipped to it: :mod:`idkit.models.iwan_modulated`) and the
+  Maxwell exponential
   update ``u <- e u + g dy`` with ``e = exp(-rate h)``, ``g = (1 - e) / (rate h)``.
   Bouc-Wen's ``z`` is advanced by Runge-Kutta sub-steps in deflection.
 * The implicit equation of each step is solved by Newton's method with the
@@ -46,18 +49,19 @@ _BW_SUBSTEPS = 4
 
 
 # Packed layout. Parameters P[j, row, i] of isolator j (0 below the top mass):
-#   row 0: g1, g2, g3, c_visc, mgsum, n_jenkin, n_maxwell, Bouc-Wen[10] (columns 0..16)
+#   row 0: g1, g2, g3, c_visc, mgsum, n_jenkin, n_maxwell, Bouc-Wen[10] (columns 0..16),
+#          slip modulation a, y_ref (columns 17, 18)
 #   row 1: Jenkin stiffness, row 2: Jenkin slip force,
 #   row 3: Maxwell stiffness, row 4: exp(-rate h), row 5: (1 - exp(-rate h)) / (rate h)
 # States S[j, row, i]: row 0 Jenkin forces, row 1 Maxwell elongations,
 #   row 2: [Bouc-Wen z, mbase]. Packing keeps the number of arrays handed between the
 #   (inlined) functions small: each array argument costs reference counting per call.
-_P_WIDTH = 17
-_MGSUM, _NJ, _NM, _BW = 4, 5, 6, 7
+_P_WIDTH = 19
+_MGSUM, _NJ, _NM, _BW, _SM = 4, 5, 6, 7, 17
 
 
 @numba.njit(cache=True)
-def _pack(poly, cvisc, jk, jfc, mk, mrate, bw, h):
+def _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h):
     """Parameter block for step ``h`` (see the layout above); ``mgsum = sum k_i g_i``."""
     ndof = poly.shape[0]
     width = max(_P_WIDTH, jk.shape[1], mk.shape[1])
@@ -90,6 +94,8 @@ def _pack(poly, cvisc, jk, jfc, mk, mrate, bw, h):
         packed[j, 0, _NM] = n_maxwell
         for i in range(10):
             packed[j, 0, _BW + i] = bw[j, i]
+        packed[j, 0, _SM] = sm[j, 0]
+        packed[j, 0, _SM + 1] = sm[j, 1]
     return packed
 
 
@@ -123,13 +129,22 @@ def _isolator_force(j, y, dy, vrel, h, P, S, commit):
     g3 = P[j, 0, 2]
     force = y * (g1 + y * (g2 + y * g3)) + P[j, 0, 3] * vrel
     tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
+    # slip scale s(y) = 1 - a tanh(y / y_ref) and its slope; exactly 1 and 0 without modulation
+    scale = 1.0
+    slope = 0.0
+    if P[j, 0, _SM] != 0.0:
+        th = math.tanh(y / P[j, 0, _SM + 1])
+        scale = 1.0 - P[j, 0, _SM] * th
+        slope = -P[j, 0, _SM] * (1.0 - th * th) / P[j, 0, _SM + 1]
     for i in range(int(P[j, 0, _NJ])):
         trial = S[j, 0, i] + P[j, 1, i] * dy
-        limit = P[j, 2, i]
+        limit = P[j, 2, i] * scale
         if trial > limit:
             trial = limit
+            tangent += P[j, 2, i] * slope
         elif trial < -limit:
             trial = -limit
+            tangent -= P[j, 2, i] * slope
         else:
             tangent += P[j, 1, i]
         force += trial
@@ -321,7 +336,7 @@ def _initial_acceleration(ndof, masses, state, load, xb, vb, P, S):
 
 
 @numba.njit(cache=True, nogil=True)
-def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, h, base_disp, base_vel, gravity,
+def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, h, base_disp, base_vel, gravity,
                    q0, v0, jforce0, mstate0, bwz0, record_every, force_scale):
     """Simulate a batch on a common time grid; record every ``record_every`` steps.
 
@@ -350,7 +365,7 @@ def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, h, base_disp, ba
     rec_f = np.full((batch, ndof, n_records), np.nan)
     flags = np.zeros(batch, dtype=np.int64)
     flag_step = np.full(batch, -1, dtype=np.int64)
-    P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, h)
+    P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
     frc = np.zeros(2)
     for b in range(batch):
         row = np.int64(b) if base_disp.shape[0] > 1 else np.int64(0)
@@ -385,7 +400,7 @@ def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, h, base_disp, ba
 
 
 @numba.njit(cache=True, nogil=True)
-def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplitude, steps_per_period,
+def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitude, steps_per_period,
                        n_coeff, tolerance, min_windows, max_windows, force_scale, q0, v0, jforce0, mstate0, bwz0):
     """Run harmonic base displacement ``A sin(2 pi f t)`` to steady state, per member.
 
@@ -423,7 +438,7 @@ def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplit
         n_per = steps_per_period[b]
         h = 1.0 / (freq[b] * n_per)
         amp = amplitude[b]
-        P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, h)
+        P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
         state = np.zeros(6)
         for d in range(ndof):
             state[d] = q0[b, d]
