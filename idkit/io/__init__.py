@@ -39,6 +39,7 @@ from idkit.io.measurements import (
     WhiteNoiseMeasurement,
 )
 from idkit.io.provenance import Source, file_sha256
+from idkit.io.shock_csv import read_shock_csv
 from idkit.io.units import accepted_units
 
 __all__ = [
@@ -66,6 +67,7 @@ __all__ = [
     "read_csv_measurement",
     "read_manifest",
     "read_mat",
+    "read_shock_csv",
     "read_shift_factors",
     "write_complex_stiffness",
     "write_csv_measurement",

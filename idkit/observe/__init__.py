@@ -8,6 +8,7 @@ validators, ``idkit inspect`` and the report all read, with the same defaults fo
 - :mod:`~idkit.observe.white_noise` - transmissibility H1/H2 and coherence;
 - :mod:`~idkit.observe.stepped_sine` - HOSIDFs of points and sweeps, input report;
 - :mod:`~idkit.observe.drop` - impact, impact velocity, shock peaks;
+- :mod:`~idkit.observe.shock` - shock records: offset, filtering, pulses, the three SRS, response/input;
 - :mod:`~idkit.observe.quality` - overview and data-quality warnings of a set.
 """
 
@@ -36,7 +37,30 @@ from idkit.observe.quality import (
     summarize_measurements,
 )
 
+from idkit.observe.shock import (
+    ConditionedShock,
+    RecordSpectra,
+    ResponseRatio,
+    ShockPulses,
+    condition_shock,
+    default_srs_band,
+    record_spectra,
+    response_ratio,
+    shock_pulses,
+    MIN_PRE_TRIGGER_SAMPLES,
+)
+
 __all__ = [
+    "ConditionedShock",
+    "RecordSpectra",
+    "ResponseRatio",
+    "ShockPulses",
+    "condition_shock",
+    "default_srs_band",
+    "record_spectra",
+    "response_ratio",
+    "shock_pulses",
+    "MIN_PRE_TRIGGER_SAMPLES",
     "DropMeasurementResult",
     "find_clipping",
     "frf_from_white_noise",

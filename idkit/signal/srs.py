@@ -14,6 +14,14 @@ frequency ``f_n``, damping ratio ``zeta`` and sample interval ``T`` with
 
     b = [1 - S, 2 (S - C), E^2 - S],   a = [1, -2 C, E^2]
 
+The relative displacement ``z = x - x_base`` of the same oscillators,
+``Z(s) / A(s) = -1 / (s^2 + 2 zeta w_n s + w_n^2)``, is discretised the same way (first-order
+hold, i.e. ramp invariance, :func:`relative_displacement_coefficients`), and gives the two
+other spectra of ISO 18431-4: the **relative displacement SRS** ``max |z|`` and the
+**pseudo-velocity SRS** ``w_n max |z|`` (:func:`shock_spectra`). Without damping the
+absolute acceleration is ``-w_n^2 z`` exactly, so the three spectra are then one curve
+scaled by ``w_n``.
+
 The filter gives the response at the samples only, so a peak between samples is missed by
 at most about ``(w_n T)^2 / 8`` relative: 4.9 % at ``fs = 10 f_n`` (the usual minimum
 rate), 1.2 % at ``20 f_n``, 0.2 % at ``50 f_n``. Sample the record accordingly.
@@ -30,7 +38,19 @@ from scipy import signal as sps
 
 from idkit.errors import DataError
 
-__all__ = ["ShockResponseSpectrum", "shock_response_spectrum", "smallwood_coefficients"]
+__all__ = [
+    "MIN_SAMPLES_PER_PERIOD",
+    "ShockResponseSpectrum",
+    "ShockSpectra",
+    "relative_displacement_coefficients",
+    "shock_response_spectrum",
+    "shock_spectra",
+    "smallwood_coefficients",
+]
+
+#: Fewest samples per period of the highest natural frequency an SRS is computed for:
+#: a peak between samples is then missed by at most ``(2 pi / 10)^2 / 8 = 4.9 %``.
+MIN_SAMPLES_PER_PERIOD = 10.0
 
 
 def smallwood_coefficients(
@@ -62,6 +82,76 @@ def smallwood_coefficients(
     b = np.column_stack([1.0 - sine, 2.0 * (sine - cosine), decay**2 - sine])
     a = np.column_stack([np.ones_like(fn), -2.0 * cosine, decay**2])
     return b, a
+
+
+def relative_displacement_coefficients(
+    freq: ArrayLike, *, fs: float, damping_ratio: float = 0.05
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Ramp-invariant filters from base acceleration to the oscillators' relative displacement.
+
+    First-order-hold discretisation (:func:`scipy.signal.cont2discrete`, ``method="foh"``) of
+    ``Z(s) / A(s) = -1 / (s^2 + 2 zeta w_n s + w_n^2)``: exact at the samples when the base
+    acceleration is linear between them, like :func:`smallwood_coefficients` (which is the
+    same discretisation of the absolute-acceleration transfer function).
+
+    Parameters
+    ----------
+    freq : array_like, shape (n_freq,)
+        Natural frequencies, Hz, in (0, fs/2).
+    fs : float
+        Sample rate, Hz.
+    damping_ratio : float, default 0.05
+        Viscous damping ratio in [0, 1).
+
+    Returns
+    -------
+    b, a : ndarray, shape (n_freq, 3)
+        Numerator (s^2 per input unit: m per m/s^2) and denominator (``a[:, 0] = 1``).
+    """
+    fn = np.atleast_1d(np.asarray(freq, dtype=float))
+    b = np.empty((fn.size, 3))
+    a = np.empty((fn.size, 3))
+    for index, f in enumerate(fn):
+        omega = 2.0 * np.pi * f
+        num, den, _ = sps.cont2discrete(([-1.0], [1.0, 2.0 * damping_ratio * omega, omega**2]), 1.0 / fs,
+                                        method="foh")
+        b[index] = np.ravel(num)[-3:]
+        a[index] = den
+    return b, a
+
+
+@dataclass(frozen=True)
+class ShockSpectra:
+    """The three shock response spectra of ISO 18431-4 of one acceleration record.
+
+    Attributes
+    ----------
+    freq : ndarray, shape (n_freq,)
+        Natural frequencies, Hz.
+    absolute_acceleration : ndarray, shape (n_freq,)
+        Maximax absolute acceleration of the oscillators, m/s^2 (unit of the input).
+    relative_displacement : ndarray, shape (n_freq,)
+        Maximax relative displacement ``max |z|``, m (input unit times s^2).
+    pseudo_velocity : ndarray, shape (n_freq,)
+        ``2 pi freq * relative_displacement``, m/s.
+    damping_ratio : float
+        Damping ratio of the oscillators.
+    """
+
+    freq: NDArray[np.float64]
+    absolute_acceleration: NDArray[np.float64]
+    relative_displacement: NDArray[np.float64]
+    pseudo_velocity: NDArray[np.float64]
+    damping_ratio: float
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per natural frequency, units in the column names."""
+        return pd.DataFrame({
+            "freq [Hz]": self.freq,
+            "absolute_acceleration [m/s^2]": self.absolute_acceleration,
+            "pseudo_velocity [m/s]": self.pseudo_velocity,
+            "relative_displacement [m]": self.relative_displacement,
+        })
 
 
 @dataclass(frozen=True)
@@ -99,6 +189,31 @@ class ShockResponseSpectrum:
                 "maximax": self.maximax,
             }
         )
+
+
+def _checked(acceleration, fs, freq, damping_ratio, residual_duration):
+    """Checked natural frequencies and the record padded with its residual window."""
+    values = np.asarray(acceleration, dtype=float)
+    if values.ndim != 1 or values.size < 2:
+        raise DataError(f"acceleration must be 1-D with >= 2 samples; found shape {values.shape}")
+    if not np.all(np.isfinite(values)):
+        raise DataError("acceleration must be finite; found NaN or inf")
+    if not (np.isfinite(fs) and fs > 0):
+        raise DataError(f"fs must be a positive sample rate in Hz; found {fs!r}")
+    fn = np.atleast_1d(np.asarray(freq, dtype=float))
+    if fn.ndim != 1 or fn.size == 0 or not np.all(np.isfinite(fn) & (fn > 0) & (fn < fs / 2)):
+        raise DataError(
+            f"freq must be natural frequencies in (0, fs/2) = (0, {fs / 2:g}) Hz; found {fn!r}"
+        )
+    if not (0 <= damping_ratio < 1):
+        raise DataError(f"damping_ratio must be in [0, 1); found {damping_ratio!r}")
+    if residual_duration is None:
+        residual_duration = 1.0 / fn.min()
+    if not (np.isfinite(residual_duration) and residual_duration >= 0):
+        raise DataError(f"residual_duration must be >= 0 s; found {residual_duration!r}")
+    # a window of whole samples; the small margin keeps a product like 0.1 s x 200 kHz at 20000
+    padded = np.concatenate([values, np.zeros(int(np.ceil(residual_duration * fs * (1 - 1e-12))))])
+    return fn, padded
 
 
 def shock_response_spectrum(
@@ -151,25 +266,7 @@ def shock_response_spectrum(
     >>> round(float(srs.maximax[0]), 2)  # far above the pulse: the static response
     1.0
     """
-    values = np.asarray(acceleration, dtype=float)
-    if values.ndim != 1 or values.size < 2:
-        raise DataError(f"acceleration must be 1-D with >= 2 samples; found shape {values.shape}")
-    if not np.all(np.isfinite(values)):
-        raise DataError("acceleration must be finite; found NaN or inf")
-    if not (np.isfinite(fs) and fs > 0):
-        raise DataError(f"fs must be a positive sample rate in Hz; found {fs!r}")
-    fn = np.atleast_1d(np.asarray(freq, dtype=float))
-    if fn.ndim != 1 or fn.size == 0 or not np.all(np.isfinite(fn) & (fn > 0) & (fn < fs / 2)):
-        raise DataError(
-            f"freq must be natural frequencies in (0, fs/2) = (0, {fs / 2:g}) Hz; found {fn!r}"
-        )
-    if not (0 <= damping_ratio < 1):
-        raise DataError(f"damping_ratio must be in [0, 1); found {damping_ratio!r}")
-    if residual_duration is None:
-        residual_duration = 1.0 / fn.min()
-    if not (np.isfinite(residual_duration) and residual_duration >= 0):
-        raise DataError(f"residual_duration must be >= 0 s; found {residual_duration!r}")
-    padded = np.concatenate([values, np.zeros(int(np.ceil(residual_duration * fs)))])
+    fn, padded = _checked(acceleration, fs, freq, damping_ratio, residual_duration)
     b, a = smallwood_coefficients(fn, fs=fs, damping_ratio=damping_ratio)
     positive = np.empty(fn.size)
     negative = np.empty(fn.size)
@@ -184,3 +281,46 @@ def shock_response_spectrum(
         maximax=np.maximum(positive, negative),
         damping_ratio=float(damping_ratio),
     )
+
+
+def shock_spectra(
+    acceleration: ArrayLike,
+    *,
+    fs: float,
+    freq: ArrayLike,
+    damping_ratio: float = 0.05,
+    residual_duration: float | None = None,
+) -> ShockSpectra:
+    """Absolute-acceleration, pseudo-velocity and relative-displacement SRS of one record.
+
+    Parameters are those of :func:`shock_response_spectrum` (same checks, same residual
+    window). The absolute acceleration is the Smallwood filter's maximax; the relative
+    displacement comes from :func:`relative_displacement_coefficients`; the pseudo-velocity
+    is ``2 pi freq`` times the relative displacement.
+
+    Returns
+    -------
+    ShockSpectra
+
+    Examples
+    --------
+    A short pulse seen by a slow oscillator: its pseudo-velocity is the pulse's velocity
+    change (here a half sine of 1 m/s^2 over 10 ms: ``dv = 2 A tau / pi``).
+
+    >>> fs = 100000.0
+    >>> t = np.arange(0, 0.01, 1 / fs)
+    >>> pulse = np.sin(np.pi * t / 0.01)
+    >>> spectra = shock_spectra(pulse, fs=fs, freq=[1.0], damping_ratio=0.0)
+    >>> round(float(spectra.pseudo_velocity[0] / (2 * 0.01 / np.pi)), 3)
+    1.0
+    """
+    fn, padded = _checked(acceleration, fs, freq, damping_ratio, residual_duration)
+    b_abs, a_abs = smallwood_coefficients(fn, fs=fs, damping_ratio=damping_ratio)
+    b_rel, a_rel = relative_displacement_coefficients(fn, fs=fs, damping_ratio=damping_ratio)
+    absolute = np.empty(fn.size)
+    relative = np.empty(fn.size)
+    for index in range(fn.size):
+        absolute[index] = np.abs(sps.lfilter(b_abs[index], a_abs[index], padded)).max()
+        relative[index] = np.abs(sps.lfilter(b_rel[index], a_rel[index], padded)).max()
+    return ShockSpectra(freq=fn, absolute_acceleration=absolute, relative_displacement=relative,
+                        pseudo_velocity=2.0 * np.pi * fn * relative, damping_ratio=float(damping_ratio))

@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 import scipy.io
 
-from cli.hostile import check, run_main
+from tests.cli.hostile import check, run_main
 from idkit.io import MeasurementInfo, QuasiStaticMeasurement, write_measurement_set
 from idkit.models import IwanModel, library, save_model
 

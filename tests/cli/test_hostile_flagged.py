@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from cli.hostile import check, run_main
+from tests.cli.hostile import check, run_main
 from idkit.io import MeasurementInfo, QuasiStaticMeasurement, write_measurement_set
 
 

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from cli.hostile import check, run_main
+from tests.cli.hostile import check, run_main
 from idkit.models import library, save_model
 
 DATA = Path(__file__).resolve().parents[2] / "data"

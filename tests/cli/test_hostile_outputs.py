@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cli.hostile import check, run_main
+from tests.cli.hostile import check, run_main
 from idkit.io import MeasurementInfo, QuasiStaticMeasurement, write_measurement_set
 
 REPO = Path(__file__).resolve().parents[2]

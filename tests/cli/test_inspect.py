@@ -102,7 +102,7 @@ def test_a_lone_mat_file_is_refused_with_what_it_needs(tmp_path):
     import numpy as np
     import scipy.io
 
-    from cli.hostile import check, run_main
+    from tests.cli.hostile import check, run_main
 
     path = tmp_path / "record.mat"
     scipy.io.savemat(path, {"x": np.arange(10.0), "f": np.arange(10.0)})

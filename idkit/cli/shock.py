@@ -1,0 +1,74 @@
+"""``idkit shock FILE...``: pulses, shock response spectra and response/input of shock records."""
+
+from __future__ import annotations
+
+from idkit.cli import options as opt
+
+__all__ = ["register"]
+
+LAYOUTS = ("csv", "afrl")
+
+
+def _read(path, layout):
+    if layout == "afrl":
+        from idkit.datasets import read_afrl_accel
+
+        return read_afrl_accel(path)
+    from idkit.io import read_shock_csv
+
+    return read_shock_csv(path)
+
+
+def _cmd_shock(args) -> None:
+    import numpy as np
+
+    from idkit.errors import IdkitError
+    from idkit.output_checks import check_output
+    from idkit.studies.shock import analyse_shock
+
+    inputs = list(args.files) + ([args.input] if args.input else [])
+    if args.output is not None:
+        check_output(args.output, kind="replaced", inputs=inputs, force=args.force)
+    if (args.freq_min is None) != (args.freq_max is None):
+        raise IdkitError("give both --freq-min and --freq-max (Hz), or neither for the default band")
+    freq = None
+    if args.freq_min is not None:
+        if not args.freq_min < args.freq_max:
+            raise IdkitError(f"--freq-min {args.freq_min:g} Hz / --freq-max {args.freq_max:g} Hz: expected min < max")
+        freq = np.logspace(np.log10(args.freq_min), np.log10(args.freq_max), args.points)
+    records = [_read(path, args.layout) for path in args.files]
+    base = _read(args.input, args.layout) if args.input else None
+    analysis = analyse_shock(records, input=base, freq=freq, damping_ratio=args.damping, offset=args.offset,
+                             lowpass_hz=args.lowpass)
+    print(analysis.report())
+    if args.output is not None:
+        from idkit.report.shock_files import write_shock_analysis
+
+        written = write_shock_analysis(analysis, args.output, force=args.force)
+        print(f"wrote {len(written)} files to {args.output}")
+
+
+def register(subparsers) -> None:
+    """Add ``idkit shock`` to the ``idkit`` command."""
+    shock = subparsers.add_parser(
+        "shock", help="shock records: pulse peak, duration, velocity change, SRS, response/input",
+        description="Read shock records (one channel per file, one column per test), remove each test's "
+                    "pre-trigger offset, print peak, duration and velocity change, and with -o write the "
+                    "three ISO 18431-4 shock response spectra (tables and figures).")
+    shock.add_argument("files", nargs="+", help="shock record files (response channels)")
+    shock.add_argument("--input", help="the input (fixture) channel: response/input SRS ratios")
+    shock.add_argument("--layout", choices=LAYOUTS, default="csv",
+                       help="csv: 'time [s], <test> [unit], ...' (docs/data-format.md); afrl: the AFRL drop-tower "
+                            "files of ../shared/realdata (default csv)")
+    shock.add_argument("--freq-min", type=opt.real(above=0, unit="Hz"), help="lowest natural frequency, Hz")
+    shock.add_argument("--freq-max", type=opt.real(above=0, unit="Hz"), help="highest natural frequency, Hz")
+    shock.add_argument("--points", type=opt.integer(at_least=2, at_most=2000), default=60, help="natural frequencies (default 60)")
+    shock.add_argument("--damping", type=opt.real(at_least=0, below=1, unit="-"), default=0.05,
+                       help="damping ratio of the SRS oscillators (default 0.05)")
+    shock.add_argument("--offset", choices=("pre-trigger", "none"), default="pre-trigger",
+                       help="offset removal (default: median of the pre-trigger window)")
+    shock.add_argument("--lowpass", type=opt.real(above=0, unit="Hz"),
+                       help="zero-phase Butterworth low-pass cut-off, Hz (default: none)")
+    shock.add_argument("-o", "--output", help="folder for tables and figures")
+    shock.add_argument("--force", action="store_true", help="replace an existing output folder")
+    shock.set_defaults(handler=_cmd_shock)

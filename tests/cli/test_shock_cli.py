@@ -1,0 +1,65 @@
+"""``idkit shock``: shock records straight in, tables and figures out, bad input named."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from idkit.io import read_shock_csv
+from idkit.observe import condition_shock, shock_pulses
+from tests.cli.hostile import check, run_main
+
+FS = 100_000.0
+
+
+def write_record(path, *, amplitude_g=200.0, offset_g=1.0, unit="g", tests=2, header=None):
+    time = np.arange(int(0.02 * FS)) / FS
+    pulse = np.where((time >= 0.004) & (time <= 0.007), np.sin(np.pi * (time - 0.004) / 0.003), 0.0)
+    columns = [offset_g + amplitude_g * (1 + 0.2 * k) * pulse for k in range(tests)]
+    lines = [header or ",".join(["time [s]"] + [f"shot_{k + 1} [{unit}]" for k in range(tests)])]
+    lines += [",".join(repr(float(v)) for v in row) for row in zip(time, *columns)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_records_in_tables_and_figures_out(tmp_path):
+    response = write_record(tmp_path / "payload.csv", amplitude_g=300.0)
+    fixture = write_record(tmp_path / "fixture.csv")
+    out = tmp_path / "shock"
+    outcome = run_main(["shock", response, "--input", fixture, "-o", out], inputs=[response, fixture])
+    check(outcome, "ok")
+    pulses = pd.read_csv(out / "pulses.csv")
+    expected = shock_pulses(condition_shock(read_shock_csv(response)).record)
+    np.testing.assert_allclose(pulses.loc[pulses.channel == "payload", "peak [m/s^2]"], expected.peak, rtol=1e-12)
+    # offset of 1 g removed; half-sine dv = 2 A tau / pi
+    np.testing.assert_allclose(pulses.loc[pulses.channel == "payload", "velocity_change [m/s]"],
+                               2 * 300 * 9.80665 * np.array([1.0, 1.2]) * 0.003 / np.pi, rtol=2e-3)
+    ratio = pd.read_csv(out / "ratio_payload.csv")
+    np.testing.assert_allclose(ratio.filter(like="test_").to_numpy(), 1.5, rtol=1e-9)
+    for name in ("payload_srs.png", "payload_srs.svg", "fixture_pulses.png", "payload_ratio.svg"):
+        assert (out / name).stat().st_size > 0
+    assert "velocity_change" in outcome.stdout
+
+
+@pytest.mark.parametrize("case, header, words", [
+    ("unknown-unit", "time [s],shot_1 [furlong/s^2]", ["furlong/s^2", "shot_1", "accepted"]),
+    ("missing-unit", "time [s],shot_1", ["shot_1", "unit missing"]),
+    ("no-time-column", "t_ms [ms],shot_1 [g]", ["column 1", "time"]),
+])
+def test_bad_files_are_named(tmp_path, case, header, words):
+    path = write_record(tmp_path / "bad.csv", header=header, tests=1)
+    outcome = run_main(["shock", path], inputs=[path])
+    check(outcome, "error", ["bad.csv", *words], case=f"shock-{case}")
+
+
+def test_band_above_the_sample_rate_is_refused(tmp_path):
+    path = write_record(tmp_path / "slow.csv")
+    outcome = run_main(["shock", path, "--freq-min", "10", "--freq-max", "20000"], inputs=[path])
+    check(outcome, "error", ["slow.csv", "too slowly", "20000 Hz"], case="shock-band-too-high")
+
+
+def test_output_over_an_input_is_refused(tmp_path):
+    path = write_record(tmp_path / "in.csv")
+    outcome = run_main(["shock", path, "-o", tmp_path], inputs=[path], must_not_exist=[])
+    check(outcome, "error", ["-o"], case="shock-output-over-input")
