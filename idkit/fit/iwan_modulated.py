@@ -51,8 +51,13 @@ from idkit.fit.iwan import LoopSet, fit_iwan, prepare_loops
 from idkit.fit.result import IwanFitResult
 from idkit.models import IwanModel, ModulatedIwanModel
 
-__all__ = ["ModulatedIwanFitResult", "fit_iwan_modulated", "modulated_set_errors", "loop_model_table",
-           "MODULATION_STARTS"]
+__all__ = [
+    "MODULATION_STARTS",
+    "ModulatedIwanFitResult",
+    "fit_iwan_modulated",
+    "loop_model_table",
+    "modulated_set_errors",
+]
 
 #: Starting values of the modulation depth ``a`` of the modulation stage.
 MODULATION_STARTS = (-0.3, 0.0, 0.3)
@@ -172,7 +177,7 @@ class ModulatedIwanFitResult:
     @property
     def n_params(self) -> int:
         """Free parameters of the modulation stage."""
-        return int(len(self.parameters))
+        return len(self.parameters)
 
     @property
     def error_small(self) -> float:
@@ -193,8 +198,8 @@ class ModulatedIwanFitResult:
 
     def report(self) -> str:
         """Parameters with standard errors, errors of both models, verdict."""
-        lines = [f"Modulated Iwan fit (order {self.model.order}): "
-                 f"{'success' if self.success else 'NOT a success'}"]
+        lines = [(f"Modulated Iwan fit (order {self.model.order}): "
+                 f"{'success' if self.success else 'NOT a success'}")]
         for row in self.parameters.itertuples():
             flag = "  (on its search bound)" if row.at_bound else ""
             lines.append(f"  {row.name:16s} {row.value: .6g} +/- {row.stderr:.3g} {row.unit}{flag}")

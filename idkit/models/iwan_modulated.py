@@ -47,7 +47,7 @@ from idkit.models.iwan import IwanModel
 from idkit.models.laws import kernel_array
 from idkit.params import ParamSpec
 
-__all__ = ["ModulatedIwanModel", "slip_scale", "modulated_stop_operator"]
+__all__ = ["ModulatedIwanModel", "modulated_stop_operator", "slip_scale"]
 
 SLIP_MODULATION_SPEC = ParamSpec("slip_modulation", "-", -1.0, 1.0,
                                  "slip-force modulation depth a of s(y) = 1 - a tanh(y / y_ref)")
@@ -123,7 +123,7 @@ class ModulatedIwanModel(IwanModel):
     >>> rope.stuck_stiffness, rope.stop_operator_exact
     (9000.0, True)
     >>> [round(float(v), 3) for v in rope.slip_forces(-0.01)]
-    [10.701, 18.823]
+    [10.7, 18.822]
     """
 
     kind = "iwan_modulated"

@@ -49,8 +49,14 @@ from idkit.simulate._kernel import FLAG_REASONS, run_drop_batch
 from idkit.simulate._parallel import run_chunked
 from idkit.simulate.time_response import initial_states, static_deflection
 
-__all__ = ["ContactModel", "DEFAULT_CONTACT", "DropRigResponse", "drop_rig", "contact_from_velocity_step",
-           "rig_time_step"]
+__all__ = [
+    "DEFAULT_CONTACT",
+    "ContactModel",
+    "DropRigResponse",
+    "contact_from_velocity_step",
+    "drop_rig",
+    "rig_time_step",
+]
 
 #: Contact steps per contact period ``2 pi sqrt(m_b / k_c)`` of the automatic time step.
 STEPS_PER_CONTACT_PERIOD = 80
@@ -254,11 +260,11 @@ def drop_rig(system, *, bottom_mass: float, drop_height, contact: ContactModel =
                               kernel_array(jforce0[part]), kernel_array(mstate0[part]), kernel_array(bwz0[part]),
                               float(contact.stiffness), damping, 1, scale)
 
-    rec_q, rec_v, rec_a, rec_f, first, flags, flag_step = run_chunked(task, batch, workers=workers,
+    rec_q, rec_v, rec_a, rec_f, first, flags, _flag_step = run_chunked(task, batch, workers=workers,
                                                                       executor=executor)
     flags = np.asarray(flags, dtype=np.int64).copy()
-    before_steps = int(round(before / h))
-    after_steps = int(round(duration / h))
+    before_steps = round(before / h)
+    after_steps = round(duration / h)
     length = before_steps + after_steps + 1
     impact_missing = first < 0
     flags[impact_missing & (flags == 0)] = -1

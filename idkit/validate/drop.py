@@ -7,14 +7,19 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from idkit.signal.drop import drop_phase_peaks, process_drop
 from idkit.errors import ValidationError
 from idkit.responses.shock import shock_sweep
-from idkit.simulate import DEFAULT_CONTACT, ContactModel, contact_from_velocity_step, drop_rig
+from idkit.signal.drop import drop_phase_peaks, process_drop
+from idkit.simulate import (
+    DEFAULT_CONTACT,
+    ContactModel,
+    contact_from_velocity_step,
+    drop_rig,
+)
 from idkit.validate.result import ValidationResult, check_thresholds
 from idkit.validate.systems import system_for
 
-__all__ = ["validate_drops", "DROP_THRESHOLDS", "DROP_MODELS"]
+__all__ = ["DROP_MODELS", "DROP_THRESHOLDS", "validate_drops"]
 
 #: Drop models: the thesis's conditioned free fall, or the rig (:func:`idkit.simulate.drop_rig`).
 DROP_MODELS = ("conditioned", "rig")

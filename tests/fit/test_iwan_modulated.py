@@ -1,11 +1,17 @@
 """Identification of the Iwan model with deflection-dependent slip forces (idkit.fit.iwan_modulated)."""
 
+import itertools
+
 import numpy as np
 import pytest
 
 from idkit.errors import FitError
 from idkit.fit import prepare_loops
-from idkit.fit.iwan_modulated import fit_iwan_modulated, loop_model_table, modulated_set_errors
+from idkit.fit.iwan_modulated import (
+    fit_iwan_modulated,
+    loop_model_table,
+    modulated_set_errors,
+)
 from idkit.models import IwanModel, ModulatedIwanModel
 
 TRUE = ModulatedIwanModel(g1=1.84e4, g2=2.45e5, g3=-4.57e5, k=[1.88e5, 9.09e3], fc=[15.5, 10.3],
@@ -16,7 +22,7 @@ NOISE_N = 0.05  # force noise, N (the bundled quasi-static records' level)
 def _record(model, amplitude, rng, cycles=2, points=300):
     """Loops of one amplitude (m) from the unloaded state, with white force noise."""
     corners = [0.0] + [amplitude * (-1) ** i for i in range(2 * cycles + 1)]
-    x = np.concatenate([np.linspace(a, b, points)[1:] for a, b in zip(corners[:-1], corners[1:])])
+    x = np.concatenate([np.linspace(a, b, points)[1:] for a, b in itertools.pairwise(corners)])
     x = np.concatenate([[0.0], x])
     return x, model.force(x) + NOISE_N * rng.standard_normal(x.size)
 

@@ -1,19 +1,27 @@
 """Modified Iwan model with deflection-dependent slip forces (idkit.models.iwan_modulated)."""
 
+import itertools
+
 import numpy as np
 import pytest
 
 from idkit.errors import ParameterError
-from idkit.models import IwanModel, ModulatedIwanModel, SDOFSystem, load_model, save_model
+from idkit.models import (
+    IwanModel,
+    ModulatedIwanModel,
+    SDOFSystem,
+    load_model,
+    save_model,
+)
 from idkit.simulate import BaseMotion, simulate
 
-PLAIN = dict(g1=1.84e4, g2=2.45e5, g3=-4.57e5, k=[1.88e5, 9.09e3], fc=[15.5, 10.3])
+PLAIN = {"g1": 1.84e4, "g2": 2.45e5, "g3": -4.57e5, "k": [1.88e5, 9.09e3], "fc": [15.5, 10.3]}
 
 
 def _path(amplitudes, points=400):
     """Deflection path from 0 through reversals at the given amplitudes (m), piecewise linear."""
     corners = np.concatenate([[0.0], amplitudes])
-    return np.concatenate([np.linspace(a, b, points)[1:] for a, b in zip(corners[:-1], corners[1:])])
+    return np.concatenate([np.linspace(a, b, points)[1:] for a, b in itertools.pairwise(corners)])
 
 
 def test_zero_modulation_is_the_plain_iwan_model_to_round_off():
@@ -87,10 +95,10 @@ def test_parameters_and_model_file(tmp_path):
 
 
 @pytest.mark.parametrize("options, word", [
-    (dict(slip_modulation=1.0), "slip_modulation"),
-    (dict(slip_modulation=-1.5), "slip_modulation"),
-    (dict(slip_length=0.0), "slip_length"),
-    (dict(slip_modulation=float("nan")), "slip_modulation"),
+    ({"slip_modulation": 1.0}, "slip_modulation"),
+    ({"slip_modulation": -1.5}, "slip_modulation"),
+    ({"slip_length": 0.0}, "slip_length"),
+    ({"slip_modulation": float("nan")}, "slip_modulation"),
 ])
 def test_bad_parameters_are_named(options, word):
     with pytest.raises(ParameterError, match=word):

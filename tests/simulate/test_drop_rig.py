@@ -110,9 +110,9 @@ def test_contact_read_off_the_velocity_step_of_a_simulated_drop():
 
 
 @pytest.mark.parametrize("options, word", [
-    (dict(bottom_mass=0.0, drop_height=[0.1]), "bottom_mass"),
-    (dict(bottom_mass=5.0, drop_height=[-0.1]), "drop_height"),
-    (dict(bottom_mass=5.0, drop_height=[0.1], before=1.0), "before"),
+    ({"bottom_mass": 0.0, "drop_height": [0.1]}, "bottom_mass"),
+    ({"bottom_mass": 5.0, "drop_height": [-0.1]}, "drop_height"),
+    ({"bottom_mass": 5.0, "drop_height": [0.1], "before": 1.0}, "before"),
 ])
 def test_bad_input_is_named(options, word):
     with pytest.raises(SimulationError, match=word):

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
+from idkit.errors import ParameterError
 from idkit.models import library
 from idkit.studies.transport import RK_VALUES, transport_systems, tuning_table
-from idkit.errors import ParameterError
 
 
 def test_every_system_meets_its_tuning_rule():
