@@ -653,6 +653,40 @@ def _rig_step(n, masses, q, v, a, h, load, P, S, k_c, c_c, force_scale, forces, 
     return FLAG_OK
 
 
+_RIG_HALVINGS = 4
+
+
+@numba.njit(cache=True)
+def _rig_macro_step(n, masses, q, v, a, h, load, Ps, S, k_c, c_c, force_scale, forces, work, saved):
+    """One step ``h`` of the rig, split into halves (recursively, to ``h / 2^_RIG_HALVINGS``)
+    where the Newton iteration does not converge; returns a flag."""
+    units = 1 << _RIG_HALVINGS  # the step in units of the smallest sub-step
+    done = 0
+    level = 0
+    flag = FLAG_OK
+    while done < units:
+        for d in range(n):
+            saved[0, d] = q[d]
+            saved[1, d] = v[d]
+            saved[2, d] = a[d]
+        flag = _rig_step(n, masses, q, v, a, h / 2.0**level, load, Ps[level], S, k_c, c_c, force_scale, forces,
+                         work)
+        if flag == FLAG_OK:
+            done += 1 << (_RIG_HALVINGS - level)
+            # back to the coarser step once aligned with it
+            while level > 0 and done % (1 << (_RIG_HALVINGS - level + 1)) == 0:
+                level -= 1
+            continue
+        for d in range(n):  # internal states are only committed by a converged step
+            q[d] = saved[0, d]
+            v[d] = saved[1, d]
+            a[d] = saved[2, d]
+        if flag != FLAG_NO_CONVERGENCE or level == _RIG_HALVINGS:
+            return flag
+        level += 1
+    return flag
+
+
 @numba.njit(cache=True, nogil=True)
 def run_drop_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, h, n_steps, max_steps, gravity, q0, jforce0,
                    mstate0, bwz0, k_contact, c_contact, record_every, force_scale):
@@ -686,9 +720,16 @@ def run_drop_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, h, n_steps, 
     first_contact = np.full(batch, -1, dtype=np.int64)
     flags = np.zeros(batch, dtype=np.int64)
     flag_step = np.full(batch, -1, dtype=np.int64)
-    P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
+    # parameter blocks for the step and its halvings (a step whose Newton iteration stalls at a
+    # kink of the contact or slip laws is retried as two half steps, down to h / 2^_RIG_HALVINGS)
+    P0 = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
+    Ps = np.zeros((_RIG_HALVINGS + 1, P0.shape[0], P0.shape[1], P0.shape[2]))
+    for level in range(_RIG_HALVINGS + 1):
+        Ps[level] = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h / 2.0**level)
+    P = Ps[0]
     work = np.zeros((7, n))
     forces = np.zeros(n)
+    saved = np.zeros((3, n))
     for b in range(batch):
         S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
         q = np.zeros(n)
@@ -706,7 +747,8 @@ def run_drop_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, h, n_steps, 
             rec_a[b, d, 0] = a[d]
             rec_f[b, d, 0] = forces[d]
         for step in range(1, n_steps[b] + 1):
-            flag = _rig_step(n, masses, q, v, a, h, gravity, P, S, k_contact, c_contact, force_scale, forces, work)
+            flag = _rig_macro_step(n, masses, q, v, a, h, gravity, Ps, S, k_contact, c_contact, force_scale, forces,
+                                   work, saved)
             if flag != FLAG_OK:
                 flags[b] = flag
                 flag_step[b] = step
