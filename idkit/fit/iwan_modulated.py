@@ -63,6 +63,7 @@ __all__ = [
 MODULATION_STARTS = (-0.3, 0.0, 0.3)
 _A_BOUND = 0.95
 _LOG_BOX = math.log(1e3)  # k_i, fc_i, g1 searched within x/1000 .. x*1000 of the plain fit
+_STIFFNESS_MARGIN = 0.01  # share of g1 the valid-range barrier keeps the local stiffness above
 _BOUND_MARGIN = 1e-3  # of the internal range: a value closer than this to a bound is "on" it
 
 
@@ -231,7 +232,7 @@ def _prepare(sets, group, points_per_set):
 def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None = None, order: int = 2,
                        points_per_set: int | None = 200, initial_state: str = "auto",
                        modulation_starts: Sequence[float] = MODULATION_STARTS, max_nfev: int = 2000,
-                       **plain_options) -> ModulatedIwanFitResult:
+                       valid_range: tuple[float, float] | None = None, **plain_options) -> ModulatedIwanFitResult:
     """Identify a :class:`~idkit.models.ModulatedIwanModel` on quasi-static loops (module docstring).
 
     Parameters
@@ -251,6 +252,13 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
         Starting values of ``a`` in (-0.95, 0.95).
     max_nfev : int, default 2000
         Residual evaluations per start.
+    valid_range : (float, float), optional
+        Deflections (m, ``x_min < 0 < x_max``) over which the parallel spring must keep a
+        non-negative local stiffness ``g1 + 2 g2 y + 3 g3 y^2`` (SPEC 1.2), e.g. the range of every
+        record the model will simulate (drops compress further than the loops): 61 barrier
+        residuals ``10 max(0, 0.01 - stiffness / g1_ref)`` on a grid over the range join the data's
+        (the 1 % margin keeps the hinge's solution off zero stiffness). A
+        final model that still turns negative-stiff there is not a success. Default: none.
     **plain_options
         Passed to :func:`idkit.fit.fit_iwan` when it runs.
 
@@ -288,10 +296,19 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
                                   k=np.exp(u[3:3 + n]), fc=np.exp(u[3 + n:3 + 2 * n]), slip_modulation=u[-2],
                                   slip_length=math.exp(u[-1]))
 
+    if valid_range is not None:
+        low, high = (float(v) for v in valid_range)
+        if not (math.isfinite(low) and math.isfinite(high) and low < 0.0 < high):
+            raise FitError(f"valid_range: found {valid_range!r}, expected (x_min < 0 < x_max) in m")
+        grid = np.linspace(low, high, 61)
+    else:
+        grid = np.zeros(0)
+
     def residuals(u) -> np.ndarray:
         model = unpack(u)
         forces = _model_forces(model, sets, cycled)
-        return np.concatenate([(f - s.force) / norm for f, s, norm in zip(forces, sets, norms)])
+        barrier = 10.0 * np.maximum(_STIFFNESS_MARGIN - model.spring_stiffness(grid) / g1_ref, 0.0)
+        return np.concatenate([*((f - s.force) / norm for f, s, norm in zip(forces, sets, norms)), barrier])
 
     base = np.concatenate([[math.log(g1_ref), plain_model.g2 * x_ref / g1_ref, plain_model.g3 * x_ref**2 / g1_ref],
                            np.log(plain_model.k), np.log(plain_model.fc), [0.0, math.log(0.5 * x_ref)]])
@@ -348,6 +365,10 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
         if 2.0 * fc * (1.0 + abs(model.slip_modulation)) / k > largest_travel:
             reasons.append(f"element {i} never slips within the data (slip travel {2e3 * fc / k:.3g} mm): "
                            f"fc_{i} undetermined")
+    if grid.size and np.any(model.spring_stiffness(grid) < 0.0):
+        lower, upper = model.valid_deflection_range()
+        reasons.append(f"the fitted spring turns negative-stiff at {1e3 * lower:.4g} / {1e3 * upper:.4g} mm, inside "
+                       f"valid_range {1e3 * grid[0]:.4g} to {1e3 * grid[-1]:.4g} mm")
     ns = len(small_sets)
     errors = _errors(model, sets, cycled)
     plain_errors = _errors(ModulatedIwanModel.from_iwan(plain_model), sets, cycled)

@@ -79,3 +79,16 @@ def test_order_table_has_a_row_per_model():
     assert list(table.summary["model"]) == ["iwan", "iwan_modulated"]
     iwan, modulated = table.summary["mean large [%]"]
     assert modulated < iwan
+
+
+def test_valid_range_keeps_the_spring_stiffness_non_negative_beyond_the_loops():
+    # a softening cubic that turns negative-stiff at -20 mm; the loops reach 15 mm, drops 30 mm
+    truth = ModulatedIwanModel(g1=1.84e4, g2=2.45e5, g3=-1.2e7, k=[1.88e5, 9.09e3], fc=[15.5, 10.3],
+                               slip_modulation=0.35, slip_length=6e-3)
+    assert truth.valid_deflection_range()[0] > -0.03
+    small, large = _sets(truth, 7)
+    result = fit_iwan_modulated(small, large, plain=truth.plain(), valid_range=(-0.03, 0.03))
+    lower, upper = result.model.valid_deflection_range()
+    assert lower <= -0.03 * (1 - 1e-6) and upper >= 0.03 * (1 - 1e-6)
+    with pytest.raises(FitError, match="valid_range"):
+        fit_iwan_modulated(small, large, plain=truth.plain(), valid_range=(0.01, 0.03))
