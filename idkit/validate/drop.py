@@ -9,13 +9,8 @@ import pandas as pd
 
 from idkit.errors import ValidationError
 from idkit.responses.shock import shock_sweep
-from idkit.signal.drop import drop_phase_peaks, process_drop
-from idkit.simulate import (
-    DEFAULT_CONTACT,
-    ContactModel,
-    contact_from_velocity_step,
-    drop_rig,
-)
+from idkit.signal.drop import process_drop
+from idkit.simulate import DEFAULT_CONTACT, ContactModel, contact_from_velocity_step
 from idkit.validate.result import ValidationResult, check_thresholds
 from idkit.validate.systems import system_for
 
@@ -136,16 +131,13 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
         else:
             group_contact = contact
         contacts[str(key[0] if key else "all")] = group_contact
-        run = drop_rig(model, bottom_mass=bottom, drop_height=heights, contact=group_contact, duration=duration,
-                       workers=workers)
-        peaks = drop_phase_peaks(run.deflection, run.top_acceleration, start=run.impact_index)
+        sweep = shock_sweep(model, drop_height=heights, duration=duration, workers=workers, drop_model="rig",
+                            bottom_mass=bottom, contact=group_contact)
         for position, index in enumerate(indices):
-            ok = run.flags[position] == 0
             simulated[index] = _Simulated(
-                float(run.impact_velocity[position]),
-                float(peaks.acceleration_compression[position]) if ok else np.nan,
-                float(peaks.acceleration_tension[position]) if ok else np.nan,
-                float(peaks.compression[position]) if ok else np.nan, run.reasons[position])
+                float(sweep.impact_velocity[position]), float(sweep.peak_acceleration_compression[position]),
+                float(sweep.peak_acceleration_tension[position]), float(sweep.travel_compression[position]),
+                sweep.reasons[position])
     rows = []
     for measurement, result, sim in zip(measurements, processed, simulated):
         info = measurement.info
