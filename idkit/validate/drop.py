@@ -16,8 +16,9 @@ from idkit.validate.systems import system_for
 
 __all__ = ["DROP_MODELS", "DROP_THRESHOLDS", "validate_drops"]
 
-#: Drop models: the thesis's conditioned free fall, or the rig (:func:`idkit.simulate.drop_rig`).
-DROP_MODELS = ("conditioned", "rig")
+#: Drop models: the thesis's conditioned free fall, the rig (:func:`idkit.simulate.drop_rig`), or
+#: "auto": the rig when every measurement gives its bottom mass and drop height, else conditioned.
+DROP_MODELS = ("auto", "conditioned", "rig")
 
 #: Default limits on the median relative errors over the drops the model could simulate,
 #: and on the fraction of drops that left the model's valid range (flagged runs).
@@ -39,11 +40,11 @@ class _Simulated:
 
 def validate_drops(measurements, *, system=None, isolator=None, upper=None, lower=None, relaxation: bool = False,
                    impact_velocity: str = "height", duration: float | None = None, thresholds: dict | None = None,
-                   name: str = "drop tests", workers=None, drop_model: str = "conditioned",
+                   name: str = "drop tests", workers=None, drop_model: str = "auto",
                    contact: ContactModel | str = "measured") -> ValidationResult:
     """Compare peak accelerations (compression, tension) and peak compression per drop.
 
-    ``drop_model="rig"`` drops the model as the rig does instead (:func:`idkit.simulate.drop_rig`):
+    ``drop_model="rig"`` drops the model as the rig does (:func:`idkit.simulate.drop_rig`):
     top (and intermediate) mass, isolator(s) and the bottom mass of each measurement
     (``info.bottom_mass_kg``) released from the statically loaded rest state at the drop height,
     the bottom mass on a unilateral floor ``contact``: ``"measured"`` (default) reads the
@@ -51,8 +52,12 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
     (:func:`idkit.simulate.contact_from_velocity_step`, median over the drops) with the default
     stiffness, or give a :class:`~idkit.simulate.ContactModel`. The simulated record is reduced by
     the same phase rule from its first floor contact (``impact_velocity`` and ``relaxation`` are
-    then not used: the fall itself sets both). The summary says which model was used
-    (``drop_model``) and, for the rig, the contact.
+    then not used: the fall itself sets both). ``"conditioned"`` is the thesis's free fall from
+    impact. The default ``"auto"`` takes the rig when every measurement gives
+    ``bottom_mass_kg`` and ``drop_height_m`` (on the bundled held-out drops it cuts the median
+    peak errors from 0.12-0.33 to 0.01-0.09, docs/validation.md), else the conditioned fall;
+    ``relaxation=True`` or ``impact_velocity="measured"`` ask for the conditioned reading and
+    keep it. The summary says which model was used (``drop_model``) and, for the rig, the contact.
 
     Column names say what each quantity is: ``relative velocity step [m/s]`` is the most
     negative smoothed relative velocity of the first stroke (what
@@ -83,6 +88,12 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
                               "or 'measured' (an alias of 'velocity_step')")
     if drop_model not in DROP_MODELS:
         raise ValidationError(f"drop_model: found {drop_model!r}, expected one of {DROP_MODELS}")
+    measurements = list(measurements)
+    if drop_model == "auto":
+        rig_ready = all(getattr(m.info, "bottom_mass_kg", None) is not None and m.info.drop_height_m is not None
+                        for m in measurements)
+        conditioned_asked = relaxation or impact_velocity == "measured"
+        drop_model = "rig" if rig_ready and measurements and not conditioned_asked else "conditioned"
     if not (contact == "measured" or isinstance(contact, ContactModel)):
         raise ValidationError(f"contact: found {contact!r}, expected 'measured' or a ContactModel")
     limits = check_thresholds(DROP_THRESHOLDS, thresholds)
@@ -186,8 +197,9 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
     for column, label in (("peak accel compression", "compression"), ("peak accel tension", "tension")):
         error = np.abs(table[f"{column} simulated [m/s^2]"] / table[f"{column} measured [m/s^2]"] - 1)
         error[~valid] = np.nan
-        summary[f"median_peak_acceleration_{label}_error"] = float(np.nanmedian(error)) if valid.any() else np.nan
-        summary[f"max_peak_acceleration_{label}_error"] = float(np.nanmax(error)) if valid.any() else np.nan
+        finite = error[np.isfinite(error)].to_numpy(float)  # a phase that never occurred is NaN
+        summary[f"median_peak_acceleration_{label}_error"] = float(np.median(finite)) if finite.size else np.nan
+        summary[f"max_peak_acceleration_{label}_error"] = float(np.max(finite)) if finite.size else np.nan
     by_height = table.groupby(["top mass [kg]", "drop height [m]"])[
         ["peak acceleration error [-]", "peak compression error [-]"]].mean().reset_index()
     return ValidationResult(name=name, metrics=table, summary=summary, thresholds=limits,

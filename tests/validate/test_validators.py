@@ -302,7 +302,8 @@ def test_rig_drops_validate_on_the_rig_model_and_the_summary_names_it(rig_drops)
     # the restitution read off the velocity steps is used by default
     measured_contact = validate_drops(rig_drops, isolator=wire_rope(), drop_model="rig")
     assert "e " in measured_contact.summary["contact"]
-    conditioned = validate_drops(rig_drops, isolator=wire_rope())
+    assert validate_drops(rig_drops[:1], isolator=wire_rope()).summary["drop_model"] == "rig"  # "auto"
+    conditioned = validate_drops(rig_drops, isolator=wire_rope(), drop_model="conditioned")
     assert conditioned.summary["drop_model"] == "conditioned"
     assert "relative velocity step [m/s]" in conditioned.metrics
     with pytest.raises(ValueError, match="drop_model"):
