@@ -1,25 +1,34 @@
 """Identification of isolator models from measurements (SPEC 4, thesis chapter 7).
 
 - :func:`fit_iwan` - three-stage Nelder-Mead fit of the modified Iwan model to
-  quasi-static loops (objective 7.1); :func:`prepare_loops`, :func:`iwan_start`,
-  :func:`iwan_set_errors` are its building blocks.
+  quasi-static loops (objective 7.1, :mod:`idkit.fit.loop_objective`); :func:`iwan_start`
+  (:mod:`idkit.fit.iwan_start`) and :func:`iwan_set_errors` are its building blocks, the
+  loops come from :mod:`idkit.observe.quasi_static` (:func:`prepare_loops`, :func:`loop_sets`).
 - :func:`fit_maxwell` - bounded SQP fit of the generalized Maxwell model to the
   transmissibilities of several top masses (objective 7.5) with an optional
-  global cross-check; :func:`fit_voigt`, :func:`maxwell_order_table`,
-  :func:`fit_complex_stiffness` (DMA / complex stiffness data),
-  :func:`estimate_k0` (quasi-static slope around the origin).
+  global cross-check; :func:`fit_voigt`, :func:`fit_complex_stiffness` (DMA / complex
+  stiffness data), :func:`maxwell_objective` (:mod:`idkit.fit.frf_objective`); the FRFs and
+  k0 come from :mod:`idkit.observe` (:func:`transmissibility_sets`, :func:`estimate_k0`).
+- :mod:`idkit.fit.compare` - :func:`compare_loop_models`, :func:`iwan_order_table`,
+  :func:`maxwell_order_table`.
 - :func:`fit_boucwen` - staged (elastic, loop shape), scaled, globally searched
   fit of the modified Bouc-Wen model to the same loops; :func:`compare_loop_models`
   tabulates Iwan against Bouc-Wen set by set.
+- :func:`fit_boucwen_output` - the force-driven Bouc-Wen oscillator fitted to a
+  time record by output (simulation) error, with standard errors.
 - :mod:`idkit.fit.measurements` - the same fits on measurement sets
-  (:func:`fit_iwan_measurements`, :func:`fit_maxwell_measurements`,
-  :func:`fit_boucwen_measurements`) with provenance and model files.
+  (:func:`fit_iwan_measurements`, :func:`fit_maxwell_measurements` on one
+  :class:`ElastomerData`, :func:`fit_boucwen_measurements`) with provenance and model files.
+- :mod:`idkit.fit._optim` - the optimiser plumbing every fitter shares (Nelder-Mead with
+  restarts, SQP, global searches, the status a result's ``success`` reads).
 - :mod:`idkit.fit.bootstrap` - parameter spread by refitting per repetition or
   on seeded resamples.
 
-Every fit returns a typed result (:mod:`idkit.fit.result`) with lmfit
-``Parameters`` and a ``report()``. Fitters work on arrays; loading files is
-:mod:`idkit.io`'s job.
+Every fit returns a typed result (:mod:`idkit.fit.result`) as lmfit users expect it
+(``params``, ``success``, ``message``, ``nfev``, ``chisqr``, ``aic``, ``fit_report()``)
+and a ``report()``. Fitters work on observables; loading files is :mod:`idkit.io`'s job,
+turning measurements into observables :mod:`idkit.observe`'s. The observables' names stay
+importable from here for existing callers.
 """
 
 from idkit.fit.bootstrap import (
@@ -29,41 +38,34 @@ from idkit.fit.bootstrap import (
     bootstrap_measurements,
     bootstrap_transmissibility,
 )
-from idkit.fit.boucwen import boucwen_set_errors, boucwen_set_forces, fit_boucwen
-from idkit.fit.compare import LoopModelComparison, compare_loop_models
-from idkit.fit.damping import ViscousDamping, fit_viscous_damping
-from idkit.fit.iwan import (
-    LoopSet,
-    fit_iwan,
-    iwan_order_table,
-    iwan_set_errors,
-    iwan_set_forces,
-    iwan_start,
-    prepare_loops,
+from idkit.fit.boucwen import fit_boucwen
+from idkit.fit.boucwen_output import (
+    OUTPUT_PARAMETERS,
+    BoucWenOutputFit,
+    boucwen_output_start,
+    fit_boucwen_output,
 )
-from idkit.fit.landscape import ErrorLandscape, maxwell_error_landscape
-from idkit.fit.maxwell import (
-    K0Estimate,
-    TransmissibilitySet,
-    estimate_k0,
-    fit_complex_stiffness,
-    fit_maxwell,
-    fit_voigt,
-    maxwell_objective,
+from idkit.fit.boucwen import fit_boucwen
+from idkit.fit.compare import (
+    LoopModelComparison,
+    compare_loop_models,
+    iwan_order_table,
     maxwell_order_table,
 )
+from idkit.fit.damping import ViscousDamping, fit_viscous_damping
+from idkit.fit.frf_objective import maxwell_objective
+from idkit.fit.iwan import fit_iwan
+from idkit.fit.iwan_start import iwan_start
+from idkit.fit.landscape import ErrorLandscape, maxwell_error_landscape
+from idkit.fit.loop_objective import boucwen_set_errors, boucwen_set_forces, iwan_set_errors, iwan_set_forces
+from idkit.fit.maxwell import fit_complex_stiffness, fit_maxwell, fit_voigt
 from idkit.fit.measurements import (
-    SMALL_THRESHOLD,
-    DataProvenance,
-    K0FromLoops,
-    LoopData,
+    ElastomerData,
     MeasurementFit,
+    elastomer_data,
     fit_boucwen_measurements,
     fit_iwan_measurements,
     fit_maxwell_measurements,
-    k0_from_measurements,
-    loop_sets,
-    transmissibility_sets,
 )
 from idkit.fit.result import (
     BoucWenFitResult,
@@ -76,6 +78,20 @@ from idkit.fit.result import (
     MaxwellFitSettings,
     StageResult,
 )
+from idkit.io.provenance import DataProvenance
+# observables, defined in idkit.observe; importable from here as before
+from idkit.observe.quasi_static import (
+    SMALL_THRESHOLD,
+    K0Estimate,
+    K0FromLoops,
+    LoopData,
+    LoopSet,
+    estimate_k0,
+    k0_from_measurements,
+    loop_sets,
+    prepare_loops,
+)
+from idkit.observe.white_noise import TransmissibilitySet, transmissibility_sets
 
 __all__ = [
     "LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "iwan_set_forces", "fit_iwan", "iwan_order_table",
@@ -87,7 +103,8 @@ __all__ = [
     "fit_viscous_damping", "ViscousDamping", "boucwen_set_errors", "boucwen_set_forces", "BoucWenFitResult", "BoucWenFitSettings",
     "SMALL_THRESHOLD", "DataProvenance", "LoopData", "K0FromLoops", "MeasurementFit", "loop_sets",
     "transmissibility_sets", "k0_from_measurements", "fit_iwan_measurements", "fit_boucwen_measurements",
-    "fit_maxwell_measurements",
+    "fit_maxwell_measurements", "ElastomerData", "elastomer_data",
     "BootstrapResult", "bootstrap_fit", "bootstrap_loops", "bootstrap_transmissibility", "bootstrap_measurements",
     "LoopModelComparison", "compare_loop_models", "ErrorLandscape", "maxwell_error_landscape",
+    "fit_boucwen_output", "boucwen_output_start", "BoucWenOutputFit", "OUTPUT_PARAMETERS",
 ]

@@ -39,8 +39,8 @@ from dataclasses import dataclass
 import lmfit
 import numpy as np
 
-__all__ = ["Transform", "to_lmfit", "gauss_newton_covariance", "central_jacobian", "jacobian_statistics",
-           "to_physical_statistics"]
+__all__ = ["Transform", "spec_units", "to_lmfit", "gauss_newton_covariance", "central_jacobian",
+           "jacobian_statistics", "to_physical_statistics"]
 
 _KINDS = ("log", "scaled", "log01", "linear01")
 
@@ -151,6 +151,29 @@ def gauss_newton_covariance(jacobian: np.ndarray, residual: np.ndarray, *, rcond
         return None
     variance = float(np.sum(np.asarray(residual, dtype=float) ** 2)) / (n_res - n_par)
     return variance * np.linalg.inv(normal)
+
+
+def spec_units(model) -> dict[str, str]:
+    """Parameter name -> SI unit, as the model declares them (:meth:`param_specs`).
+
+    The fitters read units (and physical bounds) from here, never from a table of their own.
+
+    Parameters
+    ----------
+    model : IsolatorModel
+        An instance (the parameter names of Iwan and Maxwell models depend on the order).
+
+    Returns
+    -------
+    dict of str to str
+
+    Examples
+    --------
+    >>> from idkit.models import IwanModel
+    >>> spec_units(IwanModel(g1=1e3, k=[1e3], fc=[1.0]))["fc_1"]
+    'N'
+    """
+    return {spec.name: spec.unit for spec in model.param_specs()}
 
 
 def to_lmfit(

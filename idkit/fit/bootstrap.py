@@ -178,10 +178,11 @@ def bootstrap_transmissibility(frfs: Sequence, *, k0: float, groups: Sequence | 
     ``"resample"`` draws sets with replacement among those of the same top mass,
     so every mass keeps its weight.
     """
-    from idkit.fit.maxwell import _as_transmissibility_sets, fit_maxwell
+    from idkit.fit.frf_objective import as_transmissibility_sets
+    from idkit.fit.maxwell import fit_maxwell
 
     fitter = fit_maxwell if fitter is None else fitter
-    sets = _as_transmissibility_sets(frfs)
+    sets = as_transmissibility_sets(frfs)
     groups = list(range(1, len(sets) + 1)) if groups is None else list(groups)
     if len(groups) != len(sets):
         raise FitError(f"groups: found {len(groups)} labels for {len(sets)} sets, expected one per set")

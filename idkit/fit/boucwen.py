@@ -45,29 +45,25 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
 
 import lmfit
-import nlopt
-import numba
 import numpy as np
 import scipy.optimize
 
 from idkit.errors import FitError
+from idkit.fit._optim import global_search as _global_search
+from idkit.fit._optim import nelder_mead
 from idkit.fit._params import Transform, central_jacobian, jacobian_statistics, to_lmfit
-from idkit.fit.iwan import LoopSet, _check_state, _prepare_group, iwan_start
-from idkit.fit.iwan import _Packed as _PackedSets
+from idkit.fit.iwan_start import iwan_start
+from idkit.fit.loop_objective import BoucWenLoops
+from idkit.fit.loop_objective import boucwen_set_errors, boucwen_set_forces, boucwen_values, check_state
 from idkit.fit.result import BoucWenFitResult, BoucWenFitSettings, StageResult
 from idkit.models import BoucWenModel
-from idkit.models.laws import boucwen_z_step
+from idkit.observe.quasi_static import as_loop_sets
 
 __all__ = ["fit_boucwen", "boucwen_set_errors", "boucwen_set_forces"]
 
 _BACKENDS = ("nlopt", "scipy")
-_PENALTY = 1e6
-_H_LAMBDA = 1.0  # RK4 sub-step times the stiffness of the z equation (see _max_substep)
-_MAX_SUBSTEPS = 16  # per sample; only parameter sets far from any fit (tiny z_max) need more
-_MAX_JUMP_SUBSTEPS = 4096  # loading 0 -> x[0] and the return x[-1] -> x[0] span a whole loop
 B_FIXED = math.e  # base of the asymmetry factor; only c ln b is identifiable
 _NAMES = ("k1", "alpha", "z_max", "shape", "n", "k2", "k3", "c")
 _STAGE_FREE = {
@@ -75,118 +71,6 @@ _STAGE_FREE = {
     "loop shape": ("z_max", "shape", "n"),
     "global": _NAMES,
 }
-
-
-# --------------------------------------------------------------------------- compiled objective
-
-
-@numba.njit(cache=True)
-def _z_step(z, dx, alpha, beta, gamma, n, max_substep, cap):
-    """RK4 over ``dx`` in sub-steps no longer than ``max_substep`` (at least one, at most ``cap``)."""
-    count = 1
-    if max_substep > 0.0:
-        needed = int(math.ceil(abs(dx) / max_substep))
-        if needed > count:
-            count = min(needed, cap)
-    z, _ = boucwen_z_step(z, dx, alpha, beta, gamma, n, count)
-    return z
-
-
-@numba.njit(cache=True)
-def _bw_forces(x, offsets, k1, k2, k3, alpha, beta, gamma, n, c, cycled, max_substep, out):
-    # np.int64(...): a bare module constant would be typed as a literal, one compiled _z_step per value
-    for s in range(offsets.shape[0] - 1):
-        a = offsets[s]
-        b = offsets[s + 1]
-        z = _z_step(0.0, x[a], alpha, beta, gamma, n, max_substep, np.int64(_MAX_JUMP_SUBSTEPS))
-        if cycled[s]:
-            for i in range(a + 1, b):
-                z = _z_step(z, x[i] - x[i - 1], alpha, beta, gamma, n, max_substep, np.int64(_MAX_SUBSTEPS))
-            z = _z_step(z, x[a] - x[b - 1], alpha, beta, gamma, n, max_substep, np.int64(_MAX_JUMP_SUBSTEPS))
-        for i in range(a, b):
-            if i > a:
-                z = _z_step(z, x[i] - x[i - 1], alpha, beta, gamma, n, max_substep, np.int64(_MAX_SUBSTEPS))
-            xi = x[i]
-            out[i] = math.exp(c * xi) * (xi * (k1 + k2 * abs(xi) + k3 * xi * xi) + z)
-
-
-def _max_substep(p: dict) -> float:
-    """Sub-step length (m) with ``h lambda <= 1`` for RK4: ``lambda = n (|beta| + |gamma|) z_max^(n-1)``.
-
-    ``lambda`` bounds ``|d(dz/dx)/dz|`` for ``|z| <= z_max``, the stiffness of the z equation;
-    a sub-step within ``1 / lambda`` keeps RK4 stable and accurate (relative force error below ~3e-5
-    in the transients after a reversal, exact at saturation).
-    """
-    total = p["beta"] + p["gamma"]
-    if not (total > 0 and p["alpha"] > 0):
-        return 0.0
-    z_max = (p["alpha"] / total) ** (1.0 / p["n"])
-    lam = p["n"] * (abs(p["beta"]) + abs(p["gamma"])) * z_max ** (p["n"] - 1.0)
-    return _H_LAMBDA / lam if lam > 0 and math.isfinite(lam) else 0.0
-
-
-@numba.njit(cache=True)
-def _bw_errors(x, f, offsets, norm2, k1, k2, k3, alpha, beta, gamma, n, c, cycled, max_substep, scratch, out):
-    _bw_forces(x, offsets, k1, k2, k3, alpha, beta, gamma, n, c, cycled, max_substep, scratch)
-    for s in range(offsets.shape[0] - 1):
-        acc = 0.0
-        for i in range(offsets[s], offsets[s + 1]):
-            diff = scratch[i] - f[i]
-            acc += diff * diff
-        out[s] = math.sqrt(acc / norm2[s])
-
-
-class _Packed(_PackedSets):
-    """The Iwan fit's packed sets, with the Bouc-Wen force law."""
-
-    def __init__(self, sets: Sequence[LoopSet], initial_state: str):
-        super().__init__(sets, initial_state)
-        self.scratch = np.empty_like(self.x)
-
-    def set_errors(self, p: dict) -> np.ndarray:
-        _bw_errors(self.x, self.f, self.offsets, self.norm2, p["k1"], p["k2"], p["k3"], p["alpha"], p["beta"],
-                   p["gamma"], p["n"], p["c"], self.cycled, _max_substep(p), self.scratch, self.errors)
-        return self.errors.copy()
-
-    def forces(self, p: dict) -> np.ndarray:
-        out = np.empty_like(self.x)
-        _bw_forces(self.x, self.offsets, p["k1"], p["k2"], p["k3"], p["alpha"], p["beta"], p["gamma"], p["n"],
-                   p["c"], self.cycled, _max_substep(p), out)
-        return out
-
-    def residuals(self, p: dict) -> np.ndarray:
-        scale = np.repeat(self.norm, np.diff(self.offsets))
-        return (self.forces(p) - self.f) / scale
-
-
-def _model_values(model: BoucWenModel) -> dict:
-    if model.c_visc:
-        raise FitError("model: found c_visc != 0, expected a rate-independent Bouc-Wen model for loops")
-    return {"k1": model.k1, "k2": model.k2, "k3": model.k3, "alpha": model.alpha, "beta": model.beta,
-            "gamma": model.gamma, "n": model.n, "c": model.c * math.log(model.b) if model.b > 0 else 0.0}
-
-
-def boucwen_set_errors(model: BoucWenModel, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> np.ndarray:
-    """Relative RMS error (7.1) of a Bouc-Wen ``model`` on each prepared set (fractions).
-
-    Parameters
-    ----------
-    model : BoucWenModel
-    sets : sequence of LoopSet
-        From :func:`idkit.fit.prepare_loops`.
-    initial_state : {"auto", "cycled", "virgin"}
-        ``z`` at the first point (module docstring); ``"virgin"``: ``z`` loaded from 0 only.
-    """
-    packed = _Packed(list(sets), _check_state(initial_state))
-    return packed.set_errors(_model_values(model))
-
-
-def boucwen_set_forces(model: BoucWenModel, sets: Sequence[LoopSet], *,
-                       initial_state: str = "auto") -> list[np.ndarray]:
-    """Model force (N) along each prepared set, with the initial state used by the fit."""
-    packed = _Packed(list(sets), _check_state(initial_state))
-    forces = packed.forces(_model_values(model))
-    return [forces[a:b].copy() for a, b in zip(packed.offsets[:-1], packed.offsets[1:])]
 
 
 # --------------------------------------------------------------------------- parametrisation
@@ -198,16 +82,13 @@ class _Space:
     def __init__(self, stiffness: float, half_height: float, x_ref: float):
         self.stiffness, self.half_height, self.x_ref = stiffness, half_height, x_ref
         k, h, x = stiffness, half_height, x_ref
-        self.transforms = {
-            "k1": Transform("k1", "N/m", "log01", 1e-3 * k, 2.0 * k),
-            "alpha": Transform("alpha", "N/m", "log01", 1e-3 * k, 20.0 * k),
-            "z_max": Transform("z_max", "N", "log01", 1e-2 * h, 1e2 * h),
-            "shape": Transform("shape", "-", "linear01", 0.0, 2.5),
-            "n": Transform("n", "-", "log01", 0.3, 6.0),
-            "k2": Transform("k2", "N/m^2", "linear01", -10.0 * k / x, 10.0 * k / x),
-            "k3": Transform("k3", "N/m^3", "linear01", -10.0 * k / x**2, 10.0 * k / x**2),
-            "c": Transform("c", "1/m", "linear01", -2.0 / x, 2.0 / x),
-        }
+        box = {"k1": ("log01", 1e-3 * k, 2.0 * k), "alpha": ("log01", 1e-3 * k, 20.0 * k),
+               "z_max": ("log01", 1e-2 * h, 1e2 * h), "shape": ("linear01", 0.0, 2.5), "n": ("log01", 0.3, 6.0),
+               "k2": ("linear01", -10.0 * k / x, 10.0 * k / x), "k3": ("linear01", -10.0 * k / x**2, 10.0 * k / x**2),
+               "c": ("linear01", -2.0 / x, 2.0 / x)}
+        units = {name: unit for name, (unit, _, _) in _declared().items()}
+        self.transforms = {name: Transform(name, units[name], kind, low, high)
+                           for name, (kind, low, high) in box.items()}
 
     def physical(self, u) -> dict:
         q = {name: float(self.transforms[name].to_physical(value)) for name, value in zip(_NAMES, u)}
@@ -236,95 +117,6 @@ def _shape_values(values: dict) -> dict:
     out["z_max"] = (values["alpha"] / total) ** (1.0 / values["n"])
     out["shape"] = values["beta"] / total
     return out
-
-
-# --------------------------------------------------------------------------- optimisers
-
-
-class _Tracked:
-    def __init__(self, function):
-        self.function = function
-        self.evaluations = 0
-        self.best_u = None
-        self.best_value = math.inf
-
-    def __call__(self, u, grad=None):
-        value = float(self.function(np.asarray(u, dtype=float)))
-        if not math.isfinite(value):
-            value = _PENALTY
-        self.evaluations += 1
-        if value < self.best_value:
-            self.best_value, self.best_u = value, np.array(u, dtype=float)
-        return value
-
-
-def _bounded_nelder_mead(function, u0, *, backend, step, max_evals, xtol, restarts):
-    """Nelder-Mead inside [0, 1]^p with restarts from the best point."""
-    tracked = _Tracked(function)
-    u0 = np.clip(np.asarray(u0, dtype=float), 0.0, 1.0)
-    p = u0.size
-    message, done = "", 0
-    for attempt in range(restarts + 1):
-        start = u0 if attempt == 0 else tracked.best_u
-        before = tracked.best_value
-        remaining = max_evals - tracked.evaluations
-        if remaining <= 0:
-            message += " (max_evals reached)"
-            break
-        if backend == "nlopt":
-            opt = nlopt.opt(nlopt.LN_NELDERMEAD, p)
-            opt.set_min_objective(tracked)
-            opt.set_lower_bounds(np.zeros(p))
-            opt.set_upper_bounds(np.ones(p))
-            # step pointing into the box from a point at a bound
-            opt.set_initial_step(np.where(start + step > 1.0, -step, step))
-            opt.set_xtol_abs(xtol)
-            opt.set_maxeval(int(remaining))
-            try:
-                opt.optimize(start)
-                code = opt.last_optimize_result()
-                message = "nlopt NM: " + ("max_evals reached" if code == nlopt.MAXEVAL_REACHED else "converged")
-            except nlopt.RoundoffLimited:
-                message = "nlopt NM: roundoff limited"
-        else:
-            simplex = np.vstack([start, start + np.diag(np.where(start + step > 1.0, -step, step))])
-            result = scipy.optimize.minimize(
-                tracked, start, method="Nelder-Mead", bounds=[(0.0, 1.0)] * p,
-                options={"initial_simplex": simplex, "xatol": xtol, "fatol": 1e-12, "maxfev": int(remaining)})
-            message = "scipy NM: " + ("converged" if result.success else str(result.message))
-        if attempt:
-            done += 1
-        if attempt and before - tracked.best_value <= 1e-12:
-            break
-    return tracked.best_u, tracked.best_value, tracked.evaluations, done, message
-
-
-def _global_search(function, u_start, *, method, max_evals, seed):
-    p = u_start.size
-    tracked = _Tracked(function)
-    if method == "crs2":
-        nlopt.srand(int(seed))
-        opt = nlopt.opt(nlopt.GN_CRS2_LM, p)
-        opt.set_min_objective(tracked)
-        opt.set_lower_bounds(np.zeros(p))
-        opt.set_upper_bounds(np.ones(p))
-        opt.set_maxeval(int(max_evals))
-        opt.set_population(10 * (p + 1))
-        try:
-            opt.optimize(np.clip(u_start, 0.0, 1.0))
-        except nlopt.RoundoffLimited:
-            pass
-        name = "nlopt GN_CRS2_LM"
-    else:
-        popsize = 10
-        rng = np.random.default_rng(int(seed))
-        population = rng.random((popsize * p, p))
-        population[0] = np.clip(u_start, 0.0, 1.0)
-        scipy.optimize.differential_evolution(
-            tracked, [(0.0, 1.0)] * p, init=population, seed=int(seed), polish=False, tol=1e-8,
-            maxiter=max(1, int(max_evals) // (popsize * p) - 1), updating="immediate")
-        name = "scipy differential_evolution"
-    return tracked.best_u, tracked.best_value, tracked.evaluations, name
 
 
 # --------------------------------------------------------------------------- the fit
@@ -415,9 +207,9 @@ def fit_boucwen(
         global_method = "crs2" if backend == "nlopt" else "differential_evolution"
     if global_method not in ("crs2", "differential_evolution"):
         raise FitError(f"global_method: found {global_method!r}, expected 'crs2' or 'differential_evolution'")
-    _check_state(initial_state)
-    small_sets = _prepare_group(small, "small", points_per_set)
-    large_sets = _prepare_group(large, "large", points_per_set)
+    check_state(initial_state)
+    small_sets = as_loop_sets(small, "small", points_per_set)
+    large_sets = as_loop_sets(large, "large", points_per_set)
     info = iwan_start(small_sets, large_sets, 1)
     x_ref = max(float(np.max(np.abs(s.deflection))) for s in small_sets + large_sets)
     space = _Space(info.stuck_stiffness, info.half_height, x_ref)
@@ -426,9 +218,9 @@ def fit_boucwen(
         values = {"k1": k1, "alpha": max(info.stuck_stiffness - k1, 0.05 * info.stuck_stiffness),
                   "z_max": info.half_height, "shape": 0.75, "n": 1.0, "k2": 0.0, "k3": 0.0, "c": 0.0}
     else:
-        values = _shape_values(_model_values(start))
+        values = _shape_values(boucwen_values(start))
     values = space.clip_values(values)
-    small_packed, large_packed = _Packed(small_sets, initial_state), _Packed(large_sets, initial_state)
+    small_packed, large_packed = BoucWenLoops(small_sets, initial_state), BoucWenLoops(large_sets, initial_state)
 
     def mean_error(u):
         q = space.physical(u)
@@ -474,19 +266,20 @@ def fit_boucwen(
             if objective(polished.x) < objective(v0):
                 v0 = polished.x
             message_prefix += f"least squares ({polished.nfev} steps), "
-        v_best, value, used, done, message = _bounded_nelder_mead(
-            objective, v0, backend=backend, step=initial_step, max_evals=max_evals, xtol=xtol,
-            restarts=restarts)
-        evaluations += used
+        run = nelder_mead(objective, v0, step=initial_step, bounds=(np.zeros(len(free)), np.ones(len(free))),
+                          backend=backend, max_evals=max_evals, xtol=xtol, ftol=1e-12, restarts=restarts,
+                          step_into_box=True)
+        evaluations += run.evaluations
         u_current = base.copy()
-        u_current[free] = v_best
+        u_current[free] = run.x
         q = space.physical(u_current)
         errors = np.concatenate([small_packed.set_errors(q), large_packed.set_errors(q)])
         stages.append(StageResult(
             name=stage_name, data="small + large", free=_STAGE_FREE[stage_name], start=start_params,
             params=_report_values(q), set_names=small_packed.names + large_packed.names, set_errors=errors,
-            mean_error=float(value), start_error=float(start_error), evaluations=evaluations, restarts=done,
-            message=message_prefix + message, elapsed_s=time.perf_counter() - t_stage))
+            mean_error=float(run.value), start_error=float(start_error), evaluations=evaluations,
+            restarts=run.restarts, message=message_prefix + run.message, elapsed_s=time.perf_counter() - t_stage,
+            status=run.status))
     elapsed = time.perf_counter() - t0
 
     q = space.physical(u_current)
@@ -507,22 +300,29 @@ def fit_boucwen(
 
 
 def _report_values(q: dict) -> dict:
-    return {name: float(q[name]) for name in ("k1", "k2", "k3", "alpha", "beta", "gamma", "n", "c", "z_max", "shape")}
+    return {name: float(q[name]) for name in _REPORTED}
 
 
 _REPORTED = ("k1", "k2", "k3", "alpha", "beta", "gamma", "n", "c", "z_max", "shape")
-_UNITS = {"k1": "N/m", "k2": "N/m^2", "k3": "N/m^3", "alpha": "N/m", "beta": "N^(1-n)/m", "gamma": "N^(1-n)/m",
-          "n": "-", "c": "1/m", "z_max": "N", "shape": "-"}
+#: Units and bounds of the two derived loop-shape parameters (not model parameters); the
+#: model's own come from :meth:`BoucWenModel.param_specs`.
+_DERIVED = {"z_max": ("N", 0.0, math.inf), "shape": ("-", -math.inf, math.inf)}
 
 
-def _stacked_residuals(space: _Space, u, small: _Packed, large: _Packed) -> np.ndarray:
+def _declared() -> dict:
+    """Name -> (unit, lower, upper) of every reported parameter, as the model declares them."""
+    reference = BoucWenModel(k1=1.0, k2=0.0, k3=0.0, alpha=1.0, beta=1.0, gamma=0.0, n=1.0)  # any valid model
+    return {**{spec.name: (spec.unit, spec.lower, spec.upper) for spec in reference.param_specs()}, **_DERIVED}
+
+
+def _stacked_residuals(space: _Space, u, small: BoucWenLoops, large: BoucWenLoops) -> np.ndarray:
     """Per-set normalised residuals; each group weighs as in the objective (1 / sqrt(2 n_sets))."""
     q = space.physical(u)
     return np.concatenate([small.residuals(q) / math.sqrt(2 * len(small.names)),
                            large.residuals(q) / math.sqrt(2 * len(large.names))])
 
 
-def _lmfit_view(space: _Space, u: np.ndarray, small: _Packed, large: _Packed):
+def _lmfit_view(space: _Space, u: np.ndarray, small: BoucWenLoops, large: BoucWenLoops):
     """lmfit Parameters and statistics at the optimum; condition numbers; parameters at a bound.
 
     Returns ``(parameters, statistics, conditioning, at_bound)`` (see :func:`fit_boucwen`).
@@ -564,15 +364,15 @@ def _lmfit_view(space: _Space, u: np.ndarray, small: _Packed, large: _Packed):
     except np.linalg.LinAlgError:
         cond_si = math.inf
     conditioning = {"scaled": float(np.linalg.cond(normal_scaled)), "si": cond_si}
-    lower = {"k1": 0.0, "alpha": 0.0, "n": 0.2, "z_max": 0.0}
-    upper = {"n": 10.0}
+    declared = _declared()
+    names = list(_REPORTED) + ["b", "c_visc"]
     varied = _REPORTED[:8]
     parameters = to_lmfit(
-        list(_REPORTED) + ["b", "c_visc"], list(mapped(u)) + [B_FIXED, 0.0],
-        units=[_UNITS[name] for name in _REPORTED] + ["-", "N s/m"],
-        lower=[lower.get(name, -math.inf) for name in _REPORTED] + [0.0, 0.0],
-        upper=[upper.get(name, math.inf) for name in _REPORTED] + [math.inf, math.inf],
-        vary=[name in varied for name in _REPORTED] + [False, False])
+        names, list(mapped(u)) + [B_FIXED, 0.0],
+        units=[declared[name][0] for name in names],
+        lower=[declared[name][1] for name in names],
+        upper=[declared[name][2] for name in names],
+        vary=[name in varied for name in names])
     if not free:
         return parameters, None, conditioning, at_bound
     internal = jacobian_statistics(residuals, u[free], [_NAMES[i] for i in free], step=step,

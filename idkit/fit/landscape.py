@@ -7,7 +7,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from idkit.errors import FitError
-from idkit.fit.maxwell import _as_transmissibility_sets, _band_points, _check_band, fit_maxwell
+from idkit.fit.frf_objective import as_transmissibility_sets, band_points, check_band, mean_squared_relative_error
+from idkit.fit.maxwell import fit_maxwell
+from idkit.models.laws import sdof_transmissibility
 
 __all__ = ["ErrorLandscape", "maxwell_error_landscape"]
 
@@ -65,8 +67,8 @@ def maxwell_error_landscape(frfs, *, k0: float, k_values=None, rate_values=None,
     seed : int
         Seed of the order-1 fit's start.
     """
-    band = _check_band(band)
-    sets = _as_transmissibility_sets(frfs)
+    band = check_band(band)
+    sets = as_transmissibility_sets(frfs)
     k_values = np.geomspace(0.1 * k0, 10 * k0, points) if k_values is None else np.asarray(k_values, float)
     rate_values = np.geomspace(1.0, 1e4, points) if rate_values is None else np.asarray(rate_values, float)
     if np.any(k_values <= 0) or np.any(rate_values <= 0):
@@ -78,11 +80,11 @@ def maxwell_error_landscape(frfs, *, k0: float, k_values=None, rate_values=None,
         optimum = (float(fitted.model.k[0]), float(fitted.model.rate[0]))
     error2 = np.zeros((rate_values.size, k_values.size))
     for item in sets:
-        freq, measured = _band_points(item.freq, item.transmissibility, band, f"frfs {item.name!r}", min_points=1)
+        freq, measured = band_points(item.freq, item.transmissibility, band, f"frfs {item.name!r}", min_points=1)
         s = 2j * np.pi * freq
         stiffness = k0 + k_values[None, :, None] * s[None, None, :] / (s[None, None, :] + rate_values[:, None, None])
-        prediction = stiffness / (stiffness - (item.mass + m_eff) * (2 * np.pi * freq) ** 2)
-        error2 += np.mean(np.abs(prediction - measured) ** 2 / np.abs(measured) ** 2, axis=2)
+        prediction = sdof_transmissibility(stiffness, item.mass + m_eff, 2 * np.pi * freq)
+        error2 += mean_squared_relative_error(prediction, measured, axis=2)
     error = np.sqrt(error2 / len(sets))
     s = 2j * np.pi * np.geomspace(band[0], band[1], 25)
     stiffness = k0 + k_values[None, :, None] * s[None, None, :] / (s[None, None, :] + rate_values[:, None, None])

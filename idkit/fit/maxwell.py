@@ -30,150 +30,143 @@ when ``monotone_loss``, ``eta(f_g) - eta(f_(g+1)) <= 0`` on a logarithmic grid o
 **Global cross-check**: nlopt ``GN_ISRES`` (evolution strategy with stochastic
 ranking of the constraints) or scipy ``differential_evolution`` (with the same
 constraints), seeded, each polished by the same SQP; the result reports whether
-the SQP optimum was global and the gap.
+the SQP optimum was global and the gap. Both searches are :mod:`idkit.fit._optim`'s
+(:func:`~idkit.fit._optim.sqp`, :func:`~idkit.fit._optim.constrained_global_search`),
+whose status the result's ``success`` reads.
+
+**The problem.** A stiffness law (:class:`_MaxwellLaw`, :class:`_VoigtLaw`: ``k*`` and its
+parameter Jacobian) seen through an observation (:class:`_TransmissibilityProblem`:
+:func:`idkit.models.laws.sdof_transmissibility` of each top mass; :class:`_StiffnessProblem`:
+``k*`` itself). A new law or observation is a new class, not a new string branch. The data
+(:class:`~idkit.observe.white_noise.TransmissibilitySet`, the band and its checks) come from
+:mod:`idkit.fit.frf_objective`; the order table is :func:`idkit.fit.compare.maxwell_order_table`.
 """
 
 from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
-from dataclasses import dataclass
 
-import nlopt
 import numpy as np
-import pandas as pd
-import scipy.optimize
 import scipy.stats
 
 from idkit.errors import FitError
-from idkit.fit._params import Transform, jacobian_statistics, to_lmfit, to_physical_statistics
+from idkit.fit._optim import constrained_global_search, sqp
+from idkit.fit._params import Transform, jacobian_statistics, spec_units, to_lmfit, to_physical_statistics
+from idkit.fit.frf_objective import as_transmissibility_sets, band_points, check_band, maxwell_objective
 from idkit.fit.result import CrossCheck, MaxwellFitResult, MaxwellFitSettings
 from idkit.models import GeneralizedMaxwell, VoigtModel
+from idkit.models.laws import sdof_transmissibility
+from idkit.observe.quasi_static import K0Estimate, estimate_k0
+from idkit.observe.white_noise import TransmissibilitySet
 
 __all__ = [
-    "TransmissibilitySet",
-    "K0Estimate",
-    "estimate_k0",
-    "maxwell_objective",
     "fit_maxwell",
     "fit_voigt",
     "fit_complex_stiffness",
-    "maxwell_order_table",
+    "maxwell_objective",
+    "TransmissibilitySet",
+    "K0Estimate",
+    "estimate_k0",
 ]
 
 _BACKENDS = ("nlopt", "scipy")
 _GLOBAL_METHODS = ("isres", "differential_evolution")
 _AT_BOUND = 1e-6  # scaled distance to a bound below which a parameter is "at the bound"
-_CONSTRAINT_TOL = 1e-10
-
-
-@dataclass(frozen=True)
-class TransmissibilitySet:
-    """Measured complex transmissibility of one top mass on the isolator.
-
-    Attributes
-    ----------
-    mass : float
-        Top mass in kg.
-    freq : ndarray
-        Frequencies in Hz.
-    transmissibility : ndarray (complex)
-        Top-mass motion over base motion (any consistent kinematic quantity).
-    name : str
-    """
-
-    mass: float
-    freq: np.ndarray
-    transmissibility: np.ndarray
-    name: str = ""
-
-
-@dataclass(frozen=True)
-class K0Estimate:
-    """Static stiffness from the quasi-static slope around the origin.
-
-    ``k0`` (N/m) is the least-squares slope of ``force = a + k0 * deflection`` over
-    the points with ``|deflection| <= window``; ``stderr`` its standard error from
-    the residual variance (N/m); ``intercept`` ``a`` in N; ``n_points`` used.
-    """
-
-    k0: float
-    stderr: float
-    intercept: float
-    n_points: int
-    window: float
-
-
-def estimate_k0(deflection, force, window: float) -> K0Estimate:
-    """Least-squares slope of force over deflection around the origin, with its standard error.
-
-    Parameters
-    ----------
-    deflection, force : array_like
-        Quasi-static record in m and N.
-    window : float
-        Half-width in m of the deflection window around 0 (e.g. 1e-3).
-
-    Returns
-    -------
-    K0Estimate
-
-    Raises
-    ------
-    FitError
-        Fewer than 3 points in the window, non-finite values, a non-positive slope.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> x = np.linspace(-2e-3, 2e-3, 101)
-    >>> round(estimate_k0(x, 1.4e4 * x + 0.1, window=1e-3).k0)
-    14000
-    """
-    x = np.asarray(deflection, dtype=float)
-    f = np.asarray(force, dtype=float)
-    if x.shape != f.shape or x.ndim != 1:
-        raise FitError(f"estimate_k0: found deflection shape {x.shape} and force shape {f.shape}, "
-                       "expected equal 1-D shapes")
-    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(f))):
-        raise FitError("estimate_k0: found non-finite deflection or force, expected finite values")
-    if not (math.isfinite(window) and window > 0):
-        raise FitError(f"estimate_k0: found window={window!r}, expected a positive half-width in m")
-    inside = np.abs(x) <= window
-    n = int(inside.sum())
-    if n < 3 or np.ptp(x[inside]) <= 0:
-        raise FitError(f"estimate_k0: found {n} points with |deflection| <= {window:g} m, "
-                       "expected at least 3 distinct deflections (widen the window)")
-    design = np.column_stack([np.ones(n), x[inside]])
-    coefficients, _, _, _ = np.linalg.lstsq(design, f[inside], rcond=None)
-    residual = f[inside] - design @ coefficients
-    variance = float(residual @ residual) / max(n - 2, 1)
-    covariance = variance * np.linalg.inv(design.T @ design)
-    slope = float(coefficients[1])
-    if not slope > 0:
-        raise FitError(f"estimate_k0: found slope {slope:g} N/m, expected a positive stiffness "
-                       "(is tension positive in both deflection and force?)")
-    return K0Estimate(k0=slope, stderr=float(math.sqrt(covariance[1, 1])), intercept=float(coefficients[0]),
-                      n_points=n, window=float(window))
 
 
 # --------------------------------------------------------------------------- the problem
 
 
-class _Problem:
-    """Objective, gradient and constraints in scaled coordinates ``z`` in [0, 1]^P."""
+class _MaxwellLaw:
+    """``k*(s) = k0 + sum k_i s / (s + rate_i)`` over ``[k0], k_1..k_n, rate_1..rate_n, [m_eff]``.
 
-    def __init__(self, *, model: str, data: str, omega, measured, mass, weights, set_index, set_names,
-                 k0, transforms: list[Transform], order: int, loss_omega, monotone_loss: bool):
-        self.model, self.data, self.order = model, data, order
+    ``k0`` is a parameter when ``k0_fixed`` is None; ``m_eff`` the last one when ``with_m_eff``.
+    """
+
+    name = "maxwell"
+
+    def __init__(self, order: int, k0_fixed: float | None, with_m_eff: bool):
+        self.order, self.k0_fixed, self.with_m_eff = order, k0_fixed, with_m_eff
+
+    def values(self, p) -> dict:
+        index = 0
+        if self.k0_fixed is None:
+            k0, index = p[0], 1
+        else:
+            k0 = self.k0_fixed
+        n = self.order
+        k, rate = p[index : index + n], p[index + n : index + 2 * n]
+        m_eff = p[index + 2 * n] if self.with_m_eff else 0.0
+        return {"k0": k0, "k": k, "rate": rate, "m_eff": m_eff}
+
+    def model(self, values) -> GeneralizedMaxwell:
+        return GeneralizedMaxwell(k0=values["k0"], k=values["k"], rate=values["rate"], m_eff=values["m_eff"])
+
+    def stiffness(self, values, s, with_jacobian: bool = True):
+        """k*(s) and dk*/dp (columns in parameter order, the m_eff column zero)."""
+        shift = s[:, None] + values["rate"][None, :]
+        element = s[:, None] / shift
+        stiffness = values["k0"] + element.dot(values["k"].astype(complex))
+        if not with_jacobian:
+            return stiffness, None
+        columns = []
+        if self.k0_fixed is None:
+            columns.append(np.ones((s.size, 1), dtype=complex))
+        columns.append(element)
+        columns.append(-values["k"][None, :] * element / shift)
+        if self.with_m_eff:
+            columns.append(np.zeros((s.size, 1), dtype=complex))
+        return stiffness, np.hstack(columns)
+
+
+class _VoigtLaw:
+    """``k*(s) = k + d s`` over ``k, damping, [m_eff]``."""
+
+    name = "voigt"
+    order = 1
+    k0_fixed = None
+
+    def __init__(self, with_m_eff: bool):
+        self.with_m_eff = with_m_eff
+
+    def values(self, p) -> dict:
+        return {"k": p[0], "damping": p[1], "m_eff": p[2] if self.with_m_eff else 0.0}
+
+    def model(self, values) -> VoigtModel:
+        return VoigtModel(k=values["k"], damping=values["damping"], m_eff=values["m_eff"])
+
+    def stiffness(self, values, s, with_jacobian: bool = True):
+        """k*(s) and dk*/dp (columns in parameter order, the m_eff column zero)."""
+        stiffness = values["k"] + values["damping"] * s
+        if not with_jacobian:
+            return stiffness, None
+        columns = [np.ones_like(s), s]
+        if self.with_m_eff:
+            columns.append(np.zeros_like(s))
+        return stiffness, np.column_stack(columns)
+
+
+class _Problem:
+    """Objective, gradient and constraints in scaled coordinates ``z`` in [0, 1]^P.
+
+    A stiffness law (:class:`_MaxwellLaw`, :class:`_VoigtLaw`) seen through an observation:
+    :class:`_TransmissibilityProblem` (H of a top mass on the isolator) or
+    :class:`_StiffnessProblem` (k* itself, DMA data); the subclass defines :meth:`prediction`.
+    Satisfies :class:`idkit.fit._optim.ConstrainedProblem`.
+    """
+
+    data = ""
+
+    def __init__(self, law, *, omega, measured, mass, weights, set_index, set_names, transforms: list[Transform],
+                 loss_omega, monotone_loss: bool):
+        self.law = law
         self.omega, self.measured = omega, measured
         self.s = 1j * omega
         self.mass = mass
         self.abs_measured = np.abs(measured)
         self.weights = weights
         self.set_index, self.set_names = set_index, set_names
-        self.k0_fixed = k0
         self.transforms = transforms
         self.names = [t.name for t in transforms]
         self.loss_s = 1j * loss_omega if loss_omega is not None else None
@@ -181,6 +174,10 @@ class _Problem:
         self.rate_columns = [i for i, name in enumerate(self.names) if name.startswith("rate_")]
         self.evaluations = 0
         self._condense()
+
+    model = property(lambda self: self.law.name, doc="``\"maxwell\"`` or ``\"voigt\"``.")
+    order = property(lambda self: self.law.order, doc="Number of Maxwell elements (1 for Voigt).")
+    k0_fixed = property(lambda self: self.law.k0_fixed, doc="The fixed k0 in N/m, None when fitted.")
 
     # physical parameters -----------------------------------------------------------------
     def physical(self, z) -> np.ndarray:
@@ -192,67 +189,13 @@ class _Problem:
     def chain(self, z) -> np.ndarray:
         return np.array([float(t.derivative(u)) for t, u in zip(self.transforms, z)])
 
-    def _split(self, p):
-        index = 0
-        if self.model == "voigt":
-            return {"k": p[0], "damping": p[1], "m_eff": p[2] if self.data == "transmissibility" else 0.0}
-        if self.k0_fixed is None:
-            k0, index = p[0], 1
-        else:
-            k0 = self.k0_fixed
-        n = self.order
-        k, rate = p[index : index + n], p[index + n : index + 2 * n]
-        m_eff = p[index + 2 * n] if self.data == "transmissibility" else 0.0
-        return {"k0": k0, "k": k, "rate": rate, "m_eff": m_eff}
-
     def make_model(self, z):
-        values = self._split(self.physical(z))
-        if self.model == "voigt":
-            return VoigtModel(k=values["k"], damping=values["damping"], m_eff=values["m_eff"])
-        return GeneralizedMaxwell(k0=values["k0"], k=values["k"], rate=values["rate"], m_eff=values["m_eff"])
-
-    def _stiffness(self, values, s, with_jacobian: bool = True):
-        """k*(s) and dk*/dp (columns in physical parameter order, m_eff column zero)."""
-        if self.model == "voigt":
-            stiffness = values["k"] + values["damping"] * s
-            if not with_jacobian:
-                return stiffness, None
-            columns = [np.ones_like(s), s]
-            if self.data == "transmissibility":
-                columns.append(np.zeros_like(s))
-            return stiffness, np.column_stack(columns)
-        shift = s[:, None] + values["rate"][None, :]
-        element = s[:, None] / shift
-        stiffness = values["k0"] + element.dot(values["k"].astype(complex))
-        if not with_jacobian:
-            return stiffness, None
-        columns = []
-        if self.k0_fixed is None:
-            columns.append(np.ones((s.size, 1), dtype=complex))
-        columns.append(element)
-        columns.append(-values["k"][None, :] * element / shift)
-        if self.data == "transmissibility":
-            columns.append(np.zeros((s.size, 1), dtype=complex))
-        return stiffness, np.hstack(columns)
+        return self.law.model(self.law.values(self.physical(z)))
 
     def prediction(self, p, points=None, with_jacobian: bool = True):
-        """Model prediction (H or k*) and its Jacobian wrt the physical parameters.
-
-        ``points`` = (omega, mass) to evaluate; default the measured points.
-        """
-        omega, mass = (self.omega, self.mass) if points is None else points
-        values = self._split(p)
-        stiffness, d_stiffness = self._stiffness(values, 1j * omega, with_jacobian)
-        if self.data == "stiffness":
-            return stiffness, d_stiffness
-        inertia = (mass + values["m_eff"]) * omega**2
-        denominator = stiffness - inertia
-        prediction = stiffness / denominator
-        if not with_jacobian:
-            return prediction, None
-        jacobian = (-inertia / denominator**2)[:, None] * d_stiffness
-        jacobian[:, -1] = stiffness * omega**2 / denominator**2
-        return prediction, jacobian
+        """Model prediction and its Jacobian wrt the physical parameters at ``points``
+        (``(omega, mass)``; default the measured points)."""
+        raise NotImplementedError
 
     def _condense(self):
         """Merge points with equal (omega, mass): repetitions cost one model evaluation.
@@ -311,8 +254,8 @@ class _Problem:
             row[a], row[b] = 1.0, -1.0
             jac_rows.append(row)
         if self.monotone_loss:
-            values = self._split(self.physical(z))
-            stiffness, d_stiffness = self._stiffness(values, self.loss_s)
+            values = self.law.values(self.physical(z))
+            stiffness, d_stiffness = self.law.stiffness(values, self.loss_s)
             real, imag = stiffness.real, stiffness.imag
             eta = imag / real
             d_eta = (d_stiffness.imag * real[:, None] - imag[:, None] * d_stiffness.real) / real[:, None] ** 2
@@ -324,112 +267,35 @@ class _Problem:
         return np.asarray(rows, dtype=float), np.vstack(jac_rows)
 
 
-# --------------------------------------------------------------------------- SQP and global search
+class _TransmissibilityProblem(_Problem):
+    """The law seen as the transmissibility of top masses: :func:`~idkit.models.laws.sdof_transmissibility`
+    of ``k*`` with ``mass + m_eff``; ``m_eff`` is the last parameter."""
+
+    data = "transmissibility"
+
+    def prediction(self, p, points=None, with_jacobian: bool = True):
+        omega, mass = (self.omega, self.mass) if points is None else points
+        values = self.law.values(p)
+        stiffness, d_stiffness = self.law.stiffness(values, 1j * omega, with_jacobian)
+        moving_mass = mass + values["m_eff"]
+        prediction = sdof_transmissibility(stiffness, moving_mass, omega)
+        if not with_jacobian:
+            return prediction, None
+        inertia = moving_mass * omega**2
+        denominator = stiffness - inertia
+        jacobian = (-inertia / denominator**2)[:, None] * d_stiffness
+        jacobian[:, -1] = stiffness * omega**2 / denominator**2
+        return prediction, jacobian
 
 
-def _sqp(problem: _Problem, z0, *, backend: str, max_evals: int, ftol: float):
-    """Bounded SQP from ``z0``; returns (z, e^2, evaluations, message)."""
-    z0 = np.clip(np.asarray(z0, dtype=float), 0.0, 1.0)
-    scale = max(problem.objective(z0, with_gradient=False)[0], 1e-300)  # objective O(1) at the start
-    start_evaluations = problem.evaluations
-    m = problem.n_constraints
-    best = {"z": z0.copy(), "value": math.inf}
+class _StiffnessProblem(_Problem):
+    """The law seen as the complex stiffness itself (DMA data, no mass)."""
 
-    def feasible(z):
-        return m == 0 or float(np.max(problem.constraints(z)[0])) <= 1e-8
+    data = "stiffness"
 
-    def track(z, value):
-        if value < best["value"] and feasible(z):
-            best["z"], best["value"] = np.array(z, dtype=float), value
-
-    if backend == "nlopt":
-        opt = nlopt.opt(nlopt.LD_SLSQP, z0.size)
-        opt.set_lower_bounds(np.zeros(z0.size))
-        opt.set_upper_bounds(np.ones(z0.size))
-
-        def nlopt_objective(z, grad):
-            value, gradient = problem.objective(z)
-            if grad.size:
-                grad[:] = gradient / scale
-            track(z, value)
-            return value / scale
-
-        def nlopt_constraints(result, z, grad):
-            values, jacobian = problem.constraints(z)
-            result[:] = values
-            if grad.size:
-                grad[:] = jacobian
-
-        opt.set_min_objective(nlopt_objective)
-        if m:
-            opt.add_inequality_mconstraint(nlopt_constraints, np.full(m, _CONSTRAINT_TOL))
-        opt.set_ftol_rel(ftol)
-        opt.set_xtol_rel(1e-10)
-        opt.set_maxeval(int(max_evals))
-        try:
-            opt.optimize(z0)
-            code = opt.last_optimize_result()
-            names = {nlopt.SUCCESS: "success", nlopt.FTOL_REACHED: "ftol reached",
-                     nlopt.XTOL_REACHED: "xtol reached", nlopt.MAXEVAL_REACHED: "max_evals reached"}
-            message = "nlopt SLSQP: " + names.get(code, f"code {code}")
-        except nlopt.RoundoffLimited:
-            message = "nlopt SLSQP: roundoff limited (best point kept)"
-        except RuntimeError as error:  # nlopt's generic failure, e.g. incompatible linearised constraints
-            message = f"nlopt SLSQP: failure '{error}' (best point kept)"
-    else:
-        constraints = []
-        if m:
-            constraints.append({"type": "ineq", "fun": lambda z: -problem.constraints(z)[0],
-                                "jac": lambda z: -problem.constraints(z)[1]})
-
-        def scipy_objective(z):
-            value, gradient = problem.objective(z)
-            track(z, value)
-            return value / scale, gradient / scale
-
-        result = scipy.optimize.minimize(
-            scipy_objective, z0, jac=True, method="SLSQP", bounds=[(0.0, 1.0)] * z0.size,
-            constraints=constraints, options={"ftol": ftol, "maxiter": int(max_evals)},
-        )
-        message = "scipy SLSQP: " + str(result.message)
-        track(np.clip(result.x, 0.0, 1.0), problem.objective(np.clip(result.x, 0.0, 1.0), False)[0])
-    if not math.isfinite(best["value"]):  # never feasible: keep the start, say so
-        best["z"], best["value"] = z0, problem.objective(z0, False)[0]
-        message += " (no feasible point found)"
-    return best["z"], best["value"], problem.evaluations - start_evaluations, message
-
-
-def _global_search(problem: _Problem, *, method: str, max_evals: int, seed: int):
-    """Seeded population-based search on [0, 1]^P with the same constraints."""
-    p = len(problem.names)
-    m = problem.n_constraints
-    if method == "isres":
-        nlopt.srand(int(seed))
-        opt = nlopt.opt(nlopt.GN_ISRES, p)
-        opt.set_lower_bounds(np.zeros(p))
-        opt.set_upper_bounds(np.ones(p))
-        opt.set_min_objective(lambda z, grad: problem.objective(z, with_gradient=False)[0])
-        if m:
-            def constraint(result, z, grad):
-                result[:] = problem.constraints(z)[0]
-            opt.add_inequality_mconstraint(constraint, np.full(m, 1e-8))
-        opt.set_maxeval(int(max_evals))
-        opt.set_population(20 * (p + 1))
-        try:
-            z = opt.optimize(np.full(p, 0.5))
-        except nlopt.RoundoffLimited:
-            z = np.full(p, 0.5)
-        return np.asarray(z)
-    constraints = ()
-    if m:
-        constraints = scipy.optimize.NonlinearConstraint(lambda z: problem.constraints(z)[0], -np.inf, 0.0)
-    popsize = 15
-    result = scipy.optimize.differential_evolution(
-        lambda z: problem.objective(z, with_gradient=False)[0], [(0.0, 1.0)] * p, seed=int(seed),
-        constraints=constraints, polish=False, tol=1e-10, popsize=popsize,
-        maxiter=max(1, int(max_evals) // (popsize * p)),
-    )
-    return np.asarray(result.x)
+    def prediction(self, p, points=None, with_jacobian: bool = True):
+        omega = self.omega if points is None else points[0]
+        return self.law.stiffness(self.law.values(p), 1j * omega, with_jacobian)
 
 
 # --------------------------------------------------------------------------- input handling
@@ -441,62 +307,11 @@ def _check_order(order) -> int:
     return int(order)
 
 
-def _check_band(band) -> tuple[float, float]:
-    try:
-        low, high = (float(v) for v in band)
-    except (TypeError, ValueError):
-        raise FitError(f"band: found {band!r}, expected (f_low, f_high) in Hz") from None
-    if not (0 < low < high < math.inf):
-        raise FitError(f"band: found ({low:g}, {high:g}) Hz, expected 0 < f_low < f_high")
-    return low, high
-
-
 def _check_bounds(name: str, bounds, unit: str) -> tuple[float, float]:
     low, high = (float(v) for v in bounds)
     if not (0 < low < high < math.inf):
         raise FitError(f"{name}: found ({low:g}, {high:g}) {unit}, expected 0 < lower < upper")
     return low, high
-
-
-def _as_transmissibility_sets(frfs) -> list[TransmissibilitySet]:
-    if frfs is None or len(frfs) == 0:
-        raise FitError("frfs: found no transmissibility set, expected at least one (mass, freq, H)")
-    sets = []
-    for index, item in enumerate(frfs):
-        if isinstance(item, TransmissibilitySet):
-            sets.append(item if item.name else TransmissibilitySet(item.mass, item.freq, item.transmissibility,
-                                                                   f"set{index}"))
-            continue
-        try:
-            mass, freq, value = item
-        except (TypeError, ValueError):
-            raise FitError(f"frfs[{index}]: found {type(item).__name__}, expected a TransmissibilitySet or "
-                           "(mass kg, freq Hz, complex transmissibility)") from None
-        sets.append(TransmissibilitySet(float(mass), np.asarray(freq), np.asarray(value), f"set{index}"))
-    return sets
-
-
-def _band_points(freq, value, band, what: str, *, min_points: int):
-    freq = np.asarray(freq, dtype=float)
-    value = np.asarray(value, dtype=complex)
-    if freq.ndim != 1 or value.shape != freq.shape:
-        raise FitError(f"{what}: found freq shape {freq.shape} and values shape {value.shape}, "
-                       "expected equal 1-D shapes")
-    if not np.all(np.isfinite(freq)):
-        raise FitError(f"{what}: found non-finite frequencies, expected finite values in Hz")
-    inside = (freq >= band[0]) & (freq <= band[1])
-    f_in, v_in = freq[inside], value[inside]
-    bad = np.flatnonzero(~np.isfinite(v_in))
-    if bad.size:
-        raise FitError(f"{what}: found {v_in[bad[0]]} at {f_in[bad[0]]:g} Hz, expected finite complex values")
-    zero = np.flatnonzero(v_in == 0)
-    if zero.size:
-        raise FitError(f"{what}: found 0 at {f_in[zero[0]]:g} Hz, expected non-zero values "
-                       "(the error (7.5) is relative to |measured|)")
-    if f_in.size < min_points:
-        raise FitError(f"{what}: found {f_in.size} points in the band {band[0]:g}-{band[1]:g} Hz, "
-                       f"expected at least {min_points}")
-    return f_in, v_in
 
 
 def _loss_grid(band, points: int):
@@ -518,14 +333,24 @@ def _stack(parts):
 # --------------------------------------------------------------------------- public fitters
 
 
+def _declared(model: str, order: int) -> dict:
+    """Name -> ParamSpec of the model fitted (units and physical bounds come from here)."""
+    if model == "voigt":
+        reference = VoigtModel(k=1.0, damping=1.0)  # any valid model: its declarations
+    else:
+        reference = GeneralizedMaxwell(k0=1.0, k=np.ones(order), rate=np.arange(1.0, order + 1.0))
+    return {spec.name: spec for spec in reference.param_specs()}
+
+
 def _maxwell_transforms(order, stiffness_bounds, rate_bounds, *, k0_bounds=None, m_eff_max=None):
+    units = spec_units(GeneralizedMaxwell(k0=1.0, k=np.ones(order), rate=np.arange(1.0, order + 1.0)))
     transforms = []
     if k0_bounds is not None:
-        transforms.append(Transform("k0", "N/m", "log01", *k0_bounds))
-    transforms += [Transform(f"k_{i}", "N/m", "log01", *stiffness_bounds) for i in range(1, order + 1)]
-    transforms += [Transform(f"rate_{i}", "1/s", "log01", *rate_bounds) for i in range(1, order + 1)]
+        transforms.append(Transform("k0", units["k0"], "log01", *k0_bounds))
+    transforms += [Transform(f"k_{i}", units[f"k_{i}"], "log01", *stiffness_bounds) for i in range(1, order + 1)]
+    transforms += [Transform(f"rate_{i}", units[f"rate_{i}"], "log01", *rate_bounds) for i in range(1, order + 1)]
     if m_eff_max is not None:
-        transforms.append(Transform("m_eff", "kg", "linear01", 0.0, m_eff_max))
+        transforms.append(Transform("m_eff", units["m_eff"], "linear01", 0.0, m_eff_max))
     return transforms
 
 
@@ -563,7 +388,7 @@ def _default_start(problem: _Problem, band, seed: int, samples: int = 64) -> np.
 
 
 def _solve(problem: _Problem, *, start, band, backend, max_evals, ftol, cross_check, global_method,
-           global_max_evals, seed, settings_extra):
+           global_max_evals, seed, settings_extra, k0_stderr=None):
     if backend not in _BACKENDS:
         raise FitError(f"backend: found {backend!r}, expected one of {_BACKENDS}")
     if global_method is None:
@@ -579,15 +404,17 @@ def _solve(problem: _Problem, *, start, band, backend, max_evals, ftol, cross_ch
             raise FitError(f"start: found parameters {dict(zip(problem.names, values))} outside the bounds "
                            f"{[(t.name, t.lower, t.upper) for t in problem.transforms]}")
     t0 = time.perf_counter()
-    z_sqp, value_sqp, evaluations, message = _sqp(problem, z0, backend=backend, max_evals=max_evals, ftol=ftol)
+    run = sqp(problem, z0, backend=backend, max_evals=max_evals, ftol=ftol)
+    z_sqp, value_sqp = run.x, run.value
     elapsed = time.perf_counter() - t0
     sqp_error = math.sqrt(value_sqp)
     z_best, source, check = z_sqp, "sqp", None
     if cross_check:
         t1 = time.perf_counter()
         before = problem.evaluations
-        z_global = _global_search(problem, method=global_method, max_evals=global_max_evals, seed=seed)
-        z_polished, value_global, _, _ = _sqp(problem, z_global, backend=backend, max_evals=max_evals, ftol=ftol)
+        z_global = constrained_global_search(problem, method=global_method, max_evals=global_max_evals, seed=seed)
+        polished = sqp(problem, z_global, backend=backend, max_evals=max_evals, ftol=ftol)
+        z_polished, value_global = polished.x, polished.value
         global_error = math.sqrt(value_global)
         tolerance = max(1e-4, 1e-3 * global_error)
         gap = sqp_error - global_error
@@ -604,7 +431,7 @@ def _solve(problem: _Problem, *, start, band, backend, max_evals, ftol, cross_ch
     at_bound = tuple(name for name, z in zip(problem.names, z_best) if z < _AT_BOUND or z > 1 - _AT_BOUND)
     set_errors = problem.set_errors(z_best)
     error = math.sqrt(problem.objective(z_best, with_gradient=False)[0])
-    parameters, statistics = _lmfit_view(problem, z_best, at_bound)
+    parameters, statistics = _lmfit_view(problem, z_best, at_bound, k0_stderr)
     settings = MaxwellFitSettings(
         model=problem.model, order=problem.order, data=problem.data, backend=backend, band=tuple(band),
         bounds={t.name: (t.lower, t.upper) for t in problem.transforms}, monotone_loss=problem.monotone_loss,
@@ -613,7 +440,8 @@ def _solve(problem: _Problem, *, start, band, backend, max_evals, ftol, cross_ch
         global_max_evals=int(global_max_evals) if cross_check else None, **settings_extra)
     return MaxwellFitResult(
         model=model, error=error, set_errors=set_errors, set_names=tuple(problem.set_names),
-        sqp_error=sqp_error, at_bound=at_bound, evaluations=evaluations, message=message, source=source,
+        sqp_error=sqp_error, at_bound=at_bound, evaluations=run.evaluations, message=run.message, source=source,
+        status=run.status,
         cross_check=check, settings=settings, parameters=parameters, elapsed_s=elapsed, statistics=statistics)
 
 
@@ -628,7 +456,7 @@ def _start_values(problem: _Problem, start) -> np.ndarray:
         raise FitError(f"start: parameter {missing.args[0]!r} missing, expected {names}") from None
 
 
-def _lmfit_view(problem: _Problem, z, at_bound):
+def _lmfit_view(problem: _Problem, z, at_bound, k0_stderr=None):
     """lmfit Parameters and statistics from the analytic Jacobian (parameters at a bound excluded).
 
     Returns ``(parameters, statistics)``: :class:`lmfit.Parameters` in physical units with
@@ -663,11 +491,13 @@ def _lmfit_view(problem: _Problem, z, at_bound):
     names, units = list(problem.names), [t.unit for t in problem.transforms]
     lower, upper = [t.lower for t in problem.transforms], [t.upper for t in problem.transforms]
     vary = [True] * len(names)
+    stderr = [None] * len(names)
     if problem.model == "maxwell" and problem.k0_fixed is not None:
+        k0 = _declared("maxwell", problem.order)["k0"]
         names, values = ["k0", *names], np.concatenate([[problem.k0_fixed], values])
-        units, lower, upper = ["N/m", *units], [0.0, *lower], [math.inf, *upper]
-        vary = [False, *vary]
-    parameters = to_lmfit(names, values, units=units, lower=lower, upper=upper, vary=vary)
+        units, lower, upper = [k0.unit, *units], [k0.lower, *lower], [k0.upper, *upper]
+        vary, stderr = [False, *vary], [k0_stderr, *stderr]  # fixed in the fit, uncertain from its source
+    parameters = to_lmfit(names, values, units=units, lower=lower, upper=upper, vary=vary, stderr=stderr)
     if not free:
         return parameters, None
     internal = jacobian_statistics(residuals, np.asarray(z, dtype=float)[free], [problem.names[i] for i in free],
@@ -678,14 +508,14 @@ def _lmfit_view(problem: _Problem, z, at_bound):
 
 def _frf_problem(frfs, *, model, order, k0, band, stiffness_bounds, rate_bounds, damping_bounds, m_eff_max,
                  isolator_mass, monotone_loss, loss_grid_points):
-    band = _check_band(band)
-    sets = _as_transmissibility_sets(frfs)
+    band = check_band(band)
+    sets = as_transmissibility_sets(frfs)
     n_params = (2 * order + 1) if model == "maxwell" else 3
     parts = []
     for item in sets:
         if not (math.isfinite(item.mass) and item.mass > 0):
             raise FitError(f"frfs {item.name!r}: found mass {item.mass!r}, expected a positive mass in kg")
-        f_in, h_in = _band_points(item.freq, item.transmissibility, band, f"frfs {item.name!r}", min_points=3)
+        f_in, h_in = band_points(item.freq, item.transmissibility, band, f"frfs {item.name!r}", min_points=3)
         parts.append((f_in, h_in, item.mass))
     if sum(f.size for f, _, _ in parts) <= n_params:
         raise FitError(f"frfs: found {sum(f.size for f, _, _ in parts)} points in the band, "
@@ -704,35 +534,23 @@ def _frf_problem(frfs, *, model, order, k0, band, stiffness_bounds, rate_bounds,
     else:
         damping_bounds = _check_bounds("damping_bounds", damping_bounds or (k0 / rate_bounds[1], k0 / rate_bounds[0]),
                                        "N s/m")
-        transforms = [Transform("k", "N/m", "log01", *stiffness_bounds),
-                      Transform("damping", "N s/m", "log01", *damping_bounds),
-                      Transform("m_eff", "kg", "linear01", 0.0, m_eff_max)]
+        specs = _declared("voigt", 1)
+        transforms = [Transform("k", specs["k"].unit, "log01", *stiffness_bounds),
+                      Transform("damping", specs["damping"].unit, "log01", *damping_bounds),
+                      Transform("m_eff", specs["m_eff"].unit, "linear01", 0.0, m_eff_max)]
         loss_omega, monotone_loss = None, False  # a Voigt loss factor omega d / k always increases
     omega, measured, mass, set_index, weights = _stack(parts)
-    return _Problem(model=model, data="transmissibility", omega=omega, measured=measured, mass=mass, weights=weights,
-                    set_index=set_index, set_names=[item.name for item in sets],
-                    k0=float(k0) if model == "maxwell" else None, transforms=transforms, order=order,
-                    loss_omega=loss_omega, monotone_loss=monotone_loss), band
-
-
-def maxwell_objective(model: GeneralizedMaxwell | VoigtModel, frfs, *, band=(1.0, 100.0)) -> float:
-    """Objective (7.5) of a given model on transmissibility sets: RMS relative complex error (fraction)."""
-    band = _check_band(band)
-    sets = _as_transmissibility_sets(frfs)
-    squares = []
-    for item in sets:
-        f_in, h_in = _band_points(item.freq, item.transmissibility, band, f"frfs {item.name!r}", min_points=1)
-        stiffness = model.complex_stiffness(f_in)
-        omega = 2 * np.pi * f_in
-        h_model = stiffness / (stiffness - (item.mass + model.m_eff) * omega**2)
-        squares.append(float(np.mean(np.abs(h_model - h_in) ** 2 / np.abs(h_in) ** 2)))
-    return math.sqrt(float(np.mean(squares)))
+    law = _MaxwellLaw(order, float(k0), with_m_eff=True) if model == "maxwell" else _VoigtLaw(with_m_eff=True)
+    return _TransmissibilityProblem(law, omega=omega, measured=measured, mass=mass, weights=weights,
+                                    set_index=set_index, set_names=[item.name for item in sets], transforms=transforms,
+                                    loss_omega=loss_omega, monotone_loss=monotone_loss), band
 
 
 def fit_maxwell(
     frfs,
     *,
     k0: float,
+    k0_stderr: float | None = None,
     order: int = 2,
     band=(1.0, 100.0),
     backend: str = "nlopt",
@@ -759,6 +577,10 @@ def fit_maxwell(
         triples: every top mass and repetition, fitted at once.
     k0 : float
         Static stiffness in N/m, fixed (from :func:`estimate_k0`).
+    k0_stderr : float, optional
+        Standard uncertainty of ``k0`` in N/m from its own estimate (e.g.
+        :attr:`~idkit.observe.quasi_static.K0FromLoops.stderr`); reported as the stderr of
+        the fixed ``k0`` parameter, which the fit does not move.
     order : int, default 2
         Number of Maxwell elements, >= 1.
     band : (float, float), default (1, 100)
@@ -788,8 +610,10 @@ def fit_maxwell(
         Run the seeded global search (module docstring) and report the gap.
     global_method : {"isres", "differential_evolution"}, optional
         Default follows ``backend``.
-    global_max_evals : int, default 20000
+    global_max_evals : int, default 10000
+        Evaluation limit of the global search.
     seed : int, default 0
+        Seeds the Sobol start sample and the global search.
 
     Returns
     -------
@@ -811,9 +635,11 @@ def fit_maxwell(
                                  stiffness_bounds=stiffness_bounds, rate_bounds=rate_bounds, damping_bounds=None,
                                  m_eff_max=m_eff_max, isolator_mass=isolator_mass, monotone_loss=monotone_loss,
                                  loss_grid_points=loss_grid_points)
+    if k0_stderr is not None and not (math.isfinite(k0_stderr) and k0_stderr >= 0):
+        raise FitError(f"k0_stderr: found {k0_stderr!r}, expected a non-negative uncertainty in N/m or None")
     return _solve(problem, start=start, band=band, backend=backend, max_evals=max_evals, ftol=ftol,
                   cross_check=cross_check, global_method=global_method, global_max_evals=global_max_evals,
-                  seed=seed, settings_extra={})
+                  seed=seed, settings_extra={}, k0_stderr=k0_stderr)
 
 
 def fit_voigt(
@@ -904,8 +730,8 @@ def fit_complex_stiffness(
         raise FitError(f"storage/loss: found shapes {np.shape(storage)} and {np.shape(loss)}, expected equal") from None
     if freq.ndim != 1 or freq.size == 0 or not np.all(np.isfinite(freq)) or np.any(freq <= 0):
         raise FitError("freq: expected a non-empty 1-D array of finite frequencies > 0 Hz")
-    band = _check_band(band if band is not None else (freq.min(), freq.max() * (1 + 1e-12)))
-    f_in, k_in = _band_points(freq, value, band, "complex stiffness", min_points=2 * order + 2)
+    band = check_band(band if band is not None else (freq.min(), freq.max() * (1 + 1e-12)))
+    f_in, k_in = band_points(freq, value, band, "complex stiffness", min_points=2 * order + 2)
     magnitude = np.abs(k_in)
     if k0 is None:
         k0_bounds = _check_bounds("k0_bounds", k0_bounds or (1e-6 * k_in.real.min(), k_in.real.min()), "N/m")
@@ -919,64 +745,12 @@ def fit_complex_stiffness(
                                      k0_bounds=None if k0 is not None else k0_bounds)
     order_index = np.argsort(f_in)
     omega = 2 * np.pi * f_in[order_index]
-    problem = _Problem(model="maxwell", data="stiffness", omega=omega, measured=k_in[order_index], mass=None,
-                       weights=np.full(omega.size, 1.0 / omega.size), set_index=np.zeros(omega.size, int),
-                       set_names=["complex stiffness"], k0=None if k0 is None else float(k0), transforms=transforms,
-                       order=order, loss_omega=_loss_grid(band, loss_grid_points) if monotone_loss else None,
-                       monotone_loss=monotone_loss)
+    law = _MaxwellLaw(order, None if k0 is None else float(k0), with_m_eff=False)
+    problem = _StiffnessProblem(law, omega=omega, measured=k_in[order_index], mass=None,
+                                weights=np.full(omega.size, 1.0 / omega.size), set_index=np.zeros(omega.size, int),
+                                set_names=["complex stiffness"], transforms=transforms,
+                                loss_omega=_loss_grid(band, loss_grid_points) if monotone_loss else None,
+                                monotone_loss=monotone_loss)
     return _solve(problem, start=None, band=band, backend=backend, max_evals=max_evals, ftol=ftol,
                   cross_check=cross_check, global_method=global_method, global_max_evals=global_max_evals,
                   seed=seed, settings_extra={})
-
-
-def maxwell_order_table(frfs, *, k0: float, orders: Sequence[int] = (1, 2, 3, 4), voigt: bool = True,
-                        **options) -> pd.DataFrame:
-    """Errors of Maxwell orders ``orders`` and of the Voigt model on the same data (SPEC 4).
-
-    Each order is fitted from its default start and, when the previous order of the
-    table is lower, also from that optimum extended by weak elements (stiffness at the
-    lower bound, rates in the widest gaps of log rate); the better fit is kept, so an
-    order never reports a worse error than the model it contains (a Sobol start alone
-    ended order 3 in a local minimum at 2.3 % against 1.0 % for order 2 on one seed in 12).
-
-    Returns a DataFrame with one row per model: ``model``, ``order``, ``n_params``,
-    ``error_percent`` (objective 7.5), ``at_bound`` (free parameters stuck at a
-    bound, comma-separated, ``""`` if none), ``success``. ``options`` go to
-    :func:`fit_maxwell` (and the common ones to :func:`fit_voigt`).
-    """
-    rows, previous = [], None
-    for order in orders:
-        result = fit_maxwell(frfs, k0=k0, order=order, **options)
-        if previous is not None and previous.model.order < order and "start" not in options:
-            nested = fit_maxwell(frfs, k0=k0, order=order, start=_nested_start(previous.model, order, k0, options),
-                                 **options)
-            if nested.error < result.error:
-                result = nested
-        previous = result
-        rows.append({"model": "maxwell", "order": int(order), "n_params": 2 * int(order) + 1,
-                     "error_percent": 100 * result.error, "at_bound": ", ".join(result.at_bound),
-                     "success": result.success})
-    if voigt:
-        voigt_options = {key: value for key, value in options.items()
-                         if key in ("band", "backend", "stiffness_bounds", "rate_bounds", "m_eff_max",
-                                    "isolator_mass", "max_evals", "ftol", "seed")}
-        result = fit_voigt(frfs, k0=k0, **voigt_options)
-        rows.append({"model": "voigt", "order": 0, "n_params": 3, "error_percent": 100 * result.error,
-                     "at_bound": ", ".join(result.at_bound), "success": result.success})
-    return pd.DataFrame(rows)
-
-
-def _nested_start(model: GeneralizedMaxwell, order: int, k0: float, options: dict) -> GeneralizedMaxwell:
-    """``model`` with weak elements added up to ``order``: at the stiffness lower bound,
-    each at the geometric middle of the widest gap of log rate (bounds included)."""
-    low_k = (options.get("stiffness_bounds") or (0.1 * k0, 10 * k0))[0]
-    rate_low, rate_high = options.get("rate_bounds", (1.0, 1e4))
-    k, rate = list(np.asarray(model.k, float)), list(np.asarray(model.rate, float))
-    while len(k) < order:
-        edges = np.log(np.sort(np.concatenate([[rate_low, rate_high], rate])))
-        widest = int(np.argmax(np.diff(edges)))
-        k.append(float(low_k))
-        rate.append(float(np.exp(0.5 * (edges[widest] + edges[widest + 1]))))
-    order_of_rates = np.argsort(rate)
-    return GeneralizedMaxwell(k0=k0, k=np.asarray(k)[order_of_rates], rate=np.asarray(rate)[order_of_rates],
-                              m_eff=model.m_eff)

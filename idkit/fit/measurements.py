@@ -5,18 +5,14 @@ The array-level fitters (:func:`~idkit.fit.fit_iwan`, :func:`~idkit.fit.fit_maxw
 the right measurements of a :class:`~idkit.io.MeasurementSet` (kind, isolator, split),
 turns them into those inputs and keeps where they came from:
 
-* :func:`loop_sets` - quasi-static records -> small and large :class:`~idkit.fit.LoopSet`
-  groups, split **per measurement** by its amplitude (half the peak-to-peak deflection).
-  Default threshold :data:`SMALL_THRESHOLD` = 8 mm: the study's small-loop sets reach
-  4.5 mm and its large-loop sets 15 mm (SPEC 3); 8 mm is about their geometric mean,
-  so either kind of set may over- or undershoot its nominal amplitude by 40 % and
-  still be classified right.
-* :func:`transmissibility_sets` - white-noise records -> H1 estimates
-  (:func:`idkit.signal.frf.estimate_frf`, top over base velocity or acceleration)
-  of every top mass and repetition.
-* :func:`k0_from_measurements` - static stiffness of the elastomer from its
-  quasi-static loops (:func:`~idkit.fit.estimate_k0` on all loops pooled, plus the
-  spread between records).
+* the observables come from :mod:`idkit.observe`: :func:`~idkit.observe.quasi_static.loop_sets`
+  (small and large loop sets, :class:`~idkit.observe.quasi_static.LoopData`),
+  :func:`~idkit.observe.white_noise.transmissibility_sets` (one H1 per white-noise run) and
+  :func:`~idkit.observe.quasi_static.k0_from_measurements` (the elastomer's static stiffness);
+  the selection and its provenance from :func:`idkit.io.provenance.select_measurements`.
+* :func:`elastomer_data` - the elastomer's observables selected once into one
+  :class:`ElastomerData` (FRFs, k0 with its loops, provenance, repetitions), handed to
+  :func:`~idkit.fit.fit_maxwell` by :func:`fit_maxwell_measurements`.
 * :func:`fit_iwan_measurements`, :func:`fit_maxwell_measurements`,
   :func:`fit_boucwen_measurements` - the fits, restricted to ``split="fit"`` by default,
   returning a :class:`MeasurementFit` that can write the model file with provenance
@@ -33,110 +29,33 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from idkit.signal.frf import estimate_frf
 from idkit.errors import DataError, FitError
 from idkit.fit.boucwen import fit_boucwen
+from idkit.fit.compare import iwan_order_table
 from idkit.fit.damping import ViscousDamping, fit_viscous_damping
-from idkit.fit.iwan import LoopSet, fit_iwan, iwan_order_table, prepare_loops
-from idkit.fit.maxwell import K0Estimate, TransmissibilitySet, estimate_k0, fit_maxwell
+from idkit.fit.iwan import fit_iwan
+from idkit.fit.maxwell import fit_maxwell
+from idkit.io import QuasiStaticMeasurement
+from idkit.io.provenance import DataProvenance, select_measurements
 from idkit.models import save_model
+from idkit.observe.quasi_static import (
+    LOOP_POINTS_PER_SET,
+    SMALL_THRESHOLD,
+    K0FromLoops,
+    LoopData,
+    k0_from_records,
+    loop_sets,
+)
+from idkit.observe.white_noise import FRF_RESOLUTION_HZ, TransmissibilitySet, transmissibility_sets
 
 __all__ = [
-    "SMALL_THRESHOLD",
-    "LOOP_POINTS_PER_SET",
-    "FRF_RESOLUTION_HZ",
-    "DataProvenance",
-    "LoopData",
-    "K0FromLoops",
+    "ElastomerData",
     "MeasurementFit",
-    "loop_sets",
-    "transmissibility_sets",
-    "k0_from_measurements",
+    "elastomer_data",
     "fit_iwan_measurements",
     "fit_boucwen_measurements",
     "fit_maxwell_measurements",
 ]
-
-#: Default amplitude (m) separating small-loop from large-loop quasi-static records.
-SMALL_THRESHOLD = 8e-3
-#: Default resampled points per quasi-static record: about 20 per branch for the
-#: study's 15-loop records (30 branches); 200 would leave 7 points on a 4.5 mm branch.
-LOOP_POINTS_PER_SET = 600
-#: Default frequency resolution (Hz) of the white-noise FRF estimates.
-FRF_RESOLUTION_HZ = 0.5
-
-
-@dataclass(frozen=True)
-class DataProvenance:
-    """Which measurements a fit used and where they came from.
-
-    Attributes
-    ----------
-    folder : str or None
-        The measurement set's folder.
-    manifest_sha256 : str or None
-    files : dict
-        Data file (as given by the manifest, else the path) -> SHA-256 of its bytes.
-    ids : tuple of str
-        Measurement ids used, in order.
-    selection : dict
-        The criteria (kind, isolator, split) that picked them.
-    """
-
-    folder: str | None
-    manifest_sha256: str | None
-    files: dict
-    ids: tuple[str, ...]
-    selection: dict
-
-    def to_dict(self) -> dict:
-        """JSON-ready dictionary."""
-        return {"folder": self.folder, "manifest_sha256": self.manifest_sha256, "files": dict(self.files),
-                "measurement_ids": list(self.ids), "selection": dict(self.selection)}
-
-
-@dataclass(frozen=True)
-class LoopData:
-    """Quasi-static records split into small and large loop sets.
-
-    ``small_repetitions`` / ``large_repetitions`` hold each set's repetition number
-    (``info.repetition``, or its position when absent) for the bootstrap.
-    ``amplitudes`` maps measurement id -> amplitude in m.
-    """
-
-    small: tuple[LoopSet, ...]
-    large: tuple[LoopSet, ...]
-    small_repetitions: tuple[int, ...]
-    large_repetitions: tuple[int, ...]
-    amplitudes: dict
-    threshold: float
-    provenance: DataProvenance
-
-
-@dataclass(frozen=True)
-class K0FromLoops:
-    """Static stiffness of the elastomer from its quasi-static loops.
-
-    Attributes
-    ----------
-    k0 : float
-        Pooled least-squares slope around the origin, N/m.
-    stderr : float
-        Its uncertainty (N/m): the larger of the regression standard error of the
-        pooled fit and the standard error of the mean of the per-record slopes
-        (records differ by more than the regression within one record admits).
-    pooled : K0Estimate
-    per_record : dict
-        Measurement id -> slope (N/m).
-    window : float
-        Half-width of the deflection window, m.
-    """
-
-    k0: float
-    stderr: float
-    pooled: K0Estimate
-    per_record: dict
-    window: float
 
 
 @dataclass(frozen=True)
@@ -147,7 +66,9 @@ class MeasurementFit:
     ----------
     kind : {"iwan", "boucwen", "maxwell"}
     result : IwanFitResult, BoucWenFitResult or MaxwellFitResult
-    data : LoopData or tuple of TransmissibilitySet
+    data : LoopData or ElastomerData
+        The observables the fit saw: loop sets (Iwan, Bouc-Wen) or the elastomer's FRFs and k0
+        (Maxwell; iterating over it gives the transmissibility sets).
     provenance : DataProvenance
     k0 : K0FromLoops or None
         Maxwell fits: the static stiffness used.
@@ -344,188 +265,6 @@ def _jsonable(value):
     return value
 
 
-# --------------------------------------------------------------------------- selection
-
-
-def _select(data, *, kind: str, isolator: str | None, split: str | None):
-    """(entries-like ids, measurements, provenance) of the matching measurements."""
-    selection = {"kind": kind, "isolator": isolator, "split": split}
-    if hasattr(data, "select") and hasattr(data, "measurements"):
-        chosen = data.select(kind=kind, isolator=isolator, split=split)
-        measurements = list(chosen.measurements)
-        files = {entry.file: m.source.sha256 for entry, m in zip(chosen.entries, chosen.measurements)}
-        folder = None if data.folder is None else str(data.folder)
-        manifest = data.manifest_sha256
-        available = data.to_dataframe() if len(data) else None
-    else:
-        if data is None:
-            raise FitError("measurements: found None, expected a MeasurementSet or a list of measurements")
-        everything = list(data)
-        measurements = [m for m in everything
-                        if getattr(m, "kind", None) == kind
-                        and (isolator is None or m.info.isolator == isolator)
-                        and (split is None or m.info.split == split)]
-        files = {(str(m.source.path) if m.source.path is not None else f"<memory:{m.id}>"): m.source.sha256
-                 for m in measurements}
-        folder, manifest, available = None, None, None
-        if everything and not measurements:
-            available = [(getattr(m, "kind", type(m).__name__), m.info.isolator, m.info.split) for m in everything]
-    if not measurements:
-        if available is not None and hasattr(available, "groupby"):
-            found = available.groupby(["kind", "isolator", "split"], dropna=False).size().to_dict()
-        else:
-            found = available
-        raise FitError(f"measurements: found none with kind={kind!r}, isolator={isolator!r}, split={split!r}; "
-                       f"available (kind, isolator, split): {found}")
-    provenance = DataProvenance(folder=folder, manifest_sha256=manifest, files=files,
-                                ids=tuple(m.id or f"#{i}" for i, m in enumerate(measurements)), selection=selection)
-    return measurements, provenance
-
-
-def _split_option(split: str | None) -> str | None:
-    if split in (None, "all"):
-        return None
-    if split not in ("fit", "validation"):
-        raise FitError(f"split: found {split!r}, expected 'fit', 'validation' or None/'all'")
-    return split
-
-
-def loop_sets(
-    measurements,
-    *,
-    small_threshold: float = SMALL_THRESHOLD,
-    isolator: str | None = "wire_rope",
-    split: str | None = "fit",
-    points_per_set: int | None = LOOP_POINTS_PER_SET,
-    min_excursion: float | None = None,
-) -> LoopData:
-    """Quasi-static records -> small and large loop sets (one set per record).
-
-    Parameters
-    ----------
-    measurements : MeasurementSet or sequence of QuasiStaticMeasurement
-    small_threshold : float, default :data:`SMALL_THRESHOLD` (8e-3 m)
-        A record whose amplitude (half its peak-to-peak deflection) is at most this
-        is a small-loop set, otherwise a large-loop set.
-    isolator : str or None, default "wire_rope"
-        Only records of this isolator (None: any).
-    split : {"fit", "validation", None}, default "fit"
-    points_per_set : int or None, default :data:`LOOP_POINTS_PER_SET`
-        See :func:`idkit.fit.prepare_loops`.
-    min_excursion : float, optional
-        Reversal threshold in m (default 2 % of each record's range).
-
-    Raises
-    ------
-    FitError
-        No matching record, a record without reversals, or only small or only
-        large sets (the message lists the amplitudes and the threshold).
-    """
-    if not (math.isfinite(small_threshold) and small_threshold > 0):
-        raise FitError(f"small_threshold: found {small_threshold!r}, expected a positive amplitude in m")
-    records, provenance = _select(measurements, kind="quasi_static", isolator=isolator, split=_split_option(split))
-    small, large, small_rep, large_rep, amplitudes = [], [], [], [], {}
-    for position, record in enumerate(records, start=1):
-        name = record.id or f"record{position}"
-        amplitude = 0.5 * float(np.ptp(record.deflection))
-        amplitudes[name] = amplitude
-        try:
-            prepared = prepare_loops(record.deflection, record.force, points_per_set=points_per_set,
-                                     min_excursion=min_excursion, name=name)
-        except FitError as problem:
-            raise FitError(f"{record.source.where()}: {problem}") from None
-        repetition = record.info.repetition if record.info.repetition is not None else position
-        if amplitude <= small_threshold:
-            small.append(prepared)
-            small_rep.append(repetition)
-        else:
-            large.append(prepared)
-            large_rep.append(repetition)
-    if not small or not large:
-        listed = ", ".join(f"{name}: {1e3 * a:.3g} mm" for name, a in amplitudes.items())
-        missing = "small" if not small else "large"
-        raise FitError(f"loops: found no {missing}-loop record with small_threshold={1e3 * small_threshold:g} mm "
-                       f"(amplitudes {listed}); expected both small and large loop sets")
-    return LoopData(small=tuple(small), large=tuple(large), small_repetitions=tuple(small_rep),
-                    large_repetitions=tuple(large_rep), amplitudes=amplitudes, threshold=float(small_threshold),
-                    provenance=provenance)
-
-
-def transmissibility_sets(
-    measurements,
-    *,
-    isolator: str | None = "elastomer",
-    split: str | None = "fit",
-    band=(1.0, 100.0),
-    resolution_hz: float = FRF_RESOLUTION_HZ,
-    overlap: float = 0.5,
-):
-    """White-noise records -> H1 transmissibility of every top mass and repetition.
-
-    ``H1 = S_xy / S_xx`` from base (x) to top (y) velocity, or acceleration when the
-    record has no velocities (:func:`idkit.signal.frf.estimate_frf`, Hann window,
-    ``nperseg = round(fs / resolution_hz)`` capped at a quarter of the record).
-
-    Returns
-    -------
-    (tuple of TransmissibilitySet, DataProvenance)
-
-    Raises
-    ------
-    FitError
-        No matching record, a record without ``top_mass_kg``, an unusable FRF.
-    """
-    records, provenance = _select(measurements, kind="white_noise", isolator=isolator, split=_split_option(split))
-    if not (math.isfinite(resolution_hz) and resolution_hz > 0):
-        raise FitError(f"resolution_hz: found {resolution_hz!r}, expected a positive frequency step in Hz")
-    low, high = (float(v) for v in band)
-    sets = []
-    for position, record in enumerate(records, start=1):
-        name = record.id or f"record{position}"
-        mass = record.info.top_mass_kg
-        if mass is None:
-            raise FitError(f"{record.source.where()}: measurement {name!r} has no top_mass_kg, "
-                           "expected the top mass in kg (manifest key top_mass_kg)")
-        fs = record.info.sample_rate_hz or 1.0 / float(np.median(np.diff(record.time)))
-        nperseg = int(min(round(fs / resolution_hz), record.n_samples // 4))
-        base, top = (record.v_base, record.v_top) if record.v_base is not None else (record.a_base, record.a_top)
-        try:
-            estimate = estimate_frf(base, top, fs=fs, nperseg=nperseg, overlap=overlap, f_lo=low,
-                                    f_hi=min(high, fs / 2))
-        except DataError as problem:
-            raise FitError(f"{record.source.where()}: {problem}") from None
-        sets.append(TransmissibilitySet(float(mass), estimate.freq, estimate.h1, name))
-    return tuple(sets), provenance
-
-
-def k0_from_measurements(
-    measurements,
-    *,
-    window: float = 1e-3,
-    isolator: str | None = "elastomer",
-    split: str | None = "fit",
-) -> K0FromLoops:
-    """Static stiffness from the quasi-static loops: slope around the origin with its uncertainty.
-
-    Parameters
-    ----------
-    measurements : MeasurementSet or sequence of QuasiStaticMeasurement
-    window : float, default 1e-3
-        Half-width (m) of the deflection window around 0.
-    isolator, split : as :func:`loop_sets`
-    """
-    records, _ = _select(measurements, kind="quasi_static", isolator=isolator, split=_split_option(split))
-    x = np.concatenate([r.deflection for r in records])
-    f = np.concatenate([r.force for r in records])
-    pooled = estimate_k0(x, f, window)
-    per_record = {r.id or f"record{i}": estimate_k0(r.deflection, r.force, window).k0
-                  for i, r in enumerate(records, start=1)}
-    values = np.array(list(per_record.values()))
-    spread = float(np.std(values, ddof=1) / math.sqrt(values.size)) if values.size > 1 else 0.0
-    return K0FromLoops(k0=pooled.k0, stderr=max(pooled.stderr, spread), pooled=pooled, per_record=per_record,
-                       window=float(window))
-
-
 # --------------------------------------------------------------------------- the fits
 
 
@@ -555,6 +294,39 @@ def fit_iwan_measurements(
     one the documented order rule recommends; the table is in ``fit.order_table`` and
     the model file's provenance.
 
+    Parameters
+    ----------
+    measurements : MeasurementSet or sequence of measurements
+        Selected by :func:`idkit.io.provenance.select_measurements`.
+    order : int or "auto", default 2
+        Number of Jenkin elements, or ``"auto"`` for the order rule.
+    small_threshold : float, default :data:`~idkit.observe.quasi_static.SMALL_THRESHOLD` (8e-3 m)
+        Amplitude (m) at or below which a record is a small-loop set.
+    isolator : str or None, default "wire_rope"
+    split : {"fit", "validation", "all", None}, default "fit"
+    points_per_set : int or None, default :data:`~idkit.observe.quasi_static.LOOP_POINTS_PER_SET`
+        Resampled points per record (:func:`~idkit.observe.quasi_static.prepare_loops`).
+    backend : {"nlopt", "scipy"}
+    seed : int, default 0
+    damping_level : float, "largest" or None, default "largest"
+        Stepped-sine level whose resonance gives ``c_visc`` (None: keep ``c_visc = 0``).
+    **options
+        Passed to :func:`idkit.fit.fit_iwan`.
+
+    Returns
+    -------
+    MeasurementFit
+        ``kind="iwan"``; ``data`` the :class:`~idkit.observe.quasi_static.LoopData`;
+        ``checks`` the measurement-level problems (the spring turns negative-stiff inside the
+        data set's deflections, the model cannot simulate its highest drop).
+
+    Raises
+    ------
+    FitError
+        Bad records or options, only small or only large sets.
+    DataError
+        No quasi-static record matches the selection.
+
     Examples
     --------
     >>> from idkit.io import load_measurement_set          # doctest: +SKIP
@@ -573,8 +345,8 @@ def fit_iwan_measurements(
     damping, damping_note = None, ""
     if damping_level is not None:
         try:
-            sweeps, _ = _select(measurements, kind="stepped_sine", isolator=isolator, split=_split_option(split))
-        except FitError:
+            sweeps, _ = select_measurements(measurements, kind="stepped_sine", isolator=isolator, split=split)
+        except DataError:
             sweeps = []
         if sweeps:
             try:
@@ -651,13 +423,129 @@ def fit_boucwen_measurements(
     seed: int = 0,
     **options,
 ) -> MeasurementFit:
-    """Bouc-Wen fit (:func:`idkit.fit.fit_boucwen`) on the same loop sets as :func:`fit_iwan_measurements`."""
+    """Bouc-Wen fit (:func:`idkit.fit.fit_boucwen`) on the same loop sets as :func:`fit_iwan_measurements`.
+
+    Parameters
+    ----------
+    measurements : MeasurementSet or sequence of measurements
+    small_threshold, isolator, split, points_per_set, backend, seed :
+        As :func:`fit_iwan_measurements`.
+    **options
+        Passed to :func:`idkit.fit.fit_boucwen`.
+
+    Returns
+    -------
+    MeasurementFit
+        ``kind="boucwen"``; ``data`` the :class:`~idkit.observe.quasi_static.LoopData`.
+
+    Raises
+    ------
+    FitError
+        Bad records or options, only small or only large sets.
+    DataError
+        No quasi-static record matches the selection.
+    """
     data = loop_sets(measurements, small_threshold=small_threshold, isolator=isolator, split=split,
                      points_per_set=points_per_set)
     result = fit_boucwen(list(data.small), list(data.large), backend=backend, seed=seed, **options)
     return MeasurementFit(kind="boucwen", result=result, data=data, provenance=data.provenance,
                           options={"small_threshold": small_threshold, "points_per_set": points_per_set,
                                    "backend": backend, **options})
+
+
+@dataclass(frozen=True)
+class ElastomerData:
+    """The elastomer's observables for a Maxwell fit, selected once from a measurement set.
+
+    Iterating over it (and ``len``) gives the transmissibility sets, as a plain tuple of
+    :class:`~idkit.observe.white_noise.TransmissibilitySet` would.
+
+    Attributes
+    ----------
+    frfs : tuple of TransmissibilitySet
+        One H1 per white-noise run (:func:`~idkit.observe.white_noise.transmissibility_sets`).
+    k0 : float
+        Static stiffness used, N/m.
+    k0_stderr : float or None
+        Its standard uncertainty (N/m) when estimated from the loops, None when given.
+    k0_estimate : K0FromLoops or None
+        The estimate from the quasi-static loops (None when ``k0`` was given).
+    loops : tuple of QuasiStaticMeasurement
+        The quasi-static records of the estimate (empty when ``k0`` was given).
+    provenance : DataProvenance
+        Every record used: the loops (when they gave k0) then the white-noise runs.
+    repetitions : tuple of int
+        Repetition number of each FRF (``info.repetition``, else its 1-based position).
+    """
+
+    frfs: tuple[TransmissibilitySet, ...]
+    k0: float
+    k0_stderr: float | None
+    k0_estimate: K0FromLoops | None
+    loops: tuple[QuasiStaticMeasurement, ...]
+    provenance: DataProvenance
+    repetitions: tuple[int, ...]
+
+    def __iter__(self):
+        return iter(self.frfs)
+
+    def __len__(self) -> int:
+        return len(self.frfs)
+
+
+def elastomer_data(
+    measurements,
+    *,
+    k0: float | None = None,
+    k0_window: float = 1e-3,
+    isolator: str | None = "elastomer",
+    split: str | None = "fit",
+    band=(1.0, 100.0),
+    resolution_hz: float = FRF_RESOLUTION_HZ,
+) -> ElastomerData:
+    """Select the elastomer's records once and turn them into the Maxwell fit's observables.
+
+    Parameters
+    ----------
+    measurements : MeasurementSet or sequence of measurements
+        Selected by :func:`idkit.io.provenance.select_measurements`.
+    k0 : float, optional
+        Static stiffness in N/m; default from the quasi-static loops
+        (:func:`~idkit.observe.quasi_static.k0_from_records`, window ``k0_window``).
+    k0_window : float, default 1e-3
+        Half-width (m) of the deflection window of the k0 estimate.
+    isolator : str or None, default "elastomer"
+    split : {"fit", "validation", "all", None}, default "fit"
+    band : (float, float), default (1, 100)
+        Band of the H1 estimates, Hz.
+    resolution_hz : float, default 0.5
+        Frequency step of the H1 estimates (:func:`~idkit.observe.white_noise.frf_from_white_noise`).
+
+    Returns
+    -------
+    ElastomerData
+
+    Raises
+    ------
+    DataError
+        No white-noise run (or, without ``k0``, no quasi-static record) matches.
+    FitError
+        A run without a top mass, an unusable FRF, a k0 estimate that fails.
+    """
+    frfs, provenance = transmissibility_sets(measurements, isolator=isolator, split=split, band=band,
+                                             resolution_hz=resolution_hz)
+    records, _ = select_measurements(measurements, kind="white_noise", isolator=isolator, split=split)
+    repetitions = tuple(r.info.repetition if r.info.repetition is not None else i
+                        for i, r in enumerate(records, start=1))
+    loops, estimate, stderr = (), None, None
+    if k0 is None:
+        loops, loops_provenance = select_measurements(measurements, kind="quasi_static", isolator=isolator,
+                                                      split=split)
+        estimate = k0_from_records(loops, window=k0_window)
+        k0, stderr = estimate.k0, estimate.stderr
+        provenance = loops_provenance.merged(provenance, kind="quasi_static (k0) + white_noise")
+    return ElastomerData(frfs=tuple(frfs), k0=float(k0), k0_stderr=stderr, k0_estimate=estimate, loops=tuple(loops),
+                         provenance=provenance, repetitions=repetitions)
 
 
 def fit_maxwell_measurements(
@@ -677,40 +565,36 @@ def fit_maxwell_measurements(
 ) -> MeasurementFit:
     """Generalized Maxwell fit: k0 from the quasi-static loops, the rest from all white-noise FRFs.
 
+    The records are selected once into an :class:`ElastomerData` (:func:`elastomer_data`)
+    handed to :func:`idkit.fit.fit_maxwell`; the uncertainty of a k0 read off the loops is
+    the fixed ``k0`` parameter's stderr (``fit_maxwell(k0_stderr=...)``).
+
     Parameters
     ----------
     measurements : MeasurementSet or sequence of measurements
     order : int, default 2
+        Number of Maxwell elements.
     k0 : float, optional
-        Static stiffness in N/m; default :func:`k0_from_measurements` (window ``k0_window``).
-    isolator, split : as :func:`loop_sets` (default ``"elastomer"``, ``"fit"``)
+        Static stiffness in N/m; default from the loops (window ``k0_window``, m).
+    k0_window : float, default 1e-3
+    isolator, split : as :func:`elastomer_data` (default ``"elastomer"``, ``"fit"``)
     band : (float, float), default (1, 100) Hz
     resolution_hz : float, default 0.5
-        Frequency step of the H1 estimates (:func:`transmissibility_sets`).
+        Frequency step of the H1 estimates, Hz.
     backend, cross_check, seed, options
         Passed to :func:`idkit.fit.fit_maxwell`.
+
+    Returns
+    -------
+    MeasurementFit
+        ``kind="maxwell"``; ``data`` is the :class:`ElastomerData`, ``k0`` its
+        :class:`~idkit.observe.quasi_static.K0FromLoops` (None when ``k0`` was given).
     """
-    k0_info = None
-    if k0 is None:
-        k0_info = k0_from_measurements(measurements, window=k0_window, isolator=isolator, split=split)
-        k0 = k0_info.k0
-    frfs, provenance = transmissibility_sets(measurements, isolator=isolator, split=split, band=band,
-                                             resolution_hz=resolution_hz)
-    if k0_info is not None:
-        _, loops_provenance = _select(measurements, kind="quasi_static", isolator=isolator,
-                                      split=_split_option(split))
-        provenance = dataclasses.replace(
-            provenance, files={**loops_provenance.files, **provenance.files},
-            ids=loops_provenance.ids + provenance.ids,
-            selection={**provenance.selection, "kind": "quasi_static (k0) + white_noise"})
-    result = fit_maxwell(list(frfs), k0=k0, order=order, band=band, backend=backend, cross_check=cross_check,
-                         seed=seed, **options)
-    if k0_info is not None and "k0" in result.parameters:
-        result.parameters["k0"].stderr = k0_info.stderr  # fixed in the fit, uncertain from the loops
-    records, _ = _select(measurements, kind="white_noise", isolator=isolator, split=_split_option(split))
-    repetitions = tuple(r.info.repetition if r.info.repetition is not None else i
-                        for i, r in enumerate(records, start=1))
-    return MeasurementFit(kind="maxwell", result=result, data=frfs, provenance=provenance, k0=k0_info,
+    data = elastomer_data(measurements, k0=k0, k0_window=k0_window, isolator=isolator, split=split, band=band,
+                          resolution_hz=resolution_hz)
+    result = fit_maxwell(list(data.frfs), k0=data.k0, k0_stderr=data.k0_stderr, order=order, band=band,
+                         backend=backend, cross_check=cross_check, seed=seed, **options)
+    return MeasurementFit(kind="maxwell", result=result, data=data, provenance=data.provenance, k0=data.k0_estimate,
                           options={"order": order, "k0_window": k0_window, "resolution_hz": resolution_hz,
                                    "band": list(band), "backend": backend, "cross_check": cross_check, **options},
-                          repetitions=repetitions)
+                          repetitions=data.repetitions)

@@ -93,6 +93,8 @@ class StageResult:
 
     ``set_errors`` are the per-set relative RMS errors (7.1) as fractions (0.01 = 1 %)
     at the end of the stage; ``mean_error`` is their mean (the stage objective).
+    ``status`` is the optimiser's end state as :mod:`idkit.fit._optim` set it
+    (``"converged"``, ``"stalled"``, ``"max_evals"``, ...); ``message`` the same for people.
     """
 
     name: str
@@ -108,6 +110,7 @@ class StageResult:
     restarts: int
     message: str
     elapsed_s: float
+    status: str = "converged"
 
 
 class _LmfitStatistics:
@@ -162,8 +165,88 @@ class _LmfitStatistics:
         return "\n".join([text, *(f"    no stderr: {note}" for note in self.stderr_notes)])
 
 
+class _LoopFitResult(_LmfitStatistics):
+    """What the two loop fits (Iwan, Bouc-Wen) share: per-set errors, stages, success, tables.
+
+    A subclass is a frozen dataclass with ``model``, ``stages`` (:class:`StageResult`),
+    ``small_errors``, ``large_errors``, ``small_names``, ``large_names``, ``settings``,
+    ``parameters``, ``elapsed_s`` and ``statistics``, and defines :attr:`reasons`.
+    """
+
+    @property
+    def error_small(self) -> float:
+        """Mean relative RMS error (7.1, fraction) of the final model on the small sets."""
+        return float(np.mean(self.small_errors))
+
+    @property
+    def error_large(self) -> float:
+        """Mean relative RMS error (7.1, fraction) of the final model on the large sets."""
+        return float(np.mean(self.large_errors))
+
+    @property
+    def evaluations(self) -> int:
+        """Objective evaluations over all stages."""
+        return int(sum(stage.evaluations for stage in self.stages))
+
+    @property
+    def nfev(self) -> int:
+        """Objective evaluations of the stages plus the residual evaluations of the Jacobian."""
+        return self.evaluations + (0 if self.statistics is None else int(self.statistics.nfev))
+
+    @property
+    def message(self) -> str:
+        """Stop message of the last stage and, if any, why the fit is not a success."""
+        last = self.stages[-1].message if self.stages else ""
+        return "; ".join([last, *self.reasons]) if self.reasons else last
+
+    @property
+    def backend(self) -> str:
+        """Optimiser backend, ``"nlopt"`` or ``"scipy"``."""
+        return self.settings.backend
+
+    @property
+    def success(self) -> bool:
+        """True unless :attr:`reasons` names a problem."""
+        return not self.reasons
+
+    def _stopped_stages(self) -> list[str]:
+        """One reason per stage whose optimiser stopped on its evaluation limit (its status)."""
+        return [f"{stage.name} stopped at the evaluation limit ({stage.message})" for stage in self.stages
+                if stage.status == "max_evals"]
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per (stage, set) plus ``final`` rows: ``stage``, ``data``, ``set``,
+        ``error_percent`` and ``evaluations`` (of the stage; 0 on the final rows)."""
+        rows = []
+        for stage in self.stages:
+            for name, error in zip(stage.set_names, stage.set_errors):
+                rows.append({"stage": stage.name, "data": stage.data, "set": name,
+                             "error_percent": 100.0 * error, "evaluations": stage.evaluations})
+        for data, names, errors in (("small", self.small_names, self.small_errors),
+                                    ("large", self.large_names, self.large_errors)):
+            for name, error in zip(names, errors):
+                rows.append({"stage": "final", "data": data, "set": name,
+                             "error_percent": 100.0 * error, "evaluations": 0})
+        return pd.DataFrame(rows)
+
+    def _summary_lines(self) -> list[str]:
+        """The lines both reports open with: cost, success and reasons, mean errors."""
+        return [
+            f"    evaluations {self.evaluations}, wall time {self.elapsed_s:.3f} s, success {self.success}, "
+            f"seed {self.settings.seed}",
+            *(f"    not a success: {reason}" for reason in self.reasons),
+            f"    mean error (7.1): small sets {100 * self.error_small:.3f} %, "
+            f"large sets {100 * self.error_large:.3f} %",
+        ]
+
+    def _variables_lines(self, title: str) -> list[str]:
+        """``[[Variables]]`` with units and stderr, the missing-stderr notes and the statistics."""
+        return [f"[[Variables]] {title}", *_parameter_lines(self.parameters),
+                *(f"    no stderr: {note}" for note in self.stderr_notes), *_statistics_lines(self.statistics)]
+
+
 @dataclass(frozen=True)
-class IwanFitResult(_LmfitStatistics):
+class IwanFitResult(_LoopFitResult):
     """Result of :func:`idkit.fit.fit_iwan` (three stages, SPEC 4).
 
     Attributes
@@ -183,9 +266,10 @@ class IwanFitResult(_LmfitStatistics):
     elapsed_s : float
         Wall time of the three stages (s), excluding the standard-error estimate.
     reasons : tuple of str
-        Why the fit is not a success (empty when it is): a stage stopped at the
-        evaluation limit, a parameter of stage 2 or 3 sits on its search bound, or
-        an element never slips within the data (its slip force is undetermined).
+        Why the fit is not a success (empty when it is): a stage
+        stopped at the evaluation limit (its optimiser status), a parameter of stage 2 or 3
+        sits on its search bound, an element never slips within the data (its slip force is
+        undetermined), or the spring turns negative-stiff inside the loops.
     start_states : dict
         Set name -> ``"virgin"`` or ``"cycled"``: the start state each set was scored
         from (``settings.initial_state="auto"`` chooses per set).
@@ -210,69 +294,15 @@ class IwanFitResult(_LmfitStatistics):
     start_states: dict = field(default_factory=dict)
     statistics: lmfit.minimizer.MinimizerResult | None = field(default=None, repr=False)
 
-    @property
-    def nfev(self) -> int:
-        """Objective evaluations of the stages plus the residual evaluations of the Jacobian."""
-        extra = 0 if self.statistics is None else int(self.statistics.nfev)
-        return self.evaluations + extra
-
-    @property
-    def message(self) -> str:
-        """Stop message of the last stage and, if any, why the fit is not a success."""
-        last = self.stages[-1].message if self.stages else ""
-        return "; ".join([last, *self.reasons]) if self.reasons else last
-
-    @property
-    def error_small(self) -> float:
-        """Mean relative RMS error (fraction) of the final model on the small sets."""
-        return float(np.mean(self.small_errors))
-
-    @property
-    def error_large(self) -> float:
-        """Mean relative RMS error (fraction) of the final model on the large sets."""
-        return float(np.mean(self.large_errors))
-
-    @property
-    def evaluations(self) -> int:
-        """Objective evaluations over all stages."""
-        return int(sum(stage.evaluations for stage in self.stages))
-
-    @property
-    def backend(self) -> str:
-        """Optimiser backend, ``"nlopt"`` or ``"scipy"``."""
-        return self.settings.backend
-
-    @property
-    def success(self) -> bool:
-        """True unless :attr:`reasons` names a problem (evaluation limit, parameter on a bound)."""
-        return not self.reasons
-
-    def to_dataframe(self) -> pd.DataFrame:
-        """One row per (stage, set) plus ``final`` rows: error in % and evaluations."""
-        rows = []
-        for stage in self.stages:
-            for name, error in zip(stage.set_names, stage.set_errors):
-                rows.append({"stage": stage.name, "data": stage.data, "set": name,
-                             "error_percent": 100.0 * error, "evaluations": stage.evaluations})
-        for data, names, errors in (("small", self.small_names, self.small_errors),
-                                    ("large", self.large_names, self.large_errors)):
-            for name, error in zip(names, errors):
-                rows.append({"stage": "final", "data": data, "set": name,
-                             "error_percent": 100.0 * error, "evaluations": 0})
-        return pd.DataFrame(rows)
-
     def report(self) -> str:
         """Readable summary: parameters with units and stderr, errors per stage and set."""
         s = self.settings
         lines = [
-            f"[[Iwan fit, order {s.order}, three stages, Nelder-Mead ({s.backend})]]",
-            f"    evaluations {self.evaluations}, wall time {self.elapsed_s:.3f} s, "
-            f"success {self.success}, initial state '{s.initial_state}', seed {s.seed}",
-            *(f"    not a success: {reason}" for reason in self.reasons),
-            *([f"    start state per set: " + ", ".join(f"{n}: {v}" for n, v in self.start_states.items())]
+            f"[[Iwan fit, order {s.order}, three stages, Nelder-Mead ({s.backend}), initial state "
+            f"'{s.initial_state}']]",
+            *self._summary_lines(),
+            *(["    start state per set: " + ", ".join(f"{n}: {v}" for n, v in self.start_states.items())]
               if self.start_states else []),
-            f"    mean error (7.1): small sets {100 * self.error_small:.3f} %, "
-            f"large sets {100 * self.error_large:.3f} %",
             "[[Start (from the loops)]]",
             f"    stuck stiffness {self.start.stuck_stiffness:.4g} N/m, half loop height "
             f"{self.start.half_height:.4g} N, g1 {self.start.g1:.4g} N/m, slip travel "
@@ -287,10 +317,7 @@ class IwanFitResult(_LmfitStatistics):
                 f"{stage.evaluations} evaluations, {stage.restarts} restarts, {stage.message}"
             )
             lines.append(f"        per set [%]: {per_set}")
-        lines.append("[[Variables]] (stderr from the residual Jacobian at the optimum)")
-        lines.extend(_parameter_lines(self.parameters))
-        lines.extend(f"    no stderr: {note}" for note in self.stderr_notes)
-        lines.extend(_statistics_lines(self.statistics))
+        lines.extend(self._variables_lines("(stderr from the residual Jacobian at the optimum)"))
         return "\n".join(lines)
 
 
@@ -389,6 +416,10 @@ class MaxwellFitResult(_LmfitStatistics):
         Values, bounds, stderr from the analytic Jacobian (parameters at a bound: none).
     elapsed_s : float
         Wall time of the SQP run (s).
+    status : str
+        End state of the SQP run as :mod:`idkit.fit._optim` set it from the optimiser's
+        return code (``"converged"``, ``"stalled"``, ``"max_evals"``, ``"failed"``,
+        ``"infeasible"``); :attr:`reasons` reads it.
     statistics : lmfit.minimizer.MinimizerResult or None
         Least-squares statistics at ``model`` (not moved) over the free parameters not at
         a bound; None when every one is at a bound. ``params`` (alias of ``parameters``),
@@ -410,6 +441,7 @@ class MaxwellFitResult(_LmfitStatistics):
     parameters: lmfit.Parameters = field(repr=False)
     elapsed_s: float
     statistics: lmfit.minimizer.MinimizerResult | None = field(default=None, repr=False)
+    status: str = "converged"
 
     @property
     def nfev(self) -> int:
@@ -434,10 +466,10 @@ class MaxwellFitResult(_LmfitStatistics):
         split in two: a lower order fits as well).
         """
         reasons = []
-        if "no feasible point" in self.message:
+        if self.status == "infeasible":
             reasons.append("no point met the constraints (loss factor non-decreasing over the band): the start "
                            f"was kept, error {100 * self.error:.3g} % ({self.message})")
-        elif any(word in self.message for word in ("max_evals", "failure", "Iteration limit")):
+        elif self.status in ("max_evals", "failed"):
             reasons.append(f"the optimiser stopped without converging: {self.message}")
         if self.at_bound:
             reasons.append(f"at a search bound (not determined inside the box): {', '.join(self.at_bound)}")
@@ -511,7 +543,7 @@ class BoucWenFitSettings:
 
 
 @dataclass(frozen=True)
-class BoucWenFitResult(_LmfitStatistics):
+class BoucWenFitResult(_LoopFitResult):
     """Result of :func:`idkit.fit.fit_boucwen` (three stages: elastic, loop shape, global + polish).
 
     Attributes
@@ -561,58 +593,16 @@ class BoucWenFitResult(_LmfitStatistics):
     n_params = 8  # k1, k2, k3, alpha, beta, gamma, n, c (b fixed)
 
     @property
-    def nfev(self) -> int:
-        """Objective evaluations of the stages plus the residual evaluations of the Jacobian."""
-        return self.evaluations + (0 if self.statistics is None else int(self.statistics.nfev))
-
-    @property
-    def message(self) -> str:
-        """Stop message of the last stage (global search, polish)."""
-        return self.stages[-1].message if self.stages else ""
-
-    @property
-    def error_small(self) -> float:
-        """Mean relative RMS error (fraction) on the small sets."""
-        return float(np.mean(self.small_errors))
-
-    @property
-    def error_large(self) -> float:
-        """Mean relative RMS error (fraction) on the large sets."""
-        return float(np.mean(self.large_errors))
-
-    @property
-    def evaluations(self) -> int:
-        """Objective evaluations over all stages."""
-        return int(sum(stage.evaluations for stage in self.stages))
-
-    @property
-    def success(self) -> bool:
-        """True if no stage stopped on its evaluation limit."""
-        return all("max_evals" not in stage.message for stage in self.stages)
-
-    def to_dataframe(self) -> pd.DataFrame:
-        """One row per (stage, set) plus ``final`` rows: error in %."""
-        rows = []
-        for stage in self.stages:
-            for name, error in zip(stage.set_names, stage.set_errors):
-                rows.append({"stage": stage.name, "set": name, "error_percent": 100.0 * error,
-                             "evaluations": stage.evaluations})
-        for data, names, errors in (("small", self.small_names, self.small_errors),
-                                    ("large", self.large_names, self.large_errors)):
-            for name, error in zip(names, errors):
-                rows.append({"stage": f"final ({data})", "set": name, "error_percent": 100.0 * error,
-                             "evaluations": 0})
-        return pd.DataFrame(rows)
+    def reasons(self) -> tuple[str, ...]:
+        """Why the fit is not a success: a stage stopped on its evaluation limit (its optimiser status)."""
+        return tuple(self._stopped_stages())
 
     def report(self) -> str:
         """Readable summary: stages, conditioning, parameters with stderr."""
         s = self.settings
         lines = [
             f"[[Bouc-Wen fit, three stages (elastic, loop shape, global + polish), local {s.backend} Nelder-Mead]]",
-            f"    evaluations {self.evaluations}, wall time {self.elapsed_s:.3f} s, success {self.success}, "
-            f"seed {s.seed}",
-            f"    mean error (7.1): small sets {100 * self.error_small:.3f} %, "
-            f"large sets {100 * self.error_large:.3f} %",
+            *self._summary_lines(),
             f"    conditioning of J^T J: {self.conditioning['si']:.3g} in SI parameters, "
             f"{self.conditioning['scaled']:.3g} in the scaled ones",
             f"    at a bound of the box: {', '.join(self.at_bound) if self.at_bound else 'none'}",
@@ -624,9 +614,6 @@ class BoucWenFitResult(_LmfitStatistics):
         for data, names, errors in (("small", self.small_names, self.small_errors),
                                     ("large", self.large_names, self.large_errors)):
             lines.append(f"    final {data} per set [%]: " + ", ".join(f"{n}: {100 * e:.2f}" for n, e in zip(names, errors)))
-        lines.append("[[Variables]] (z_max, shape: derived loop-shape parameters; b fixed: only c ln b matters; "
-                     "stderr from the residual Jacobian at the optimum)")
-        lines.extend(_parameter_lines(self.parameters))
-        lines.extend(f"    no stderr: {note}" for note in self.stderr_notes)
-        lines.extend(_statistics_lines(self.statistics))
+        lines.extend(self._variables_lines("(z_max, shape: derived loop-shape parameters; b fixed: only c ln b "
+                                           "matters; stderr from the residual Jacobian at the optimum)"))
         return "\n".join(lines)

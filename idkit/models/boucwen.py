@@ -23,11 +23,51 @@ from idkit.models.base import (
 )
 from idkit.params import ParamSpec
 
-__all__ = ["BoucWenModel"]
+__all__ = ["BoucWenModel", "check_boucwen_shape"]
 
 #: Runge-Kutta sub-steps per deflection sample when integrating z; 4 keeps the
 #: error of z below ~1e-6 relative for steps up to 1/10 of the yield deflection.
 BOUCWEN_SUBSTEPS = 4
+
+
+def check_boucwen_shape(beta: float, gamma: float, n: float, *, model: str = "BoucWenModel") -> None:
+    """Raise unless ``(beta, gamma, n)`` is in the admissible Bouc-Wen space.
+
+    The conditions and their reasons are in the Notes of :class:`BoucWenModel`:
+    ``beta + gamma > 0``; or ``beta + gamma <= 0`` and ``beta > 0`` (for
+    ``n > 1`` and ``beta + gamma < 0`` within :attr:`BoucWenModel.escape_deflection`).
+
+    Parameters
+    ----------
+    beta, gamma : float
+        Loop shape coefficients in N^(1-n)/m.
+    n : float
+        Smoothness exponent (dimensionless).
+    model : str
+        Name used in the error message.
+
+    Raises
+    ------
+    ParameterError
+        Naming the violated condition and the values found.
+
+    Examples
+    --------
+    >>> check_boucwen_shape(800.0, -1100.0, 1.0)          # the benchmark's hardening law
+    >>> check_boucwen_shape(-100.0, -200.0, 1.0)
+    Traceback (most recent call last):
+    ...
+    idkit.errors.ParameterError: BoucWenModel: found beta + gamma = -300 <= 0 with beta = -100; expected beta + gamma > 0 (saturating z), or beta > 0 (unloading steeper than loading) when beta + gamma <= 0, otherwise the loops ratchet without bound
+    """
+    total = beta + gamma
+    if total > 0.0:
+        return
+    if beta <= 0.0:
+        raise ParameterError(
+            f"{model}: found beta + gamma = {total:g} <= 0 with beta = {beta:g}; expected beta + gamma > 0 "
+            "(saturating z), or beta > 0 (unloading steeper than loading) when beta + gamma <= 0, "
+            "otherwise the loops ratchet without bound"
+        )
 
 
 class BoucWenModel(IsolatorModel):
@@ -44,7 +84,7 @@ class BoucWenModel(IsolatorModel):
     alpha : float
         Initial slope of ``z`` versus deflection in N/m (> 0).
     beta, gamma : float
-        Loop shape coefficients in N^(1-n)/m.
+        Loop shape coefficients in N^(1-n)/m; admissible pairs below.
     n : float
         Smoothness exponent (dimensionless, 0.2-10).
     b : float
@@ -54,8 +94,45 @@ class BoucWenModel(IsolatorModel):
     c_visc : float
         Parallel viscous damping in N s/m. Default 0.
 
+    Notes
+    -----
+    **Admissible parameter space.** With ``s = sgn(xdot z)`` the loading
+    (``s = +1``) slope is ``dz/dx = alpha - (beta + gamma) |z|^n`` and the
+    unloading (``s = -1``) slope ``alpha - (gamma - beta) |z|^n``. With
+    ``alpha > 0`` and ``0.2 <= n <= 10`` the constructor accepts:
+
+    * ``beta + gamma > 0`` (softening, saturating; Ikhouane, Manosa & Rodellar
+      2007, classes I and II): on loading ``|z|`` tends to
+      ``z_max = (alpha / (beta + gamma))^(1/n)``, so ``z`` stays bounded for any
+      deflection history starting from ``|z0| <= z_max`` (class I:
+      ``beta - gamma >= 0``; class II: ``beta - gamma < 0``, whose unloading
+      slope is steeper than ``alpha`` until ``|z| = (alpha / (gamma - beta))^(1/n)``).
+    * ``beta + gamma = 0`` with ``beta > 0``: linear loading (``dz/dx = alpha``),
+      steeper unloading.
+    * ``beta + gamma < 0`` (hardening: the loading slope grows with ``|z|``, as
+      in the Noel & Schoukens benchmark, ``beta + gamma = -300`` 1/m) with
+      **beta > 0**: unloading steeper than loading. The loop amplitude ``Z``
+      of repeated cycles between fixed deflection limits maps to ``Z'`` with
+      ``dZ'/dZ = -(alpha + |beta + gamma| Z^n) / (alpha + (beta - gamma) Z^n)``
+      at a closed loop, so the cycles converge to a closed loop iff
+      ``beta - gamma > -(beta + gamma)``, i.e. ``beta > 0``; otherwise they
+      ratchet without bound (Ikhouane, Manosa & Rodellar 2007 call such
+      classes not BIBO stable). For ``n <= 1`` the hardening ``z`` is bounded
+      on every bounded deflection history. For ``n > 1`` the loading law
+      ``dz/dx = alpha + |beta + gamma| |z|^n`` reaches infinity after a finite
+      monotone excursion, :attr:`escape_deflection`
+      ``= (alpha / |beta + gamma|)^(1/n) / alpha * (pi / n) / sin(pi / n)`` from
+      ``z = 0``: the model holds only for histories whose monotone excursions
+      stay well below it, and a simulation that reaches it fails with a reason.
+      (Near ``n = 1`` it is very large: 0.3 m for the benchmark with ``n = 1.01``;
+      accepting ``n > 1`` lets a fit cross ``n = 1``.)
+
+    Anything else raises :class:`~idkit.errors.ParameterError` naming the
+    condition.
+
     Examples
     --------
+    >>> hardening = BoucWenModel(k1=5e4, k2=0.0, k3=0.0, alpha=5e4, beta=800.0, gamma=-1100.0, n=1.0)
     >>> model = BoucWenModel(k1=1e3, k2=0.0, k3=0.0, alpha=5e3, beta=2e3, gamma=1e3, n=1.0)
     >>> x = 1e-3 * np.sin(np.linspace(0, 4 * np.pi, 401))
     >>> force = model.force(x)
@@ -79,17 +156,31 @@ class BoucWenModel(IsolatorModel):
         name = type(self).__name__
         values = (k1, k2, k3, alpha, beta, gamma, n, b, c, c_visc)
         self._values = tuple(spec.check(value, model=name) for spec, value in zip(self._SPECS, values))
-        if self._values[4] + self._values[5] <= 0:
-            raise ParameterError(
-                f"{name}: found beta + gamma = {self._values[4] + self._values[5]:g}; expected "
-                "beta + gamma > 0 so that the hysteretic force z saturates on loading"
-            )
+        check_boucwen_shape(self._values[4], self._values[5], self._values[6], model=name)
 
     def __getattr__(self, item):
         names = [spec.name for spec in type(self)._SPECS]
         if item in names:
             return self._values[names.index(item)]
         raise AttributeError(item)
+
+    @property
+    def escape_deflection(self) -> float:
+        """Monotone deflection in m after which a hardening ``z`` (from 0) is infinite.
+
+        ``inf`` unless ``beta + gamma < 0`` and ``n > 1`` (class Notes).
+
+        Examples
+        --------
+        >>> model = BoucWenModel(k1=5e4, k2=0.0, k3=0.0, alpha=5e4, beta=800.0, gamma=-1100.0, n=1.01)
+        >>> round(model.escape_deflection, 2)
+        0.32
+        """
+        hardening = -(self.beta + self.gamma)
+        if hardening <= 0.0 or self.n <= 1.0:
+            return math.inf
+        n = self.n
+        return (self.alpha / hardening) ** (1.0 / n) / self.alpha * (math.pi / n) / math.sin(math.pi / n)
 
     def param_specs(self) -> tuple[ParamSpec, ...]:
         return self._SPECS

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from idkit.errors import ParameterError
-from idkit.models.laws import kernel_array, stop_operator
+from idkit.models.laws import kernel_array, polynomial_spring_force, polynomial_spring_stiffness, stop_operator
 from idkit.models.base import (
     C_VISC_SPEC,
     IsolatorArrays,
@@ -148,12 +148,12 @@ class IwanModel(IsolatorModel):
     def spring_force(self, deflection) -> np.ndarray:
         """Parallel (polynomial) spring force ``g1 x + g2 x^2 + g3 x^3`` in N."""
         x = np.asarray(deflection, dtype=float)
-        return x * (self._g1 + x * (self._g2 + x * self._g3))
+        return polynomial_spring_force(x, self._g1, self._g2, self._g3)
 
     def spring_stiffness(self, deflection) -> np.ndarray:
         """Local stiffness of the parallel spring ``g1 + 2 g2 x + 3 g3 x^2`` in N/m."""
         x = np.asarray(deflection, dtype=float)
-        return self._g1 + x * (2.0 * self._g2 + 3.0 * self._g3 * x)
+        return polynomial_spring_stiffness(x, self._g1, self._g2, self._g3)
 
     def valid_deflection_range(self) -> tuple[float, float]:
         """Deflections (m) between which the parallel spring's local stiffness is >= 0.

@@ -1,7 +1,16 @@
-"""Compiled force laws shared by the models' quasi-static methods.
+"""The force laws and small-amplitude laws every model, fitter and validator calls.
 
-Plain functions of arrays (numba-compiled). The dynamic simulator in
-:mod:`idkit.simulate` uses the same update rules inside its step.
+Plain functions of arrays (numba-compiled where a compiled loop calls them). The dynamic
+simulator in :mod:`idkit.simulate` uses the same update rules inside its step.
+
+* Jenkin elements: :func:`jenkin_step` (one deflection step of parallel elements, the
+  stop operator ``F <- clip(F + k dx, -Fc, Fc)``) and :func:`stop_operator` (a history);
+* the Iwan parallel spring: :func:`polynomial_spring_force` ``x (g1 + x (g2 + x g3))``,
+  :func:`polynomial_spring_stiffness` ``g1 + 2 g2 x + 3 g3 x^2`` and
+  :func:`lowest_spring_stiffness` over an interval;
+* Maxwell element states and the Bouc-Wen ``z`` equation;
+* small-amplitude transmissibilities: :func:`sdof_transmissibility`
+  ``k* / (k* - m omega^2)`` and :func:`hybrid_transmissibility` (two masses in series).
 """
 
 from __future__ import annotations
@@ -44,19 +53,196 @@ def stop_operator(deflection, stiffness, friction_force, initial_force):
     n_samples = deflection.shape[0]
     n_elements = stiffness.shape[0]
     forces = np.empty((n_samples, n_elements))
+    state = np.empty(n_elements)
     for j in range(n_elements):
-        forces[0, j] = initial_force[j]
+        state[j] = initial_force[j]
+        forces[0, j] = state[j]
     for i in range(1, n_samples):
-        step = deflection[i] - deflection[i - 1]
+        jenkin_step(state, stiffness, friction_force, deflection[i] - deflection[i - 1])
         for j in range(n_elements):
-            trial = forces[i - 1, j] + stiffness[j] * step
-            limit = friction_force[j]
-            if trial > limit:
-                trial = limit
-            elif trial < -limit:
-                trial = -limit
-            forces[i, j] = trial
+            forces[i, j] = state[j]
     return forces
+
+
+@numba.njit(cache=True)
+def jenkin_step(state, stiffness, friction_force, step):
+    """Advance parallel Jenkin elements by one deflection step, in place (SPEC 1.1).
+
+    Parameters
+    ----------
+    state : ndarray, shape (n_elements,)
+        Element forces in N, overwritten by ``clip(F + k * step, -Fc, Fc)``.
+    stiffness, friction_force : ndarray, shape (n_elements,)
+        Spring stiffness in N/m and Coulomb slip force in N of each element.
+    step : float
+        Deflection change in m.
+
+    Returns
+    -------
+    float
+        Sum of the element forces after the step, N.
+
+    Examples
+    --------
+    >>> state = np.array([0.0, 0.0])
+    >>> jenkin_step(state, np.array([1e3, 2e3]), np.array([1.0, 5.0]), 2e-3)
+    5.0
+    """
+    total = 0.0
+    for j in range(state.shape[0]):
+        trial = state[j] + stiffness[j] * step
+        limit = friction_force[j]
+        if trial > limit:
+            trial = limit
+        elif trial < -limit:
+            trial = -limit
+        state[j] = trial
+        total += trial
+    return total
+
+
+@numba.njit(cache=True)
+def polynomial_spring_force(deflection, g1, g2, g3):
+    """Iwan parallel spring force ``x (g1 + x (g2 + x g3))`` in N (SPEC 1.2).
+
+    Parameters
+    ----------
+    deflection : float or ndarray
+        Deflection in m.
+    g1, g2, g3 : float
+        Coefficients in N/m, N/m^2, N/m^3.
+
+    Returns
+    -------
+    float or ndarray
+        Force in N.
+
+    Examples
+    --------
+    >>> polynomial_spring_force(2e-3, 1e3, 1e5, 0.0)
+    2.4
+    """
+    return deflection * (g1 + deflection * (g2 + deflection * g3))
+
+
+@numba.njit(cache=True)
+def polynomial_spring_stiffness(deflection, g1, g2, g3):
+    """Local stiffness ``g1 + 2 g2 x + 3 g3 x^2`` (N/m) of the Iwan parallel spring at ``deflection`` m.
+
+    Examples
+    --------
+    >>> polynomial_spring_stiffness(1e-3, 1e3, 1e5, 0.0)
+    1200.0
+    """
+    return g1 + deflection * (2.0 * g2 + 3.0 * g3 * deflection)
+
+
+def lowest_spring_stiffness(g1: float, g2: float, g3: float, x_min: float, x_max: float) -> float:
+    """Minimum of the parallel spring's local stiffness ``g1 + 2 g2 x + 3 g3 x^2`` over ``[x_min, x_max]``.
+
+    Parameters
+    ----------
+    g1, g2, g3 : float
+        Coefficients in N/m, N/m^2, N/m^3.
+    x_min, x_max : float
+        Deflection interval in m.
+
+    Returns
+    -------
+    float
+        Lowest local stiffness in N/m (at an end, or at the vertex ``-g2 / (3 g3)`` when
+        ``g3 > 0`` and it lies inside).
+
+    Examples
+    --------
+    >>> lowest_spring_stiffness(1e3, 0.0, 1e8, -1e-2, 1e-2)
+    1000.0
+    """
+    candidates = [x_min, x_max]
+    if g3 > 0.0:
+        vertex = -g2 / (3.0 * g3)
+        if x_min < vertex < x_max:
+            candidates.append(vertex)
+    return min(float(polynomial_spring_stiffness(x, g1, g2, g3)) for x in candidates)
+
+
+def sdof_transmissibility(stiffness, moving_mass, omega):
+    """Transmissibility ``k* / (k* - m omega^2)`` of a mass on an isolator (top over base motion).
+
+    Parameters
+    ----------
+    stiffness : complex or ndarray
+        Complex (dynamic) stiffness ``k*`` of the isolator in N/m at ``omega``.
+    moving_mass : float or ndarray
+        Mass that moves with the top, kg: the top mass plus the isolator's ``m_eff``.
+    omega : float or ndarray
+        Angular frequency in rad/s.
+
+    Returns
+    -------
+    complex or ndarray
+        Dimensionless transmissibility (any kinematic quantity: displacement, velocity,
+        acceleration).
+
+    Examples
+    --------
+    >>> float(abs(sdof_transmissibility(1e4, 1.0, 0.0)))
+    1.0
+    """
+    return stiffness / (stiffness - moving_mass * np.asarray(omega) ** 2)
+
+
+def hybrid_transmissibility(upper_stiffness, lower_stiffness, top_mass, intermediate_mass, omega):
+    """Transmissibility top over base of two masses in series on two isolators (SPEC 1.5, eq. 5.1).
+
+    top mass -- upper isolator -- intermediate mass -- lower isolator -- base. The 2x2
+    dynamic-stiffness system of [top, intermediate] is solved by Cramer's rule.
+
+    Parameters
+    ----------
+    upper_stiffness, lower_stiffness : complex or ndarray
+        Complex stiffness of the upper and lower isolator in N/m at ``omega``.
+    top_mass, intermediate_mass : float
+        Moving masses in kg (each with the ``m_eff`` of the isolator below it).
+    omega : float or ndarray
+        Angular frequency in rad/s.
+
+    Returns
+    -------
+    complex or ndarray
+        Dimensionless transmissibility.
+
+    Examples
+    --------
+    >>> float(abs(hybrid_transmissibility(2e4, 2e4, 1.0, 0.0, 0.0)))
+    1.0
+    """
+    return hybrid_displacements(upper_stiffness, lower_stiffness, top_mass, intermediate_mass, omega)[0]
+
+
+def hybrid_displacements(upper_stiffness, lower_stiffness, top_mass, intermediate_mass, omega):
+    """Top and intermediate displacement over base displacement of the hybrid (2x2 solve).
+
+    Parameters are those of :func:`hybrid_transmissibility`.
+
+    Returns
+    -------
+    (complex or ndarray, complex or ndarray)
+        ``X_top / X_base`` and ``X_intermediate / X_base``.
+
+    Examples
+    --------
+    >>> top, middle = hybrid_displacements(2e4, 2e4, 1.0, 0.5, 0.0)
+    >>> float(abs(top)), float(abs(middle))
+    (1.0, 1.0)
+    """
+    omega = np.asarray(omega)
+    a11 = upper_stiffness - top_mass * omega**2
+    a12 = -upper_stiffness
+    a22 = upper_stiffness + lower_stiffness - intermediate_mass * omega**2
+    determinant = a11 * a22 - a12 * a12
+    # right-hand side [0, k_lower] x_base, Cramer's rule
+    return -a12 * lower_stiffness / determinant, a11 * lower_stiffness / determinant
 
 
 @numba.njit(cache=True)

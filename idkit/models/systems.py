@@ -15,6 +15,7 @@ import numpy as np
 from idkit.errors import ParameterError
 from idkit.models.base import IsolatorModel
 from idkit.models.iwan import IwanModel
+from idkit.models.laws import hybrid_transmissibility, sdof_transmissibility
 from idkit.params import ParamSpec
 
 __all__ = ["SDOFSystem", "HybridSystem", "CoulombSpringSystem", "System"]
@@ -69,8 +70,7 @@ class SDOFSystem:
         Exact for linear isolators; for hysteretic ones it is the all-stuck limit.
         """
         omega = 2.0 * np.pi * np.asarray(freq, dtype=float)
-        stiffness = self.isolator.small_amplitude_stiffness(freq)
-        return stiffness / (stiffness - self.moving_mass * omega**2)
+        return sdof_transmissibility(self.isolator.small_amplitude_stiffness(freq), self.moving_mass, omega)
 
     def to_dict(self) -> dict:
         return {"kind": self.kind, "mass": self.mass, "isolator": self.isolator.to_dict()}
@@ -124,16 +124,9 @@ class HybridSystem:
     def transmissibility(self, freq) -> np.ndarray:
         """Small-amplitude transmissibility top/base (stuck wire rope, linear elastomer)."""
         omega = 2.0 * np.pi * np.asarray(freq, dtype=float)
-        k_upper = self.upper.small_amplitude_stiffness(freq)
-        k_lower = self.lower.small_amplitude_stiffness(freq)
         m_top, m_in = self.masses
-        # Dynamic stiffness rows for [top, intermediate]; base enters via k_lower.
-        a11 = k_upper - m_top * omega**2
-        a12 = -k_upper
-        a22 = k_upper + k_lower - m_in * omega**2
-        determinant = a11 * a22 - a12 * a12
-        # Right-hand side [0, k_lower] x_base; top displacement by Cramer's rule.
-        return -a12 * k_lower / determinant
+        return hybrid_transmissibility(self.upper.small_amplitude_stiffness(freq),
+                                       self.lower.small_amplitude_stiffness(freq), m_top, m_in, omega)
 
     def series_stiffness(self, freq) -> np.ndarray:
         """Small-amplitude series stiffness ``1 / (1/k_upper + 1/k_lower)`` in N/m."""

@@ -16,6 +16,7 @@ from idkit.simulate.drop_rig import (
     contact_from_velocity_step,
     drop_rig,
 )
+from idkit.simulate.force_driven import ForceDrivenResponse, ForceInput, benchmark_truth, simulate_force_driven
 from idkit.simulate.moreau import MoreauResponse, moreau_coulomb_spring
 from idkit.simulate.reference import ReferenceHarmonic, ReferenceResponse, harmonic_reference, solve_ivp_reference
 from idkit.simulate.harmonic import (
@@ -39,4 +40,5 @@ __all__ = [
     "STANDARD_GRAVITY", "solve_ivp_reference", "harmonic_reference", "ReferenceResponse", "ReferenceHarmonic",
     "moreau_coulomb_spring", "MoreauResponse", "drop_rig", "DropRigResponse", "ContactModel", "DEFAULT_CONTACT",
     "contact_from_velocity_step",
+    "ForceInput", "ForceDrivenResponse", "simulate_force_driven", "benchmark_truth",
 ]

@@ -377,7 +377,8 @@ def _layout(system) -> _Layout:
             alpha, beta, gamma, expo = part.boucwen[4:8]
             b_owner.append(j)
             b_par.append(part.boucwen)
-            b_zy.append((alpha / (beta + gamma)) ** (1.0 / expo))
+            scale = abs(beta + gamma) or abs(beta - gamma)    # z scale of the smoothed sign (hardening: beta + gamma < 0)
+            b_zy.append((alpha / scale) ** (1.0 / expo))
 
     def initial_internal(deflections):
         jforce, mstate, bwz = initial_states(system, deflections)

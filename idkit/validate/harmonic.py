@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from idkit.signal.harmonics import hosidf, resonance_peak
-from idkit.errors import ValidationError
+from idkit.errors import DataError, ValidationError
+from idkit.observe.stepped_sine import hosidf_from_stepped_sine
+from idkit.signal.harmonics import resonance_peak
 from idkit.simulate import harmonic_response
 from idkit.validate.result import ValidationResult, check_thresholds
 from idkit.validate.systems import system_for
@@ -66,9 +67,10 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
         if info.excitation is None or info.excitation.freq is None:
             raise ValidationError(f"{info.id or measurement.source.path}: excitation frequency missing")
         freq = info.excitation.freq
-        fs = 1.0 / float(np.median(np.diff(measurement.time)))
-        point = hosidf(measurement.v_base, measurement.v_top, fs=fs, freq=freq, n_harmonics=n_harmonics,
-                       subharmonic=False)
+        try:  # the one stepped-sine point -> HOSIDF of idkit.observe (harmonics kept below Nyquist)
+            point = hosidf_from_stepped_sine(measurement, n_harmonics=n_harmonics, subharmonic=False).result
+        except DataError as problem:
+            raise ValidationError(f"{info.id or measurement.source.path}: {problem}") from None
         base_velocity = point.input_amplitude
         rows.append({
             "id": info.id, "freq [Hz]": freq,

@@ -24,9 +24,16 @@ DROP = ["simulate", "drop", "{system}", "-o", "{out}"]
 FIT_IWAN = ["fit", "iwan", str(DATA / "wire_rope"), "-o", "{out}"]
 FIT_BOUCWEN = ["fit", "boucwen", str(DATA / "wire_rope"), "-o", "{out}"]
 FIT_MAXWELL = ["fit", "maxwell", str(DATA / "elastomer"), "-o", "{out}"]
+SHOCK = ["shock", "never-read.csv", "-o", "{out}"]
 
 # (case id, argv, words the message must contain)
 ERRORS = [
+    # shock: refused by the parser, the record is never read
+    ("shock-freq-min-zero", SHOCK + ["--freq-min", "0", "--freq-max", "100"], ["--freq-min", "found '0'", "> 0 Hz"]),
+    ("shock-freq-max-negative", SHOCK + ["--freq-min", "1", "--freq-max", "-5"], ["--freq-max", "found '-5'"]),
+    ("shock-points-one", SHOCK + ["--points", "1"], ["--points", "found '1'", "whole number from 2 to 2000"]),
+    ("shock-damping-one", SHOCK + ["--damping", "1"], ["--damping", "found '1'", "< 1"]),
+    ("shock-lowpass-nan", SHOCK + ["--lowpass", "nan"], ["--lowpass", "found 'nan'"]),
     # simulate harmonic: grids given as START STOP COUNT
     ("freq-two-values-log", HARMONIC + ["--freq", "1", "100", "--freq-spacing", "log", "--amplitude", "1e-3"],
      ["--freq", "found 2 value(s)", "expected 3 values: START STOP COUNT"]),

@@ -13,7 +13,7 @@ from idkit.fit import (
     maxwell_objective,
     maxwell_order_table,
 )
-from idkit.fit.maxwell import _frf_problem, _Problem
+from idkit.fit.maxwell import _frf_problem, _MaxwellLaw, _Problem, _StiffnessProblem
 from idkit.fit._params import Transform
 from idkit.models import GeneralizedMaxwell, library
 
@@ -137,10 +137,10 @@ def test_complex_stiffness_gradient_with_free_k0():
                   Transform("k_2", "N/m", "log01", 10, 1e6), Transform("rate_1", "1/s", "log01", 0.1, 1e4),
                   Transform("rate_2", "1/s", "log01", 0.1, 1e4)]
     omega = 2 * np.pi * freq
-    problem = _Problem(model="maxwell", data="stiffness", omega=omega, measured=measured, mass=None,
-                       weights=np.full(freq.size, 1 / freq.size), set_index=np.zeros(freq.size, int),
-                       set_names=["k*"], k0=None, transforms=transforms, order=2,
-                       loss_omega=2 * np.pi * np.geomspace(1, 100, 8), monotone_loss=True)
+    problem = _StiffnessProblem(_MaxwellLaw(order=2, k0_fixed=None, with_m_eff=False), omega=omega,
+                                measured=measured, mass=None, weights=np.full(freq.size, 1 / freq.size),
+                                set_index=np.zeros(freq.size, int), set_names=["k*"], transforms=transforms,
+                                loss_omega=2 * np.pi * np.geomspace(1, 100, 8), monotone_loss=True)
     _check_gradient(problem, np.array([0.3, 0.4, 0.6, 0.2, 0.7]))
 
 

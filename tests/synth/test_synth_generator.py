@@ -128,7 +128,7 @@ def test_white_noise_frf_shows_the_internal_mode_near_200_hz(truth):
     from idkit.observe.white_noise import frf_from_white_noise
 
     run = _read("elastomer", "wn_el_0.99kg_1")
-    frf = frf_from_white_noise(run, band=(120.0, 300.0), nperseg=2000)
+    frf = frf_from_white_noise(run, band=(120.0, 300.0), resolution_hz=run.sample_rate_hz / 2000)
     magnitude = np.abs(frf.h1)
     peak = frf.freq[np.argmax(magnitude)]
     assert 170.0 <= peak <= 230.0
