@@ -47,11 +47,9 @@ def _cmd_transport(args) -> None:
 
 def add_transport_parser(studies) -> None:
     """Add ``transport`` to the sub-commands of ``idkit study`` (``studies``, from ``add_subparsers``)."""
-    from idkit.cli.study import add_common_study_options
-
     parser = studies.add_parser(
         "transport", help="chapter 8: reference, elastomer, wire rope and hybrids tuned to 5 Hz (PSDs, shock)")
-    add_common_study_options(parser, "transport")
+    opt.add_study_options(parser, "transport")
     parser.add_argument("--wire-rope", help="Iwan model file (default: identified from the bundled data)")
     parser.add_argument("--elastomer", help="generalized Maxwell model file (default: identified from the bundled data)")
     parser.add_argument("--data-dir", help="data folder to identify the parts from (default: ./data)")
