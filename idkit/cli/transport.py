@@ -39,7 +39,8 @@ def _cmd_transport(args) -> None:
     study = run_transport_study(args.output, force=args.force, quick=args.quick, wire_rope=wire_rope,
                                 elastomer=elastomer, seed=args.seed, workers=args.workers,
                                 progress=ProgressBar("study transport", enabled=not args.quiet))
-    print(study.tuning[["system", "top mass [kg]", "intermediate mass [kg]"]].to_string(index=False))
+    print(study.tuning[["system", "moving mass [kg]", "top mass without m_eff [kg]", "intermediate mass [kg]"]]
+          .to_string(index=False))
     print(study.summary_table().to_string(float_format=lambda value: f"{value:.4g}"))
     print(f"figures, CSV tables and summary.json written to {args.output}", file=sys.stderr)
 
