@@ -1,9 +1,7 @@
-"""Repository-level checks: README commands, CI script, import layering, CLI."""
+"""Repository-level checks: README commands, CI script, import layering and the "never" rules."""
 
 import ast
 import re
-import subprocess
-import sys
 import tomllib
 from importlib import metadata
 from pathlib import Path
@@ -11,11 +9,11 @@ from pathlib import Path
 import pytest
 from packaging.version import Version
 
-from idkit.cli.main import main
-
 ROOT = Path(__file__).resolve().parents[1]
 
-# allowed idkit sub-packages each layer may import (one direction of flow)
+# allowed idkit sub-packages each layer may import (one direction of flow); bottom to top:
+# io, signal, models | observe, simulate | synth, responses | fit | validate | studies (compute only) |
+# plot (draws results, types from below) | report (renders and writes) | cli (parses and calls)
 LAYERS = {
     "io": {"io"},
     "signal": {"signal"},
@@ -117,6 +115,74 @@ def test_imports_flow_one_way(layer):
     assert offenders == []
 
 
+def imported_modules(path: Path, *, skip_type_checking: bool = False) -> list[tuple[int, str]]:
+    """(line, module) of every absolute import in ``path``; optionally leaving out ``if TYPE_CHECKING:`` blocks."""
+    tree = ast.parse(path.read_text())
+    skipped = set()
+    if skip_type_checking:
+        for node in ast.walk(tree):
+            if isinstance(node, ast.If) and ast.unparse(node.test) in ("TYPE_CHECKING", "typing.TYPE_CHECKING"):
+                skipped |= {id(child) for statement in node.body for child in ast.walk(statement)}
+    found = []
+    for node in ast.walk(tree):
+        if id(node) in skipped:
+            continue
+        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            found.append((node.lineno, node.module))
+        elif isinstance(node, ast.Import):
+            found.extend((node.lineno, alias.name) for alias in node.names)
+    return found
+
+
+def offenders(folder: str, forbidden: tuple[str, ...], *, skip_type_checking: bool = False) -> list[str]:
+    """Imports under ``idkit/<folder>`` of a module in ``forbidden`` (or inside one)."""
+    found = []
+    for path in sorted((ROOT / "idkit" / folder).rglob("*.py")):
+        for line, module in imported_modules(path, skip_type_checking=skip_type_checking):
+            if any(module == name or module.startswith(name + ".") for name in forbidden):
+                found.append(f"{path.relative_to(ROOT)}:{line} imports {module}")
+    return found
+
+
+def test_imported_modules_sees_type_checking_blocks(tmp_path):
+    source = tmp_path / "module.py"
+    source.write_text("from typing import TYPE_CHECKING\nimport idkit.models\nif TYPE_CHECKING:\n"
+                      "    from idkit.fit import LoopSet\n")
+    assert [name for _, name in imported_modules(source)] == ["typing", "idkit.models", "idkit.fit"]
+    assert [name for _, name in imported_modules(source, skip_type_checking=True)] == ["typing", "idkit.models"]
+
+
+def test_cli_only_parses_and_calls():
+    """The CLI never draws (matplotlib), never processes signals or measurements, never simulates."""
+    assert offenders("cli", ("matplotlib", "idkit.signal", "idkit.observe", "idkit.simulate")) == []
+
+
+def test_plot_never_runs_a_fitter():
+    """plot imports idkit.fit for type hints only (``if TYPE_CHECKING:``): it draws what the caller computed."""
+    assert offenders("plot", ("idkit.fit",), skip_type_checking=True) == []
+
+
+def test_studies_compute_and_never_draw():
+    assert offenders("studies", ("idkit.plot", "idkit.report", "matplotlib")) == []
+
+
+def test_one_axes_helper_and_no_private_imports_across_plot_modules():
+    """Every plot module gets its axes from plot/_figure.py; none builds a Figure or imports another's private."""
+    for path in sorted((ROOT / "idkit" / "plot").glob("*.py")):
+        if path.name == "_figure.py":
+            continue
+        text = path.read_text()
+        assert "Figure(" not in text and "subplots(" not in text, path.name
+        for _, module in imported_modules(path):
+            assert not (module.startswith("idkit.plot.") and module.split(".")[-1].startswith("_")
+                        and module != "idkit.plot._figure"), f"{path.name} imports {module}"
+        tree = ast.parse(text)
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("idkit.plot"):
+                private = [a.name for a in node.names if a.name.startswith("_")]
+                assert not private, f"{path.name} imports {private} from {node.module}"
+
+
 def test_computation_modules_never_import_pyplot():
     for layer in ("models", "simulate", "io", "signal", "observe", "responses", "synth", "fit", "validate", "studies"):
         for path in (ROOT / "idkit" / layer).rglob("*.py"):
@@ -177,54 +243,6 @@ def test_library_and_notebooks_never_choose_the_matplotlib_backend():
                 sources[f"{path.relative_to(ROOT)} cell {index}"] = cell.source
     offenders = [f"{where} line {line}" for where, source in sources.items() for line in backend_switches(source)]
     assert offenders == []
-
-
-def test_cli_version(capsys):
-    with pytest.raises(SystemExit) as stop:
-        main(["--version"])
-    assert stop.value.code == 0
-    assert capsys.readouterr().out.startswith("idkit ")
-
-
-def test_cli_library_and_simulate(tmp_path, capsys):
-    model_file = tmp_path / "hybrid.json"
-    assert main(["library", "hybrid_asymmetric", "-o", str(model_file)]) == 0
-    out_csv = tmp_path / "map.csv"
-    assert main(["simulate", "harmonic", str(model_file), "--freq", "2", "20", "3", "--freq-spacing", "log",
-                 "--amplitude", "1e-4", "1e-3", "--quiet", "-o", str(out_csv)]) == 0
-    import pandas as pd
-
-    table = pd.read_csv(out_csv)
-    assert len(table) == 6 and table["converged"].all()
-    assert main(["simulate", "harmonic", str(model_file), "--freq", "5", "--amplitude", "1e-3", "--quiet",
-                 "-o", str(out_csv)]) == 2  # refuses to overwrite
-    wire_rope = tmp_path / "wr.json"
-    assert main(["library", "table_7_1_wire_rope", "-o", str(wire_rope)]) == 0
-    capsys.readouterr()
-    assert main(["simulate", "drop", str(wire_rope), "--height", "0.01", "0.05"]) == 2  # needs --mass
-    assert "give --mass" in capsys.readouterr().err
-    assert main(["simulate", "drop", str(wire_rope), "--mass", "4.33", "--height", "0.01", "0.05",
-                 "--duration", "0.2"]) == 0
-    printed = capsys.readouterr().out
-    assert "rest_shock" in printed and "ok" in printed
-
-
-def test_demo_writes_atomically_and_refuses_overwrite(tmp_path):
-    from idkit.report import run_demo
-
-    target = tmp_path / "demo"
-    summary = run_demo(target, quick=True)
-    assert (target / "summary.json").exists() and (target / "rest_shock.png").exists()
-    assert summary["hybrid_map_points_converged"] == summary["hybrid_map_points"]
-    with pytest.raises(FileExistsError):
-        run_demo(target, quick=True)
-    assert [p.name for p in tmp_path.iterdir()] == ["demo"]  # no partial folders left
-
-
-def test_module_entry_point():
-    completed = subprocess.run([sys.executable, "-m", "idkit", "--version"], capture_output=True, text=True,
-                               check=True)
-    assert completed.stdout.startswith("idkit ")
 
 
 @pytest.mark.slow

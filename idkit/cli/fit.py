@@ -15,9 +15,6 @@ from pathlib import Path
 from idkit.cli import options as opt
 from idkit.errors import IdkitError
 
-_PLOT_NAMES = {"iwan": ["loops.png"], "boucwen": ["loops.png"],
-               "maxwell": ["frf.png", "complex_stiffness.png", "landscape.png"]}
-
 
 def _check_outputs(kind: str, output: str, plots: str | None, dataset: str) -> None:
     """Every output refused before fitting: existing, overlapping the data set, unwritable."""
@@ -26,8 +23,9 @@ def _check_outputs(kind: str, output: str, plots: str | None, dataset: str) -> N
     check_output(output, inputs=[dataset])
     if plots is not None:
         check_output(plots, kind="folder", inputs=[dataset], option="--plots")
-        existing = [str(Path(plots) / f"{kind}_{name}") for name in _PLOT_NAMES[kind]
-                    if (Path(plots) / f"{kind}_{name}").exists()]
+        from idkit.plot.fits import fit_plot_paths
+
+        existing = [str(path) for path in fit_plot_paths(kind, plots) if path.exists()]
         if existing:
             raise FileExistsError(f"refusing to overwrite existing plot(s): {', '.join(existing)}")
 
@@ -47,9 +45,10 @@ def _finish(fit, args) -> int:
     fit.save(args.output)
     print(f"wrote {args.output}", file=sys.stderr)
     if args.plots is not None:
+        from idkit.fit.predictions import predict_fit
         from idkit.plot.fits import save_fit_plots
 
-        for path in save_fit_plots(fit, args.plots):
+        for path in save_fit_plots(predict_fit(fit), args.plots):
             print(f"wrote {path}", file=sys.stderr)
     if fit.success:
         return 0

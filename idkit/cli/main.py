@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import json
 import signal
 import sys
 import threading
@@ -51,17 +50,6 @@ def _check_table_output(args):
     check_output(args.output, inputs=[args.model])
 
 
-def _cmd_demo(args):
-    from idkit.cli.progress import say
-    from idkit.output_checks import check_output
-    from idkit.report import run_demo
-
-    check_output(args.output, kind="replaced", force=args.force)
-    summary = run_demo(args.output, force=args.force, quick=args.quick, progress=lambda m: say(m, enabled=not args.quiet))
-    print(json.dumps({key: summary[key] for key in ("elastomer_resonance_hz", "timings_s")}, indent=1))
-    print(f"figures, model files and summary.json written to {args.output}", file=sys.stderr)
-
-
 def _cmd_library(args):
     from idkit.models import library, save_model
 
@@ -81,10 +69,8 @@ def _cmd_library(args):
 
 
 def _cmd_simulate_harmonic(args):
-    import pandas as pd
-
     from idkit.cli.progress import ProgressBar
-    from idkit.simulate import harmonic_response
+    from idkit.studies.harmonic_grid import harmonic_grid_table
 
     axes = (opt.parse_axis("--freq", args.freq, args.freq_spacing, what="frequencies", unit="Hz"),
             opt.parse_axis("--amplitude", args.amplitude, args.amplitude_spacing, what="amplitudes", unit="m"))
@@ -92,20 +78,9 @@ def _cmd_simulate_harmonic(args):
     _check_table_output(args)
     system = _model_or_system(args.model, args.mass)
     freq, amplitude = (axis.build() for axis in axes)
-    grid_freq, grid_amplitude = np.meshgrid(freq, amplitude, indexing="ij")
-    response = harmonic_response(
-        system, grid_freq.ravel(), grid_amplitude.ravel(), n_harmonics=args.harmonics, tolerance=args.tolerance,
-        progress=ProgressBar("harmonic", enabled=not args.quiet),
-    )
-    columns = {"freq [Hz]": response.freq, "amplitude [m]": response.amplitude,
-               "half_range [m]": response.half_range}
-    for order in [0.5] + list(range(1, args.harmonics + 1)):
-        value = response.hosidf(order)
-        columns[f"|H{order:g}| [-]"] = np.abs(value)
-        columns[f"phase H{order:g} [deg]"] = np.degrees(np.angle(value))
-    columns.update({"bias [m]": response.bias, "periods": response.periods, "converged": response.converged,
-                    "status": list(response.reasons)})
-    _write_table(pd.DataFrame(columns), args.output)
+    table = harmonic_grid_table(system, freq, amplitude, n_harmonics=args.harmonics, tolerance=args.tolerance,
+                                progress=ProgressBar("harmonic", enabled=not args.quiet))
+    _write_table(table, args.output)
 
 
 def _cmd_simulate_drop(args):
@@ -129,18 +104,8 @@ def _cmd_simulate_drop(args):
     _write_table(sweep.to_dataframe(), args.output)
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = opt.IdkitArgumentParser(prog="idkit", description="Identify, validate and simulate isolator models.")
-    parser.add_argument("--version", action="version", version=f"idkit {__version__}")
-    commands = parser.add_subparsers(dest="command", required=True)
-
-    demo = commands.add_parser("demo", help="simulate the study's systems; write figures and numbers")
-    demo.add_argument("-o", "--output", default="idkit-demo", help="output folder (default: idkit-demo)")
-    demo.add_argument("--force", action="store_true", help="replace an existing output folder")
-    demo.add_argument("--quick", action="store_true", help="smaller grids")
-    demo.add_argument("--quiet", action="store_true")
-    demo.set_defaults(handler=_cmd_demo)
-
+def register(commands) -> None:
+    """Add ``idkit library`` and ``idkit simulate harmonic|drop``."""
     lib = commands.add_parser("library", help="list the bundled parameter sets or write one as a model file")
     lib.add_argument("name", nargs="?")
     lib.add_argument("-o", "--output", help="model file to write (JSON)")
@@ -188,27 +153,19 @@ def build_parser() -> argparse.ArgumentParser:
     drop.add_argument("--gravity", action="store_true", help="include gravity")
     drop.add_argument("-o", "--output", help="CSV or JSON file (default: print a table)")
     drop.set_defaults(handler=_cmd_simulate_drop)
-    _register_command_modules(commands)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``idkit`` parser: every command family adds itself with its module's ``register(commands)``."""
+    from idkit.cli import data, fit, inspect, report, shock, study
+
+    parser = opt.IdkitArgumentParser(prog="idkit", description="Identify, validate and simulate isolator models.")
+    parser.add_argument("--version", action="version", version=f"idkit {__version__}")
+    commands = parser.add_subparsers(dest="command", required=True)
+    for register_family in (register, data.register, fit.register, inspect.register, report.register, shock.register,
+                            study.register):
+        register_family(commands)
     return parser
-
-
-def _register_command_modules(commands) -> None:
-    """Add the sub-commands of every ``idkit.cli`` module that defines ``register(commands)``.
-
-    Each command family lives in its own module (``idkit/cli/<name>.py``) with
-    ``register(subparsers)`` adding its parsers and ``set_defaults(handler=...)``.
-    """
-    import importlib
-    import pkgutil
-
-    import idkit.cli
-
-    for info in sorted(pkgutil.iter_modules(idkit.cli.__path__), key=lambda item: item.name):
-        if info.name in {"main", "progress"}:
-            continue
-        module = importlib.import_module(f"idkit.cli.{info.name}")
-        if hasattr(module, "register"):
-            module.register(commands)
 
 
 class Terminated(BaseException):

@@ -11,8 +11,9 @@ __all__ = ["register"]
 
 def _cmd_report(args) -> int:
     from idkit.cli.progress import say
+    from idkit.io.discover import default_data_dir
     from idkit.output_checks import check_output
-    from idkit.report.main_report import default_data_dir, run_report
+    from idkit.report.main_report import QUICK_NOTE, run_report
 
     check_output(args.output, kind="replaced", force=args.force, inputs=[args.data_dir or default_data_dir()])
     summary = run_report(args.data_dir, args.output, force=args.force, quick=args.quick, seed=args.seed,
@@ -21,8 +22,6 @@ def _cmd_report(args) -> int:
     for name, verdict in summary.validation_verdicts.items():
         print(f"{verdict:12s}  {name}")
     if summary.quick:
-        from idkit.report.main_report import QUICK_NOTE
-
         print(f"({QUICK_NOTE})")
     print(f"report written to {summary.html}", file=sys.stderr)
     return summary.exit_status

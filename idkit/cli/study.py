@@ -1,15 +1,8 @@
-"""``idkit study wire-rope|elastomer|hybrid``: the numerical studies of thesis chapters 3-5.
+"""``idkit study wire-rope|elastomer|hybrid|transport``: the numerical studies of thesis chapters 3-5 and 8.
 
-The ``study`` command has one sub-command per study. Other command modules add their own
-studies to it with :func:`study_subparsers` (it creates the ``study`` parser on first use,
-so the registration order of the modules does not matter)::
-
-    from idkit.cli.study import study_subparsers
-
-    def register(commands):
-        transport = study_subparsers(commands).add_parser("transport", help="...")
-        add_common_study_options(transport, "transport")
-        transport.set_defaults(handler=...)
+:func:`register` adds the ``study`` command and one sub-command per study: the chapter
+studies here, the transport study from :mod:`idkit.cli.transport`
+(:func:`~idkit.cli.transport.add_transport_parser`).
 """
 
 from __future__ import annotations
@@ -19,29 +12,13 @@ import sys
 
 from idkit.cli import options as opt
 
-__all__ = ["register", "study_subparsers", "add_common_study_options"]
+__all__ = ["add_common_study_options", "register"]
 
 _HELP = {
     "wire-rope": "chapter 3: Table A.1 wire rope, 8 kg, symmetric and asymmetric (maps, cross sections, shock)",
     "elastomer": "chapter 4: Table B.1 elastomers low/medium/high, 5 kg (stiffness, FRF, shock)",
     "hybrid": "chapter 5: hybrid 2 kg + 0.02 kg, symmetric and asymmetric (maps, linear FRF, shock)",
 }
-
-
-def study_subparsers(commands):
-    """The sub-parsers action of ``idkit study`` (created on the first call).
-
-    Parameters
-    ----------
-    commands : argparse._SubParsersAction
-        The top-level ``idkit`` sub-commands (what ``register`` receives).
-    """
-    parser = commands.choices.get("study")
-    if parser is None:
-        parser = commands.add_parser("study", help="reproduce a numerical study; write figures and numbers")
-        kinds = parser.add_subparsers(dest="study", required=True, metavar="STUDY")
-        parser._idkit_study_kinds = kinds  # looked up again by later callers
-    return parser._idkit_study_kinds
 
 
 def add_common_study_options(parser, name: str) -> None:
@@ -57,19 +34,24 @@ def add_common_study_options(parser, name: str) -> None:
 def _cmd_study(args) -> None:
     from idkit.cli.progress import ProgressBar
     from idkit.output_checks import check_output
-    from idkit.report.studies import run_study
+    from idkit.report.study_files import run_study
 
     check_output(args.output, kind="replaced", force=args.force)
-    summary = run_study(args.study, args.output, force=args.force, quick=args.quick, workers=args.workers,
-                        progress=ProgressBar(f"study {args.study}", enabled=not args.quiet))
+    study = run_study(args.study, args.output, force=args.force, quick=args.quick, workers=args.workers,
+                      progress=ProgressBar(f"study {args.study}", enabled=not args.quiet))
+    summary = study.summary()
     print(json.dumps({"study": summary["study"], "timings_s": summary["timings_s"]}, indent=1))
     print(f"figures, CSV tables and summary.json written to {args.output}", file=sys.stderr)
 
 
 def register(commands) -> None:
-    """Add ``idkit study wire-rope|elastomer|hybrid``."""
-    kinds = study_subparsers(commands)
+    """Add ``idkit study`` with its four studies."""
+    from idkit.cli.transport import add_transport_parser
+
+    parser = commands.add_parser("study", help="reproduce a numerical study; write figures and numbers")
+    studies = parser.add_subparsers(dest="study", required=True, metavar="STUDY")
     for name, text in _HELP.items():
-        parser = kinds.add_parser(name, help=text)
-        add_common_study_options(parser, name)
-        parser.set_defaults(handler=_cmd_study)
+        chapter = studies.add_parser(name, help=text)
+        add_common_study_options(chapter, name)
+        chapter.set_defaults(handler=_cmd_study)
+    add_transport_parser(studies)

@@ -5,42 +5,37 @@ from __future__ import annotations
 import sys
 
 from idkit.cli import options as opt
-from idkit.cli.study import add_common_study_options, study_subparsers
 
-__all__ = ["register"]
+__all__ = ["add_transport_parser"]
 
 
-def _identified_models(args):
-    """Model files if given, else the parts identified from the bundled data (fit split)."""
+def _parts(args):
+    """Model files if given, else the parts identified from the data folder (fit split)."""
     from idkit.cli.progress import say
     from idkit.errors import IdkitError
     from idkit.models import GeneralizedMaxwell, IwanModel, load_model
+    from idkit.studies.pipeline import identify_parts
 
     if (args.wire_rope is None) != (args.elastomer is None):
         raise IdkitError("give both --wire-rope and --elastomer model files, or neither (bundled data)")
-    if args.wire_rope is not None:
-        wire_rope, elastomer = load_model(args.wire_rope), load_model(args.elastomer)
-        if not isinstance(wire_rope, IwanModel) or not isinstance(elastomer, GeneralizedMaxwell):
-            raise IdkitError(f"expected an Iwan wire rope ({args.wire_rope}) and a generalized Maxwell "
-                             f"elastomer ({args.elastomer}), found {type(wire_rope).__name__} and "
-                             f"{type(elastomer).__name__}")
-        return wire_rope, elastomer
-    from idkit.fit.measurements import fit_iwan_measurements, fit_maxwell_measurements
-    from idkit.report.main_report import default_data_dir, find_measurement_sets
-
-    say("identifying the wire rope and the elastomer from the bundled data", enabled=not args.quiet)
-    sets = find_measurement_sets(args.data_dir or default_data_dir())
-    return (fit_iwan_measurements(sets["wire_rope"], seed=args.seed).model,
-            fit_maxwell_measurements(sets["elastomer"], seed=args.seed).model)
+    if args.wire_rope is None:
+        say("identifying the wire rope and the elastomer from the bundled data", enabled=not args.quiet)
+        return identify_parts(args.data_dir, seed=args.seed)
+    wire_rope, elastomer = load_model(args.wire_rope), load_model(args.elastomer)
+    if not isinstance(wire_rope, IwanModel) or not isinstance(elastomer, GeneralizedMaxwell):
+        raise IdkitError(f"expected an Iwan wire rope ({args.wire_rope}) and a generalized Maxwell "
+                         f"elastomer ({args.elastomer}), found {type(wire_rope).__name__} and "
+                         f"{type(elastomer).__name__}")
+    return wire_rope, elastomer
 
 
 def _cmd_transport(args) -> None:
     from idkit.cli.progress import ProgressBar
     from idkit.output_checks import check_output
-    from idkit.report.transport import run_transport_study
+    from idkit.report.study_files import run_transport_study
 
     check_output(args.output, kind="replaced", force=args.force, inputs=[args.wire_rope, args.elastomer, args.data_dir])
-    wire_rope, elastomer = _identified_models(args)
+    wire_rope, elastomer = _parts(args)
     study = run_transport_study(args.output, force=args.force, quick=args.quick, wire_rope=wire_rope,
                                 elastomer=elastomer, seed=args.seed, workers=args.workers,
                                 progress=ProgressBar("study transport", enabled=not args.quiet))
@@ -49,9 +44,11 @@ def _cmd_transport(args) -> None:
     print(f"figures, CSV tables and summary.json written to {args.output}", file=sys.stderr)
 
 
-def register(commands) -> None:
-    """Add ``idkit study transport``."""
-    parser = study_subparsers(commands).add_parser(
+def add_transport_parser(studies) -> None:
+    """Add ``transport`` to the sub-commands of ``idkit study`` (``studies``, from ``add_subparsers``)."""
+    from idkit.cli.study import add_common_study_options
+
+    parser = studies.add_parser(
         "transport", help="chapter 8: reference, elastomer, wire rope and hybrids tuned to 5 Hz (PSDs, shock)")
     add_common_study_options(parser, "transport")
     parser.add_argument("--wire-rope", help="Iwan model file (default: identified from the bundled data)")

@@ -20,34 +20,10 @@ from idkit.errors import FitError
 from idkit.models import GeneralizedMaxwell, VoigtModel
 from idkit.models.laws import sdof_transmissibility
 from idkit.observe.white_noise import TransmissibilitySet
+from idkit.signal.frf import mean_squared_relative_error
 
 __all__ = ["as_transmissibility_sets", "check_band", "band_points", "mean_squared_relative_error",
            "maxwell_objective"]
-
-
-def mean_squared_relative_error(predicted, measured, axis: int | None = None):
-    """``mean |predicted - measured|^2 / |measured|^2`` over the points of one set (squared (7.5)).
-
-    Parameters
-    ----------
-    predicted, measured : array_like (complex)
-        Model and measurement at the same points (broadcast); ``measured`` non-zero.
-    axis : int, optional
-        Axis of the points; default all (a float).
-
-    Returns
-    -------
-    float or ndarray
-
-    Examples
-    --------
-    >>> mean_squared_relative_error(np.array([1.5, 2.0]), np.array([1.0, 2.0]))
-    0.125
-    """
-    predicted = np.asarray(predicted)
-    measured = np.asarray(measured)
-    mean = np.mean(np.abs(predicted - measured) ** 2 / np.abs(measured) ** 2, axis=axis)
-    return float(mean) if axis is None else mean
 
 
 def as_transmissibility_sets(frfs) -> list[TransmissibilitySet]:

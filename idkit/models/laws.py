@@ -217,13 +217,32 @@ def hybrid_transmissibility(upper_stiffness, lower_stiffness, top_mass, intermed
     >>> float(abs(hybrid_transmissibility(2e4, 2e4, 1.0, 0.0, 0.0)))
     1.0
     """
+    return hybrid_displacements(upper_stiffness, lower_stiffness, top_mass, intermediate_mass, omega)[0]
+
+
+def hybrid_displacements(upper_stiffness, lower_stiffness, top_mass, intermediate_mass, omega):
+    """Top and intermediate displacement over base displacement of the hybrid (2x2 solve).
+
+    Parameters are those of :func:`hybrid_transmissibility`.
+
+    Returns
+    -------
+    (complex or ndarray, complex or ndarray)
+        ``X_top / X_base`` and ``X_intermediate / X_base``.
+
+    Examples
+    --------
+    >>> top, middle = hybrid_displacements(2e4, 2e4, 1.0, 0.5, 0.0)
+    >>> float(abs(top)), float(abs(middle))
+    (1.0, 1.0)
+    """
     omega = np.asarray(omega)
     a11 = upper_stiffness - top_mass * omega**2
     a12 = -upper_stiffness
     a22 = upper_stiffness + lower_stiffness - intermediate_mass * omega**2
     determinant = a11 * a22 - a12 * a12
-    # right-hand side [0, k_lower] x_base; top displacement by Cramer's rule
-    return -a12 * lower_stiffness / determinant
+    # right-hand side [0, k_lower] x_base, Cramer's rule
+    return -a12 * lower_stiffness / determinant, a11 * lower_stiffness / determinant
 
 
 @numba.njit(cache=True)

@@ -61,8 +61,8 @@ class DropMeasurementResult:
     def to_dataframe(self) -> pd.DataFrame:
         """One-row table (see :meth:`DropResult.to_dataframe`) with id, masses and height."""
         table = self.result.to_dataframe()
-        table.insert(0, "drop_height_m", self.drop_height_m)
-        table.insert(0, "top_mass_kg", self.top_mass_kg)
+        table.insert(0, "drop_height [m]", self.drop_height_m)
+        table.insert(0, "top_mass [kg]", self.top_mass_kg)
         table.insert(0, "isolator", self.isolator)
         table.insert(0, "measurement_id", self.measurement_id)
         return table

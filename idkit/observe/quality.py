@@ -111,13 +111,13 @@ class MeasurementSummary:
         for kind, t_kind in t.groupby("kind", sort=False):
             isolators = ", ".join(sorted(str(v) for v in t_kind["isolator"].dropna().unique()))
             parts = [f"{kind}: {len(t_kind)}", f"isolators {isolators or '-'}",
-                     f"fs {span('sample_rate_Hz', unit='Hz')}",
-                     f"duration {span('duration_s', unit='s')}"]
-            for column, label, scale, unit in (("top_mass_kg", "top mass", 1, "kg"),
-                                               ("drop_height_m", "height", 100, "cm"),
-                                               ("freq_Hz", "freq", 1, "Hz"),
+                     f"fs {span('sample_rate [Hz]', unit='Hz')}",
+                     f"duration {span('duration [s]', unit='s')}"]
+            for column, label, scale, unit in (("top_mass [kg]", "top mass", 1, "kg"),
+                                               ("drop_height [m]", "height", 100, "cm"),
+                                               ("freq [Hz]", "freq", 1, "Hz"),
                                                ("nominal_amplitude", "nominal amplitude", 1, ""),
-                                               ("deflection_range_mm", "deflection", 1, "mm")):
+                                               ("deflection_range [mm]", "deflection", 1, "mm")):
                 text = span(column, scale, unit)
                 if text is not None:
                     parts.append(f"{label} {text}")
@@ -165,14 +165,14 @@ def summarize_measurements(measurements: Sequence, *, clip_run: int = 5,
         exc = info.excitation
         fs = m.sample_rate_hz
         row = {"id": m.id, "kind": m.kind, "isolator": info.isolator, "split": info.split,
-               "sample_rate_Hz": fs, "duration_s": float(m.time[-1] - m.time[0]),
-               "n_samples": m.n_samples, "top_mass_kg": info.top_mass_kg,
-               "drop_height_m": info.drop_height_m,
-               "freq_Hz": None if exc is None else exc.freq,
+               "sample_rate [Hz]": fs, "duration [s]": float(m.time[-1] - m.time[0]),
+               "n_samples": m.n_samples, "top_mass [kg]": info.top_mass_kg,
+               "drop_height [m]": info.drop_height_m,
+               "freq [Hz]": None if exc is None else exc.freq,
                "nominal_amplitude": None if exc is None else exc.amplitude,
-               "deflection_range_mm": None}
+               "deflection_range [mm]": None}
         if getattr(m, "deflection", None) is not None:
-            row["deflection_range_mm"] = float(np.ptp(m.deflection)) * 1e3
+            row["deflection_range [mm]"] = float(np.ptp(m.deflection)) * 1e3
         rows.append(row)
         for name, values in m.signals().items():
             if name == "time":

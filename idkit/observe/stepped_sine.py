@@ -131,7 +131,7 @@ class SteppedSineSweep:
         input distortion (2nd, 3rd), |HOSIDF| and phase of orders 1..3, |subharmonic|."""
         rows = []
         for p in self.points:
-            row = {"measurement_id": p.measurement_id, "isolator": p.isolator, "freq_Hz": p.freq,
+            row = {"measurement_id": p.measurement_id, "isolator": p.isolator, "freq [Hz]": p.freq,
                    "nominal_amplitude": p.nominal_amplitude, "input_amplitude": p.input_amplitude,
                    "input_distortion_2": p.input_distortion[0],
                    "input_distortion_3": p.input_distortion[1]}

@@ -1,8 +1,8 @@
 """Figures of model responses: harmonic maps, linear FRFs, shock sweeps, random vibration.
 
-Compute first (:mod:`idkit.analysis`), plot second. Every function takes ``ax``/``axes``
-(default: a new figure), returns what it drew and never calls ``show``; matplotlib is
-imported lazily. Thesis figures reproduced: 3.7/3.9/3.11-3.16/3.19 (maps), 3.10/3.14
+Compute first (:mod:`idkit.responses`), plot second. Every function takes ``ax``/``axes``
+(default: a new figure from :mod:`idkit.plot._figure`), returns the Axes it drew into and
+never calls ``show``; matplotlib is imported lazily. Thesis figures reproduced: 3.7/3.9/3.11-3.16/3.19 (maps), 3.10/3.14
 (cross sections), 4.3/4.4/5.7/5.8 (linear), 3.21/4.5/5.15/5.16 (shock).
 """
 
@@ -10,26 +10,19 @@ from __future__ import annotations
 
 import numpy as np
 
+from idkit.plot._figure import axes_or_new
+
 __all__ = [
+    "plot_complex_stiffness",
+    "plot_map_cross_sections",
     "plot_map_surface",
     "plot_map_top_view",
-    "plot_map_cross_sections",
-    "plot_resonance_vs_amplitude",
-    "plot_complex_stiffness",
-    "plot_transmissibility",
-    "plot_shock_sweep",
-    "plot_shock_deflection",
     "plot_output_psd",
+    "plot_resonance_vs_amplitude",
+    "plot_shock_deflection",
+    "plot_shock_sweep",
+    "plot_transmissibility",
 ]
-
-
-def _new_axes(nrows: int = 1, *, projection: str | None = None, figsize=None):
-    from matplotlib.figure import Figure
-
-    figure = Figure(figsize=figsize or (6.4, 2.4 + 2.2 * nrows), layout="constrained")
-    if projection is not None:
-        return figure.add_subplot(1, 1, 1, projection=projection)
-    return figure.subplots(nrows, 1, sharex=True)
 
 
 def _map_values(hmap, quantity, part):
@@ -48,7 +41,7 @@ def _map_values(hmap, quantity, part):
 
 
 def plot_map_surface(hmap, quantity="ratio", *, part="magnitude", ax=None):
-    """3D surface of a :class:`~idkit.analysis.HarmonicMap` over log10 frequency and log10 amplitude.
+    """3D surface of a :class:`~idkit.responses.harmonic_map.HarmonicMap` over log10 frequency and log10 amplitude.
 
     Parameters
     ----------
@@ -61,10 +54,10 @@ def plot_map_surface(hmap, quantity="ratio", *, part="magnitude", ax=None):
 
     Returns
     -------
-    Poly3DCollection
-        The surface. Points that did not converge or were flagged are left out (NaN).
+    Axes3D
+        Points that did not converge or were flagged are left out (NaN).
     """
-    ax = _new_axes(projection="3d", figsize=(7.0, 5.5)) if ax is None else ax
+    ax = axes_or_new(ax, projection="3d", figsize=(7.0, 5.5))
     values, label = _map_values(hmap, quantity, part)
     values = np.where(hmap.valid, values, np.nan)
     if part == "magnitude":
@@ -72,21 +65,21 @@ def plot_map_surface(hmap, quantity="ratio", *, part="magnitude", ax=None):
             values = np.log10(values)
         label = f"log10 {label}"
     log_f, log_a = np.meshgrid(np.log10(hmap.freq), np.log10(hmap.amplitude), indexing="ij")
-    surface = ax.plot_surface(log_f, log_a, values, cmap="viridis", linewidth=0, antialiased=True)
+    ax.plot_surface(log_f, log_a, values, cmap="viridis", linewidth=0, antialiased=True)
     ax.set_xlabel("log10 frequency [Hz]")
     ax.set_ylabel("log10 amplitude [m]")
     ax.set_zlabel(label)
-    return surface
+    return ax
 
 
 def plot_map_top_view(hmap, quantity=1, *, part="magnitude", ax=None):
     """Top view (colour map) of a HarmonicMap on log frequency / log amplitude axes.
 
-    Magnitudes use a logarithmic colour scale. Returns the QuadMesh (a colour bar is added).
+    Magnitudes use a logarithmic colour scale. Returns the Axes (a colour bar is added).
     """
     from matplotlib.colors import LogNorm
 
-    ax = _new_axes() if ax is None else ax
+    ax = axes_or_new(ax)
     values, label = _map_values(hmap, quantity, part)
     values = np.where(hmap.valid, values, np.nan)
     norm = None
@@ -101,78 +94,76 @@ def plot_map_top_view(hmap, quantity=1, *, part="magnitude", ax=None):
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("base amplitude [m]")
     ax.figure.colorbar(mesh, ax=ax, label=label)
-    return mesh
+    return ax
 
 
 def plot_map_cross_sections(hmap, amplitudes, *, order=1, axes=None):
     """Bode cross sections (magnitude, phase) of a HOSIDF at the grid amplitudes nearest ``amplitudes`` (m).
 
-    Returns the list of ``(magnitude_line, phase_line)`` pairs.
+    Returns the (magnitude, phase) axes.
     """
-    axes = _new_axes(2) if axes is None else axes
+    axes = axes_or_new(axes, 2, sharex=True)
     magnitude_ax, phase_ax = axes
-    pairs = []
     for amplitude in np.atleast_1d(amplitudes):
         column = hmap.amplitude_index(float(amplitude))
         valid = hmap.valid[:, column]
         value = np.where(valid, hmap.hosidf(order)[:, column], np.nan)
         label = f"{hmap.amplitude[column]:.1e} m"
-        (magnitude,) = magnitude_ax.loglog(hmap.freq, np.abs(value), label=label)
+        magnitude_ax.loglog(hmap.freq, np.abs(value), label=label)
         phase = np.full(value.shape, np.nan)
         if valid.any():
             phase[valid] = np.degrees(np.unwrap(np.angle(value[valid])))
-        (phase_line,) = phase_ax.semilogx(hmap.freq, phase, label=label)
-        pairs.append((magnitude, phase_line))
+        phase_ax.semilogx(hmap.freq, phase, label=label)
     magnitude_ax.set_ylabel(f"|H{order:g}| [-]")
     phase_ax.set_ylabel("phase [deg]")
     phase_ax.set_xlabel("frequency [Hz]")
     magnitude_ax.legend(fontsize="small", title="base amplitude")
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
-    return pairs
+    return axes
 
 
 def plot_resonance_vs_amplitude(hmap, *, label=None, ax=None):
-    """Resonance frequency (peak of |H1|) versus base amplitude; returns the line."""
-    ax = _new_axes() if ax is None else ax
-    (line,) = ax.semilogx(hmap.amplitude, hmap.resonance_frequency(), marker="o", label=label)
+    """Resonance frequency (peak of |H1|) versus base amplitude; returns the Axes."""
+    ax = axes_or_new(ax)
+    ax.semilogx(hmap.amplitude, hmap.resonance_frequency(), marker="o", label=label)
     ax.set_xlabel("base amplitude [m]")
     ax.set_ylabel("resonance [Hz]")
     ax.grid(True, which="both", alpha=0.3)
-    return line
+    return ax
 
 
 def plot_complex_stiffness(freq, stiffness, *, label=None, axes=None):
-    """|k*| (log-log) and loss factor (thesis fig. 4.3) of a complex stiffness; returns both lines."""
-    axes = _new_axes(2) if axes is None else axes
+    """|k*| (log-log) and loss factor (thesis fig. 4.3) of a complex stiffness; returns both Axes."""
+    axes = axes_or_new(axes, 2, sharex=True)
     stiffness = np.asarray(stiffness, dtype=complex)
-    (magnitude,) = axes[0].loglog(freq, np.abs(stiffness), label=label)
-    (loss,) = axes[1].semilogx(freq, stiffness.imag / stiffness.real, label=label)
+    axes[0].loglog(freq, np.abs(stiffness), label=label)
+    axes[1].semilogx(freq, stiffness.imag / stiffness.real, label=label)
     axes[0].set_ylabel("|k*| [N/m]")
     axes[1].set_ylabel("loss factor [-]")
     axes[1].set_xlabel("frequency [Hz]")
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
-    return magnitude, loss
+    return axes
 
 
 def plot_transmissibility(frf, *, label=None, axes=None):
-    """Bode diagram of a :class:`~idkit.analysis.LinearFrf` with its resonance marked; returns both lines."""
-    axes = _new_axes(2) if axes is None else axes
+    """Bode diagram of a :class:`~idkit.responses.linear.LinearFrf` with its resonance marked; returns both Axes."""
+    axes = axes_or_new(axes, 2, sharex=True)
     h = frf.transmissibility
     (magnitude,) = axes[0].loglog(frf.freq, np.abs(h), label=label)
-    (phase,) = axes[1].semilogx(frf.freq, np.degrees(np.unwrap(np.angle(h))), label=label)
+    axes[1].semilogx(frf.freq, np.degrees(np.unwrap(np.angle(h))), label=label)
     axes[0].plot([frf.resonance.freq], [frf.resonance.peak_magnitude], "x", color=magnitude.get_color())
     axes[0].set_ylabel("|H| [-]")
     axes[1].set_ylabel("phase [deg]")
     axes[1].set_xlabel("frequency [Hz]")
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
-    return magnitude, phase
+    return axes
 
 
 def plot_shock_sweep(sweep, *, versus="velocity", quantity="rest", label=None, ax=None):
-    """Shock levels of a :class:`~idkit.analysis.ShockSweep` (thesis figs. 3.21, 4.5, 5.15).
+    """Shock levels of a :class:`~idkit.responses.shock.ShockSweep` (thesis figs. 3.21, 4.5, 5.15).
 
     Parameters
     ----------
@@ -183,9 +174,9 @@ def plot_shock_sweep(sweep, *, versus="velocity", quantity="rest", label=None, a
 
     Returns
     -------
-    list of Line2D
+    Axes
     """
-    ax = _new_axes() if ax is None else ax
+    ax = axes_or_new(ax)
     if versus == "velocity":
         x, xlabel = sweep.impact_speed, "impact speed |v0| [m/s]"
     elif versus == "height":
@@ -203,12 +194,12 @@ def plot_shock_sweep(sweep, *, versus="velocity", quantity="rest", label=None, a
     ax.set_xlabel(xlabel)
     ax.set_ylabel("max |a| top mass [m/s$^2$]")
     ax.grid(True, alpha=0.3)
-    return lines
+    return ax
 
 
 def plot_shock_deflection(sweep, *, label=None, ax=None):
-    """Peak compression and tension of every isolator versus |v0| (mm; thesis figs. A.7, 5.16)."""
-    ax = _new_axes() if ax is None else ax
+    """Peak compression and tension of every isolator versus |v0| (mm; thesis figs. A.7, 5.16); returns the Axes."""
+    ax = axes_or_new(ax)
     prefix = f"{label} " if label else ""
     lines = []
     for j, name in enumerate(sweep.isolator_names):
@@ -219,15 +210,15 @@ def plot_shock_deflection(sweep, *, label=None, ax=None):
     ax.set_xlabel("impact speed |v0| [m/s]")
     ax.set_ylabel("max deflection [mm]")
     ax.grid(True, alpha=0.3)
-    return lines
+    return ax
 
 
 def plot_output_psd(result, *, label=None, show_input=True, show_linear=True, ax=None):
-    """Input, simulated output and ``|H|^2 S_xx`` PSDs of a :class:`~idkit.analysis.RandomResponse`.
+    """Input, simulated output and ``|H|^2 S_xx`` PSDs of a :class:`~idkit.responses.random_vibration.RandomResponse`.
 
-    Returns the list of lines drawn (log-log, (m/s^2)^2/Hz).
+    Log-log, (m/s^2)^2/Hz. Returns the Axes.
     """
-    ax = _new_axes() if ax is None else ax
+    ax = axes_or_new(ax)
     prefix = f"{label} " if label else ""
     keep = result.freq > 0
     f = result.freq[keep]
@@ -241,4 +232,4 @@ def plot_output_psd(result, *, label=None, show_input=True, show_linear=True, ax
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("PSD [(m/s$^2$)$^2$/Hz]")
     ax.grid(True, which="both", alpha=0.3)
-    return lines
+    return ax

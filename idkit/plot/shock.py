@@ -10,6 +10,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from idkit.plot._figure import axes_or_new
+
 if TYPE_CHECKING:
     from idkit.io import AccelerationRecord
     from idkit.observe.shock import RecordSpectra, ResponseRatio
@@ -24,17 +26,9 @@ SPECTRA = {
 }
 
 
-def _new_axes(ax):
-    if ax is not None:
-        return ax
-    from matplotlib.figure import Figure
-
-    return Figure(figsize=(6.4, 4.2), layout="constrained").subplots()
-
-
 def plot_shock_pulses(record: AccelerationRecord, *, ax=None):
     """Acceleration (g) versus time (ms) of every test of a record; returns the Axes."""
-    ax = _new_axes(ax)
+    ax = axes_or_new(ax, figsize=(6.4, 4.2))
     time_ms = (np.asarray(record.time) - record.time[0]) * 1e3
     for j in range(record.n_tests):
         ax.plot(time_ms, record.accel[:, j] / 9.80665, lw=0.8, label=f"test {j + 1}")
@@ -56,7 +50,7 @@ def plot_shock_spectra(spectra: RecordSpectra, *, kind: str = "pseudo_velocity",
     if kind not in SPECTRA:
         raise ValueError(f"kind: found {kind!r}, expected one of {sorted(SPECTRA)}")
     name, label, scale = SPECTRA[kind]
-    ax = _new_axes(ax)
+    ax = axes_or_new(ax, figsize=(6.4, 4.2))
     for j, spectrum in enumerate(spectra.spectra):
         ax.loglog(spectrum.freq, getattr(spectrum, kind) * scale, label=f"test {j + 1}")
     damping = spectra.spectra[0].damping_ratio
@@ -71,7 +65,7 @@ def plot_shock_spectra(spectra: RecordSpectra, *, kind: str = "pseudo_velocity",
 
 def plot_response_ratio(ratio: ResponseRatio, *, ax=None):
     """Response SRS over input SRS per test (log frequency); returns the Axes."""
-    ax = _new_axes(ax)
+    ax = axes_or_new(ax, figsize=(6.4, 4.2))
     for j, row in enumerate(ratio.ratio):
         ax.semilogx(ratio.freq, row, label=f"test {j + 1}")
     ax.axhline(1.0, color="0.5", lw=0.8)

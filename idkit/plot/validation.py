@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from idkit.plot.basic import _axes
+from idkit.plot._figure import axes_or_new
 
-__all__ = ["plot_harmonic_validation", "plot_frf_validation", "plot_drop_validation"]
+__all__ = ["plot_drop_validation", "plot_frf_validation", "plot_harmonic_validation"]
 
 
 def plot_harmonic_validation(result, *, axes=None):
@@ -14,11 +14,7 @@ def plot_harmonic_validation(result, *, axes=None):
 
     Left: magnitudes; right: magnitude error in dB. Returns the two axes.
     """
-    if axes is None:
-        from matplotlib.figure import Figure
-
-        figure = Figure(figsize=(10, 4), layout="constrained")
-        axes = figure.subplots(1, 2)
+    axes = axes_or_new(axes, 1, 2, figsize=(10, 4))
     magnitude_ax, error_ax = axes
     table = result.metrics.sort_values("freq [Hz]")
     for level, group in table.groupby("level"):
@@ -41,7 +37,7 @@ def plot_harmonic_validation(result, *, axes=None):
 
 def plot_frf_validation(result, *, axes=None):
     """Measured H1 and model transmissibility per mass: magnitude and phase."""
-    axes = _axes(axes, nrows=2) if axes is None else axes
+    axes = axes_or_new(axes, 2, sharex=True)
     magnitude_ax, phase_ax = axes
     for key, curve in result.details["curves"].items():
         freq = curve["freq [Hz]"].to_numpy()
@@ -62,11 +58,7 @@ def plot_frf_validation(result, *, axes=None):
 
 def plot_drop_validation(result, *, axes=None):
     """Peak accelerations (compression, tension) and peak compression versus impact speed."""
-    if axes is None:
-        from matplotlib.figure import Figure
-
-        figure = Figure(figsize=(10, 4), layout="constrained")
-        axes = figure.subplots(1, 2)
+    axes = axes_or_new(axes, 1, 2, figsize=(10, 4))
     accel_ax, deflection_ax = axes
     table = result.metrics
     for mass, group in table.groupby("top mass [kg]"):

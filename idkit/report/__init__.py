@@ -1,6 +1,12 @@
-"""Reports and the demo job (top layer: may import every other layer)."""
+"""Reports: render computed results (:mod:`idkit.studies`) and write them (top layer but the CLI).
 
-from idkit.report.demo import run_demo
-from idkit.atomic import atomic_output_folder
+- :mod:`~idkit.report.main_report` - ``idkit report``: :class:`~idkit.studies.pipeline.ReportData`
+  rendered to one self-contained HTML page with models, tables and provenance;
+- :mod:`~idkit.report.study_files` - a study's figures, CSV tables and ``summary.json``;
+- :mod:`~idkit.report.inspect_files` - the overview figures of ``idkit inspect --plots``;
+- :mod:`~idkit.report.html` - the HTML builder.
+"""
 
-__all__ = ["run_demo", "atomic_output_folder"]
+from idkit.report.study_files import run_study, run_transport_study
+
+__all__ = ["run_study", "run_transport_study"]

@@ -14,7 +14,7 @@ from pathlib import Path
 import pandas as pd
 
 from idkit.atomic import atomic_output_folder, write_text_atomic
-from idkit.plot.basic import save_figure
+from idkit.plot._figure import new_axes, save_figure
 from idkit.plot.shock import plot_response_ratio, plot_shock_pulses, plot_shock_spectra
 
 __all__ = ["write_shock_analysis"]
@@ -26,8 +26,6 @@ def _stem(name: str) -> str:
 
 def write_shock_analysis(analysis, folder, *, force: bool = False) -> list[Path]:
     """Write tables and figures of ``analysis`` into ``folder`` (replaced only with ``force``)."""
-    from matplotlib.figure import Figure
-
     written = []
     with atomic_output_folder(folder, force=force) as staging:
         tables = {"pulses.csv": analysis.pulse_table(),
@@ -39,19 +37,17 @@ def write_shock_analysis(analysis, folder, *, force: bool = False) -> list[Path]
             written.append(Path(folder) / name)
         for shock, spectra in zip(analysis.conditioned, analysis.spectra):
             stem = _stem(shock.record.channel)
-            figure = Figure(figsize=(6.4, 4.0), layout="constrained")
-            plot_shock_pulses(shock.record, ax=figure.subplots())
-            figure_srs = Figure(figsize=(6.4, 9.6), layout="constrained")
-            for ax, kind in zip(figure_srs.subplots(3, 1, sharex=True),
-                                ("pseudo_velocity", "absolute_acceleration", "relative_displacement")):
+            figure = plot_shock_pulses(shock.record, ax=new_axes(figsize=(6.4, 4.0))).figure
+            srs_axes = new_axes(3, 1, sharex=True, figsize=(6.4, 9.6))
+            for ax, kind in zip(srs_axes, ("pseudo_velocity", "absolute_acceleration", "relative_displacement")):
                 plot_shock_spectra(spectra, kind=kind, ax=ax)
+            figure_srs = srs_axes[0].figure
             for suffix in ("png", "svg"):
                 for fig, name in ((figure, f"{stem}_pulses.{suffix}"), (figure_srs, f"{stem}_srs.{suffix}")):
                     save_figure(fig, staging / name)
                     written.append(Path(folder) / name)
         for ratio in analysis.ratios:
-            figure = Figure(figsize=(6.4, 4.0), layout="constrained")
-            plot_response_ratio(ratio, ax=figure.subplots())
+            figure = plot_response_ratio(ratio, ax=new_axes(figsize=(6.4, 4.0))).figure
             for suffix in ("png", "svg"):
                 name = f"{_stem(ratio.response_channel)}_ratio.{suffix}"
                 save_figure(figure, staging / name)

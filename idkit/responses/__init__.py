@@ -5,6 +5,8 @@ Each function takes a model or system (:mod:`idkit.models`), runs the simulator
 ``to_dataframe()``:
 
 - :mod:`~idkit.responses.harmonic_map` - frequency-amplitude maps of steady states, HOSIDF (SPEC 5);
+- :mod:`~idkit.responses.periodic` - periodic steady states by shooting, Floquet stability, 1/2 subharmonic;
+- :mod:`~idkit.responses.continuation` - branches of periodic states through folds (pseudo-arclength);
 - :mod:`~idkit.responses.linear` - complex stiffness, loss factor, transmissibility, damping ratios;
 - :mod:`~idkit.responses.shock` - the one drop sweep: conditioned free fall, peaks per phase,
   rest shock level, SRS;
@@ -15,6 +17,16 @@ from idkit.responses.harmonic_map import (
     harmonic_map,
     HarmonicMap,
     parabolic_peak,
+)
+from idkit.responses.periodic import (
+    periodic_response,
+    PeriodicResponse,
+)
+from idkit.responses.continuation import (
+    Branch,
+    continue_in_amplitude,
+    continue_in_frequency,
+    SpecialPoint,
 )
 from idkit.responses.linear import (
     complex_stiffness,
@@ -42,6 +54,12 @@ from idkit.responses.random_vibration import (
 )
 
 __all__ = [
+    "Branch",
+    "continue_in_amplitude",
+    "continue_in_frequency",
+    "periodic_response",
+    "PeriodicResponse",
+    "SpecialPoint",
     "complex_stiffness",
     "default_shock_grid",
     "effective_stiffness",

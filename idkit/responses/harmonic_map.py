@@ -13,9 +13,14 @@ and reduced per point to
 Steady-state criterion (the simulator's, ``docs/simulator.md``): over consecutive windows
 of two excitation periods, the largest change of any Fourier coefficient relative to the
 first harmonic, and its geometric extrapolation ``change r / (1 - r)``, are both below
-``tolerance``; points that reach ``max_periods`` without meeting it keep their last
-window's values and are marked ``converged = False``. Points where the model left its valid
-range (negative local stiffness, non-finite state) carry a non-zero ``flag`` and a reason.
+``tolerance``. Points that reach ``max_periods`` without meeting it (lightly damped wire ropes
+far from resonance, where a 5 Hz free oscillation outlives thousands of excitation periods) are
+settled by shooting (:mod:`idkit.responses.periodic`: Newton on the period map of the same
+integrator, from the time-integrated state; a period-doubling unstable orbit is replaced by
+the stable 1/2 subharmonic); they are marked in :attr:`HarmonicMap.shooting`. Points that
+still fail keep their last window's values, ``converged = False`` and a reason naming both
+attempts. Points where the model left its valid range (negative local stiffness, non-finite
+state) carry a non-zero ``flag`` and a reason.
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from idkit.errors import SimulationError
+from idkit.responses.periodic import periodic_response
 from idkit.simulate import harmonic_response
 
 __all__ = ["HarmonicMap", "harmonic_map", "parabolic_peak"]
@@ -132,6 +138,9 @@ class HarmonicMap:
         Text of each point's flag ("ok" when valid).
     tolerance : float
         Steady-state tolerance used.
+    shooting : ndarray of bool, shape (n_freq, n_amp)
+        Points whose steady state was found by shooting after the time integration did not
+        settle (their :attr:`change` is the closing error of the periodic orbit).
     """
 
     freq: NDArray[np.float64]
@@ -147,6 +156,7 @@ class HarmonicMap:
     flags: NDArray[np.int64]
     reasons: NDArray[np.str_]
     tolerance: float
+    shooting: NDArray[np.bool_] | None = None
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -222,21 +232,22 @@ class HarmonicMap:
         """
         grid_freq, grid_amp = np.meshgrid(self.freq, self.amplitude, indexing="ij")
         point_columns = {
-            "half_range_m": self.half_range.ravel(),
+            "half_range [m]": self.half_range.ravel(),
             "amplitude_ratio": self.amplitude_ratio.ravel(),
-            "bias_m": self.bias.ravel(),
-            "peak_acceleration_m_s2": self.peak_acceleration.ravel(),
+            "bias [m]": self.bias.ravel(),
+            "peak_acceleration [m/s^2]": self.peak_acceleration.ravel(),
             "periods": self.periods.ravel(),
             "converged": self.converged.ravel(),
             "flag": self.flags.ravel(),
             "status": self.reasons.ravel(),
+            "shooting": (np.zeros(self.shape, dtype=bool) if self.shooting is None else self.shooting).ravel(),
         }
         frames = []
         for index, order in enumerate(self.orders):
             value = self.hosidf_values[index].ravel()
             frames.append(pd.DataFrame({
-                "freq_Hz": grid_freq.ravel(), "amplitude_m": grid_amp.ravel(), "order": order,
-                "magnitude": np.abs(value), "phase_deg": np.degrees(np.angle(value)), **point_columns,
+                "freq [Hz]": grid_freq.ravel(), "amplitude [m]": grid_amp.ravel(), "order": order,
+                "magnitude": np.abs(value), "phase [deg]": np.degrees(np.angle(value)), **point_columns,
             }))
         return pd.concat(frames, ignore_index=True)
 
@@ -248,7 +259,8 @@ class HarmonicMap:
             f"{self.amplitude.size} amplitudes {self.amplitude[0]:.3g}-{self.amplitude[-1]:.3g} m, "
             f"orders {', '.join(f'{o:g}' for o in self.orders)}",
             f"  steady state (tolerance {self.tolerance:g}): {int(self.converged.sum())}/{n_points} converged, "
-            f"{int((self.flags != 0).sum())} flagged outside the valid range",
+            f"{int((self.flags != 0).sum())} flagged outside the valid range"
+            + ("" if self.shooting is None else f", {int(self.shooting.sum())} settled by shooting"),
             "  amplitude [m]  resonance [Hz]  max |H1|",
         ]
         resonance = self.resonance_frequency()
@@ -262,7 +274,8 @@ class HarmonicMap:
 
 def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_harmonics: int = 3,
                  tolerance: float = 1e-3, workers: int | None = None, executor=None, progress=None,
-                 steps_per_period=None, max_periods: int = 4000, start: str = "linear") -> HarmonicMap:
+                 steps_per_period=None, max_periods: int = 4000, start: str = "linear",
+                 shooting: bool = True) -> HarmonicMap:
     """Steady-state harmonic response on a frequency x amplitude grid (SPEC 5).
 
     Parameters
@@ -293,6 +306,9 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
         where it is unique (tests compare them).
     max_periods : int, default 4000
         Cap on simulated periods per point.
+    shooting : bool, default True
+        Settle the points that reach ``max_periods`` by shooting (module docstring); False
+        leaves them unconverged, as a plain grid of time integrations.
 
     Returns
     -------
@@ -319,13 +335,72 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
     )
     shape = grid_freq.shape
     orders = (0.5,) + tuple(float(k) for k in range(1, int(n_harmonics) + 1))
-    hosidf_values = np.stack([response.hosidf(order).reshape(shape) for order in orders])
+    hosidf_values = np.stack([response.hosidf(order) for order in orders])
+    half_range = response.half_range.copy()
+    bias = response.bias.copy()
+    peak = response.peak_acceleration.copy()
+    change = response.change.copy()
+    converged = response.converged.astype(bool).copy()
+    reasons = list(response.reasons)
+    settled = np.zeros(converged.size, dtype=bool)
+    pending = np.flatnonzero(~converged & (np.asarray(response.flags) == 0))
+    if shooting and pending.size:
+        shot = _shoot_pending(system, response.freq[pending], response.amplitude[pending],
+                              response.steps_per_period[pending], int(n_harmonics))
+        for position, index in enumerate(pending):
+            if shot[position] is None or isinstance(shot[position], str):
+                reasons[index] = f"{reasons[index]}; shooting: {shot[position]}"
+                continue
+            orbit, row = shot[position]
+            for slot, order in enumerate(orders):
+                hosidf_values[slot, index] = orbit.hosidf(order)[row]
+            half_range[index] = orbit.half_range[row, 0]
+            bias[index] = orbit.deflection_coefficients[row, 0].real
+            peak[index] = orbit.peak_acceleration[row]
+            change[index] = orbit.residual[row]
+            converged[index] = True
+            settled[index] = True
+            reasons[index] = "ok"
     return HarmonicMap(
-        freq=freq, amplitude=amplitude, orders=orders, hosidf_values=hosidf_values,
-        half_range=response.half_range.reshape(shape), bias=response.bias.reshape(shape),
-        peak_acceleration=response.peak_acceleration.reshape(shape),
+        freq=freq, amplitude=amplitude, orders=orders, hosidf_values=hosidf_values.reshape((len(orders),) + shape),
+        half_range=half_range.reshape(shape), bias=bias.reshape(shape), peak_acceleration=peak.reshape(shape),
         periods=np.asarray(response.periods, dtype=float).reshape(shape),
-        change=response.change.reshape(shape), converged=response.converged.reshape(shape).astype(bool),
+        change=change.reshape(shape), converged=converged.reshape(shape),
         flags=np.asarray(response.flags, dtype=np.int64).reshape(shape),
-        reasons=np.asarray(response.reasons, dtype=str).reshape(shape), tolerance=float(tolerance),
+        reasons=np.asarray(reasons, dtype=str).reshape(shape), tolerance=float(tolerance),
+        shooting=settled.reshape(shape),
     )
+
+
+def _shoot_pending(system, freq, amplitude, steps, n_harmonics) -> list:
+    """Stable periodic orbits of the points that did not settle: ``(PeriodicResponse, row)`` per
+    point, or a string saying why none was found.
+
+    Period 1 first (unstable orbits are left along their unstable eigenvector); where the
+    period-1 orbit loses stability by period doubling, the 1/2 subharmonic (period 2).
+    """
+    first = periodic_response(system, freq, amplitude, steps_per_period=steps, n_harmonics=n_harmonics,
+                              seek_stable=True)
+    outcome: list = [None] * freq.size
+    doubling = []
+    for index in range(freq.size):
+        if first.converged[index] and first.stable[index]:
+            outcome[index] = (first, index)
+        elif first.converged[index] and first.instability[index] == "period doubling":
+            doubling.append(index)
+        elif first.converged[index]:
+            outcome[index] = (f"the periodic orbit is unstable ({first.instability[index]}, "
+                              f"largest multiplier {first.max_multiplier[index]:.4g})")
+        else:
+            outcome[index] = first.reasons[index]
+    if doubling:
+        chosen = np.array(doubling)
+        second = periodic_response(system, freq[chosen], amplitude[chosen], periods=2, steps_per_period=steps[chosen],
+                                   n_harmonics=n_harmonics)
+        for row, index in enumerate(doubling):
+            if second.converged[row] and second.stable[row]:
+                outcome[index] = (second, row)
+            else:
+                outcome[index] = (f"the period-1 orbit is unstable by period doubling and no stable 1/2 subharmonic "
+                                  f"was found ({second.reasons[row] if not second.converged[row] else 'unstable'})")
+    return outcome

@@ -125,8 +125,8 @@ class StiffnessResponse:
     def to_dataframe(self) -> pd.DataFrame:
         """Columns ``freq_Hz``, ``storage_N_m``, ``loss_N_m``, ``magnitude_N_m``, ``loss_factor``."""
         return pd.DataFrame({
-            "freq_Hz": self.freq, "storage_N_m": self.stiffness.real, "loss_N_m": self.stiffness.imag,
-            "magnitude_N_m": self.magnitude, "loss_factor": self.loss_factor,
+            "freq [Hz]": self.freq, "storage [N/m]": self.stiffness.real, "loss [N/m]": self.stiffness.imag,
+            "magnitude [N/m]": self.magnitude, "loss_factor": self.loss_factor,
         })
 
 
@@ -260,15 +260,15 @@ class LinearFrf:
     def to_dataframe(self) -> pd.DataFrame:
         """Columns ``freq_Hz``, ``H_magnitude``, ``H_phase_deg``, ``stiffness_*`` and per-isolator ones."""
         columns = {
-            "freq_Hz": self.freq,
-            "H_magnitude": np.abs(self.transmissibility),
-            "H_phase_deg": np.degrees(np.unwrap(np.angle(self.transmissibility))),
-            "stiffness_magnitude_N_m": np.abs(self.stiffness),
-            "loss_factor": loss_factor(self.stiffness),
+            "freq [Hz]": self.freq,
+            "H_magnitude [-]": np.abs(self.transmissibility),
+            "H_phase [deg]": np.degrees(np.unwrap(np.angle(self.transmissibility))),
+            "stiffness_magnitude [N/m]": np.abs(self.stiffness),
+            "loss_factor [-]": loss_factor(self.stiffness),
         }
         for index, values in enumerate(self.component_stiffness):
-            columns[f"isolator_{index}_magnitude_N_m"] = np.abs(values)
-            columns[f"isolator_{index}_loss_factor"] = loss_factor(values)
+            columns[f"isolator_{index}_magnitude [N/m]"] = np.abs(values)
+            columns[f"isolator_{index}_loss_factor [-]"] = loss_factor(values)
         return pd.DataFrame(columns)
 
     def report(self) -> str:

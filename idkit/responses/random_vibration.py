@@ -168,9 +168,10 @@ class RandomResponse:
     def to_dataframe(self) -> pd.DataFrame:
         """One row per frequency with the three PSDs and both cumulative RMS."""
         return pd.DataFrame({
-            "freq_Hz": self.freq, "input_psd": self.input_psd, "output_psd": self.output_psd,
-            "linear_output_psd": self.linear_output_psd, "input_cumulative_rms": self.input_cumulative_rms,
-            "output_cumulative_rms": self.output_cumulative_rms,
+            "freq [Hz]": self.freq, "input_psd [(m/s^2)^2/Hz]": self.input_psd,
+            "output_psd [(m/s^2)^2/Hz]": self.output_psd, "linear_output_psd [(m/s^2)^2/Hz]": self.linear_output_psd,
+            "input_cumulative_rms [m/s^2]": self.input_cumulative_rms,
+            "output_cumulative_rms [m/s^2]": self.output_cumulative_rms,
         })
 
     def report(self) -> str:

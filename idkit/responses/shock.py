@@ -161,19 +161,19 @@ class ShockSweep:
     def to_dataframe(self) -> pd.DataFrame:
         """One row per drop; unit-bearing column names."""
         columns = {
-            "impact_velocity_m_s": self.impact_velocity,
-            "impact_speed_m_s": self.impact_speed,
-            "drop_height_m": self.drop_height,
-            "rest_shock_level_m_s2": self.rest_shock_level,
-            "peak_accel_compression_m_s2": self.peak_acceleration_compression,
-            "peak_accel_tension_m_s2": self.peak_acceleration_tension,
+            "impact_velocity [m/s]": self.impact_velocity,
+            "impact_speed [m/s]": self.impact_speed,
+            "drop_height [m]": self.drop_height,
+            "rest_shock_level [m/s^2]": self.rest_shock_level,
+            "peak_accel_compression [m/s^2]": self.peak_acceleration_compression,
+            "peak_accel_tension [m/s^2]": self.peak_acceleration_tension,
             "governing_phase": self.governing_phase,
-            "travel_compression_m": self.travel_compression,
-            "travel_tension_m": self.travel_tension,
+            "travel_compression [m]": self.travel_compression,
+            "travel_tension [m]": self.travel_tension,
         }
         for j, name in enumerate(self.isolator_names):
-            columns[f"max_compression_{name}_m"] = self.peak_compression[:, j]
-            columns[f"max_tension_{name}_m"] = self.peak_tension[:, j]
+            columns[f"max_compression_{name} [m]"] = self.peak_compression[:, j]
+            columns[f"max_tension_{name} [m]"] = self.peak_tension[:, j]
         columns["flag"] = self.flags
         columns["status"] = list(self.reasons)
         return pd.DataFrame(columns)

@@ -214,8 +214,8 @@ class CycleSplit:
             {
                 "cycle_start": self.cycle_start,
                 "cycle_stop": self.cycle_stop,
-                "amplitude_m": self.amplitude,
-                "center_m": self.center,
+                "amplitude [m]": self.amplitude,
+                "center [m]": self.center,
                 "is_large": self.is_large,
             }
         )
@@ -375,8 +375,8 @@ class ResampledLoops:
             {
                 "branch": self.branch,
                 "source_index": self.source_index,
-                "deflection_m": self.deflection,
-                "force_N": self.force,
+                "deflection [m]": self.deflection,
+                "force [N]": self.force,
             }
         )
 

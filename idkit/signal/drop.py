@@ -249,13 +249,13 @@ class DropResult:
         """One-row table of the scalar results (SI units in the column names)."""
         return pd.DataFrame(
             {
-                "impact_time_s": [self.impact_time],
-                "impact_velocity_m_per_s": [self.impact_velocity],
-                "impact_velocity_from_height_m_per_s": [self.impact_velocity_from_height],
-                "peak_acceleration_compression_m_per_s2": [self.peak_acceleration_compression],
-                "peak_acceleration_tension_m_per_s2": [self.peak_acceleration_tension],
-                "max_compression_m": [self.max_compression],
-                "max_tension_m": [self.max_tension],
+                "impact_time [s]": [self.impact_time],
+                "impact_velocity [m/s]": [self.impact_velocity],
+                "impact_velocity_from_height [m/s]": [self.impact_velocity_from_height],
+                "peak_acceleration_compression [m/s^2]": [self.peak_acceleration_compression],
+                "peak_acceleration_tension [m/s^2]": [self.peak_acceleration_tension],
+                "max_compression [m]": [self.max_compression],
+                "max_tension [m]": [self.max_tension],
             }
         )
 
@@ -263,10 +263,10 @@ class DropResult:
         """The processed records as a table: time, deflection, relative velocity, acceleration."""
         return pd.DataFrame(
             {
-                "time_s": self.time,
-                "deflection_m": self.deflection,
-                "relative_velocity_m_per_s": self.relative_velocity,
-                "acceleration_m_per_s2": self.acceleration,
+                "time [s]": self.time,
+                "deflection [m]": self.deflection,
+                "relative_velocity [m/s]": self.relative_velocity,
+                "acceleration [m/s^2]": self.acceleration,
             }
         )
 

@@ -26,7 +26,7 @@ from scipy import signal as sps
 
 from idkit.errors import DataError
 
-__all__ = ["FrfEstimate", "estimate_frf"]
+__all__ = ["FrfEstimate", "estimate_frf", "mean_squared_relative_error"]
 
 
 @dataclass(frozen=True)
@@ -77,7 +77,7 @@ class FrfEstimate:
         """One row per frequency: freq_Hz, h1, h2 (complex), coherence, random_error."""
         return pd.DataFrame(
             {
-                "freq_Hz": self.freq,
+                "freq [Hz]": self.freq,
                 "h1": self.h1,
                 "h2": self.h2,
                 "coherence": self.coherence,
@@ -188,3 +188,28 @@ def estimate_frf(
         noverlap=noverlap,
         fs=float(fs),
     )
+
+
+def mean_squared_relative_error(predicted, measured, axis: int | None = None):
+    """``mean |predicted - measured|^2 / |measured|^2`` over the points of one set (squared (7.5)).
+
+    Parameters
+    ----------
+    predicted, measured : array_like (complex)
+        Model and measurement at the same points (broadcast); ``measured`` non-zero.
+    axis : int, optional
+        Axis of the points; default all (a float).
+
+    Returns
+    -------
+    float or ndarray
+
+    Examples
+    --------
+    >>> mean_squared_relative_error(np.array([1.5, 2.0]), np.array([1.0, 2.0]))
+    0.125
+    """
+    predicted = np.asarray(predicted)
+    measured = np.asarray(measured)
+    mean = np.mean(np.abs(predicted - measured) ** 2 / np.abs(measured) ** 2, axis=axis)
+    return float(mean) if axis is None else mean

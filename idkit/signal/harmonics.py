@@ -104,7 +104,7 @@ class HarmonicFit:
                 "order": orders,
                 "value": values,
                 "amplitude": np.abs(values),
-                "phase_rad": np.angle(values),
+                "phase [rad]": np.angle(values),
             }
         )
 
@@ -311,11 +311,11 @@ class HosidfResult:
         values = np.concatenate([[self.bias, self.subharmonic], self.hosidf]).astype(complex)
         return pd.DataFrame(
             {
-                "freq_Hz": self.freq,
+                "freq [Hz]": self.freq,
                 "order": orders,
                 "value": values,
                 "magnitude": np.abs(values),
-                "phase_rad": np.angle(values),
+                "phase [rad]": np.angle(values),
             }
         )
 
@@ -438,7 +438,7 @@ class InputFlatness:
         """One row per sweep point: freq_Hz, amplitude, amplitude relative to the maximum."""
         return pd.DataFrame(
             {
-                "freq_Hz": self.freq,
+                "freq [Hz]": self.freq,
                 "amplitude": self.amplitude,
                 "relative_to_max": self.amplitude / self.amplitude.max(),
             }

@@ -156,7 +156,7 @@ class PsdProfile:
         """Breakpoint table: freq_Hz, level, slope of the segment starting there (dB/oct)."""
         slopes = np.append(self.slopes_db_per_octave, np.nan)
         return pd.DataFrame(
-            {"freq_Hz": self.freq, "level": self.level, "slope_dB_per_octave": slopes}
+            {"freq [Hz]": self.freq, "level": self.level, "slope [dB/octave]": slopes}
         )
 
 
@@ -262,7 +262,7 @@ class PsdEstimate:
 
     def to_dataframe(self) -> pd.DataFrame:
         """One row per frequency: freq_Hz, psd."""
-        return pd.DataFrame({"freq_Hz": self.freq, "psd": self.psd})
+        return pd.DataFrame({"freq [Hz]": self.freq, "psd": self.psd})
 
 
 def welch_psd(

@@ -183,7 +183,7 @@ class ShockResponseSpectrum:
         """One row per natural frequency: freq_Hz, positive, negative, maximax."""
         return pd.DataFrame(
             {
-                "freq_Hz": self.freq,
+                "freq [Hz]": self.freq,
                 "positive": self.positive,
                 "negative": self.negative,
                 "maximax": self.maximax,

@@ -11,6 +11,7 @@ from idkit.errors import SimulationError
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
 from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS, run_harmonic_batch
 from idkit.simulate._parallel import run_chunked
+from idkit.models.laws import hybrid_displacements, sdof_transmissibility
 
 __all__ = ["HarmonicResponse", "harmonic_response", "default_steps_per_period", "small_amplitude_resonance",
            "linear_initial_state"]
@@ -127,16 +128,12 @@ def linear_initial_state(system, freq, amplitude):
     masses = arrays.masses
     stiffness = [isolator.small_amplitude_stiffness(freq) for isolator in system.isolators]
     if arrays.ndof == 1:
-        top = stiffness[0] / (stiffness[0] - masses[0] * omega**2) * base
+        top = sdof_transmissibility(stiffness[0], masses[0], omega) * base
         positions = top[:, None]
         deflections = (top - base)[:, None]
     else:
-        k_up, k_low = stiffness
-        a11 = k_up - masses[0] * omega**2
-        a22 = k_up + k_low - masses[1] * omega**2
-        determinant = a11 * a22 - k_up * k_up
-        top = k_up * k_low * base / determinant
-        middle = a11 * k_low * base / determinant
+        top, middle = hybrid_displacements(stiffness[0], stiffness[1], masses[0], masses[1], omega)
+        top, middle = top * base, middle * base
         positions = np.column_stack([top, middle])
         deflections = np.column_stack([top - middle, middle - base])
     q0 = positions.real

@@ -1,4 +1,16 @@
-"""The transport-tool systems of SPEC 6 (thesis chapter 8), tuned to one resonance.
+"""The transport-tool study of SPEC 6 (thesis chapter 8): systems tuned to one resonance, compared.
+
+Which isolation system protects a payload best? The reference (viscous), the elastomer,
+the wire rope and seven hybrids, all tuned to a 5 Hz small-amplitude resonance
+(:func:`transport_systems`), are compared by :func:`compute_transport_study` on
+
+* output acceleration PSDs for the six flat floor levels of SPEC 5 (30 seeded
+  realizations, Welch; :func:`idkit.responses.random_vibration.random_response`),
+* the rest shock level versus impact velocity and drop height
+  (:func:`idkit.responses.shock.shock_sweep`, conditioned free fall).
+
+Compute only: the figures are drawn by :mod:`idkit.plot.studies`, the files written by
+:mod:`idkit.report.study_files`.
 
 Every system is tuned to a small-amplitude resonance at ``target_freq`` (5 Hz):
 
@@ -23,8 +35,20 @@ import pandas as pd
 
 from idkit.errors import ParameterError
 from idkit.models import GeneralizedMaxwell, HybridSystem, IwanModel, SDOFSystem, VoigtModel, library
+from idkit.responses.random_vibration import FLAT_LEVELS, random_response
+from idkit.responses.shock import shock_sweep
+from idkit.signal.psd import PsdProfile
 
-__all__ = ["TransportSystem", "transport_systems", "RK_VALUES", "tuning_table"]
+__all__ = [
+    "RK_VALUES",
+    "OutputPsd",
+    "TransportStudy",
+    "TransportSystem",
+    "compute_transport_study",
+    "quick_transport_options",
+    "transport_systems",
+    "tuning_table",
+]
 
 RK_VALUES = (0.1, 0.2, 0.4, 0.6, 0.8, 1.0, 1.25)
 
@@ -108,3 +132,164 @@ def tuning_table(systems: list[TransportSystem], target_freq: float = 5.0) -> pd
             row["r_k achieved [-]"] = system.lower.g1 / elastomer_k
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+@dataclass(frozen=True)
+class OutputPsd:
+    """Mean output acceleration PSD of one system at one flat floor level.
+
+    Attributes
+    ----------
+    level : float
+        Flat floor PSD level over 0.1-100 Hz, (m/s^2)^2/Hz.
+    system : str
+        Name of the tuned system.
+    freq : ndarray
+        Frequencies in Hz.
+    output_psd : ndarray
+        Top acceleration PSD in (m/s^2)^2/Hz.
+    """
+
+    level: float
+    system: str
+    freq: np.ndarray
+    output_psd: np.ndarray
+
+
+@dataclass(frozen=True)
+class TransportStudy:
+    """Numbers of the transport-tool study.
+
+    Attributes
+    ----------
+    tuning : DataFrame
+        Masses and tuning checks per system (:func:`tuning_table`).
+    rms : DataFrame
+        RMS top acceleration (m/s^2) per system (rows) and flat input level (columns,
+        (m/s^2)^2/Hz; the input RMS is sqrt(level x 99.9 Hz)).
+    shock_velocity, shock_height : DataFrame
+        Rest shock level (m/s^2) per system (columns) versus |v0| (m/s) / h (m).
+    psd : tuple of OutputPsd
+        One per level and system, levels in the order computed.
+    seed, n_realizations : int
+        Seed and number of random realizations per level.
+    flagged_runs : int
+        Simulations flagged by the kernel (random and shock runs together).
+    """
+
+    tuning: pd.DataFrame
+    rms: pd.DataFrame
+    shock_velocity: pd.DataFrame
+    shock_height: pd.DataFrame
+    psd: tuple[OutputPsd, ...]
+    seed: int
+    n_realizations: int
+    flagged_runs: int
+
+    @property
+    def levels(self) -> list[float]:
+        """Floor levels of the PSDs, ascending, (m/s^2)^2/Hz."""
+        return sorted({item.level for item in self.psd})
+
+    def psd_at(self, level: float) -> tuple[OutputPsd, ...]:
+        """The output PSDs of every system at floor level ``level``."""
+        return tuple(item for item in self.psd if item.level == level)
+
+    def psd_table(self) -> pd.DataFrame:
+        """Every output PSD in long format (level, system, frequency, PSD)."""
+        return pd.concat([pd.DataFrame({"level [(m/s^2)^2/Hz]": item.level, "system": item.system,
+                                        "freq [Hz]": item.freq, "output PSD [(m/s^2)^2/Hz]": item.output_psd})
+                          for item in self.psd])
+
+    def summary_table(self, heights=(0.02, 0.05, 0.10)) -> pd.DataFrame:
+        """RMS per system and level, and rest shock at a few drop heights (m; interpolated)."""
+        table = self.rms.copy()
+        for height in heights:
+            table[f"rest shock at h = {height * 100:g} cm [m/s^2]"] = [
+                float(np.interp(height, self.shock_height.index.to_numpy(), self.shock_height[name].to_numpy()))
+                for name in table.index
+            ]
+        return table
+
+
+def quick_transport_options(*, max_speed: float = 1.0, max_height: float = 0.15) -> dict:
+    """Settings of a quick study: two levels, 4 realizations, two hybrids, 8 speeds and 6 heights.
+
+    Parameters
+    ----------
+    max_speed : float
+        Highest impact speed |v0| in m/s (from 0.02 m/s).
+    max_height : float
+        Highest drop height in m (from 1 cm).
+    """
+    return dict(levels=(1e-6, 1e-3), n_realizations=4, r_k_values=(0.2, 1.0),
+                speeds=np.linspace(0.02, max_speed, 8), heights=np.linspace(0.01, max_height, 6))
+
+
+def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVELS, n_realizations: int = 30,
+                            seed: int = 2026, r_k_values=RK_VALUES, speeds=None, heights=None, workers=None,
+                            progress=None) -> TransportStudy:
+    """Run the study; models default to the study's identified parts (Tables 7.1, 7.3).
+
+    Parameters
+    ----------
+    wire_rope, elastomer : IwanModel, GeneralizedMaxwell, optional
+        Identified components (e.g. from ``idkit fit``).
+    levels : sequence of float
+        Flat floor PSD levels over 0.1-100 Hz, (m/s^2)^2/Hz.
+    n_realizations, seed : int
+        Random realizations per level and the seed (each level and system uses
+        ``seed``; the same floor signals drive every system).
+    r_k_values : sequence of float
+        Stiffness ratios of the hybrids (:func:`transport_systems`).
+    speeds, heights : array_like, optional
+        Impact speeds |v0| (m/s) and drop heights (m) of the shock sweeps
+        (defaults 0.01-1.0 m/s and 0.5-15 cm).
+    workers : int, optional
+        Simulation threads.
+    progress : callable(done, total), optional
+        One unit per (system, level) and per shock sweep.
+
+    Returns
+    -------
+    TransportStudy
+    """
+    systems = transport_systems(wire_rope=wire_rope, elastomer=elastomer, r_k_values=r_k_values)
+    speeds = np.linspace(0.01, 1.0, 40) if speeds is None else np.asarray(speeds, dtype=float)
+    heights = np.linspace(0.005, 0.15, 30) if heights is None else np.asarray(heights, dtype=float)
+    total = len(systems) * (len(levels) + 2)
+    done = 0
+    rms_rows, psd, flagged = {}, [], 0
+    velocity_table, height_table = {}, {}
+    for item in systems:
+        rms_rows[item.name] = {}
+        for level in levels:
+            profile = PsdProfile.flat(level, f_lo=0.1, f_hi=100.0)
+            result = random_response(item.system, profile, seed=seed, n_realizations=n_realizations, workers=workers)
+            flagged += int((result.flags != 0).sum())
+            rms_rows[item.name][level] = result.output_rms
+            psd.append(OutputPsd(float(level), item.name, result.freq, result.output_psd))
+            done += 1
+            if progress is not None:
+                progress(done, total)
+        by_speed = shock_sweep(item.system, impact_velocity=-speeds, workers=workers)
+        velocity_table[item.name] = by_speed.rest_shock_level
+        done += 1
+        by_height = shock_sweep(item.system, drop_height=heights, workers=workers)
+        height_table[item.name] = by_height.rest_shock_level
+        flagged += int((by_speed.flags != 0).sum() + (by_height.flags != 0).sum())
+        done += 1
+        if progress is not None:
+            progress(done, total)
+    rms = pd.DataFrame(rms_rows).T
+    rms.columns = [f"{level:g} [(m/s^2)^2/Hz]" for level in rms.columns]
+    rms.index.name = "system"
+    # order the PSDs level by level (every system at the first level, then the next)
+    ordered = tuple(sorted(psd, key=lambda item: list(levels).index(item.level)))
+    return TransportStudy(
+        tuning=tuning_table(systems),
+        rms=rms,
+        shock_velocity=pd.DataFrame(velocity_table, index=pd.Index(speeds, name="impact speed [m/s]")),
+        shock_height=pd.DataFrame(height_table, index=pd.Index(heights, name="drop height [m]")),
+        psd=ordered, seed=int(seed), n_realizations=int(n_realizations), flagged_runs=flagged,
+    )

@@ -7,11 +7,12 @@ import pandas as pd
 
 from idkit.errors import DataError, ValidationError
 from idkit.io import WhiteNoiseMeasurement
-from idkit.observe.white_noise import frf_from_white_noise
+from idkit.signal.frf import mean_squared_relative_error
+from idkit.observe.white_noise import FRF_RESOLUTION_HZ, frf_from_white_noise
 from idkit.validate.result import ValidationResult, check_thresholds
 from idkit.validate.systems import system_for
 
-__all__ = ["validate_frf", "FRF_THRESHOLDS", "FRF_VALIDATION_RESOLUTION_HZ", "half_power_damping"]
+__all__ = ["validate_frf", "FRF_THRESHOLDS", "half_power_damping"]
 
 #: Default limits: the error (7.5) of the worst measurement (RMS of |H_model - H_meas| /
 #: |H_meas| over the band, a fraction), the largest relative error of the resonance
@@ -42,16 +43,10 @@ def half_power_damping(freq: np.ndarray, magnitude: np.ndarray) -> tuple[float, 
     return float(freq[index]), float((f2 - f1) / (2.0 * freq[index]))
 
 
-#: Frequency step (Hz) of the measured H1 in the FRF validation: finer than the fit's
-#: :data:`~idkit.observe.white_noise.FRF_RESOLUTION_HZ` because the damping ratio is read
-#: from the -3 dB width, ``2 zeta f_n`` (0.43 Hz for zeta = 0.02 at 11 Hz): the window bias
-#: of a peak is about ``-(1.5 df / (2 zeta f_n))^2 / 3`` (:func:`idkit.signal.frf.estimate_frf`),
-#: so 0.5 Hz lines read such a mount's own damping 1-4 dB off; 0.25 Hz keeps it within 1 dB.
-FRF_VALIDATION_RESOLUTION_HZ = 0.25
 
 
 def validate_frf(measurements, *, system=None, isolator=None, band=(1.0, 100.0),
-                 resolution_hz: float = FRF_VALIDATION_RESOLUTION_HZ, thresholds: dict | None = None,
+                 resolution_hz: float = FRF_RESOLUTION_HZ, thresholds: dict | None = None,
                  name: str = "white-noise FRF") -> ValidationResult:
     """Error (7.5) and resonance/damping per held-out white-noise measurement.
 
@@ -63,12 +58,11 @@ def validate_frf(measurements, *, system=None, isolator=None, band=(1.0, 100.0),
         The model to validate (:func:`idkit.validate.systems.system_for`).
     band : (float, float), default (1, 100)
         Band compared, Hz.
-    resolution_hz : float, default :data:`FRF_VALIDATION_RESOLUTION_HZ` (0.25 Hz)
+    resolution_hz : float, default :data:`~idkit.observe.white_noise.FRF_RESOLUTION_HZ`
         Frequency step of the measured H1: the one estimate of a white-noise run,
         :func:`idkit.observe.white_noise.frf_from_white_noise` (top over base velocity,
-        acceleration when there are no velocities). With
-        ``resolution_hz=FRF_RESOLUTION_HZ`` it is the very H1 the Maxwell fit uses; the
-        default is finer so that the -3 dB width resolves lightly damped mounts.
+        acceleration when there are no velocities); by default the very H1 the Maxwell fit
+        uses.
     thresholds : dict, optional
         Overrides of :data:`FRF_THRESHOLDS`.
     name : str
@@ -102,7 +96,7 @@ def validate_frf(measurements, *, system=None, isolator=None, band=(1.0, 100.0),
         predicted = model.transmissibility(estimate.freq)
         if np.any(np.abs(estimate.h1) == 0) or not np.all(np.isfinite(estimate.h1)):
             raise ValidationError(f"{where}: measured H1 has zero or non-finite values in the band")
-        error = float(np.sqrt(np.mean(np.abs(predicted - estimate.h1) ** 2 / np.abs(estimate.h1) ** 2)))
+        error = float(np.sqrt(mean_squared_relative_error(predicted, estimate.h1)))
         f_meas, zeta_meas = half_power_damping(estimate.freq, np.abs(estimate.h1))
         f_model, zeta_model = half_power_damping(estimate.freq, np.abs(predicted))
         rows.append({"id": info.id, "top mass [kg]": info.top_mass_kg, "repetition": info.repetition,

@@ -7,7 +7,7 @@ for staging leftovers, and asserts the exit status and the words of the message.
 Categories: an output overlapping an input (equal, inside, containing, through a symlink);
 output locations that cannot work (missing folder, below a regular file, a folder where a
 file is expected, read-only, full disk); existing outputs (refused without ``--force``,
-untouched); a write failing half way; and kill tests of ``demo --force`` and
+untouched); a write failing half way; and kill tests of ``study elastomer --force`` and
 ``report --force`` at the folder swap (``SIGTERM`` and ``SIGKILL``, paused there by the
 test hook :data:`idkit.atomic.SWAP_PAUSE_VARIABLE`).
 
@@ -144,14 +144,14 @@ def test_transport_study_output_containing_its_model_files_is_refused(model_file
     check(outcome, "error", ["contains the input", str(model_file)], case="study transport -o contains input")
 
 
-def test_demo_never_replaces_the_working_folder_or_its_parents(tmp_path, monkeypatch):
+def test_study_never_replaces_the_working_folder_or_its_parents(tmp_path, monkeypatch):
     work = tmp_path / "work"
     work.mkdir()
     (work / "precious.txt").write_text("keep me\n")
     monkeypatch.chdir(work)
     for target in (work, tmp_path, "."):
-        outcome = run_main(["demo", "-o", target, "--force", "--quick", "--quiet"], inputs=[work])
-        check(outcome, "error", ["working folder"], case="demo -o cwd or a parent --force")
+        outcome = run_main(["study", "elastomer", "-o", target, "--force", "--quick", "--quiet"], inputs=[work])
+        check(outcome, "error", ["working folder"], case="study -o cwd or a parent --force")
 
 
 # --- output locations that cannot work -----------------------------------------------------------
@@ -176,7 +176,7 @@ def test_library_into_a_missing_folder_or_below_a_file(regular_file, tmp_path):
         check(outcome, "error", [words], case=f"library -o {words}")
 
 
-@pytest.mark.parametrize("command", [["demo", "--quick"], ["study", "wire-rope", "--quick"],
+@pytest.mark.parametrize("command", [["study", "wire-rope", "--quick"],
                                      ["data", "generate", "--quick"], ["report", "{set}", "--quick"]])
 def test_folder_outputs_below_a_regular_file_are_refused(command, regular_file, measurement_set):
     target = regular_file / "out"
@@ -185,9 +185,9 @@ def test_folder_outputs_below_a_regular_file_are_refused(command, regular_file, 
     check(outcome, "error", ["which is a file", str(regular_file)], case=f"{command[0]} -o below a file")
 
 
-def test_demo_will_not_replace_a_regular_file_by_a_folder(regular_file):
-    outcome = run_main(["demo", "-o", regular_file, "--force", "--quick", "--quiet"], inputs=[regular_file])
-    check(outcome, "error", ["not a folder", str(regular_file)], case="demo -o regular file --force")
+def test_study_will_not_replace_a_regular_file_by_a_folder(regular_file):
+    outcome = run_main(["study", "elastomer", "-o", regular_file, "--force", "--quick", "--quiet"], inputs=[regular_file])
+    check(outcome, "error", ["not a folder", str(regular_file)], case="study -o regular file --force")
 
 
 def test_fit_plots_below_a_file_stop_before_the_model_file_is_written(measurement_set, regular_file, tmp_path):
@@ -281,7 +281,7 @@ def test_an_unforeseen_os_error_is_an_idkit_error_naming_its_path(tmp_path, monk
 
 # --- existing outputs ----------------------------------------------------------------------------
 
-@pytest.mark.parametrize("command", [["demo", "--quick"], ["study", "elastomer", "--quick"], ["report", "{set}"]])
+@pytest.mark.parametrize("command", [["study", "elastomer", "--quick"], ["report", "{set}"]])
 def test_existing_output_folder_without_force_is_refused_untouched(command, measurement_set, tmp_path):
     target = tmp_path / "out"
     _old_output(target)
@@ -339,7 +339,7 @@ def _kill_at_swap(argv, target: Path, point: str, signum: int, tmp_path: Path):
     process = _start_paused(argv, point, flag)
     try:
         new = _manifest(target if point == "after" else _staged(target))
-        last = {"demo": "summary.json", "report": "report.html"}[str(argv[0])]  # written last: complete
+        last = {"study": "summary.json", "report": "report.html"}[str(argv[0])]  # written last: complete
         assert new != old and last in new
     except BaseException:
         process.kill()
@@ -355,37 +355,37 @@ def _leftovers(target: Path) -> list[str]:
 
 
 @pytest.mark.parametrize("point", ["between"])
-def test_demo_sigterm_at_the_swap_keeps_the_old_output(tmp_path, point):
-    target = tmp_path / "demo"
-    status, err, old, _ = _kill_at_swap(["demo", "-o", target, "--force", "--quick", "--quiet"], target, point,
+def test_study_sigterm_at_the_swap_keeps_the_old_output(tmp_path, point):
+    target = tmp_path / "study"
+    status, err, old, _ = _kill_at_swap(["study", "elastomer", "-o", target, "--force", "--quick", "--quiet"], target, point,
                                         signal.SIGTERM, tmp_path)
     assert status == 128 + signal.SIGTERM and "terminated" in err and "Traceback" not in err
     assert _manifest(target) == old
     assert _leftovers(target) == []
 
 
-def test_demo_sigkill_between_the_renames_is_recovered_by_the_next_run(tmp_path):
-    target = tmp_path / "demo"
-    status, _, old, _ = _kill_at_swap(["demo", "-o", target, "--force", "--quick", "--quiet"], target, "between",
+def test_study_sigkill_between_the_renames_is_recovered_by_the_next_run(tmp_path):
+    target = tmp_path / "study"
+    status, _, old, _ = _kill_at_swap(["study", "elastomer", "-o", target, "--force", "--quick", "--quiet"], target, "between",
                                       signal.SIGKILL, tmp_path)
     assert status == -signal.SIGKILL
     assert not target.exists()  # the one instant the name points nowhere: between the two renames
     assert any(".old." in name for name in _leftovers(target))
-    outcome = run_main(["demo", "-o", target, "--quick", "--quiet"], inputs=[], watch=[tmp_path])
-    check(outcome, "error", ["exists", "--force"], case="demo after SIGKILL at the swap (recovered)")
+    outcome = run_main(["study", "elastomer", "-o", target, "--quick", "--quiet"], inputs=[], watch=[tmp_path])
+    check(outcome, "error", ["exists", "--force"], case="study after SIGKILL at the swap (recovered)")
     assert _manifest(target) == old
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("point", ["before", "after"])
-def test_demo_sigkill_before_or_after_the_renames_leaves_old_or_new(tmp_path, point):
-    target = tmp_path / "demo"
-    status, _, old, new = _kill_at_swap(["demo", "-o", target, "--force", "--quick", "--quiet"], target, point,
+def test_study_sigkill_before_or_after_the_renames_leaves_old_or_new(tmp_path, point):
+    target = tmp_path / "study"
+    status, _, old, new = _kill_at_swap(["study", "elastomer", "-o", target, "--force", "--quick", "--quiet"], target, point,
                                         signal.SIGKILL, tmp_path)
     assert status == -signal.SIGKILL
     assert _manifest(target) == (old if point == "before" else new)
-    outcome = run_main(["demo", "-o", target, "--quick", "--quiet"], watch=[tmp_path])  # cleans the leftovers
-    check(outcome, "error", ["exists"], case=f"demo after SIGKILL {point} the swap")
+    outcome = run_main(["study", "elastomer", "-o", target, "--quick", "--quiet"], watch=[tmp_path])  # cleans the leftovers
+    check(outcome, "error", ["exists"], case=f"study after SIGKILL {point} the swap")
     assert _manifest(target) == (old if point == "before" else new)
 
 

@@ -86,13 +86,14 @@ def test_inspect_fit_and_validation_estimate_the_identical_h1():
     run = _white_noise(3.0, seed=4)
     inspected = frf_from_white_noise(run, band=(1.0, 100.0))
     (fitted,), _ = transmissibility_sets([run], band=(1.0, 100.0))
-    validated = validate_frf([run], isolator=ELASTOMER, resolution_hz=FRF_RESOLUTION_HZ)
+    validated = validate_frf([run], isolator=ELASTOMER)  # the defaults: one resolution for all three
     curve = validated.details["curves"][run.id]
     assert np.array_equal(inspected.freq, fitted.freq) and np.array_equal(inspected.h1, fitted.transmissibility)
     assert np.array_equal(curve["freq [Hz]"].to_numpy(), inspected.freq)
     assert np.array_equal(curve["H1 measured"].to_numpy(), inspected.h1)
-    # 0.5 Hz lines from the time column: 2000-sample segments at 1000 Hz
-    assert inspected.estimate.nperseg == 2000 and inspected.freq[1] - inspected.freq[0] == 0.5
+    # FRF_RESOLUTION_HZ lines from the time column: 4000-sample segments at 1000 Hz
+    assert FRF_RESOLUTION_HZ == 0.25
+    assert inspected.estimate.nperseg == 4000 and inspected.freq[1] - inspected.freq[0] == 0.25
 
 
 def test_a_band_above_nyquist_is_clipped_with_a_warning_and_a_note():

@@ -79,7 +79,7 @@ def test_table_and_report():
     assert result.orders == (0.5, 1.0, 2.0)
     table = result.to_dataframe()
     assert len(table) == 3 * 2 * 3
-    assert {"freq_Hz", "amplitude_m", "order", "magnitude", "phase_deg", "half_range_m", "converged"} <= set(table)
+    assert {"freq [Hz]", "amplitude [m]", "order", "magnitude", "phase [deg]", "half_range [m]", "converged"} <= set(table)
     first = table[table.order == 1.0]
     assert np.allclose(first.magnitude.to_numpy(), result.magnitude(1).ravel())
     assert "3/... converged" not in result.report() and "6/6 converged" in result.report()

@@ -63,7 +63,7 @@ def test_small_amplitude_hybrid_transmissibility_solves_the_two_mass_equations()
     assert np.allclose(frf.transmissibility, expected, rtol=1e-10)
     assert np.allclose(frf.stiffness, 1 / (1 / upper + 1 / lower), rtol=EXACT)
     assert len(frf.component_stiffness) == 2
-    assert {"freq_Hz", "H_magnitude", "isolator_1_loss_factor"} <= set(frf.to_dataframe())
+    assert {"freq [Hz]", "H_magnitude [-]", "isolator_1_loss_factor [-]"} <= set(frf.to_dataframe())
 
 
 @pytest.mark.parametrize("isolator, mass", [

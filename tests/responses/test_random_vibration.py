@@ -101,7 +101,7 @@ def test_reproducible_with_a_seed_and_different_without():
     other = random_response(system, profile, seed=4, n_realizations=2, oversample=1)
     assert np.array_equal(first.output_psd, again.output_psd)
     assert not np.allclose(first.output_psd, other.output_psd)
-    assert {"freq_Hz", "output_psd", "linear_output_psd"} <= set(first.to_dataframe())
+    assert {"freq [Hz]", "output_psd [(m/s^2)^2/Hz]", "linear_output_psd [(m/s^2)^2/Hz]"} <= set(first.to_dataframe())
 
 
 def test_nonlinear_systems_are_labelled_and_flat_levels():

@@ -66,7 +66,7 @@ def test_hybrid_reports_both_components():
     assert sweep.isolator_names == ("upper", "lower")
     assert sweep.peak_compression.shape == (2, 2) and np.all(sweep.peak_compression > 0)
     table = sweep.to_dataframe()
-    assert {"max_compression_upper_m", "max_tension_lower_m", "governing_phase"} <= set(table)
+    assert {"max_compression_upper [m]", "max_tension_lower [m]", "governing_phase"} <= set(table)
     duration, step = default_shock_grid(library.get("hybrid_asymmetric"))
     assert sweep.duration == duration and sweep.time_step == step
 

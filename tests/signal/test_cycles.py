@@ -93,7 +93,7 @@ def test_split_cycles_amplitudes_and_classification():
     assert split.branch_direction.tolist() == [-1, 1, -1, 1, -1, 1, -1]
     table = split.to_dataframe()
     assert list(table.columns) == [
-        "cycle_start", "cycle_stop", "amplitude_m", "center_m", "is_large"
+        "cycle_start", "cycle_stop", "amplitude [m]", "center [m]", "is_large"
     ]
     assert len(table) == 3
 

@@ -81,7 +81,7 @@ def test_h1_is_coherence_times_h2_and_h2_is_biased_up_by_output_noise():
     assert np.all(np.abs(est.h2) >= np.abs(est.h1))
     assert est.noverlap == 1365
     assert est.freq[0] >= 1.0 and est.freq[-1] <= 200.0
-    assert list(est.to_dataframe().columns) == ["freq_Hz", "h1", "h2", "coherence", "random_error"]
+    assert list(est.to_dataframe().columns) == ["freq [Hz]", "h1", "h2", "coherence", "random_error"]
 
 
 def test_estimate_frf_checks_its_inputs():

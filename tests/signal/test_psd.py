@@ -38,7 +38,7 @@ def test_profile_from_slopes_in_db_per_octave():
     np.testing.assert_allclose(profile.level, [0.01, 0.04, 0.04, 0.04 * (350 / 2000) ** 2],
                                rtol=1e-12)
     assert float(profile(40.0)) == pytest.approx(0.02, rel=1e-12)
-    assert list(profile.to_dataframe().columns) == ["freq_Hz", "level", "slope_dB_per_octave"]
+    assert list(profile.to_dataframe().columns) == ["freq [Hz]", "level", "slope [dB/octave]"]
 
 
 @pytest.mark.parametrize("levels", [[1e-3, 1e-2, 1e-2, 1e-4], [1e-2, 1e-3, 1e-3, 1e-6]])

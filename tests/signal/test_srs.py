@@ -80,7 +80,7 @@ def test_srs_limits_impulse_and_static():
     # Far above, the oscillator follows the pulse: SRS -> A (undamped overshoot of a
     # half-sine at fn tau = 55 is ~ 1 / (2 fn tau) ~ 1 %)
     assert srs.maximax[1] == pytest.approx(AMPLITUDE, rel=0.02)
-    assert list(srs.to_dataframe().columns) == ["freq_Hz", "positive", "negative", "maximax"]
+    assert list(srs.to_dataframe().columns) == ["freq [Hz]", "positive", "negative", "maximax"]
 
 
 def test_srs_checks_its_inputs():

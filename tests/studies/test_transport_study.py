@@ -1,29 +1,25 @@
-"""The transport-tool study end to end (quick settings) and its tables."""
-
-import json
+"""The transport-tool study computes a typed result; seeded and reproducible."""
 
 import numpy as np
 import pytest
 
-from idkit.report.transport import compute_transport_study, run_transport_study
+from idkit.studies.transport import OutputPsd, compute_transport_study, quick_transport_options
 
 
-def test_quick_transport_study_writes_numbers_and_figures(tmp_path):
-    out = tmp_path / "transport"
-    study = run_transport_study(out, quick=True, seed=5)
-    names = {p.name for p in out.iterdir()}
-    assert {"transport_output_psd.png", "transport_rest_shock.png", "transport_rms.csv",
-            "transport_tuning.csv", "transport_shock_vs_height.csv", "summary.json"} <= names
-    summary = json.loads((out / "summary.json").read_text())
-    assert summary["seed"] == 5 and summary["n_realizations"] == 4
+def test_quick_transport_study_numbers():
+    study = compute_transport_study(seed=5, **quick_transport_options())
     # systems: reference, elastomer, wire rope and the two quick hybrids
     assert list(study.rms.index) == ["reference", "elastomer", "wire rope", "hybrid r_k=0.2", "hybrid r_k=1"]
     # linear systems: output RMS scales with the square root of the input level (1e-6 -> 1e-3: x sqrt(1000))
     for name in ("reference", "elastomer"):
         ratio = study.rms.loc[name].iloc[1] / study.rms.loc[name].iloc[0]
         assert ratio == pytest.approx(np.sqrt(1e3), rel=1e-6)
-    with pytest.raises(FileExistsError):
-        run_transport_study(out, quick=True)
+    assert study.levels == [1e-6, 1e-3]
+    assert all(isinstance(item, OutputPsd) for item in study.psd) and len(study.psd) == 2 * 5
+    assert [item.system for item in study.psd_at(1e-3)] == list(study.rms.index)
+    table = study.psd_table()
+    assert list(table.columns) == ["level [(m/s^2)^2/Hz]", "system", "freq [Hz]", "output PSD [(m/s^2)^2/Hz]"]
+    assert study.summary_table().shape == (5, 2 + 3)
 
 
 def test_study_is_reproducible_with_a_seed():

@@ -1,0 +1,80 @@
+"""The one axes helper of :mod:`idkit.plot`: new figures, caller's axes, atomic saving.
+
+Every plot module asks this module for axes, so every figure is built the same way: a
+:class:`matplotlib.figure.Figure` created directly (no pyplot, no figure registry, no
+backend switch; the backend is the caller's), ``constrained`` layout, and a size that
+grows with the number of rows. matplotlib is imported only when a figure is made.
+"""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+from idkit.atomic import write_bytes_atomic
+
+__all__ = ["axes_or_new", "new_axes", "new_figure", "save_figure"]
+
+#: width of a default figure, inches
+WIDTH_IN = 6.4
+
+
+def default_size(nrows: int = 1, ncols: int = 1) -> tuple[float, float]:
+    """Width and height in inches of a figure of ``nrows`` x ``ncols`` axes (2.2 in per row)."""
+    return WIDTH_IN * max(1.0, 0.8 * ncols), 2.4 + 2.2 * nrows
+
+
+def new_figure(figsize: tuple[float, float] | None = None):
+    """An empty :class:`~matplotlib.figure.Figure` with constrained layout (``figsize`` in inches)."""
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=figsize or default_size(), layout="constrained")
+
+
+def new_axes(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float] | None = None,
+             sharex: bool = False, projection: str | None = None, squeeze: bool = True):
+    """Axes of a new figure: one Axes, or an array of them (``squeeze`` as in ``Figure.subplots``).
+
+    Parameters
+    ----------
+    nrows, ncols : int
+        Grid of axes.
+    figsize : (float, float), optional
+        Inches; default :func:`default_size`.
+    sharex : bool
+        Share the x axis (Bode pairs, stacked time series).
+    projection : str, optional
+        ``"3d"`` for a surface (one axes only).
+    squeeze : bool
+        As :meth:`matplotlib.figure.Figure.subplots`.
+
+    Examples
+    --------
+    >>> ax = new_axes()
+    >>> top, bottom = new_axes(2, sharex=True)
+    >>> ax.figure is not top.figure
+    True
+    """
+    figure = new_figure(figsize or default_size(nrows, ncols))
+    if projection is not None:
+        return figure.add_subplot(1, 1, 1, projection=projection)
+    return figure.subplots(nrows, ncols, sharex=sharex, squeeze=squeeze)
+
+
+def axes_or_new(axes, nrows: int = 1, ncols: int = 1, **options):
+    """``axes`` when the caller gave some, else :func:`new_axes` with ``options``."""
+    return axes if axes is not None else new_axes(nrows, ncols, **options)
+
+
+def save_figure(figure, path, *, overwrite: bool = True, dpi: int = 110) -> Path:
+    """Save a figure atomically (:func:`idkit.atomic.write_bytes_atomic`); the format follows the suffix.
+
+    Returns
+    -------
+    pathlib.Path
+        The written file.
+    """
+    path = Path(path)
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format=path.suffix.lstrip(".") or "png", dpi=dpi)
+    return write_bytes_atomic(path, buffer.getvalue(), overwrite=overwrite)

@@ -1,0 +1,161 @@
+"""Sensitivities of the period map propagated through the compiled step (numba).
+
+The step of :mod:`idkit.simulate._kernel` solves ``R(q; old) = 0`` for the new positions
+(average-acceleration Newmark, residual ``M a + f``). At the converged ``q`` the implicit
+function theorem gives ``dq = -J^-1 dR/d(old) d(old)`` with ``J`` the step's own Newton
+matrix; velocities and accelerations follow linearly, and the internal states by
+differentiating their exact updates: a Jenkin element that sticks in the step
+(``|F + k dy| <= Fc``) carries ``dF + k d(dy)``, a slipping one 0 (its force is pinned at the
+limit); a Maxwell element ``e du + g d(dy)``. The derivative is exact for the discrete map
+except where a Jenkin trial force lands exactly on its limit (a kink: the one-sided slope of
+the kernel's branch is taken). Bouc-Wen ``z`` (Runge-Kutta sub-steps) is not differentiated
+here: systems with Bouc-Wen elements use finite differences.
+
+Tangent layout (rows): ``q (ndof), v (ndof), a (ndof), F (ndof x nj), u (ndof x nm)``;
+columns: the independent initial values ``q, v, F, u`` (the initial acceleration follows from
+equilibrium). The functions here never call the step itself: the period-map kernel
+(:func:`idkit.responses.periodic._run_periods`) calls them around it, so that the (large,
+inlined) step is compiled once.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+
+@numba.njit(cache=True, inline="always")
+def _poly_slope(P, j, y):
+    return P[j, 0, 0] + y * (2.0 * P[j, 0, 1] + 3.0 * P[j, 0, 2] * y)
+
+
+@numba.njit(cache=True)
+def tangent_start(ndof, masses, P, state, tangent, nj, nm):
+    """Identity on the independent initial values; acceleration rows from equilibrium at t = 0
+    (``a0 = -f0 / m0``, ``a1 = (f0 - f1) / m1``, base at rest at zero)."""
+    row_a = 2 * ndof
+    row_f = 3 * ndof
+    row_u = 3 * ndof + ndof * nj
+    n_cols = tangent.shape[1]
+    tangent[:, :] = 0.0
+    for d in range(ndof):
+        tangent[d, d] = 1.0
+        tangent[ndof + d, ndof + d] = 1.0
+    for k in range(ndof * (nj + nm)):
+        tangent[row_f + k, 2 * ndof + k] = 1.0
+    slope = np.zeros(2)
+    for j in range(ndof):
+        y = state[0] - state[1] if (ndof == 2 and j == 0) else state[j]
+        slope[j] = _poly_slope(P, j, y)
+    df = np.zeros(2)
+    for c in range(n_cols):
+        for j in range(ndof):
+            if ndof == 2 and j == 0:
+                dy = tangent[0, c] - tangent[1, c]
+                dvrel = tangent[ndof, c] - tangent[ndof + 1, c]
+            else:
+                dy = tangent[j, c]
+                dvrel = tangent[ndof + j, c]
+            value = slope[j] * dy + P[j, 0, 3] * dvrel
+            for i in range(int(P[j, 0, 5])):
+                value += tangent[row_f + j * nj + i, c]
+            for i in range(int(P[j, 0, 6])):
+                value += P[j, 3, i] * tangent[row_u + j * nm + i, c]
+            df[j] = value
+        tangent[row_a, c] = -df[0] / masses[0]
+        if ndof == 2:
+            tangent[row_a + 1, c] = (df[0] - df[1]) / masses[1]
+
+
+@numba.njit(cache=True)
+def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h, tangent, nj, nm):
+    """Carry the tangent over one converged step.
+
+    ``state`` holds the new positions (``[q0, q1, ...]``), ``old_q`` and ``old_force`` the
+    positions (m) and Jenkin forces (N) before the step, ``base_old``/``base_new`` the base
+    displacement (m) at its ends, ``h`` the step (s).
+    """
+    m0 = masses[0]
+    m1 = masses[1] if ndof == 2 else 1.0
+    row_a = 2 * ndof
+    row_f = 3 * ndof
+    row_u = 3 * ndof + ndof * nj
+    n_cols = tangent.shape[1]
+    c2 = 2.0 / h
+    c4 = c2 * c2
+    slope = np.zeros(2)
+    stiff = np.zeros(2)  # d f / d(dy): stuck Jenkin stiffnesses + Maxwell gains
+    stuck = np.zeros((2, max(nj, 1)))
+    for j in range(ndof):
+        if ndof == 2 and j == 0:
+            y = state[0] - state[1]
+            step_dy = y - (old_q[0] - old_q[1])
+        elif ndof == 2:
+            y = state[1] - base_new
+            step_dy = (state[1] - old_q[1]) - (base_new - base_old)
+        else:
+            y = state[0] - base_new
+            step_dy = (state[0] - old_q[0]) - (base_new - base_old)
+        slope[j] = _poly_slope(P, j, y)
+        total = P[j, 0, 4]
+        for i in range(int(P[j, 0, 5])):
+            trial = old_force[j, i] + P[j, 1, i] * step_dy
+            if -P[j, 2, i] <= trial <= P[j, 2, i]:  # the kernel's stick test
+                stuck[j, i] = 1.0
+                total += P[j, 1, i]
+        stiff[j] = total
+    t0 = slope[0] + P[0, 0, 3] * c2 + stiff[0]
+    j00 = c4 * m0 + t0
+    j01 = 0.0
+    j11 = 1.0
+    if ndof == 2:
+        j01 = -t0
+        j11 = c4 * m1 + t0 + slope[1] + P[1, 0, 3] * c2 + stiff[1]
+    det = j00 * j11 - j01 * j01
+    dq = np.zeros(2)
+    dqn = np.zeros(2)
+    dvn = np.zeros(2)
+    dan = np.zeros(2)
+    ddy = np.zeros(2)
+    df = np.zeros(2)
+    for c in range(n_cols):
+        for d in range(ndof):
+            dqn[d] = tangent[d, c]
+            dvn[d] = tangent[ndof + d, c]
+            dan[d] = tangent[row_a + d, c]
+        # change of the residual M a + f by the old values, new positions held
+        for j in range(ndof):
+            if ndof == 2 and j == 0:
+                ddy[j] = -(dqn[0] - dqn[1])
+                dvrel = -(c2 * dqn[0] + dvn[0]) + (c2 * dqn[1] + dvn[1])
+            else:
+                ddy[j] = -dqn[j]
+                dvrel = -(c2 * dqn[j] + dvn[j])
+            value = P[j, 0, 3] * dvrel + stiff[j] * ddy[j]
+            for i in range(int(P[j, 0, 5])):
+                value += stuck[j, i] * tangent[row_f + j * nj + i, c]
+            for i in range(int(P[j, 0, 6])):
+                value += P[j, 3, i] * P[j, 4, i] * tangent[row_u + j * nm + i, c]
+            df[j] = value
+        r0 = -m0 * (c4 * dqn[0] + 2.0 * c2 * dvn[0] + dan[0]) + df[0]
+        if ndof == 2:
+            r1 = -m1 * (c4 * dqn[1] + 2.0 * c2 * dvn[1] + dan[1]) - df[0] + df[1]
+            dq[0] = -(j11 * r0 - j01 * r1) / det
+            dq[1] = -(j00 * r1 - j01 * r0) / det
+        else:
+            dq[0] = -r0 / j00
+        for d in range(ndof):
+            tangent[d, c] = dq[d]
+            tangent[ndof + d, c] = c2 * (dq[d] - dqn[d]) - dvn[d]
+            tangent[row_a + d, c] = c4 * (dq[d] - dqn[d]) - 2.0 * c2 * dvn[d] - dan[d]
+        for j in range(ndof):
+            if ndof == 2 and j == 0:
+                ddy[j] = (dq[0] - dq[1]) - (dqn[0] - dqn[1])
+            else:
+                ddy[j] = dq[j] - dqn[j]
+            for i in range(int(P[j, 0, 5])):
+                index = row_f + j * nj + i
+                tangent[index, c] = stuck[j, i] * (tangent[index, c] + P[j, 1, i] * ddy[j])
+            for i in range(int(P[j, 0, 6])):
+                index = row_u + j * nm + i
+                tangent[index, c] = P[j, 4, i] * tangent[index, c] + P[j, 5, i] * ddy[j]

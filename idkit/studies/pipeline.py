@@ -1,0 +1,314 @@
+"""The compute half of ``idkit report``: discover, fit, validate and study a data set.
+
+:func:`compute_report_data` runs the stages below and returns a typed :class:`ReportData`;
+:mod:`idkit.report.main_report` renders it (HTML, model files, tables, provenance) and
+computes nothing. Stages (each timed):
+
+1. load and inspect every measurement set under the data folder
+   (:func:`idkit.io.discover.find_measurement_sets`: one folder with a ``manifest.json``
+   per isolator: ``wire_rope``, ``elastomer``, ``hybrid``);
+2. fit the wire rope (three-stage Iwan, its parameters' spread over one refit per
+   repetition (:meth:`~idkit.fit.MeasurementFit.with_repetition_spread`); Bouc-Wen for
+   comparison) and the elastomer (bounded SQP with a global cross-check; order table
+   n = 1..4 and Voigt) on the ``fit`` split;
+3. validate both on the ``validation`` split, and the hybrid built from them on all hybrid
+   sweeps and drops (nothing was fitted to the hybrid), with the wrong components each
+   hybrid check cannot see (:func:`idkit.validate.blind_spots`);
+4. run the transport-tool study with the identified parts (:mod:`idkit.studies.transport`).
+
+``quick`` keeps the fits and checks but validates on at most :data:`QUICK_HELD_OUT`
+records per check and shrinks the transport study and the global searches.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pandas as pd
+
+from idkit.fit import maxwell_order_table
+from idkit.fit.measurements import (
+    MeasurementFit,
+    fit_boucwen_measurements,
+    fit_iwan_measurements,
+    fit_maxwell_measurements,
+)
+from idkit.fit.predictions import LoopFitPrediction, predict_loops
+from idkit.io.discover import default_data_dir, find_measurement_sets
+from idkit.models import GeneralizedMaxwell, HybridSystem, IwanModel
+from idkit.observe.quality import MeasurementSummary, summarize_measurements
+from idkit.studies.transport import TransportStudy, compute_transport_study, quick_transport_options
+from idkit.validate import ValidationResult, blind_spots, validate_drops, validate_frf, validate_harmonic
+
+__all__ = [
+    "QUICK_HELD_OUT",
+    "QUICK_NOTE",
+    "STAGES",
+    "ReportData",
+    "ValidationEntry",
+    "compute_report_data",
+    "identify_parts",
+    "valid_range_of",
+]
+
+#: held-out records per validation in quick mode
+QUICK_HELD_OUT = 8
+QUICK_NOTE = f"quick run: at most {QUICK_HELD_OUT} held-out records per validation, smaller study; not the full verdict"
+
+#: the computing stages, in order (their names label the timings)
+STAGES = (
+    "loading and inspecting the data",
+    "fitting the wire rope (three-stage Iwan, Bouc-Wen comparison)",
+    "fitting the elastomer (SQP, global cross-check, order table)",
+    "validating on held-out data",
+    "transport-tool study",
+)
+
+#: margin on the data set's deflections over which the identified spring must stay valid
+VALID_RANGE_MARGIN = 1.25
+
+
+@dataclass(frozen=True)
+class ValidationEntry:
+    """One validation of the report.
+
+    Attributes
+    ----------
+    key : str
+        Short name, e.g. ``"wire rope drops"`` (verdict tables, CSV file names).
+    isolator : {"wire rope", "elastomer", "hybrid"}
+        The report section it belongs to.
+    observable : {"sweeps", "FRF", "drops"}
+        What was compared: stepped-sine HOSIDFs, white-noise FRFs or drop peaks (it
+        chooses the figure).
+    result : ValidationResult
+    """
+
+    key: str
+    isolator: str
+    observable: str
+    result: ValidationResult
+
+
+@dataclass(frozen=True)
+class ReportData:
+    """Everything ``idkit report`` shows, computed.
+
+    Attributes
+    ----------
+    data_dir : Path
+    seed : int
+    quick : bool
+    sets : dict of str to MeasurementSet
+        Keyed by isolator (one set may serve several).
+    inspections : dict of str to MeasurementSummary
+    valid_range : (float, float)
+        Deflections (m) over which the Iwan spring was required to stay valid.
+    iwan, boucwen, maxwell : MeasurementFit
+    iwan_loops, boucwen_loops : LoopFitPrediction
+        Measured and model force along the fitted loops.
+    order_table : DataFrame
+        Maxwell error (7.5) for n = 1..4 (1, 2 in quick mode) and the Voigt model.
+    validations : tuple of ValidationEntry
+    hybrid : HybridSystem or None
+        The hybrid built from the identified parts on the masses of ``hybrid_masses_from``.
+    hybrid_masses_from : str or None
+        Id of the hybrid sweep whose masses ``hybrid`` carries.
+    transport : TransportStudy
+    timings_s : dict
+        Seconds per stage of :data:`STAGES`.
+    """
+
+    data_dir: Path
+    seed: int
+    quick: bool
+    sets: dict
+    inspections: dict[str, MeasurementSummary]
+    valid_range: tuple[float, float]
+    iwan: MeasurementFit
+    boucwen: MeasurementFit
+    iwan_loops: LoopFitPrediction
+    boucwen_loops: LoopFitPrediction
+    maxwell: MeasurementFit
+    order_table: pd.DataFrame
+    validations: tuple[ValidationEntry, ...]
+    hybrid: HybridSystem | None
+    hybrid_masses_from: str | None
+    transport: TransportStudy
+    timings_s: dict = field(default_factory=dict)
+
+    @property
+    def n_measurements(self) -> int:
+        """Measurements in the data set (a set serving two isolators counted once)."""
+        return sum(len(s.measurements) for s in {id(s): s for s in self.sets.values()}.values())
+
+    def validations_of(self, isolator: str) -> tuple[ValidationEntry, ...]:
+        """The validations of one report section (``"wire rope"``, ``"elastomer"``, ``"hybrid"``)."""
+        return tuple(entry for entry in self.validations if entry.isolator == isolator)
+
+    @property
+    def verdicts(self) -> dict[str, str]:
+        """``{key: "PASS" | "INCONCLUSIVE" | "FAIL"}``."""
+        return {entry.key: entry.result.verdict for entry in self.validations}
+
+
+def valid_range_of(measurement_set, margin: float = VALID_RANGE_MARGIN) -> tuple[float, float]:
+    """``margin`` times the lowest and highest deflection (m) of every record of the set that has one.
+
+    The identified spring must stay valid over every deflection the data set shows (drops
+    compress far beyond the quasi-static loops).
+    """
+    seen = [m.deflection for m in measurement_set.measurements if getattr(m, "deflection", None) is not None]
+    return margin * min(float(d.min()) for d in seen), margin * max(float(d.max()) for d in seen)
+
+
+class _Stages:
+    """Times the stages and announces each one."""
+
+    def __init__(self, say: Callable[[str], None]):
+        self.say = say
+        self.durations: dict[str, float] = {}
+        self._started: tuple[str, float] | None = None
+
+    def start(self, name: str) -> None:
+        self.finish()
+        self.say(name)
+        self._started = (name, time.perf_counter())
+
+    def finish(self) -> None:
+        if self._started is not None:
+            name, started = self._started
+            self.durations[name] = round(time.perf_counter() - started, 3)
+            self._started = None
+
+
+def _validations(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell,
+                 limit: int | None) -> tuple[tuple[ValidationEntry, ...], HybridSystem | None, str | None]:
+    def held_out(measurement_set, kind, split="validation"):
+        chosen = list(measurement_set.select(kind=kind, split=split))
+        return chosen[:limit] if limit else chosen
+
+    wire_rope, elastomer = sets["wire_rope"], sets["elastomer"]
+    entries = [
+        ValidationEntry("wire rope sweeps", "wire rope", "sweeps", validate_harmonic(
+            held_out(wire_rope, "stepped_sine"), isolator=wire_model,
+            name="wire rope: harmonic sweeps (validation split)")),
+        ValidationEntry("wire rope drops", "wire rope", "drops", validate_drops(
+            held_out(wire_rope, "drop"), isolator=wire_model, name="wire rope: drops (validation split)")),
+        ValidationEntry("wire rope drops, relaxation", "wire rope", "drops", validate_drops(
+            held_out(wire_rope, "drop"), isolator=wire_model, relaxation=True,
+            name="wire rope: drops with relaxation (validation split)")),
+        ValidationEntry("elastomer FRF", "elastomer", "FRF", validate_frf(
+            held_out(elastomer, "white_noise"), isolator=elastomer_model,
+            name="elastomer: white-noise FRFs (validation split)")),
+        ValidationEntry("elastomer sweeps", "elastomer", "sweeps", validate_harmonic(
+            held_out(elastomer, "stepped_sine"), isolator=elastomer_model,
+            name="elastomer: harmonic sweeps (validation split)")),
+        ValidationEntry("elastomer drops", "elastomer", "drops", validate_drops(
+            held_out(elastomer, "drop"), isolator=elastomer_model, name="elastomer: drops (validation split)")),
+    ]
+    hybrid_set = sets.get("hybrid")
+    if hybrid_set is None:
+        return tuple(entries), None, None
+    # the hybrid's components were identified elsewhere: probe which wrong ones it would miss
+    components = {"upper": elastomer_model, "lower": wire_model}
+    hybrid_sweeps, hybrid_drops = held_out(hybrid_set, "stepped_sine", None), held_out(hybrid_set, "drop", None)
+
+    def rerun_sweeps(**models):
+        return validate_harmonic(hybrid_sweeps, name="hybrid: harmonic sweeps (all; not fitted)", **models)
+
+    def rerun_drops(**models):
+        return validate_drops(hybrid_drops, name="hybrid: drops (all; not fitted)", **models)
+
+    entries.append(ValidationEntry("hybrid sweeps", "hybrid", "sweeps",
+                                   blind_spots(rerun_sweeps(**components), rerun_sweeps, components)))
+    entries.append(ValidationEntry("hybrid drops", "hybrid", "drops",
+                                   blind_spots(rerun_drops(**components), rerun_drops, components)))
+    sweep = next(iter(hybrid_set.select(kind="stepped_sine")))
+    hybrid = HybridSystem(sweep.info.top_mass_kg, elastomer_model, sweep.info.intermediate_mass_kg, wire_model)
+    return tuple(entries), hybrid, sweep.info.id
+
+
+def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026, workers: int | None = None,
+                        progress: Callable[[str], None] | None = None, start_state: str = "auto") -> ReportData:
+    """Inspect, fit, validate and study a data set (module docstring).
+
+    Parameters
+    ----------
+    data_dir : path, optional
+        Folder of measurement sets; default :func:`idkit.io.discover.default_data_dir`.
+    quick : bool
+        Validate on at most :data:`QUICK_HELD_OUT` records per check, a smaller transport
+        study, Maxwell orders 1-2 in the order table and smaller global searches.
+    seed : int
+        Seed of every stochastic step (the fits' global searches, the random vibration).
+    workers : int, optional
+        Simulation threads of the transport study.
+    progress : callable(message: str), optional
+        Receives the name of each stage as it starts.
+    start_state : {"auto", "cycled", "virgin"}
+        Start state of the wire-rope loop fits (:func:`idkit.fit.fit_iwan`).
+
+    Returns
+    -------
+    ReportData
+    """
+    stages = _Stages(progress or (lambda message: None))
+    data_dir = Path(data_dir) if data_dir is not None else default_data_dir()
+
+    stages.start(STAGES[0])
+    sets = find_measurement_sets(data_dir)
+    inspections = {isolator: summarize_measurements(s.measurements) for isolator, s in sets.items()}
+
+    stages.start(STAGES[1])
+    wire_rope = sets["wire_rope"]
+    valid_range = valid_range_of(wire_rope)
+    iwan = fit_iwan_measurements(wire_rope, seed=seed, valid_range=valid_range, initial_state=start_state)
+    iwan = iwan.with_repetition_spread()  # one refit per repetition of the fit split (a few seconds)
+    boucwen = fit_boucwen_measurements(wire_rope, seed=seed, initial_state=start_state,
+                                       **({"global_max_evals": 800} if quick else {}))
+    iwan_loops = predict_loops(iwan.model, iwan.data.small, iwan.data.large)
+    boucwen_loops = predict_loops(boucwen.model, boucwen.data.small, boucwen.data.large)
+
+    stages.start(STAGES[2])
+    maxwell = fit_maxwell_measurements(sets["elastomer"], cross_check=True, seed=seed,
+                                       **({"global_max_evals": 2000} if quick else {}))
+    # the order table is scored on the FRFs the fit used (same selection, band and resolution)
+    order_table = maxwell_order_table(list(maxwell.data), k0=maxwell.k0.k0,
+                                      orders=(1, 2) if quick else (1, 2, 3, 4))
+
+    stages.start(STAGES[3])
+    validations, hybrid, masses_from = _validations(sets, iwan.model, maxwell.model,
+                                                    QUICK_HELD_OUT if quick else None)
+
+    stages.start(STAGES[4])
+    options = quick_transport_options(max_speed=0.6, max_height=0.12) if quick else {}
+    transport = compute_transport_study(wire_rope=iwan.model, elastomer=maxwell.model, seed=seed, workers=workers,
+                                        **options)
+    stages.finish()
+    return ReportData(
+        data_dir=data_dir, seed=int(seed), quick=bool(quick), sets=sets, inspections=inspections,
+        valid_range=valid_range, iwan=iwan, boucwen=boucwen, iwan_loops=iwan_loops, boucwen_loops=boucwen_loops,
+        maxwell=maxwell, order_table=order_table, validations=validations, hybrid=hybrid,
+        hybrid_masses_from=masses_from, transport=transport, timings_s=stages.durations,
+    )
+
+
+def identify_parts(data_dir=None, *, seed: int = 2026) -> tuple[IwanModel, GeneralizedMaxwell]:
+    """The wire rope (Iwan) and elastomer (Maxwell) identified from a data folder's ``fit`` split.
+
+    The transport study's parts when no model files are given (``idkit study transport``).
+
+    Parameters
+    ----------
+    data_dir : path, optional
+        Default :func:`idkit.io.discover.default_data_dir`.
+    seed : int
+    """
+    sets = find_measurement_sets(data_dir if data_dir is not None else default_data_dir())
+    return (fit_iwan_measurements(sets["wire_rope"], seed=seed).model,
+            fit_maxwell_measurements(sets["elastomer"], seed=seed).model)
+

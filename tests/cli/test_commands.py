@@ -1,0 +1,76 @@
+"""The ``idkit`` command: version, entry point, library, simulate, the study parser."""
+
+import subprocess
+import sys
+
+import pandas as pd
+import pytest
+
+from idkit.cli.main import build_parser, main
+
+
+def test_cli_version(capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(["--version"])
+    assert stop.value.code == 0
+    assert capsys.readouterr().out.startswith("idkit ")
+
+
+def test_module_entry_point():
+    completed = subprocess.run([sys.executable, "-m", "idkit", "--version"], capture_output=True, text=True,
+                               check=True)
+    assert completed.stdout.startswith("idkit ")
+
+
+def test_cli_library_and_simulate(tmp_path, capsys):
+    model_file = tmp_path / "hybrid.json"
+    assert main(["library", "hybrid_asymmetric", "-o", str(model_file)]) == 0
+    out_csv = tmp_path / "map.csv"
+    assert main(["simulate", "harmonic", str(model_file), "--freq", "2", "20", "3", "--freq-spacing", "log",
+                 "--amplitude", "1e-4", "1e-3", "--quiet", "-o", str(out_csv)]) == 0
+    table = pd.read_csv(out_csv)
+    assert len(table) == 6 and table["converged"].all()
+    assert list(table["freq [Hz]"][:2]) == pytest.approx([2.0, 2.0])  # frequency-major, the axes as given
+    assert main(["simulate", "harmonic", str(model_file), "--freq", "5", "--amplitude", "1e-3", "--quiet",
+                 "-o", str(out_csv)]) == 2  # refuses to overwrite
+    wire_rope = tmp_path / "wr.json"
+    assert main(["library", "table_7_1_wire_rope", "-o", str(wire_rope)]) == 0
+    capsys.readouterr()
+    assert main(["simulate", "drop", str(wire_rope), "--height", "0.01", "0.05"]) == 2  # needs --mass
+    assert "give --mass" in capsys.readouterr().err
+    assert main(["simulate", "drop", str(wire_rope), "--mass", "4.33", "--height", "0.01", "0.05",
+                 "--duration", "0.2"]) == 0
+    printed = capsys.readouterr().out
+    assert "rest_shock" in printed and "ok" in printed
+
+
+def test_one_parser_with_every_command_and_study():
+    parser = build_parser()
+    args = parser.parse_args(["study", "transport", "--quick"])
+    assert args.study == "transport" and args.quick and args.output == "idkit-study-transport"
+    for name in ("wire-rope", "elastomer", "hybrid"):
+        assert parser.parse_args(["study", name]).output == f"idkit-study-{name}"
+    with pytest.raises(SystemExit):  # the demo is gone: `idkit study NAME --quick` replaces it
+        parser.parse_args(["demo"])
+
+
+def test_every_command_module_is_registered(capsys):
+    """Each ``idkit/cli/<family>.py`` with ``register(commands)`` is listed in ``build_parser``: its commands answer."""
+    import argparse
+    import importlib
+    import pkgutil
+
+    import idkit.cli
+
+    parser = build_parser()
+    for info in pkgutil.iter_modules(idkit.cli.__path__):
+        module = importlib.import_module(f"idkit.cli.{info.name}")
+        if not callable(getattr(module, "register", None)):
+            continue
+        probe = argparse.ArgumentParser(prog="probe").add_subparsers(dest="command")
+        module.register(probe)
+        for name in probe.choices:
+            with pytest.raises(SystemExit) as stop:
+                parser.parse_args([name, "--help"])
+            assert stop.value.code == 0, f"idkit {name} ({info.name}.py) is not registered"
+    capsys.readouterr()

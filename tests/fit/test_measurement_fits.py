@@ -1,0 +1,115 @@
+"""Fits of measurement sets on a small synthetic set written with idkit.io; bad input; measurement-level checks."""
+
+import numpy as np
+import pytest
+
+from idkit.errors import DataError, FitError
+from idkit.fit import fit_iwan_measurements, fit_maxwell_measurements, loop_sets, transmissibility_sets
+from idkit.models import IwanModel
+from tests.fit.small_set import ELASTOMER, TRUTH_IWAN, write_small_set
+
+
+@pytest.fixture(scope="module")
+def dataset(tmp_path_factory):
+    return write_small_set(tmp_path_factory.mktemp("set"))
+
+
+def test_measurement_level_results_on_the_small_set(dataset):
+    from idkit.io import load_measurement_set
+
+    data = load_measurement_set(dataset)
+    loops = loop_sets(data)
+    assert [s.name for s in loops.small] == ["qs_small_1", "qs_small_2"]
+    assert loops.small_repetitions == (1, 2)
+    fit = fit_iwan_measurements(data, order=2)
+    # the records change amplitude mid-cycle, so the cycled start state is approximate (errors of a few %);
+    # the parameters themselves come back: noise 0.05 N on loops of ~100 N
+    for name in ("g1", "k_1", "k_2"):
+        assert fit.model.params()[name] == pytest.approx(TRUTH_IWAN.params()[name], rel=0.02)
+    for name in ("fc_1", "fc_2"):  # slip forces absorb the start-state mismatch
+        assert fit.model.params()[name] == pytest.approx(TRUTH_IWAN.params()[name], rel=0.20)
+    assert fit.result.error_large < 0.10
+    maxwell = fit_maxwell_measurements(data)
+    assert maxwell.k0.k0 == pytest.approx(ELASTOMER.k0, rel=1e-3)
+    assert maxwell.result.error < 0.02
+    assert maxwell.model.k[1] == pytest.approx(ELASTOMER.k[1], rel=0.05)
+    assert maxwell.result.parameters["k0"].stderr == maxwell.k0.stderr
+
+
+def test_bad_frfs_and_orders_raise_fit_error(dataset):
+    from idkit.io import load_measurement_set
+    from idkit.fit import TransmissibilitySet, fit_maxwell
+
+    frfs, _ = transmissibility_sets(load_measurement_set(dataset))
+    broken = [TransmissibilitySet(f.mass, f.freq, np.where(f.freq > 50, 0, f.transmissibility), f.name)
+              for f in frfs]
+    with pytest.raises(FitError, match="found 0 at"):
+        fit_maxwell(broken, k0=1e4)
+    nan = [TransmissibilitySet(f.mass, f.freq, np.where(f.freq > 50, np.nan, f.transmissibility), f.name)
+           for f in frfs]
+    with pytest.raises(FitError, match="finite"):
+        fit_maxwell(nan, k0=1e4)
+    with pytest.raises(FitError, match="order"):
+        fit_maxwell(frfs, k0=1e4, order=0)
+    with pytest.raises(FitError, match="order"):
+        fit_iwan_measurements(load_measurement_set(dataset), order=0)
+    with pytest.raises(DataError, match="split"):  # the selection is io's (idkit.io.provenance): a data error
+        loop_sets(load_measurement_set(dataset), split="train")
+
+
+def test_a_model_invalid_inside_the_data_sets_deflections_is_not_a_success():
+    """The spring of TRUTH-like g3 < 0 turns negative at -x0; records reaching beyond fail the check."""
+    from types import SimpleNamespace
+
+    from idkit.fit.measurements import _valid_over_the_data
+
+    model = IwanModel(g1=3e3, g2=0.0, g3=-3e7, k=[3e3], fc=[8.0])  # g1 + 3 g3 x^2 < 0 beyond 5.77 mm
+    lower, upper = model.valid_deflection_range()
+
+    def record(low, high, isolator="wire_rope"):
+        return SimpleNamespace(deflection=np.array([low, 0.0, high]), info=SimpleNamespace(isolator=isolator))
+
+    inside = [record(0.9 * lower, 0.9 * upper)]
+    assert _valid_over_the_data(model, inside, "wire_rope") == ()
+    beyond = inside + [record(1.1 * lower, 0.0)]  # a drop compressing past the root
+    (reason,) = _valid_over_the_data(model, beyond, "wire_rope")
+    assert "negative-stiff" in reason and f"{1e3 * 1.1 * lower:.4g}" in reason
+    other_isolator = inside + [record(2 * lower, 0.0, isolator="elastomer")]
+    assert _valid_over_the_data(model, other_isolator, "wire_rope") == ()
+
+
+def test_a_model_that_cannot_simulate_the_highest_drop_is_not_a_success():
+    """The data set's most severe drop is simulated; a flagged run is a reason, a clean one is not."""
+    from types import SimpleNamespace
+
+    from idkit.fit.measurements import _survives_the_largest_drops
+
+    def drop(height, mass=5.0):
+        info = SimpleNamespace(drop_height_m=height, top_mass_kg=mass, isolator="wire_rope")
+        return SimpleNamespace(kind="drop", info=info)
+
+    softening = IwanModel(g1=3e3, g3=-3e7, k=[3e3], fc=[8.0])  # negative-stiff beyond 5.8 mm
+    hardening = IwanModel(g1=3e3, g3=3e7, k=[3e3], fc=[8.0])
+    records = [drop(0.01), drop(0.2)]  # 0.2 m compresses far beyond 5.8 mm
+    (reason,) = _survives_the_largest_drops(softening, records, "wire_rope")
+    assert "highest drop (0.2 m on 5 kg)" in reason and "negative local stiffness" in reason
+    assert _survives_the_largest_drops(hardening, records, "wire_rope") == ()
+    assert _survives_the_largest_drops(softening, [drop(0.2)], "elastomer") == ()  # another isolator's drops
+
+
+def test_sweeps_without_a_resonance_inside_leave_c_visc_0_and_say_why(monkeypatch):
+    """A failed damping identification does not fail the loop fit; the fit says why c_visc is 0."""
+    from pathlib import Path
+
+    from idkit.fit import measurements as fit_measurements
+    from idkit.io import load_measurement_set
+
+    def no_resonance(model, sweeps, level):
+        raise FitError("level 0.12: the measured |H1| peaks at the edge of the sweep (3 Hz)")
+
+    monkeypatch.setattr(fit_measurements, "fit_viscous_damping", no_resonance)
+    data = load_measurement_set(Path(__file__).resolve().parents[2] / "data" / "wire_rope")
+    fit = fit_iwan_measurements(data, order=2)
+    assert fit.damping is None and fit.model.c_visc == 0.0
+    assert "peaks at the edge of the sweep" in fit.report()
+    assert "peaks at the edge" in fit.provenance_dict()["viscous_damping"]

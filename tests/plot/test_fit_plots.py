@@ -1,0 +1,57 @@
+"""Figures of fits draw what the caller computed and return the Axes they drew into."""
+
+import numpy as np
+import pytest
+
+from idkit.fit import fit_iwan_measurements, maxwell_error_landscape, transmissibility_sets
+from idkit.fit.predictions import FitPrediction, predict_loops
+from idkit.io import load_measurement_set
+from idkit.models import SDOFSystem
+from idkit.plot.fits import plot_error_landscape, plot_frf_fit, plot_loop_fit, plot_storage_loss, save_fit_plots
+from tests.fit.small_set import ELASTOMER, write_small_set
+
+
+@pytest.fixture(scope="module")
+def data(tmp_path_factory):
+    return load_measurement_set(write_small_set(tmp_path_factory.mktemp("set")))
+
+
+def test_loop_fit_draws_the_predicted_forces(data):
+    iwan = fit_iwan_measurements(data)
+    prediction = predict_loops(iwan.model, iwan.data.small, iwan.data.large)
+    small_ax, large_ax = plot_loop_fit(prediction)
+    # measured and model line per set; the model line holds exactly the predicted force (N)
+    assert len(small_ax.get_lines()) == 2 * len(iwan.data.small)
+    assert len(large_ax.get_lines()) == 2 * len(iwan.data.large)
+    np.testing.assert_array_equal(small_ax.get_lines()[1].get_ydata(), prediction.small[0].model_force)
+    np.testing.assert_array_equal(small_ax.get_lines()[1].get_xdata(), 1e3 * prediction.small[0].deflection)
+
+
+def test_frf_fit_draws_the_model_law_per_mass(data):
+    frfs, _ = transmissibility_sets(data)
+    magnitude_ax, phase_ax = plot_frf_fit(ELASTOMER, frfs)
+    model_lines = [line for line in magnitude_ax.get_lines() if line.get_linestyle() == "--"]
+    assert len(model_lines) == 3  # one model line per mass
+    # the dashed line is the SDOF law of models.systems, to round-off
+    freq = model_lines[0].get_xdata()
+    expected = np.abs(SDOFSystem(0.99, ELASTOMER).transmissibility(freq))
+    np.testing.assert_allclose(model_lines[0].get_ydata(), expected, rtol=1e-12)
+    assert magnitude_ax.figure is phase_ax.figure
+
+
+def test_storage_loss_and_landscape(data):
+    stiffness_ax, loss_ax = plot_storage_loss(ELASTOMER)
+    assert np.all(loss_ax.get_lines()[0].get_ydata() > 0)  # a Maxwell solid dissipates at every frequency
+    frfs, _ = transmissibility_sets(data)
+    landscape = maxwell_error_landscape(frfs, k0=ELASTOMER.k0, points=15)
+    ax = plot_error_landscape(landscape)
+    assert ax.get_xscale() == "log" and ax.figure.axes  # contours and a colour bar
+
+
+def test_save_fit_plots_refuses_to_overwrite_before_drawing(data, tmp_path):
+    frfs, _ = transmissibility_sets(data)
+    prediction = FitPrediction("maxwell", ELASTOMER, frfs=tuple(frfs), band=(1.0, 100.0))
+    written = save_fit_plots(prediction, tmp_path)
+    assert [p.name for p in written] == ["maxwell_frf.png", "maxwell_complex_stiffness.png"]  # no landscape given
+    with pytest.raises(FileExistsError, match="refusing to overwrite"):
+        save_fit_plots(prediction, tmp_path)

@@ -1,0 +1,218 @@
+"""Pseudo-arclength branches: Duffing folds and backbone against harmonic balance, the Table A.1
+period-doubling range against the damped Mathieu tongue, agreement with time integration."""
+
+import numpy as np
+import pytest
+
+from idkit.errors import SimulationError
+from idkit.models import IwanModel, SDOFSystem, VoigtModel, library
+from idkit.responses.continuation import (
+    Branch,
+    continue_in_amplitude,
+    continue_in_frequency,
+)
+from idkit.responses.periodic import periodic_response
+from idkit.simulate import harmonic_response
+
+MASS = 1.0  # kg
+STIFFNESS = (2 * np.pi * 5.0) ** 2 * MASS  # N/m: 5 Hz linear resonance
+ZETA = 0.01
+DAMPING = 2 * ZETA * np.sqrt(STIFFNESS * MASS)  # N s/m
+BASE_AMPLITUDE = 1e-3  # m
+# the linear peak deflection A / (2 zeta) = 0.05 m carries a cubic force 0.3 of the linear one
+CUBIC = 0.3 * STIFFNESS / (BASE_AMPLITUDE / (2 * ZETA)) ** 2  # N/m^3
+STEPS = 256
+# The same discrete steady state from both sides: an orbit closed to 1e-9 and a time run settled to 1e-8.
+TIME_AGREEMENT = 1e-5
+
+
+def _duffing():
+    """m y'' + c y' + k y + k3 y^3 = m A w^2 sin(w t): a linear spring split between the parallel
+    spring and one Jenkin element that never slips (1 MN), so the friction memory is conserved (0)."""
+    return SDOFSystem(MASS, IwanModel(g1=0.9 * STIFFNESS, k=[0.1 * STIFFNESS], fc=[1e6], g3=CUBIC, c_visc=DAMPING))
+
+
+def _hb_omegas(amplitude):
+    """First-order harmonic balance ``[(k_e - m w^2)^2 + (c w)^2] Y^2 = (m A w^2)^2``,
+    ``k_e = k + 3/4 k3 Y^2``: the two frequencies (rad/s) of deflection amplitude ``Y`` (NaN if none)."""
+    effective = STIFFNESS + 0.75 * CUBIC * amplitude**2
+    a = MASS**2 * (amplitude**2 - BASE_AMPLITUDE**2)
+    b = (DAMPING**2 - 2 * effective * MASS) * amplitude**2
+    c = effective**2 * amplitude**2
+    root = np.sqrt(np.where(b * b - 4 * a * c >= 0, b * b - 4 * a * c, np.nan))
+    return np.sqrt((-b - root) / (2 * a)), np.sqrt((-b + root) / (2 * a))
+
+
+def _hb_error_bound(amplitude, freq):
+    """First-order HB error of a Duffing frequency, ``3/256 (k3 Y^2 / k)^2`` (the Lindstedt series
+    of the free oscillation, ``21/256`` against HB's ``18/256`` at second order), plus the Newmark
+    period error ``(w_bb h)^2 / 12``; times 1.5 for the forcing and higher orders."""
+    nonlinearity = CUBIC * amplitude**2 / STIFFNESS
+    backbone = np.sqrt((STIFFNESS + 0.75 * CUBIC * amplitude**2) / MASS)
+    return 1.5 * (3 / 256 * nonlinearity**2 + (backbone / (freq * STEPS)) ** 2 / 12)
+
+
+@pytest.fixture(scope="module")
+def duffing_branch() -> Branch:
+    return continue_in_frequency(_duffing(), BASE_AMPLITUDE, (4.0, 7.0), steps_per_period=STEPS)
+
+
+def test_duffing_branch_follows_harmonic_balance(duffing_branch):
+    branch = duffing_branch
+    assert branch.success and branch.freq[-1] >= 7.0
+    deflection = np.abs(branch.deflection_coefficients[:, 2])
+    omega = 2 * np.pi * branch.freq
+    low, high = _hb_omegas(deflection)
+    predicted = np.where(np.abs(low - omega) < np.abs(high - omega), low, high)
+    inside = np.isfinite(predicted) & (deflection > 3 * BASE_AMPLITUDE)  # HB's quadratic is singular at Y = A
+    assert inside.sum() > 40
+    error = np.abs(omega / predicted - 1)[inside]
+    assert np.all(error < _hb_error_bound(deflection, branch.freq)[inside])
+
+
+def test_duffing_folds_match_harmonic_balance(duffing_branch):
+    folds = duffing_branch.points("fold")
+    assert len(folds) == 2
+    # HB folds: the turning points of the upper-frequency root w(Y) (jump down at the top, jump up below)
+    grid = np.linspace(5e-3, 0.07, 200001)
+    upper = _hb_omegas(grid)[1]
+    top = int(np.nanargmax(upper))
+    bottom = int(np.nanargmin(upper[:top]))
+    expected = {"down": (upper[top] / (2 * np.pi), grid[top]), "up": (upper[bottom] / (2 * np.pi), grid[bottom])}
+    found = {"down": max(folds, key=lambda p: p.freq), "up": min(folds, key=lambda p: p.freq)}
+    for name in ("down", "up"):
+        freq, amplitude = expected[name]
+        assert abs(found[name].freq / freq - 1) < _hb_error_bound(amplitude, freq), name
+    # between the folds the branch is unstable (a real multiplier above 1), outside it is stable
+    table = duffing_branch.to_dataframe()
+    assert table["fold"].sum() == 2
+    first, second = sorted(point.index for point in folds)
+    assert not table["stable"][first + 2:second - 1].any()
+    assert table["stable"][:first].all() and table["stable"][second + 2:].all()
+    assert (table["max |mu| [-]"][first + 2:second - 1] > 1).all()
+
+
+def test_duffing_backbone_at_phase_quadrature(duffing_branch):
+    """Where the deflection lags the force by 90 degrees, first-order HB puts the response on the
+    backbone ``w^2 = (k + 3/4 k3 Y^2) / m``."""
+    branch = duffing_branch
+    ratio = branch.deflection_coefficients[:, 2] / (-1j)  # relative to the force m A w^2 sin(w t)
+    crossings = np.flatnonzero(np.sign(ratio.real[:-1]) != np.sign(ratio.real[1:]))
+    assert crossings.size >= 1
+    index = crossings[0]
+    weight = ratio.real[index] / (ratio.real[index] - ratio.real[index + 1])
+    freq = branch.freq[index] + weight * (branch.freq[index + 1] - branch.freq[index])
+    deflection = np.abs(branch.deflection_coefficients[[index, index + 1], 2])
+    amplitude = deflection[0] + weight * (deflection[1] - deflection[0])
+    backbone = np.sqrt((STIFFNESS + 0.75 * CUBIC * amplitude**2) / MASS) / (2 * np.pi)
+    assert abs(freq / backbone - 1) < _hb_error_bound(amplitude, freq)
+    assert amplitude > 0.05  # near the top of the resonance, strongly non-linear
+
+
+def test_duffing_stable_branch_is_the_time_integration_limit(duffing_branch):
+    """Outside the fold range the periodic solution is unique and a time integration reaches it."""
+    branch = duffing_branch
+    folds = [point.freq for point in branch.points("fold")]
+    outside = np.flatnonzero(branch.stable & ((branch.freq < min(folds) - 0.05) | (branch.freq > max(folds) + 0.05)))
+    chosen = outside[np.linspace(0, outside.size - 1, 4).astype(int)]
+    settled = harmonic_response(_duffing(), branch.freq[chosen], BASE_AMPLITUDE, steps_per_period=STEPS,
+                                tolerance=1e-8, start="linear", max_periods=20000, workers=1)
+    assert settled.converged.all()
+    assert np.allclose(branch.half_range[chosen, 0], settled.half_range, rtol=TIME_AGREEMENT, atol=0)
+
+
+def _mathieu_tongue(mass, stiffness, damping, depth):
+    """Excitation frequencies (Hz) bounding the first parametric-resonance tongue of
+    ``m y'' + c y' + k (1 + depth cos(W t)) y = 0`` by first-order harmonic balance at ``W / 2``:
+    ``(1 - r^2)^2 + (2 zeta r)^2 = depth^2 / 4`` with ``r = W / (2 w0)``."""
+    omega0 = np.sqrt(stiffness / mass)
+    zeta = damping / (2 * np.sqrt(stiffness * mass))
+    # quadratic in s = r^2: s^2 + (4 zeta^2 - 2) s + 1 - depth^2/4 = 0
+    roots = np.roots([1.0, 4 * zeta**2 - 2, 1 - depth**2 / 4])
+    return np.sort(2 * omega0 * np.sqrt(roots.real) / (2 * np.pi))
+
+
+def test_table_a1_period_doubling_range_is_the_damped_mathieu_tongue():
+    """Thesis 3.4.2: the 1/2 subharmonic near 11 Hz at 1e-3 - 1.5e-3 m. The quadratic spring term
+    modulates the stuck stiffness at the excitation frequency, depth ``(2 g2 + 6 g3 y_mean) Y / k``
+    with Y the first-harmonic deflection: a parametric resonance at twice the stuck resonance.
+    The branch's two period-doubling points bound it to the first-order Mathieu estimate,
+    whose error is O(depth^2) ~ 2e-4, plus the location by interpolation between branch points
+    (steps of at most 0.2 % in frequency): tolerance 1e-3 relative."""
+    system = library.get("system_a1_asymmetric")
+    wire_rope = system.isolator
+    branch = continue_in_frequency(system, 1.2e-3, (10.5, 10.9), max_step=0.002)
+    assert branch.success
+    doubling = branch.points("period doubling")
+    assert len(doubling) == 2
+    near = [int(np.argmin(np.abs(branch.freq - point.freq))) for point in doubling]
+    deflection = np.abs(branch.deflection_coefficients[near, 2]).mean()
+    mean = branch.deflection_coefficients[near, 0].real.mean()
+    stiffness = wire_rope.stuck_stiffness + 2 * wire_rope.g2 * mean + 3 * wire_rope.g3 * (mean**2 + deflection**2 / 2)
+    depth = (2 * wire_rope.g2 + 6 * wire_rope.g3 * mean) * deflection / stiffness
+    expected = _mathieu_tongue(system.mass, stiffness, wire_rope.c_visc, depth)
+    found = np.sort([point.freq for point in doubling])
+    assert np.all(np.abs(found / expected - 1) < 1e-3), (found, expected)
+    inside = (branch.freq > found[0]) & (branch.freq < found[1])
+    assert inside.any() and not branch.stable[inside].any()
+    assert branch.stable[~inside][[0, -1]].all()
+    table = branch.to_dataframe()
+    assert table["period_doubling"].sum() == 2
+    # a stable 1/2 subharmonic branch lives inside the range
+    subharmonic = continue_in_frequency(system, 1.2e-3, (10.5, 10.9), start=10.68, periods=2, max_points=6,
+                                        max_step=0.002)
+    assert subharmonic.stable.all()
+    assert np.all(np.abs(subharmonic.hosidf(0.5)) > 0.3)
+
+
+def test_linear_amplitude_branch_is_flat_and_the_transmissibility():
+    mass, omega0, zeta = 5.0, 2 * np.pi * 5.0, 0.05
+    system = SDOFSystem(mass, VoigtModel(k=mass * omega0**2, damping=2 * zeta * mass * omega0))
+    branch = continue_in_amplitude(system, 20.0, (1e-4, 1e-2))
+    assert branch.success and branch.amplitude[-1] >= 1e-2 and branch.stable.all()
+    h1 = branch.hosidf(1)
+    assert np.allclose(h1, h1[0], rtol=1e-8, atol=0)  # linear: independent of the amplitude
+    analytic = system.transmissibility(20.0)
+    assert abs(h1[0] / analytic - 1) < 2e-3  # Newmark at 128 steps per period (see test_harmonic_map)
+
+
+def test_report_table_and_bad_input(duffing_branch):
+    text = duffing_branch.report()
+    assert "fold" in text and "Branch in freq" in text
+    table = duffing_branch.to_dataframe()
+    assert list(table.columns[:3]) == ["freq [Hz]", "amplitude [m]", "x1 [m]"]
+    assert {"stable", "fold", "period_doubling", "max |mu| [-]"} <= set(table)
+    with pytest.raises(SimulationError, match="freq_range"):
+        continue_in_frequency(_duffing(), 1e-3, (7.0, 4.0))
+    with pytest.raises(SimulationError, match="start"):
+        continue_in_frequency(_duffing(), 1e-3, (4.0, 7.0), start=9.0)
+    with pytest.raises(SimulationError, match="amplitude_range"):
+        continue_in_amplitude(_duffing(), 5.0, (0.0, 1e-3))
+    with pytest.raises(SimulationError, match="direction"):
+        continue_in_frequency(_duffing(), 1e-3, (4.0, 7.0), direction=0)
+    with pytest.raises(SimulationError, match="max_points"):
+        continue_in_frequency(_duffing(), 1e-3, (4.0, 7.0), max_points=1)
+
+
+def test_a_branch_run_downwards_meets_the_same_solutions():
+    """From 4.5 Hz down to 4 Hz: the same (unique, stable) orbits as shooting point by point."""
+    downward = continue_in_frequency(_duffing(), BASE_AMPLITUDE, (4.0, 4.5), direction=-1, steps_per_period=STEPS)
+    assert downward.success and downward.freq[0] == 4.5 and downward.freq[-1] <= 4.0
+    assert np.all(np.diff(downward.freq) < 0)
+    inside = downward.freq >= 4.0
+    points = periodic_response(_duffing(), downward.freq[inside], BASE_AMPLITUDE, steps_per_period=STEPS)
+    # both closed to 1e-9 of the state scale: the same discrete orbits
+    assert np.allclose(downward.half_range[inside, 0], points.half_range[:, 0], rtol=1e-6, atol=0)
+
+
+def test_plot_branch_dashes_unstable_parts(duffing_branch):
+    from idkit.plot import plot_branch
+    from idkit.responses.harmonic_map import harmonic_map
+
+    hmap = harmonic_map(_duffing(), np.geomspace(4.0, 7.0, 9), [BASE_AMPLITUDE], steps_per_period=STEPS, workers=1)
+    ax = plot_branch(duffing_branch, hmap=hmap)
+    styles = [line.get_linestyle() for line in ax.get_lines()]
+    assert "--" in styles and "-" in styles
+    labels = [line.get_label() for line in ax.get_lines()]
+    assert "fold" in labels and any(label.startswith("time integration") for label in labels)
+    ax.figure.clear()
