@@ -129,6 +129,10 @@ class RandomResponse:
     n_realizations, seed, fs, freq_step, oversample, nperseg, noverlap, settle_records
         Settings (``nperseg``, ``noverlap`` in samples at ``fs``; the integration runs at ``oversample * fs``).
     flags : ndarray of int, shape (n_realizations,); reasons : tuple of str
+        Kernel flags of the simulated realizations (empty for ``method="frequency"``).
+    method : str
+        ``"time"`` (simulated realizations) or ``"frequency"`` (the expected Welch
+        estimate of a linear system, nothing simulated, ``n_realizations`` = 0).
     """
 
     input_profile: object
@@ -149,6 +153,7 @@ class RandomResponse:
     settle_records: int
     flags: NDArray[np.int64]
     reasons: tuple[str, ...]
+    method: str = "time"
 
     @property
     def input_cumulative_rms(self) -> NDArray[np.float64]:
@@ -177,14 +182,82 @@ class RandomResponse:
     def report(self) -> str:
         """RMS values in one line."""
         kind = "linear" if self.is_linear else "small-amplitude"
-        return (f"random response ({self.n_realizations} realizations, seed {self.seed}): input RMS "
+        runs = ("frequency domain" if self.method == "frequency"
+                else f"{self.n_realizations} realizations, seed {self.seed}")
+        return (f"random response ({runs}): input RMS "
                 f"{self.input_rms:.4g} m/s^2, output RMS {self.output_rms:.4g} m/s^2, {kind} |H|^2 S_xx RMS "
                 f"{self.linear_output_rms:.4g} m/s^2")
 
 
+def _folded_lines(level: NDArray[np.float64], record: int) -> NDArray[np.float64]:
+    """One-sided line powers of a record resampled (no filter) to ``record`` samples.
+
+    ``level[k]`` belongs to line ``k`` of the synthesized spectrum (any length); line ``k``
+    lands on line ``k mod record`` of the resampled record, mirrored above ``record / 2``.
+    """
+    index = np.arange(level.size) % record
+    index = np.where(index > record // 2, record - index, index)
+    return np.bincount(index, weights=level, minlength=record // 2 + 1)
+
+
+def _hann_line_smoothing(power: NDArray[np.float64], record: int) -> NDArray[np.float64]:
+    """Expected one-sided Hann periodogram of a periodic record with these line powers.
+
+    Averaged over the three third-shifted segments the cross terms vanish, and each bin
+    gets (1/6, 2/3, 1/6) of the two-sided line powers around it; one-sided bins double
+    them except DC and (even ``record``) Nyquist.
+    """
+    half = record // 2
+    two_sided = np.zeros(record)
+    two_sided[:half + 1] = power / 2.0
+    two_sided[0] = power[0]
+    if record % 2 == 0:
+        two_sided[half] = power[half]
+    two_sided[half + 1:] = two_sided[1:record - half][::-1]  # negative lines mirror positive ones
+    smoothed = (np.roll(two_sided, 1) + 4.0 * two_sided + np.roll(two_sided, -1)) / 6.0
+    one_sided = smoothed[:half + 1].copy()
+    one_sided[1:] *= 2.0
+    if record % 2 == 0:
+        one_sided[half] /= 2.0
+    return one_sided
+
+
+def _expected_linear_response(system, input_psd, *, seed, fs, freq_step, oversample,
+                              settle_records) -> RandomResponse:
+    """What the time method estimates for a linear system, computed in the frequency domain."""
+    rate = fs * oversample
+    ratio = rate / freq_step
+    n_samples = round(ratio)
+    if abs(ratio - n_samples) > 1e-9 * ratio or n_samples % oversample or n_samples < 4 * oversample:
+        raise SimulationError(f"fs * oversample / freq_step must be a whole number of samples, a "
+                              f"multiple of oversample; found {rate:g} / {freq_step:g} = {ratio:.6g}")
+    record = n_samples // oversample
+    lines = np.arange(n_samples // 2 + 1) * freq_step
+    level = np.asarray(input_psd(lines), dtype=float)
+    if level.shape != lines.shape or not np.all(np.isfinite(level) & (level >= 0)):
+        raise SimulationError(f"input_psd(freq) must return finite levels >= 0 of the shape of freq; "
+                              f"found shape {level.shape}")
+    level[0] = 0.0  # the synthesized DC and Nyquist lines are zero
+    if n_samples % 2 == 0:
+        level[-1] = 0.0
+    gain = linear_output_psd(system, lambda f: np.ones_like(f), lines)
+    input_level = _hann_line_smoothing(_folded_lines(level, record), record)
+    output_level = _hann_line_smoothing(_folded_lines(gain * level, record), record)
+    freq = np.arange(record // 2 + 1) * (fs / record)
+    return RandomResponse(
+        input_profile=input_psd, freq=freq, input_psd=input_level, output_psd=output_level,
+        linear_output_psd=linear_output_psd(system, input_psd, freq), is_linear=True,
+        input_rms=rms_from_psd(freq, input_level), output_rms=rms_from_psd(freq, output_level),
+        n_realizations=0, seed=int(seed), fs=fs, freq_step=freq_step, oversample=oversample,
+        nperseg=record, noverlap=round(WELCH_OVERLAP * record), settle_records=settle_records,
+        flags=np.zeros(0, dtype=np.int64), reasons=(), method="frequency",
+    )
+
+
 def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, fs: float = 800.0,
                     freq_step: float = 0.05, oversample: int = 4, settle_records: int = 1,
-                    nperseg: int | None = None, workers: int | None = None, executor=None) -> RandomResponse:
+                    nperseg: int | None = None, method: str = "time", workers: int | None = None,
+                    executor=None) -> RandomResponse:
     """Simulate the top-mass response to random floor acceleration (module docstring).
 
     Parameters
@@ -210,6 +283,14 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
     nperseg : int, optional
         Welch segment length in samples at ``fs``, 8 to one record. Default: one record
         (``fs / freq_step`` samples, resolution ``freq_step``).
+    method : {"time", "frequency", "auto"}, default "time"
+        ``"time"`` simulates the realizations. ``"frequency"`` (linear systems, one
+        record per segment) returns what the time method estimates, without simulating:
+        ``|H|^2 S_xx`` on the line grid (aliased above ``fs / 2`` as the unfiltered
+        resampling folds it), smoothed by the Hann line kernel (module docstring). It
+        differs from the simulation only by the integrator's frequency warping (< 1.3 %
+        below 100 Hz at ``oversample=4``) and the 1e-4 left of the cross-term
+        cancellation. ``"auto"``: ``"frequency"`` where it applies, else ``"time"``.
     workers, executor : see :func:`idkit.simulate.harmonic_response`.
 
     Returns
@@ -230,6 +311,18 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         raise SimulationError(f"oversample: found {oversample!r}, expected an integer >= 1")
     if int(settle_records) != settle_records or settle_records < 0:
         raise SimulationError(f"settle_records: found {settle_records!r}, expected an integer >= 0")
+    if method not in ("time", "frequency", "auto"):
+        raise SimulationError(f"method: found {method!r}, expected 'time', 'frequency' or 'auto'")
+    linear = is_linear_system(system)
+    if method == "frequency" and not (linear and nperseg is None):
+        raise SimulationError(
+            f"method='frequency': found a {'linear' if linear else 'nonlinear'} system and "
+            f"nperseg={nperseg!r}; expected a linear system (no Jenkin or Bouc-Wen part, no g2/g3) "
+            "analysed one record per segment (nperseg=None)")
+    if method in ("frequency", "auto") and linear and nperseg is None:
+        return _expected_linear_response(system, input_psd, seed=seed, fs=float(fs),
+                                         freq_step=float(freq_step), oversample=int(oversample),
+                                         settle_records=int(settle_records))
     rate = float(fs) * int(oversample)
     signals = synthesize_random(input_psd, seed=seed, fs=rate, freq_step=freq_step, n_realizations=n_realizations)
     n_samples = signals.shape[1]
