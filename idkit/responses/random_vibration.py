@@ -34,7 +34,7 @@ approximation, and :attr:`RandomResponse.is_linear` says which.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
@@ -42,6 +42,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from idkit.errors import SimulationError
 from idkit.models import HybridSystem, SDOFSystem
+from idkit.models.laws import hybrid_displacements, sdof_transmissibility
 from idkit.signal.psd import (
     PsdEstimate,
     PsdProfile,
@@ -133,6 +134,11 @@ class RandomResponse:
     method : str
         ``"time"`` (simulated realizations) or ``"frequency"`` (the expected Welch
         estimate of a linear system, nothing simulated, ``n_realizations`` = 0).
+    settling_error : ndarray, shape (n_realizations,)
+        How far each analysed run is from its periodic steady state: the largest change
+        of a mass's relative velocity or absolute acceleration over the analysed record
+        (the drive is periodic, so a settled run returns to its state), relative to
+        sqrt(2) times its RMS over the record. Empty for ``method="frequency"``.
     """
 
     input_profile: object
@@ -154,6 +160,7 @@ class RandomResponse:
     flags: NDArray[np.int64]
     reasons: tuple[str, ...]
     method: str = "time"
+    settling_error: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
 
     @property
     def input_cumulative_rms(self) -> NDArray[np.float64]:
@@ -254,10 +261,64 @@ def _expected_linear_response(system, input_psd, *, seed, fs, freq_step, oversam
     )
 
 
+def _settling_error(velocity: NDArray[np.float64], acceleration: NDArray[np.float64], start: int,
+                    record: int) -> NDArray[np.float64]:
+    """Per run: largest change of a relative velocity or absolute acceleration over one record,
+    relative to sqrt(2) times its RMS over the record (0 for a run in its periodic steady state;
+    deflections are left out: a slow creep of the set point barely touches the PSD)."""
+    worst = np.zeros(velocity.shape[0])
+    for values in (velocity, acceleration):
+        span = values[:, :, start + 1:start + record + 1]
+        # one sample in: the first sample of a run carries its initial state, which need
+        # not be consistent (relaxed Maxwell elements of a linear start)
+        change = np.abs(values[:, :, start + record + 1] - values[:, :, start + 1])
+        scale = np.sqrt(2.0) * span.std(axis=-1)
+        ratio = np.divide(change, scale, out=np.zeros_like(change), where=scale > 0)
+        worst = np.maximum(worst, ratio.max(axis=1))
+    return worst
+
+
+def _linear_start(system, signals: NDArray[np.float64], rate: float) -> dict[str, NDArray[np.float64]]:
+    """Small-amplitude periodic steady state at t = 0 of each realization (``start="linear"``).
+
+    The base acceleration is ``sum_k Re(a_k exp(i w_k t))`` (its real FFT); the base
+    displacement lines are ``-a_k / w_k^2``, the masses' lines follow from the isolators'
+    small-amplitude stiffnesses. The base of :func:`idkit.simulate.simulate` starts at
+    rest, i.e. it moves as the periodic motion minus its velocity at t = 0, a rigid drift
+    the masses share: their absolute initial velocities are the periodic velocities
+    relative to the base.
+
+    Returns
+    -------
+    dict
+        ``initial_deflection`` (n_realizations, n_isolators), m, and ``initial_velocity``
+        (n_realizations, n_masses), m/s, top first.
+    """
+    n_samples = signals.shape[1]
+    lines = np.fft.rfft(signals, axis=1)[:, 1:] * (2.0 / n_samples)  # DC and Nyquist are zero
+    freq = np.fft.rfftfreq(n_samples, d=1.0 / rate)[1:]
+    omega = 2.0 * np.pi * freq
+    base = -lines / omega**2
+    masses = system.masses
+    stiffness = [isolator.small_amplitude_stiffness(freq) for isolator in system.isolators]
+    if len(stiffness) == 1:
+        positions = [sdof_transmissibility(stiffness[0], masses[0], omega) * base]
+        deflections = [positions[0] - base]
+    else:
+        top, middle = hybrid_displacements(stiffness[0], stiffness[1], masses[0], masses[1], omega)
+        positions = [top * base, middle * base]
+        deflections = [positions[0] - positions[1], positions[1] - base]
+    return {
+        "initial_deflection": np.column_stack([part.real.sum(axis=1) for part in deflections]),
+        "initial_velocity": np.column_stack([(1j * omega * (part - base)).real.sum(axis=1)
+                                             for part in positions]),
+    }
+
+
 def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, fs: float = 800.0,
                     freq_step: float = 0.05, oversample: int = 4, settle_records: int = 1,
-                    nperseg: int | None = None, method: str = "time", workers: int | None = None,
-                    executor=None) -> RandomResponse:
+                    nperseg: int | None = None, method: str = "time", start: str = "rest",
+                    workers: int | None = None, executor=None) -> RandomResponse:
     """Simulate the top-mass response to random floor acceleration (module docstring).
 
     Parameters
@@ -291,6 +352,13 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         differs from the simulation only by the integrator's frequency warping (< 1.3 %
         below 100 Hz at ``oversample=4``) and the 1e-4 left of the cross-term
         cancellation. ``"auto"``: ``"frequency"`` where it applies, else ``"time"``.
+    start : {"rest", "linear"}, default "rest"
+        Initial state of the simulated runs: at rest with unloaded isolators (the thesis),
+        or the small-amplitude (all stuck, linearized) periodic steady state of each
+        realization at t = 0 (isolator deflections and mass velocities from the line
+        amplitudes and the small-amplitude stiffnesses; Jenkin forces ``k y``, Maxwell
+        elements relaxed). Where the isolators stay stuck the run then starts settled, so
+        ``settle_records=0`` suffices; where they slip it is a better first guess.
     workers, executor : see :func:`idkit.simulate.harmonic_response`.
 
     Returns
@@ -311,6 +379,8 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         raise SimulationError(f"oversample: found {oversample!r}, expected an integer >= 1")
     if int(settle_records) != settle_records or settle_records < 0:
         raise SimulationError(f"settle_records: found {settle_records!r}, expected an integer >= 0")
+    if start not in ("rest", "linear"):
+        raise SimulationError(f"start: found {start!r}, expected 'rest' or 'linear'")
     if method not in ("time", "frequency", "auto"):
         raise SimulationError(f"method: found {method!r}, expected 'time', 'frequency' or 'auto'")
     linear = is_linear_system(system)
@@ -346,12 +416,14 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
     # fs like the thesis's (the output above fs/2 comes only from nonlinear harmonics of an
     # input band-limited to well below fs/2, and is folded back unfiltered, as a measurement
     # without anti-alias filter would)
+    initial = {} if start == "rest" else _linear_start(system, signals, rate)
     response = simulate(system, time, base_acceleration=drive, record_every=step, workers=workers,
-                        executor=executor)
+                        executor=executor, **initial)
     ok = response.flags == 0
     if not ok.any():
         raise SimulationError(f"random_response: every realization was flagged ({response.reasons[0]})")
     start = (repeats - 1) * record
+    settling = _settling_error(response.velocity[ok], response.acceleration[ok], start, record)
     top = response.acceleration[ok, 0, start:start + analysed]
     base = drive[ok][:, start * step:(start + analysed) * step:step]
     input_estimate: PsdEstimate = welch_psd(base, fs=float(fs), nperseg=segment, overlap=WELCH_OVERLAP)
@@ -366,4 +438,5 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         n_realizations=int(ok.sum()), seed=int(seed), fs=float(fs), freq_step=float(freq_step),
         oversample=int(oversample), nperseg=input_estimate.nperseg, noverlap=input_estimate.noverlap, settle_records=int(settle_records),
         flags=np.asarray(response.flags, dtype=np.int64), reasons=tuple(response.reasons),
+        settling_error=settling,
     )
