@@ -70,7 +70,8 @@ def _cmd_iwan(args) -> int:
     options = {"valid_range": tuple(args.valid_range)} if args.valid_range else {}
     fit = fit_iwan_measurements(_load(args.dataset), order=args.order, small_threshold=args.small_threshold,
                                 isolator=args.isolator, split=_split(args.split), backend=args.backend,
-                                seed=args.seed, initial_state=args.start_state, **options)
+                                seed=args.seed, initial_state=args.start_state, remove_offsets=args.remove_offsets,
+                                **options)
     if args.order_table or fit.order_table is not None:
         from idkit.fit import iwan_order_table
 
@@ -89,7 +90,8 @@ def _cmd_boucwen(args) -> int:
     _check_outputs("boucwen", args.output, args.plots, args.dataset)
     data = _load(args.dataset)
     options = {"small_threshold": args.small_threshold, "isolator": args.isolator, "split": _split(args.split),
-               "backend": args.backend, "seed": args.seed, "initial_state": args.start_state}
+               "backend": args.backend, "seed": args.seed, "initial_state": args.start_state,
+               "remove_offsets": args.remove_offsets}
     fit = fit_boucwen_measurements(data, global_max_evals=args.global_evals, **options)
     if args.compare:
         iwan = fit_iwan_measurements(data, order=2, **options)
@@ -131,6 +133,9 @@ def _common(parser, *, loops: bool) -> None:
                             help="model state at the first reversal of each record: 'virgin' (loaded from "
                                  "unloaded), 'cycled' (steady cycling), 'auto' (virgin when the record starts "
                                  "unloaded; default)")
+        parser.add_argument("--remove-offsets", action="store_true",
+                            help="remove each record's loop-centre drift and force offset before fitting "
+                                 "(recorded in the model file's provenance; default: fit the data as measured)")
 
 
 # More elements than the data identify only slow the fit down (order 100000 never ends).

@@ -259,3 +259,13 @@ def check_drop(n_drops: int, duration: float, time_step: float, max_samples: int
                           f"(about {8 * samples / 2**20:.0f} MiB per signal and degree of freedom; "
                           f"raise --max-samples to run it)")
     return samples
+
+
+def add_study_options(parser, name: str) -> None:
+    """``-o/--output``, ``--force``, ``--quick``, ``--workers``, ``--quiet`` for a study parser."""
+    parser.add_argument("-o", "--output", default=f"idkit-study-{name}",
+                        help=f"output folder (default: idkit-study-{name})")
+    parser.add_argument("--force", action="store_true", help="replace an existing output folder")
+    parser.add_argument("--quick", action="store_true", help="small grids (seconds instead of minutes)")
+    parser.add_argument("--workers", type=workers, default=None, help="simulation threads (default: all cores)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")

@@ -12,23 +12,13 @@ import sys
 
 from idkit.cli import options as opt
 
-__all__ = ["add_common_study_options", "register"]
+__all__ = ["register"]
 
 _HELP = {
     "wire-rope": "chapter 3: Table A.1 wire rope, 8 kg, symmetric and asymmetric (maps, cross sections, shock)",
     "elastomer": "chapter 4: Table B.1 elastomers low/medium/high, 5 kg (stiffness, FRF, shock)",
     "hybrid": "chapter 5: hybrid 2 kg + 0.02 kg, symmetric and asymmetric (maps, linear FRF, shock)",
 }
-
-
-def add_common_study_options(parser, name: str) -> None:
-    """``-o/--output``, ``--force``, ``--quick``, ``--workers``, ``--quiet`` for a study parser."""
-    parser.add_argument("-o", "--output", default=f"idkit-study-{name}",
-                        help=f"output folder (default: idkit-study-{name})")
-    parser.add_argument("--force", action="store_true", help="replace an existing output folder")
-    parser.add_argument("--quick", action="store_true", help="small grids (seconds instead of minutes)")
-    parser.add_argument("--workers", type=opt.workers, default=None, help="simulation threads (default: all cores)")
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def _cmd_study(args) -> None:
@@ -52,6 +42,6 @@ def register(commands) -> None:
     studies = parser.add_subparsers(dest="study", required=True, metavar="STUDY")
     for name, text in _HELP.items():
         chapter = studies.add_parser(name, help=text)
-        add_common_study_options(chapter, name)
+        opt.add_study_options(chapter, name)
         chapter.set_defaults(handler=_cmd_study)
     add_transport_parser(studies)

@@ -39,18 +39,17 @@ def _cmd_transport(args) -> None:
     study = run_transport_study(args.output, force=args.force, quick=args.quick, wire_rope=wire_rope,
                                 elastomer=elastomer, seed=args.seed, workers=args.workers,
                                 progress=ProgressBar("study transport", enabled=not args.quiet))
-    print(study.tuning[["system", "top mass [kg]", "intermediate mass [kg]"]].to_string(index=False))
+    print(study.tuning[["system", "moving mass [kg]", "top mass without m_eff [kg]", "intermediate mass [kg]"]]
+          .to_string(index=False))
     print(study.summary_table().to_string(float_format=lambda value: f"{value:.4g}"))
     print(f"figures, CSV tables and summary.json written to {args.output}", file=sys.stderr)
 
 
 def add_transport_parser(studies) -> None:
     """Add ``transport`` to the sub-commands of ``idkit study`` (``studies``, from ``add_subparsers``)."""
-    from idkit.cli.study import add_common_study_options
-
     parser = studies.add_parser(
         "transport", help="chapter 8: reference, elastomer, wire rope and hybrids tuned to 5 Hz (PSDs, shock)")
-    add_common_study_options(parser, "transport")
+    opt.add_study_options(parser, "transport")
     parser.add_argument("--wire-rope", help="Iwan model file (default: identified from the bundled data)")
     parser.add_argument("--elastomer", help="generalized Maxwell model file (default: identified from the bundled data)")
     parser.add_argument("--data-dir", help="data folder to identify the parts from (default: ./data)")

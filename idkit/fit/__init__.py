@@ -78,7 +78,7 @@ from idkit.fit.result import (
     MaxwellFitSettings,
     StageResult,
 )
-from idkit.io.provenance import DataProvenance
+from idkit.io.selection import DataProvenance
 # observables, defined in idkit.observe; importable from here as before
 from idkit.observe.quasi_static import (
     SMALL_THRESHOLD,

@@ -9,7 +9,7 @@ turns them into those inputs and keeps where they came from:
   (small and large loop sets, :class:`~idkit.observe.quasi_static.LoopData`),
   :func:`~idkit.observe.white_noise.transmissibility_sets` (one H1 per white-noise run) and
   :func:`~idkit.observe.quasi_static.k0_from_measurements` (the elastomer's static stiffness);
-  the selection and its provenance from :func:`idkit.io.provenance.select_measurements`.
+  the selection and its provenance from :func:`idkit.io.selection.select_measurements`.
 * :func:`elastomer_data` - the elastomer's observables selected once into one
   :class:`ElastomerData` (FRFs, k0 with its loops, provenance, repetitions), handed to
   :func:`~idkit.fit.fit_maxwell` by :func:`fit_maxwell_measurements`.
@@ -36,7 +36,7 @@ from idkit.fit.damping import ViscousDamping, fit_viscous_damping
 from idkit.fit.iwan import fit_iwan
 from idkit.fit.maxwell import fit_maxwell
 from idkit.io import QuasiStaticMeasurement
-from idkit.io.provenance import DataProvenance, select_measurements
+from idkit.io.selection import DataProvenance, select_measurements
 from idkit.models import save_model
 from idkit.observe.quasi_static import (
     LOOP_POINTS_PER_SET,
@@ -181,11 +181,20 @@ class MeasurementFit:
         p = self.provenance
         lines = [f"[[Data]] {p.folder or 'in-memory measurements'}: {len(p.ids)} measurements "
                  f"({', '.join(f'{k}={v}' for k, v in p.selection.items())})"]
-        if isinstance(self.data, LoopData):
+        if isinstance(self.data, LoopData) and self.data.single_amplitude:
+            names = ", ".join(s.name for s in self.data.small)
+            lines.append(f"    one-amplitude test ({names}): every stage fits the same loops, so the small- and "
+                         "large-loop errors are one number")
+        elif isinstance(self.data, LoopData):
             small = ", ".join(s.name for s in self.data.small)
             large = ", ".join(s.name for s in self.data.large)
             lines.append(f"    small loops (amplitude <= {1e3 * self.data.threshold:g} mm): {small}")
             lines.append(f"    large loops: {large}")
+        if isinstance(self.data, LoopData) and self.data.offset_corrections:
+            lines.append("    offsets removed before fitting: " + ", ".join(
+                f"{c.measurement_id} (force {c.force_offset:+.4g} N"
+                + (f", centre drift {1e3 * float(np.ptp(c.center_knots)):.3g} mm" if c.center_knots.size else "")
+                + ")" for c in self.data.offset_corrections))
         if self.k0 is not None:
             k = self.k0
             lines.append(f"    k0 = {k.k0:.5g} +- {k.stderr:.2g} N/m from the quasi-static loops (|deflection| <= "
@@ -279,6 +288,7 @@ def fit_iwan_measurements(
     backend: str = "nlopt",
     seed: int = 0,
     damping_level="largest",
+    remove_offsets: bool = False,
     **options,
 ) -> MeasurementFit:
     """Three-stage Iwan fit (:func:`idkit.fit.fit_iwan`) on the quasi-static records of a set.
@@ -297,7 +307,7 @@ def fit_iwan_measurements(
     Parameters
     ----------
     measurements : MeasurementSet or sequence of measurements
-        Selected by :func:`idkit.io.provenance.select_measurements`.
+        Selected by :func:`idkit.io.selection.select_measurements`.
     order : int or "auto", default 2
         Number of Jenkin elements, or ``"auto"`` for the order rule.
     small_threshold : float, default :data:`~idkit.observe.quasi_static.SMALL_THRESHOLD` (8e-3 m)
@@ -310,6 +320,10 @@ def fit_iwan_measurements(
     seed : int, default 0
     damping_level : float, "largest" or None, default "largest"
         Stepped-sine level whose resonance gives ``c_visc`` (None: keep ``c_visc = 0``).
+    remove_offsets : bool, default False
+        Remove each record's loop-centre drift and force offset before fitting
+        (:func:`idkit.observe.quasi_static.remove_loop_offsets`); what was subtracted goes
+        to ``options["offset_corrections"]`` and the model file's provenance.
     **options
         Passed to :func:`idkit.fit.fit_iwan`.
 
@@ -334,7 +348,7 @@ def fit_iwan_measurements(
     >>> fit.save("wire_rope.json")                         # doctest: +SKIP
     """
     data = loop_sets(measurements, small_threshold=small_threshold, isolator=isolator, split=split,
-                     points_per_set=points_per_set)
+                     points_per_set=points_per_set, remove_offsets=remove_offsets)
     order_table = None
     if order == "auto":
         order_table = iwan_order_table(list(data.small), list(data.large), backend=backend, seed=seed, **options)
@@ -355,7 +369,9 @@ def fit_iwan_measurements(
                 damping_note = f"c_visc = 0: not identified from the stepped-sine data ({problem})"
     return MeasurementFit(kind="iwan", result=result, data=data, provenance=data.provenance,
                           options={"small_threshold": small_threshold, "points_per_set": points_per_set,
-                                   "order": order, "backend": backend, "damping_level": damping_level, **options},
+                                   "order": order, "backend": backend, "damping_level": damping_level,
+                                   "remove_offsets": remove_offsets, "single_amplitude": data.single_amplitude,
+                                   "offset_corrections": [c.to_dict() for c in data.offset_corrections], **options},
                           damping=damping, damping_note=damping_note, order_table=order_table,
                           checks=_valid_over_the_data(result.model, measurements, isolator)
                           + _survives_the_largest_drops(damping.model(result.model) if damping else result.model,
@@ -421,6 +437,7 @@ def fit_boucwen_measurements(
     points_per_set: int | None = LOOP_POINTS_PER_SET,
     backend: str = "nlopt",
     seed: int = 0,
+    remove_offsets: bool = False,
     **options,
 ) -> MeasurementFit:
     """Bouc-Wen fit (:func:`idkit.fit.fit_boucwen`) on the same loop sets as :func:`fit_iwan_measurements`.
@@ -428,7 +445,7 @@ def fit_boucwen_measurements(
     Parameters
     ----------
     measurements : MeasurementSet or sequence of measurements
-    small_threshold, isolator, split, points_per_set, backend, seed :
+    small_threshold, isolator, split, points_per_set, backend, seed, remove_offsets :
         As :func:`fit_iwan_measurements`.
     **options
         Passed to :func:`idkit.fit.fit_boucwen`.
@@ -446,11 +463,13 @@ def fit_boucwen_measurements(
         No quasi-static record matches the selection.
     """
     data = loop_sets(measurements, small_threshold=small_threshold, isolator=isolator, split=split,
-                     points_per_set=points_per_set)
+                     points_per_set=points_per_set, remove_offsets=remove_offsets)
     result = fit_boucwen(list(data.small), list(data.large), backend=backend, seed=seed, **options)
     return MeasurementFit(kind="boucwen", result=result, data=data, provenance=data.provenance,
                           options={"small_threshold": small_threshold, "points_per_set": points_per_set,
-                                   "backend": backend, **options})
+                                   "backend": backend, "remove_offsets": remove_offsets,
+                                   "single_amplitude": data.single_amplitude,
+                                   "offset_corrections": [c.to_dict() for c in data.offset_corrections], **options})
 
 
 @dataclass(frozen=True)
@@ -508,7 +527,7 @@ def elastomer_data(
     Parameters
     ----------
     measurements : MeasurementSet or sequence of measurements
-        Selected by :func:`idkit.io.provenance.select_measurements`.
+        Selected by :func:`idkit.io.selection.select_measurements`.
     k0 : float, optional
         Static stiffness in N/m; default from the quasi-static loops
         (:func:`~idkit.observe.quasi_static.k0_from_records`, window ``k0_window``).

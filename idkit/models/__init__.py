@@ -1,7 +1,8 @@
 """Isolator models and systems (SPEC 1-2).
 
 Isolators map a deflection history (m, positive = tension) to a force (N):
-:class:`IwanModel` (wire rope), :class:`BoucWenModel`, :class:`GeneralizedMaxwell`
+:class:`IwanModel` (wire rope), :class:`ModulatedIwanModel` (wire rope whose
+slip forces follow the deflection), :class:`BoucWenModel`, :class:`GeneralizedMaxwell`
 and :class:`VoigtModel` (elastomer). Systems: :class:`SDOFSystem`,
 :class:`HybridSystem`, :class:`CoulombSpringSystem`. Named parameter sets of the
 study: :mod:`idkit.models.library`. Model files: :func:`save_model`, :func:`load_model`.
@@ -11,12 +12,13 @@ from idkit.models import library
 from idkit.models.base import IsolatorArrays, IsolatorModel
 from idkit.models.boucwen import BoucWenModel
 from idkit.models.iwan import IwanModel, jenkin_force
+from idkit.models.iwan_modulated import ModulatedIwanModel
 from idkit.models.maxwell import GeneralizedMaxwell, VoigtModel
 from idkit.models.modelfile import load_model, load_model_document, save_model
 from idkit.models.systems import CoulombSpringSystem, HybridSystem, SDOFSystem
 
 __all__ = [
-    "IsolatorModel", "IsolatorArrays", "IwanModel", "jenkin_force", "BoucWenModel",
+    "IsolatorModel", "IsolatorArrays", "IwanModel", "ModulatedIwanModel", "jenkin_force", "BoucWenModel",
     "GeneralizedMaxwell", "VoigtModel", "SDOFSystem", "HybridSystem", "CoulombSpringSystem",
     "library", "save_model", "load_model", "load_model_document",
 ]

@@ -9,7 +9,7 @@ exposed by name through :meth:`IsolatorModel.params`; fitters build models with
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
@@ -34,6 +34,8 @@ class IsolatorArrays:
     The force of any supported isolator is
     ``P(x) + sum Jenkin + sum k_i u_i + c_visc * xdot + BoucWen(x, z)`` where every
     part may be empty. ``boucwen`` is ``[active, k1, k2, k3, alpha, beta, gamma, n, b, c]``.
+    ``slip_modulation`` is ``[a, y_ref]``: the Jenkin slip forces are scaled by
+    ``1 - a tanh(x / y_ref)`` (:mod:`idkit.models.iwan_modulated`; ``a = 0``: constant).
     """
 
     poly: np.ndarray  # (3,) g1 [N/m], g2 [N/m^2], g3 [N/m^3]
@@ -43,6 +45,7 @@ class IsolatorArrays:
     maxwell_stiffness: np.ndarray  # (n_m,) N/m
     maxwell_rate: np.ndarray  # (n_m,) 1/s
     boucwen: np.ndarray  # (10,)
+    slip_modulation: np.ndarray = field(default_factory=lambda: np.zeros(2))  # (2,) a [-], y_ref [m]
 
 
 class IsolatorModel(ABC):

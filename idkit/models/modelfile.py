@@ -10,7 +10,7 @@ Schema (``format_version`` 1)::
       "provenance": {...}          # optional, free-form (fitters: data hashes, settings, seed)
     }
 
-``model.kind`` is one of ``iwan``, ``bouc_wen``, ``generalized_maxwell``, ``voigt``
+``model.kind`` is one of ``iwan``, ``iwan_modulated``, ``bouc_wen``, ``generalized_maxwell``, ``voigt``
 (isolators, with ``params`` by declared name in SI units) or ``sdof``
 (``mass``, ``isolator``), ``hybrid`` (``mass``, ``intermediate_mass``, ``upper``,
 ``lower``), ``coulomb_spring``. ``units`` is required in every isolator entry, with
@@ -30,6 +30,7 @@ from idkit.errors import ModelFileError, ParameterError
 from idkit.inputfiles import load_json, read_input_bytes
 from idkit.models.boucwen import BoucWenModel
 from idkit.models.iwan import IwanModel
+from idkit.models.iwan_modulated import ModulatedIwanModel
 from idkit.models.maxwell import GeneralizedMaxwell, VoigtModel
 from idkit.models.systems import CoulombSpringSystem, HybridSystem, SDOFSystem
 
@@ -37,7 +38,7 @@ __all__ = ["save_model", "load_model", "model_to_dict", "model_from_dict", "FORM
 
 FORMAT = "idkit-model"
 FORMAT_VERSION = 1
-_ISOLATORS = {cls.kind: cls for cls in (IwanModel, BoucWenModel, GeneralizedMaxwell, VoigtModel)}
+_ISOLATORS = {cls.kind: cls for cls in (IwanModel, ModulatedIwanModel, BoucWenModel, GeneralizedMaxwell, VoigtModel)}
 
 
 _ISOLATOR_KEYS = ("kind", "params", "units")

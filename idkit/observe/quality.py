@@ -9,11 +9,14 @@ import numpy as np
 import pandas as pd
 
 from idkit.io import (
+    QuasiStaticMeasurement,
     SteppedSineMeasurement,
     WhiteNoiseMeasurement,
 )
 from idkit.observe.white_noise import frf_from_white_noise
 from idkit.observe.stepped_sine import stepped_sine_sweep
+from idkit.observe.quasi_static import cycle_statistics
+from idkit.errors import FitError
 
 
 # ---------------------------------------------------------------------------------------------
@@ -182,6 +185,16 @@ def summarize_measurements(measurements: Sequence, *, clip_run: int = 5,
                 warnings.append(InspectionWarning(
                     m.id, "clipped", f"{name} stays at its extreme {level:.6g} (SI) for {run} "
                     f"consecutive samples; expected a signal that does not saturate"))
+        if isinstance(m, QuasiStaticMeasurement):
+            try:
+                stats = cycle_statistics(m)
+            except FitError:  # no complete cycle: nothing to say about loops
+                stats = None
+            for finding in stats.findings() if stats is not None else ():
+                kind = "loop_drift" if finding.startswith("loop centre") else "force_offset"
+                warnings.append(InspectionWarning(
+                    m.id, kind, f"{finding}; expected loops centred on a fixed point and zero force there "
+                    "(fit with --remove-offsets / remove_offsets=True to remove it, recorded in the provenance)"))
         if isinstance(m, SteppedSineMeasurement):
             sine.append(m)
         if isinstance(m, WhiteNoiseMeasurement):

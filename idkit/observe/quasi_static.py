@@ -30,7 +30,7 @@ import pandas as pd
 
 from idkit.errors import FitError
 from idkit.io import QuasiStaticMeasurement
-from idkit.io.provenance import DataProvenance, select_measurements
+from idkit.io.selection import DataProvenance, select_measurements
 from idkit.observe._common import _require
 from idkit.signal.cycles import (
     CycleSplit,
@@ -57,6 +57,9 @@ SMALL_THRESHOLD = 8e-3
 #: Default resampled points per quasi-static record: about 20 per branch for the
 #: study's 15-loop records (30 branches); 200 would leave 7 points on a 4.5 mm branch.
 LOOP_POINTS_PER_SET = 600
+#: Records whose amplitudes all lie within this fraction of their median form a one-amplitude
+#: test: there is no small/large split to make, and every fit stage uses all of its loops.
+SINGLE_AMPLITUDE_SPREAD = 0.25
 
 
 def record_cycles(deflection, *, min_excursion: float | None = None,
@@ -391,6 +394,8 @@ class LoopData:
     amplitudes: dict
     threshold: float
     provenance: DataProvenance
+    offset_corrections: tuple = ()
+    single_amplitude: bool = False
 
 
 def loop_sets(
@@ -401,13 +406,14 @@ def loop_sets(
     split: str | None = "fit",
     points_per_set: int | None = LOOP_POINTS_PER_SET,
     min_excursion: float | None = None,
+    remove_offsets: bool = False,
 ) -> LoopData:
     """Quasi-static records -> small and large loop sets (one set per record).
 
     Parameters
     ----------
     measurements : MeasurementSet or sequence of measurements
-        Selected by :func:`idkit.io.provenance.select_measurements`.
+        Selected by :func:`idkit.io.selection.select_measurements`.
     small_threshold : float, default :data:`SMALL_THRESHOLD` (8e-3 m)
         A record whose amplitude (half its peak-to-peak deflection) is at most this
         is a small-loop set, otherwise a large-loop set.
@@ -419,23 +425,35 @@ def loop_sets(
     min_excursion : float, optional
         Reversal threshold in m; default :func:`idkit.signal.cycles.reversal_threshold` of
         each record, the threshold :func:`process_quasi_static` (``idkit inspect``) uses.
+    remove_offsets : bool, default False
+        Remove each record's loop-centre drift and force offset first
+        (:func:`remove_loop_offsets`); what was subtracted is kept in
+        ``LoopData.offset_corrections`` for the provenance. Off by default: idkit never
+        alters data unless asked.
 
     Returns
     -------
     LoopData
+        With ``single_amplitude=True`` when every record's amplitude lies within
+        :data:`SINGLE_AMPLITUDE_SPREAD` of the median (a one-amplitude test): ``small`` and
+        ``large`` then hold the same sets, whatever ``small_threshold`` says.
 
     Raises
     ------
     FitError
-        No matching record, a record without reversals, or only small or only
-        large sets (the message lists the amplitudes and the threshold).
+        No matching record, a record without reversals, or records of different amplitudes
+        that ``small_threshold`` puts all on one side (the message lists the amplitudes and
+        the threshold).
     """
     if not (math.isfinite(small_threshold) and small_threshold > 0):
         raise FitError(f"small_threshold: found {small_threshold!r}, expected a positive amplitude in m")
     records, provenance = select_measurements(measurements, kind="quasi_static", isolator=isolator, split=split)
-    small, large, small_rep, large_rep, amplitudes = [], [], [], [], {}
+    small, large, small_rep, large_rep, amplitudes, corrections = [], [], [], [], {}, []
     for position, record in enumerate(records, start=1):
         name = record.id or f"record{position}"
+        if remove_offsets:
+            record, correction = remove_loop_offsets(record)
+            corrections.append(correction)
         amplitude = 0.5 * float(np.ptp(record.deflection))
         amplitudes[name] = amplitude
         try:
@@ -450,6 +468,14 @@ def loop_sets(
         else:
             large.append(prepared)
             large_rep.append(repetition)
+    single = False
+    if not small or not large:
+        values = np.array(list(amplitudes.values()))
+        if np.all(np.abs(values / np.median(values) - 1.0) <= SINGLE_AMPLITUDE_SPREAD):
+            # a one-amplitude test: every stage fits the same loops (said in the fit's report)
+            single = True
+            group, reps = (small, small_rep) if small else (large, large_rep)
+            small, large, small_rep, large_rep = group, group, reps, reps
     if not small or not large:
         listed = ", ".join(f"{name}: {1e3 * a:.3g} mm" for name, a in amplitudes.items())
         missing = "small" if not small else "large"
@@ -457,7 +483,7 @@ def loop_sets(
                        f"(amplitudes {listed}); expected both small and large loop sets")
     return LoopData(small=tuple(small), large=tuple(large), small_repetitions=tuple(small_rep),
                     large_repetitions=tuple(large_rep), amplitudes=amplitudes, threshold=float(small_threshold),
-                    provenance=provenance)
+                    provenance=provenance, offset_corrections=tuple(corrections), single_amplitude=single)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -627,3 +653,225 @@ def k0_from_records(records, *, window: float = 1e-3) -> K0FromLoops:
     spread = float(np.std(values, ddof=1) / math.sqrt(values.size)) if values.size > 1 else 0.0
     return K0FromLoops(k0=pooled.k0, stderr=max(pooled.stderr, spread), pooled=pooled, per_record=per_record,
                        window=float(window))
+
+
+# ---------------------------------------------------------------------------------------------
+# loops as they come from a rig: centre drift, force offset, per-cycle statistics
+
+#: A record whose loop centres wander (over its steady cycles) by more than this fraction of the
+#: median amplitude is flagged (``loop_drift``): a drifting actuator or a slipping clamp.
+DRIFT_WARNING_FRACTION = 0.1
+#: Cycles whose amplitude is within this fraction of both neighbours' count as steady cycling
+#: (the drift is read on them only).
+STEADY_AMPLITUDE_FRACTION = 0.1
+#: A record whose loop midline at the loop centre sits further from zero than this fraction of
+#: the median force amplitude is flagged (``force_offset``): an unzeroed load cell or preload.
+FORCE_OFFSET_WARNING_FRACTION = 0.05
+
+
+@dataclass(frozen=True)
+class CycleStatistics:
+    """Per-cycle statistics of one quasi-static record.
+
+    Attributes
+    ----------
+    measurement_id : str
+    time : ndarray, shape (n_cycles,)
+        Mid time of each cycle, s.
+    amplitude, center : ndarray
+        Deflection half-range and centre of each cycle, m.
+    force_offset : ndarray
+        Midline of the loop at its centre: the mean of the loading and unloading force at the
+        cycle's centre deflection, N. Zero for a loop symmetric about the origin (any
+        hysteresis, any odd spring); a load-cell offset or a preload shows here.
+    force_amplitude : ndarray
+        Half the force range, N.
+    secant_stiffness : ndarray
+        Force range over deflection range, N/m.
+    dissipated_energy : ndarray
+        Loop area ``|closed integral of F dx|``, J.
+    """
+
+    measurement_id: str
+    time: np.ndarray
+    amplitude: np.ndarray
+    center: np.ndarray
+    force_offset: np.ndarray
+    force_amplitude: np.ndarray
+    secant_stiffness: np.ndarray
+    dissipated_energy: np.ndarray
+
+    @property
+    def steady(self) -> np.ndarray:
+        """Cycles of steady cycling: amplitude within :data:`STEADY_AMPLITUDE_FRACTION` of both
+        neighbours (a cycle that spans a change of amplitude has its centre moved by half the
+        change, which is the protocol, not drift)."""
+        amplitude = self.amplitude
+        if amplitude.size < 2:
+            return np.zeros(amplitude.size, dtype=bool)
+        close = np.abs(np.diff(amplitude)) <= STEADY_AMPLITUDE_FRACTION * np.maximum(amplitude[1:], amplitude[:-1])
+        before = np.r_[True, close]
+        after = np.r_[close, True]
+        return before & after & (np.r_[close, False] | np.r_[False, close])
+
+    @property
+    def center_drift(self) -> float:
+        """Range of the loop centres over the steady cycles, m (0 with fewer than two)."""
+        centres = self.center[self.steady]
+        return float(np.ptp(centres)) if centres.size >= 2 else 0.0
+
+    @property
+    def median_force_offset(self) -> float:
+        """Median loop midline at the centre, N."""
+        return float(np.median(self.force_offset)) if self.force_offset.size else 0.0
+
+    def findings(self) -> list[str]:
+        """Drift and offset beyond :data:`DRIFT_WARNING_FRACTION` / :data:`FORCE_OFFSET_WARNING_FRACTION`."""
+        found = []
+        if self.amplitude.size == 0:
+            return found
+        amplitude, force = float(np.median(self.amplitude)), float(np.median(self.force_amplitude))
+        if self.center_drift > DRIFT_WARNING_FRACTION * amplitude:
+            centres = self.center[self.steady]
+            found.append(f"loop centre drifts from {centres[0] * 1e3:.3g} to {centres[-1] * 1e3:.3g} mm "
+                         f"(range {self.center_drift * 1e3:.3g} mm over {centres.size} steady cycles, "
+                         f"{self.center_drift / amplitude:.0%} of the median amplitude {amplitude * 1e3:.3g} mm)")
+        if abs(self.median_force_offset) > FORCE_OFFSET_WARNING_FRACTION * force:
+            found.append(f"force offset {self.median_force_offset:+.4g} N at the loop centres "
+                         f"({abs(self.median_force_offset) / force:.0%} of the median force amplitude {force:.4g} N)")
+        return found
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per cycle, units in the column names."""
+        return pd.DataFrame({
+            "measurement_id": self.measurement_id, "cycle": np.arange(1, self.amplitude.size + 1),
+            "time [s]": self.time, "amplitude [m]": self.amplitude, "center [m]": self.center,
+            "force_offset [N]": self.force_offset, "force_amplitude [N]": self.force_amplitude,
+            "secant_stiffness [N/m]": self.secant_stiffness, "dissipated_energy [J]": self.dissipated_energy,
+        })
+
+
+def _midline(x: np.ndarray, force: np.ndarray, at: float) -> float:
+    """Mean of the loading and the unloading force at deflection ``at`` within one cycle."""
+    velocity = np.gradient(x)
+    values = []
+    for branch in (velocity > 0, velocity < 0):
+        xb, fb = x[branch], force[branch]
+        if xb.size < 2 or not (xb.min() <= at <= xb.max()):
+            return float("nan")
+        order = np.argsort(xb, kind="stable")
+        values.append(float(np.interp(at, xb[order], fb[order])))
+    return 0.5 * (values[0] + values[1])
+
+
+def cycle_statistics(measurement: QuasiStaticMeasurement, *, result: QuasiStaticResult | None = None
+                     ) -> CycleStatistics:
+    """Amplitude, centre, force offset, secant stiffness and loop energy of every cycle.
+
+    Parameters
+    ----------
+    measurement : QuasiStaticMeasurement
+    result : QuasiStaticResult, optional
+        The record's cycles (default :func:`process_quasi_static` with its defaults).
+
+    Returns
+    -------
+    CycleStatistics
+
+    Examples
+    --------
+    A linear spring with viscous loops, offset by 3 mm and 50 N:
+
+    >>> from idkit.io import QuasiStaticMeasurement
+    >>> t = np.linspace(0, 40, 8001)
+    >>> x = 3e-3 + 2e-3 * np.sin(2 * np.pi * t / 10)
+    >>> f = 50.0 + 1e4 * (x - 3e-3) + 2e3 * np.gradient(x, t)
+    >>> stats = cycle_statistics(QuasiStaticMeasurement(time=t, deflection=x, force=f))
+    >>> round(float(stats.center[0]) * 1e3, 3), round(stats.median_force_offset, 2)
+    (3.0, 50.0)
+    """
+    _require(measurement, QuasiStaticMeasurement, "cycle_statistics")
+    result = process_quasi_static(measurement) if result is None else result
+    cycles = result.cycles
+    x, force, time = measurement.deflection, measurement.force, measurement.time
+    n = cycles.n_cycles
+    mid_time, offset, force_amp, secant, energy = (np.empty(n) for _ in range(5))
+    for i in range(n):
+        start, stop = int(cycles.cycle_start[i]), int(cycles.cycle_stop[i]) + 1
+        xs, fs = x[start:stop], force[start:stop]
+        mid_time[i] = 0.5 * (time[start] + time[stop - 1])
+        offset[i] = _midline(xs, fs, float(cycles.center[i]))
+        force_amp[i] = 0.5 * float(np.ptp(fs))
+        secant[i] = float(np.ptp(fs) / np.ptp(xs)) if np.ptp(xs) > 0 else float("nan")
+        energy[i] = abs(float(np.trapezoid(fs, xs)))
+    return CycleStatistics(measurement_id=measurement.id, time=mid_time, amplitude=np.array(cycles.amplitude),
+                           center=np.array(cycles.center), force_offset=offset, force_amplitude=force_amp,
+                           secant_stiffness=secant, dissipated_energy=energy)
+
+
+@dataclass(frozen=True)
+class OffsetCorrection:
+    """What :func:`remove_loop_offsets` subtracted from a record (for provenance).
+
+    Attributes
+    ----------
+    measurement_id : str
+    center_knots_time, center_knots : ndarray
+        The loop centres (m) at the cycle mid times (s) whose piecewise-linear interpolation
+        (held constant beyond the first and last cycle) was subtracted from the deflection;
+        empty when the drift was kept.
+    force_offset : float
+        Constant subtracted from the force, N (0 when kept).
+    """
+
+    measurement_id: str
+    center_knots_time: np.ndarray
+    center_knots: np.ndarray
+    force_offset: float
+
+    def to_dict(self) -> dict:
+        """JSON-ready record."""
+        return {"measurement_id": self.measurement_id, "force_offset_N": self.force_offset,
+                "center_knots_time_s": [float(v) for v in self.center_knots_time],
+                "center_knots_m": [float(v) for v in self.center_knots]}
+
+
+def remove_loop_offsets(measurement: QuasiStaticMeasurement, *, drift: bool = True, force_offset: bool = True
+                        ) -> tuple[QuasiStaticMeasurement, OffsetCorrection]:
+    """A copy of the record with the loop-centre drift and the force offset removed.
+
+    The deflection loses the piecewise-linear curve through the cycle centres (at the cycle
+    mid times; constant before the first and after the last cycle), so every loop is centred
+    on zero; the force loses the median loop midline at the centres
+    (:class:`CycleStatistics`). The input is not altered; the returned correction records
+    exactly what was subtracted, and the new measurement's ``info.notes`` says so.
+
+    Examples
+    --------
+    >>> from idkit.io import QuasiStaticMeasurement
+    >>> t = np.linspace(0, 40, 8001)
+    >>> x = 3e-3 + 2e-3 * np.sin(2 * np.pi * t / 10)
+    >>> record = QuasiStaticMeasurement(time=t, deflection=x, force=50.0 + 1e4 * (x - 3e-3))
+    >>> clean, correction = remove_loop_offsets(record)
+    >>> round(float(np.median(clean.deflection)) * 1e3, 6), round(correction.force_offset, 3)
+    (0.0, 50.0)
+    """
+    import dataclasses
+
+    stats = cycle_statistics(measurement)
+    deflection = np.array(measurement.deflection, dtype=float)
+    force = np.array(measurement.force, dtype=float)
+    knots_t, knots_c = np.array([]), np.array([])
+    if drift and stats.center.size:
+        knots_t, knots_c = stats.time, stats.center
+        deflection = deflection - np.interp(measurement.time, knots_t, knots_c)
+    offset = stats.median_force_offset if force_offset else 0.0
+    force = force - offset
+    correction = OffsetCorrection(measurement_id=measurement.id, center_knots_time=knots_t, center_knots=knots_c,
+                                  force_offset=float(offset))
+    note = (f"loop offsets removed by idkit: centre drift {'removed' if drift else 'kept'}, "
+            f"force offset {offset:+.6g} N subtracted")
+    info = dataclasses.replace(measurement.info, notes=(measurement.info.notes + "; " if measurement.info.notes
+                                                        else "") + note)
+    clean = dataclasses.replace(measurement, deflection=deflection, force=force, info=info)
+    return clean, correction

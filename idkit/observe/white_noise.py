@@ -18,7 +18,7 @@ import pandas as pd
 
 from idkit.errors import DataError, FitError
 from idkit.io import WhiteNoiseMeasurement
-from idkit.io.provenance import DataProvenance, select_measurements
+from idkit.io.selection import DataProvenance, select_measurements
 from idkit.observe._common import _require
 from idkit.signal.frf import FrfEstimate, estimate_frf
 
@@ -239,7 +239,7 @@ def transmissibility_sets(
     Parameters
     ----------
     measurements : MeasurementSet or sequence of measurements
-        Selected by :func:`idkit.io.provenance.select_measurements`.
+        Selected by :func:`idkit.io.selection.select_measurements`.
     isolator : str or None, default "elastomer"
     split : {"fit", "validation", "all", None}, default "fit"
     band : (float, float), default (1, 100)

@@ -62,7 +62,7 @@ def plot_drop_validation(result, *, axes=None):
     accel_ax, deflection_ax = axes
     table = result.metrics
     for mass, group in table.groupby("top mass [kg]"):
-        speed = np.abs(group["impact velocity measured [m/s]"])
+        speed = np.abs(group["relative velocity step [m/s]"])
         for phase, marker in (("compression", "o"), ("tension", "s")):
             (line,) = accel_ax.plot(speed, group[f"peak accel {phase} simulated [m/s^2]"], marker, fillstyle="none",
                                     label=f"model {phase}, {mass:g} kg")

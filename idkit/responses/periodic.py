@@ -79,7 +79,7 @@ NULL_TOLERANCE = 1e-5
 
 
 @numba.njit(cache=True, nogil=True)
-def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplitude, steps_per_period, n_periods,
+def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitude, steps_per_period, n_periods,
                  scale, q0, v0, jforce0, mstate0, bwz0, n_record, with_tangent):
     """Integrate each member over ``n_periods`` excitation periods from its state at t = 0.
 
@@ -113,7 +113,7 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, freq, amplitude, s
         n_per = steps_per_period[b]
         h = 1.0 / (freq[b] * n_per)
         amp = amplitude[b]
-        P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, h)
+        P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
         state = np.zeros(6)
         for d in range(ndof):
             state[d] = q0[b, d]
@@ -196,8 +196,12 @@ class PeriodMap:
         if jacobian == "exact" and self.boucwen.size:
             raise SimulationError("jacobian: found 'exact' for a system with Bouc-Wen elements, expected "
                                   "'finite differences' (z is not differentiated through its sub-steps)")
+        modulated = bool(np.any(arrays.sm[:, 0] != 0.0))  # slip limits that follow the deflection
+        if jacobian == "exact" and modulated:
+            raise SimulationError("jacobian: found 'exact' for a system with modulated slip forces, expected "
+                                  "'finite differences' (the exact sensitivities assume constant slip limits)")
         self.jacobian_method = ("finite differences" if jacobian == "finite differences" or self.boucwen.size
-                                else "exact")
+                                or modulated else "exact")
         nj, nm = arrays.jk.shape[1], arrays.mk.shape[1]
         jenkin_flat = [j * nj + i for j, i in self.jenkin]
         maxwell_flat = [j * nm + i for j, i in self.maxwell]

@@ -50,7 +50,15 @@ from idkit.signal.drop import drop_phase_peaks
 from idkit.signal.srs import ShockResponseSpectrum, shock_response_spectrum
 from idkit.errors import SimulationError
 from idkit.models import HybridSystem, SDOFSystem
-from idkit.simulate import STANDARD_GRAVITY, free_fall, relaxation_deflection, small_amplitude_resonance
+from idkit.simulate import (
+    DEFAULT_CONTACT,
+    STANDARD_GRAVITY,
+    ContactModel,
+    drop_rig,
+    free_fall,
+    relaxation_deflection,
+    small_amplitude_resonance,
+)
 
 __all__ = ["ShockSweep", "shock_sweep", "default_shock_grid"]
 
@@ -112,7 +120,11 @@ class ShockSweep:
         m/s^2 (0: without gravity).
     relaxation : bool
     initial_deflection : ndarray, shape (n_isolators,)
-        m, positive = tension.
+        m, positive = tension (rig: the statically loaded rest state before release).
+    drop_model : str
+        ``"conditioned"`` or ``"rig"`` (:func:`idkit.simulate.drop_rig`).
+    lifted_off : ndarray of bool, shape (n,), or None
+        Rig only: the bottom mass left the floor after the first contact.
     """
 
     impact_velocity: NDArray[np.float64]
@@ -135,6 +147,8 @@ class ShockSweep:
     gravity: float
     relaxation: bool
     initial_deflection: NDArray[np.float64]
+    drop_model: str = "conditioned"
+    lifted_off: NDArray[np.bool_] | None = None
 
     @property
     def impact_speed(self) -> NDArray[np.float64]:
@@ -198,8 +212,19 @@ class ShockSweep:
 
 def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height: ArrayLike | None = None,
                 duration: float | None = None, time_step: float | None = None, gravity: bool | float = False,
-                relaxation: bool = False, workers: int | None = None, executor=None) -> ShockSweep:
-    """Conditioned free falls of ``system`` over impact velocities or drop heights.
+                relaxation: bool = False, workers: int | None = None, executor=None,
+                drop_model: str = "conditioned", bottom_mass: float | None = None,
+                contact: ContactModel | None = None) -> ShockSweep:
+    """Conditioned free falls (or rig drops) of ``system`` over impact velocities or drop heights.
+
+    With ``drop_model="rig"`` the drops are simulated by :func:`idkit.simulate.drop_rig` (the
+    stack released from its statically loaded rest state onto ``bottom_mass`` on a unilateral
+    floor ``contact``, default :data:`idkit.simulate.DEFAULT_CONTACT`): heights come from
+    ``drop_height`` or ``v0^2 / (2 g)``; ``gravity`` and ``relaxation`` do not apply (gravity is
+    on, the fall sets the state at impact); ``time_step`` default
+    :func:`idkit.simulate.drop_rig.rig_time_step`. The phases are read from the first floor
+    contact on, by the same rule; ``impact_velocity`` is then the bottom mass's velocity at
+    the first contact.
 
     Parameters
     ----------
@@ -235,6 +260,12 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
         raise SimulationError(f"system: found {type(system).__name__}, expected SDOFSystem or HybridSystem")
     if (impact_velocity is None) == (drop_height is None):
         raise SimulationError("shock_sweep: give exactly one of impact_velocity (m/s) and drop_height (m)")
+    if drop_model not in ("conditioned", "rig"):
+        raise SimulationError(f"drop_model: found {drop_model!r}, expected 'conditioned' or 'rig'")
+    if drop_model == "rig":
+        return _rig_sweep(system, impact_velocity=impact_velocity, drop_height=drop_height, duration=duration,
+                          time_step=time_step, bottom_mass=bottom_mass, contact=contact, workers=workers,
+                          executor=executor)
     if drop_height is not None:
         velocity = np.atleast_1d(impact_velocity_from_height(drop_height))
         if velocity.ndim != 1:
@@ -274,4 +305,48 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
         isolator_names=names, time=response.time, top_acceleration=accel,
         flags=np.asarray(response.flags, dtype=np.int64), reasons=tuple(response.reasons), duration=duration,
         time_step=time_step, gravity=g, relaxation=bool(relaxation), initial_deflection=initial,
+    )
+
+
+def _rig_sweep(system, *, impact_velocity, drop_height, duration, time_step, bottom_mass, contact, workers,
+               executor) -> ShockSweep:
+    """:func:`shock_sweep` with ``drop_model="rig"`` (see there)."""
+    if bottom_mass is None:
+        raise SimulationError("bottom_mass: found None, expected the rig's bottom mass in kg for drop_model='rig'")
+    if drop_height is not None:
+        heights = np.atleast_1d(np.asarray(drop_height, dtype=float))
+    else:
+        velocity = np.atleast_1d(np.asarray(impact_velocity, dtype=float))
+        if not np.all(velocity < 0):
+            raise SimulationError(f"impact_velocity: found {velocity!r}, expected downward (< 0) m/s for a rig drop")
+        heights = velocity**2 / (2.0 * STANDARD_GRAVITY)
+    contact = DEFAULT_CONTACT if contact is None else contact
+    run = drop_rig(system, bottom_mass=bottom_mass, drop_height=heights, contact=contact, duration=duration,
+                   time_step=time_step, workers=workers, executor=executor)
+    start = run.impact_index
+    ok = run.flags == 0
+    nan = np.full(heights.size, np.nan)
+    accel = run.top_acceleration
+    total = drop_phase_peaks(run.deflection, accel, start=start)
+    each = drop_phase_peaks(run.isolator_deflection,
+                            np.broadcast_to(accel[:, None, :], run.isolator_deflection.shape), start=start)
+    rest = np.where(ok, total.rest_shock_level, nan)
+    compression = np.where(ok, total.acceleration_compression, nan)
+    tension = np.where(ok, total.acceleration_tension, nan)
+    with np.errstate(invalid="ignore"):
+        governing = np.where(~ok | np.isnan(rest), "",
+                             np.where(np.fmax(compression, -np.inf) >= np.fmax(tension, -np.inf),
+                                      "compression", "tension"))
+    names = ("isolator",) if run.isolator_deflection.shape[1] == 1 else ("upper", "lower")
+    return ShockSweep(
+        impact_velocity=run.impact_velocity, drop_height=heights, rest_shock_level=rest,
+        peak_acceleration_compression=compression, peak_acceleration_tension=tension,
+        governing_phase=governing.astype(str), travel_compression=np.where(ok, total.compression, nan),
+        travel_tension=np.where(ok, total.tension, nan),
+        peak_compression=np.where(ok[:, None], each.compression, np.nan),
+        peak_tension=np.where(ok[:, None], each.tension, np.nan),
+        isolator_names=names, time=run.time[start:], top_acceleration=accel[:, start:],
+        flags=np.asarray(run.flags, dtype=np.int64), reasons=tuple(run.reasons),
+        duration=float(run.time[-1]), time_step=run.time_step, gravity=STANDARD_GRAVITY, relaxation=False,
+        initial_deflection=run.static_deflection, drop_model="rig", lifted_off=run.lifted_off,
     )

@@ -22,13 +22,14 @@ class SystemArrays:
     mk: np.ndarray  # (ndof, nm)
     mrate: np.ndarray
     bw: np.ndarray  # (ndof, 10)
+    sm: np.ndarray  # (ndof, 2) slip modulation a [-], y_ref [m]
 
     @property
     def ndof(self) -> int:
         return int(self.masses.size)
 
     def as_tuple(self):
-        return (self.masses, self.poly, self.cvisc, self.jk, self.jfc, self.mk, self.mrate, self.bw)
+        return (self.masses, self.poly, self.cvisc, self.jk, self.jfc, self.mk, self.mrate, self.bw, self.sm)
 
 
 def resolve_system(system):
@@ -65,6 +66,7 @@ def system_arrays(system) -> SystemArrays:
         cvisc=np.array([p.c_visc for p in parts], dtype=float),
         jk=jk, jfc=jfc, mk=mk, mrate=mrate,
         bw=np.array([p.boucwen for p in parts], dtype=float),
+        sm=np.array([p.slip_modulation for p in parts], dtype=float).reshape(ndof, 2),
     )
 
 

@@ -361,6 +361,10 @@ def _layout(system) -> _Layout:
             f"system: found {type(system).__name__}, expected SDOFSystem, HybridSystem or CoulombSpringSystem"
         )
     parts = [isolator.kernel_arrays() for isolator in system.isolators]
+    for part in parts:
+        if part.slip_modulation[0] != 0.0:
+            raise SimulationError("system: found an isolator with modulated slip forces, which the smoothed "
+                                  "reference does not model; expected constant slip forces (use simulate())")
     j_owner, j_k, j_fc, m_owner, m_k, m_rate, b_owner, b_par, b_zy = ([] for _ in range(9))
     for j, part in enumerate(parts):
         j_owner += [j] * part.jenkin_stiffness.size

@@ -112,14 +112,19 @@ def relaxation_deflection(system) -> np.ndarray:
 def initial_states(system, deflections):
     """Internal states after monotonic loading to ``deflections`` (m, one per isolator).
 
-    Jenkin elements carry ``clip(k y, -Fc, Fc)``; Maxwell elements are relaxed
+    Jenkin elements carry ``clip(k y, -s(y) Fc, s(y) Fc)`` (``s = 1`` unless the slip forces
+    are modulated, :mod:`idkit.models.iwan_modulated`); Maxwell elements are relaxed
     (held long at that deflection); Bouc-Wen ``z`` follows the loading branch.
     Returns ``(jenkin_force (ndof, nj), maxwell_state (ndof, nm), boucwen_z (ndof,))``.
     """
     system = resolve_system(system)
     arrays = system_arrays(system)
     deflections = np.broadcast_to(np.asarray(deflections, dtype=float), (arrays.ndof,))
-    jforce = np.clip(arrays.jk * deflections[:, None], -arrays.jfc, arrays.jfc)
+    scale = np.ones(arrays.ndof)
+    modulated = arrays.sm[:, 0] != 0.0
+    scale[modulated] = 1.0 - arrays.sm[modulated, 0] * np.tanh(deflections[modulated] / arrays.sm[modulated, 1])
+    limit = arrays.jfc * scale[:, None]
+    jforce = np.clip(arrays.jk * deflections[:, None], -limit, limit)
     mstate = np.zeros_like(arrays.mk)
     bwz = np.zeros(arrays.ndof)
     for j, isolator in enumerate(system.isolators):

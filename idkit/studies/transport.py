@@ -121,12 +121,20 @@ def _top_mass(moving_mass: float, isolator) -> float:
 
 
 def tuning_table(systems: list[TransportSystem], target_freq: float = 5.0) -> pd.DataFrame:
-    """Masses and tuning checks of the study systems (one row each)."""
+    """Masses and tuning checks of the study systems (one row each).
+
+    Columns: ``moving mass [kg]``, the mass the thesis prints for each system (top mass plus
+    the elastomer's ``m_eff``, the mass the tuning rule fixes: 101, 65.4, 38.4, 27.2, 21.1,
+    17.2, 14.0 kg for the hybrids, 218 kg wire rope, 15.4 kg elastomer);
+    ``top mass without m_eff [kg]``, the rigid top mass alone (what the simulator's
+    ``SDOFSystem.mass`` / ``HybridSystem.mass`` holds); ``intermediate mass [kg]``;
+    ``stiffness at target [N/m]``; ``r_k [-]`` requested and, for the hybrids, achieved.
+    """
     rows = []
     for item in systems:
         system = item.system
         masses = system.masses
-        row = {"system": item.name, "top mass [kg]": system.mass, "moving top mass [kg]": masses[0],
+        row = {"system": item.name, "moving mass [kg]": masses[0], "top mass without m_eff [kg]": system.mass,
                "intermediate mass [kg]": getattr(system, "intermediate_mass", np.nan),
                "stiffness at target [N/m]": item.stiffness_at_target, "r_k [-]": item.r_k}
         if item.kind == "hybrid":

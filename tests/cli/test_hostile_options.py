@@ -25,6 +25,7 @@ FIT_IWAN = ["fit", "iwan", str(DATA / "wire_rope"), "-o", "{out}"]
 FIT_BOUCWEN = ["fit", "boucwen", str(DATA / "wire_rope"), "-o", "{out}"]
 FIT_MAXWELL = ["fit", "maxwell", str(DATA / "elastomer"), "-o", "{out}"]
 SHOCK = ["shock", "never-read.csv", "-o", "{out}"]
+INIT = ["data", "init", "never-read-folder", "--kind", "quasi_static"]
 
 # (case id, argv, words the message must contain)
 ERRORS = [
@@ -34,6 +35,15 @@ ERRORS = [
     ("shock-points-one", SHOCK + ["--points", "1"], ["--points", "found '1'", "whole number from 2 to 2000"]),
     ("shock-damping-one", SHOCK + ["--damping", "1"], ["--damping", "found '1'", "< 1"]),
     ("shock-lowpass-nan", SHOCK + ["--lowpass", "nan"], ["--lowpass", "found 'nan'"]),
+    # data init: refused by the parser, the folder is never read
+    ("init-top-mass-zero", INIT + ["--top-mass", "0"], ["--top-mass", "found '0'", "> 0 kg"]),
+    ("init-intermediate-mass-negative", INIT + ["--intermediate-mass", "-1"], ["--intermediate-mass", "found '-1'"]),
+    ("init-bottom-mass-inf", INIT + ["--bottom-mass", "inf"], ["--bottom-mass", "found 'inf'"]),
+    ("init-drop-height-zero", INIT + ["--drop-height", "0"], ["--drop-height", "found '0'", "> 0 m"]),
+    ("init-freq-negative", INIT + ["--freq", "-5"], ["--freq", "found '-5'", "> 0 Hz"]),
+    ("init-band-zero", INIT + ["--band", "0", "100"], ["--band", "found '0'"]),
+    ("init-sample-rate-nan", INIT + ["--sample-rate", "nan"], ["--sample-rate", "found 'nan'"]),
+    ("init-repetition-zero", INIT + ["--repetition", "0"], ["--repetition", "found '0'", "whole number >= 1"]),
     # simulate harmonic: grids given as START STOP COUNT
     ("freq-two-values-log", HARMONIC + ["--freq", "1", "100", "--freq-spacing", "log", "--amplitude", "1e-3"],
      ["--freq", "found 2 value(s)", "expected 3 values: START STOP COUNT"]),

@@ -17,7 +17,7 @@ from idkit.fit.measurements import elastomer_data
 from idkit.io import MeasurementInfo, QuasiStaticMeasurement, WhiteNoiseMeasurement, write_measurement_set
 from idkit.io import load_measurement_set
 from idkit.io.manifest import MANIFEST_NAME
-from idkit.io.provenance import select_measurements, split_option
+from idkit.io.selection import select_measurements, split_option
 from idkit.models import IwanModel, library
 from idkit.observe.quasi_static import prepare_loops, process_quasi_static
 from idkit.observe.white_noise import FRF_RESOLUTION_HZ, frf_from_white_noise

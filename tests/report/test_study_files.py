@@ -52,6 +52,6 @@ def test_transport_study_files(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["seed"] == 5 and summary["n_realizations"] == study.n_realizations == 4
     tuning = pd.read_csv(out / "transport_tuning.csv")
-    assert "top mass [kg]" in tuning.columns and len(tuning) == 5
+    assert {"moving mass [kg]", "top mass without m_eff [kg]"} <= set(tuning.columns) and len(tuning) == 5
     with pytest.raises(FileExistsError):
         run_transport_study(out, quick=True)

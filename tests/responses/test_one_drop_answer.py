@@ -109,3 +109,20 @@ def test_phase_peaks_of_a_sine_are_the_analytic_ones():
     assert peaks.acceleration_compression == pytest.approx(omega**2 * amplitude, rel=1e-6)
     assert peaks.acceleration_tension == pytest.approx(0.5 * omega**2 * amplitude, rel=1e-6)
     assert float(peaks.rest_shock_level) == peaks.acceleration_compression
+
+
+def test_the_rig_option_of_shock_sweep_is_the_rig_reduced_by_the_one_phase_rule():
+    from idkit.models import SDOFSystem, library
+    from idkit.responses.shock import shock_sweep
+    from idkit.signal.drop import drop_phase_peaks
+    from idkit.simulate import drop_rig
+
+    system = SDOFSystem(4.33, library.get("table_7_1_wire_rope"))
+    sweep = shock_sweep(system, drop_height=[0.03, 0.1], drop_model="rig", bottom_mass=7.88, duration=0.2)
+    run = drop_rig(system, bottom_mass=7.88, drop_height=[0.03, 0.1], duration=0.2)
+    peaks = drop_phase_peaks(run.deflection, run.top_acceleration, start=run.impact_index)
+    assert sweep.drop_model == "rig" and sweep.ok.all()
+    np.testing.assert_array_equal(sweep.peak_acceleration_compression, peaks.acceleration_compression)
+    np.testing.assert_array_equal(sweep.peak_acceleration_tension, peaks.acceleration_tension)
+    np.testing.assert_array_equal(sweep.travel_compression, peaks.compression)
+    np.testing.assert_array_equal(sweep.impact_velocity, run.impact_velocity)

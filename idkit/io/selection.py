@@ -1,0 +1,168 @@
+"""Selecting the measurements an analysis uses, once, with their provenance.
+
+:func:`select_measurements` takes a loaded :class:`~idkit.io.manifest.MeasurementSet` or a
+sequence of typed measurements and returns the matching ones with a
+:class:`DataProvenance` (folder, manifest hash, file hashes, ids) that fits and estimates
+carry into model files.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from idkit.errors import DataError
+from idkit.io.info import SPLITS
+from idkit.io.manifest import MANIFEST_NAME, MeasurementSet
+from idkit.io.measurements import (
+    DropMeasurement,
+    QuasiStaticMeasurement,
+    SteppedSineMeasurement,
+    WhiteNoiseMeasurement,
+)
+
+__all__ = ["DataProvenance", "select_measurements", "split_option"]
+
+
+@dataclass(frozen=True)
+class DataProvenance:
+    """Which measurements an analysis (a fit, a k0 estimate) used and where they came from.
+
+    Attributes
+    ----------
+    folder : str or None
+        The measurement set's folder (None for measurements given as a list).
+    manifest_sha256 : str or None
+        SHA-256 of the set's ``manifest.json``.
+    files : dict of str to str
+        Data file (as the manifest names it, else the path or ``<memory:id>``) -> SHA-256
+        of its bytes.
+    ids : tuple of str
+        Measurement ids used, in order.
+    selection : dict
+        The criteria (kind, isolator, split) that picked them.
+    """
+
+    folder: str | None
+    manifest_sha256: str | None
+    files: dict
+    ids: tuple[str, ...]
+    selection: dict
+
+    def to_dict(self) -> dict:
+        """JSON-ready dictionary (``measurement_ids`` for :attr:`ids`)."""
+        return {"folder": self.folder, "manifest_sha256": self.manifest_sha256, "files": dict(self.files),
+                "measurement_ids": list(self.ids), "selection": dict(self.selection)}
+
+    def merged(self, other: DataProvenance, *, kind: str) -> DataProvenance:
+        """The union of two selections of the same set: ``other``'s files and ids after these.
+
+        Parameters
+        ----------
+        other : DataProvenance
+            A second selection (e.g. the white-noise runs after the quasi-static loops).
+        kind : str
+            The ``kind`` recorded for the union, e.g. ``"quasi_static (k0) + white_noise"``.
+
+        Returns
+        -------
+        DataProvenance
+            Folder and manifest of ``other``; selection of ``other`` with ``kind`` replaced.
+        """
+        return DataProvenance(folder=other.folder, manifest_sha256=other.manifest_sha256,
+                              files={**self.files, **other.files}, ids=self.ids + other.ids,
+                              selection={**other.selection, "kind": kind})
+
+
+def split_option(split: str | None) -> str | None:
+    """The ``split`` criterion of a selection: ``"fit"``, ``"validation"``, or None for all.
+
+    Parameters
+    ----------
+    split : {"fit", "validation", "all", None}
+        ``"all"`` and None both mean every split.
+
+    Returns
+    -------
+    str or None
+
+    Raises
+    ------
+    DataError
+        Any other value.
+
+    Examples
+    --------
+    >>> split_option("all") is None, split_option("fit")
+    (True, 'fit')
+    """
+    if split in (None, "all"):
+        return None
+    if split not in SPLITS:
+        raise DataError(f"split: found {split!r}, expected one of {', '.join(SPLITS)} or None/'all'")
+    return split
+
+
+def select_measurements(data, *, kind: str, isolator: str | None, split: str | None) -> tuple[list, DataProvenance]:
+    """The measurements of one kind (and isolator, split) of a set, with their provenance.
+
+    Parameters
+    ----------
+    data : MeasurementSet or sequence of measurements
+        A loaded set (its manifest names the files and gives their hashes,
+        :meth:`~idkit.io.MeasurementSet.hashes`) or measurements built in memory or read
+        one by one (files named by their path, or ``<memory:id>``).
+    kind : str
+        ``"quasi_static"``, ``"white_noise"``, ``"stepped_sine"`` or ``"drop"``.
+    isolator : str or None
+        Only measurements of this isolator (None: any).
+    split : {"fit", "validation", "all", None}
+        Only measurements of this split (None or ``"all"``: any; :func:`split_option`).
+
+    Returns
+    -------
+    (list of measurements, DataProvenance)
+        The matching measurements in order, and what picked them.
+
+    Raises
+    ------
+    DataError
+        ``data`` is neither a MeasurementSet nor a sequence of measurements, or nothing
+        matches (the message lists the (kind, isolator, split) groups available).
+    """
+    split = split_option(split)
+    selection = {"kind": kind, "isolator": isolator, "split": split}
+    if isinstance(data, MeasurementSet):
+        chosen = data.select(kind=kind, isolator=isolator, split=split)
+        measurements = list(chosen.measurements)
+        files = {name: digest for name, digest in chosen.hashes().items() if name != MANIFEST_NAME}
+        folder = None if data.folder is None else str(data.folder)
+        manifest = data.manifest_sha256
+        everything = list(data.measurements)
+    elif isinstance(data, Sequence) and not isinstance(data, (str, bytes)):
+        classes = (QuasiStaticMeasurement, WhiteNoiseMeasurement, SteppedSineMeasurement, DropMeasurement)
+        everything = list(data)
+        for index, item in enumerate(everything):
+            if not isinstance(item, classes):
+                raise DataError(f"measurements[{index}]: found {type(item).__name__}, expected a measurement "
+                                "(QuasiStaticMeasurement, WhiteNoiseMeasurement, SteppedSineMeasurement or "
+                                "DropMeasurement)")
+        measurements = [m for m in everything if m.kind == kind
+                        and (isolator is None or m.info.isolator == isolator)
+                        and (split is None or m.info.split == split)]
+        files = {(str(m.source.path) if m.source.path is not None else f"<memory:{m.id}>"): m.source.sha256
+                 for m in measurements}
+        folder, manifest = None, None
+    else:
+        raise DataError(f"measurements: found {type(data).__name__}, expected a MeasurementSet or a sequence "
+                        "of measurements")
+    if not measurements:
+        found: dict = {}
+        for m in everything:
+            key = (m.kind, m.info.isolator, m.info.split)
+            found[key] = found.get(key, 0) + 1
+        raise DataError(f"measurements: found none with kind={kind!r}, isolator={isolator!r}, split={split!r}; "
+                        f"available (kind, isolator, split): {found}")
+    provenance = DataProvenance(folder=folder, manifest_sha256=manifest, files=files,
+                                ids=tuple(m.id or f"#{i}" for i, m in enumerate(measurements)), selection=selection)
+    return measurements, provenance

@@ -1,0 +1,94 @@
+"""Identification of the Iwan model with deflection-dependent slip forces (idkit.fit.iwan_modulated)."""
+
+import itertools
+
+import numpy as np
+import pytest
+
+from idkit.errors import FitError
+from idkit.fit import prepare_loops
+from idkit.fit.iwan_modulated import (
+    fit_iwan_modulated,
+    loop_model_table,
+    modulated_set_errors,
+)
+from idkit.models import IwanModel, ModulatedIwanModel
+
+TRUE = ModulatedIwanModel(g1=1.84e4, g2=2.45e5, g3=-4.57e5, k=[1.88e5, 9.09e3], fc=[15.5, 10.3],
+                          slip_modulation=0.35, slip_length=6e-3)
+NOISE_N = 0.05  # force noise, N (the bundled quasi-static records' level)
+
+
+def _record(model, amplitude, rng, cycles=2, points=300):
+    """Loops of one amplitude (m) from the unloaded state, with white force noise."""
+    corners = [0.0] + [amplitude * (-1) ** i for i in range(2 * cycles + 1)]
+    x = np.concatenate([np.linspace(a, b, points)[1:] for a, b in itertools.pairwise(corners)])
+    x = np.concatenate([[0.0], x])
+    return x, model.force(x) + NOISE_N * rng.standard_normal(x.size)
+
+
+def _sets(model, seed):
+    rng = np.random.default_rng(seed)
+    small = [prepare_loops(*_record(model, a, rng), name=f"s{a * 1e3:g}mm") for a in (0.3e-3, 1e-3, 2e-3)]
+    large = [prepare_loops(*_record(model, a, rng), name=f"l{a * 1e3:g}mm") for a in (5e-3, 10e-3, 15e-3)]
+    return small, large
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_modulation_parameters_come_back_within_their_standard_errors(seed):
+    small, large = _sets(TRUE, seed)
+    result = fit_iwan_modulated(small, large, order=2)
+    assert result.success, result.report()
+    # 4 standard errors: a two-sided normal check that fails with probability 6e-5 per parameter
+    # when the reported stderr is right (the data here are the model plus white noise)
+    for name in ("slip_modulation", "slip_length"):
+        value, stderr = result.parameters.set_index("name").loc[name, ["value", "stderr"]]
+        assert abs(value - TRUE.params()[name]) < 4.0 * stderr, result.report()
+        assert stderr < 0.1 * abs(TRUE.params()[name])  # resolved, not just consistent
+    # the modulated model explains the loops better than the plain one it started from
+    assert result.error_large < 0.5 * np.mean(result.plain_large_errors)
+
+
+def test_loops_without_modulation_say_the_modulation_is_not_resolved():
+    small, large = _sets(TRUE.plain(), 3)
+    result = fit_iwan_modulated(small, large, order=2)
+    assert not result.success
+    assert any("not resolved" in reason for reason in result.reasons)
+
+
+def test_set_errors_of_the_true_model_are_the_noise_level():
+    small, large = _sets(TRUE, 4)
+    errors = modulated_set_errors(TRUE, small + large)
+    # relative RMS of the noise: 0.05 N over each set's RMS force (> 5 N for every set here)
+    assert np.all(errors < 2 * NOISE_N / np.array([np.sqrt(np.mean(s.force**2)) for s in small + large]))
+
+
+def test_bad_arguments_are_named():
+    small, large = _sets(TRUE, 5)
+    with pytest.raises(FitError, match="modulation_starts"):
+        fit_iwan_modulated(small, large, plain=TRUE.plain(), modulation_starts=[1.2])
+    with pytest.raises(FitError, match="plain"):
+        fit_iwan_modulated(small, large, plain="iwan")
+    with pytest.raises(FitError, match="small"):
+        fit_iwan_modulated([], large, plain=IwanModel(g1=1e4, k=[1e5], fc=[10.0]))
+
+
+def test_order_table_has_a_row_per_model():
+    small, large = _sets(TRUE, 6)
+    table = loop_model_table(small, large, order=2, boucwen=False)
+    assert list(table.summary["model"]) == ["iwan", "iwan_modulated"]
+    iwan, modulated = table.summary["mean large [%]"]
+    assert modulated < iwan
+
+
+def test_valid_range_keeps_the_spring_stiffness_non_negative_beyond_the_loops():
+    # a softening cubic that turns negative-stiff at -20 mm; the loops reach 15 mm, drops 30 mm
+    truth = ModulatedIwanModel(g1=1.84e4, g2=2.45e5, g3=-1.2e7, k=[1.88e5, 9.09e3], fc=[15.5, 10.3],
+                               slip_modulation=0.35, slip_length=6e-3)
+    assert truth.valid_deflection_range()[0] > -0.03
+    small, large = _sets(truth, 7)
+    result = fit_iwan_modulated(small, large, plain=truth.plain(), valid_range=(-0.03, 0.03))
+    lower, upper = result.model.valid_deflection_range()
+    assert lower <= -0.03 * (1 - 1e-6) and upper >= 0.03 * (1 - 1e-6)
+    with pytest.raises(FitError, match="valid_range"):
+        fit_iwan_modulated(small, large, plain=truth.plain(), valid_range=(0.01, 0.03))

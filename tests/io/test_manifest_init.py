@@ -1,0 +1,89 @@
+"""``idkit data init``: a manifest from files plus what the user states, checked before writing."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from idkit.datasets import realdata_dir
+from idkit.errors import DataError
+from idkit.io import load_measurement_set
+from idkit.io.manifest_init import init_manifest
+from tests.cli.hostile import check, run_main
+
+MR = realdata_dir("mr_damper_labcontrol")
+
+
+def write_loops(path, amplitude_mm=4.0, unit="mm"):
+    time = np.linspace(0.0, 20.0, 2001)
+    deflection = amplitude_mm * np.sin(2 * np.pi * time / 5.0)
+    force = 30.0 * deflection + 5.0 * np.sign(np.cos(2 * np.pi * time / 5.0))
+    rows = "\n".join(f"{t!r},{x!r},{f!r}" for t, x, f in zip(time.tolist(), deflection.tolist(), force.tolist()))
+    path.write_text(f"time [s],deflection [{unit}],force [N]\n{rows}\n")
+    return path
+
+
+def test_manifest_lists_the_files_with_the_stated_metadata_and_loads(tmp_path):
+    for name in ("loops_a.csv", "loops_b.csv"):
+        write_loops(tmp_path / name)
+    manifest = init_manifest(tmp_path, kind="quasi_static", metadata={"isolator": "mount", "split": "fit"},
+                             name="bench")
+    assert [e.id for e in manifest.entries] == ["loops_a", "loops_b"]
+    loaded = load_measurement_set(tmp_path)
+    assert {m.info.isolator for m in loaded.measurements} == {"mount"}
+    # the deflection unit came from the header: 4 mm -> 4e-3 m
+    assert loaded.measurements[0].deflection.max() == pytest.approx(4e-3, rel=1e-3)
+
+
+def test_nothing_is_written_when_a_file_does_not_read_as_stated(tmp_path):
+    write_loops(tmp_path / "good.csv")
+    write_loops(tmp_path / "bad.csv", unit="furlong")
+    with pytest.raises(DataError, match=r"bad.csv.*furlong"):
+        init_manifest(tmp_path, kind="quasi_static")
+    assert not (tmp_path / "manifest.json").exists()
+
+
+def test_existing_manifest_is_kept_unless_appending_or_forced(tmp_path):
+    write_loops(tmp_path / "a.csv")
+    init_manifest(tmp_path, kind="quasi_static")
+    before = (tmp_path / "manifest.json").read_bytes()
+    with pytest.raises(DataError, match="exists"):
+        init_manifest(tmp_path, kind="quasi_static")
+    assert (tmp_path / "manifest.json").read_bytes() == before
+    write_loops(tmp_path / "b.csv")
+    appended = init_manifest(tmp_path, kind="quasi_static", append=True, metadata={"split": "validation"})
+    assert [(e.id, e.info.split) for e in appended.entries] == [("a", None), ("b", "validation")]
+
+
+def test_drops_need_their_height(tmp_path):
+    (tmp_path / "drop.csv").write_text("time [s],deflection [m],a_top_1 [g],a_top_2 [g]\n0,0,0,0\n0.001,0,0,0\n")
+    with pytest.raises(DataError, match="drop_height_m"):
+        init_manifest(tmp_path, kind="drop")
+
+
+def test_cli_writes_a_manifest_that_loads(tmp_path):
+    write_loops(tmp_path / "a.csv")
+    outcome = run_main(["data", "init", tmp_path, "--kind", "quasi_static", "--isolator", "mount",
+                        "--top-mass", "2.5"], inputs=[tmp_path / "a.csv"])
+    check(outcome, "ok")
+    document = json.loads((tmp_path / "manifest.json").read_text())
+    assert document["measurements"][0]["top_mass_kg"] == 2.5
+    refused = run_main(["data", "init", tmp_path, "--kind", "quasi_static"], inputs=[tmp_path])
+    check(refused, "error", ["manifest", "exists", "--append", "--force"], case="data-init-existing")
+
+
+@pytest.mark.skipif(MR is None, reason="../shared/realdata/mr_damper_labcontrol is not present")
+def test_mat_files_need_their_columns_stated(tmp_path):
+    import shutil
+
+    shutil.copy(MR / "data" / "ensaio.A.1.mat", tmp_path / "ensaio.A.1.mat")
+    with pytest.raises(DataError, match="mat_column|columns stated"):
+        init_manifest(tmp_path, kind="quasi_static")
+    manifest = init_manifest(tmp_path, kind="quasi_static", metadata={"sample_rate_hz": 100.0},
+                             mat_columns={"time": "Tout [s]", "deflection": "x_F[:,0] [mm]",
+                                          "v_rel": "x_F[:,1] [mm/s]", "force": "x_F[:,2] [N]"})
+    assert manifest.entries[0].id == "ensaio.A.1"
+    record = load_measurement_set(tmp_path).measurements[0]
+    assert 8e-3 < 0.5 * np.ptp(record.deflection) < 1.1e-2
