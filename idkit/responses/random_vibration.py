@@ -22,8 +22,8 @@ of nonlinear responses; at 1/8 record (0.4 Hz) a 5 Hz resonance of damping ratio
 0.03 or 0.07 reads 0.09, 0.095 or 0.115 from the half-power band.
 
 Start-up: the synthesized records are periodic (their lines are multiples of
-``freq_step``), so the record is repeated ``1 + settle_records`` times (plus the overlap)
-and only the last repetition is analysed; the first ones let the start-from-rest transient
+``freq_step``), so the drive runs ``settle_records`` records (a fraction allowed) before the
+analysed record (plus the overlap); the first ones let the start-from-rest transient
 decay (one record = 20 s = about 7 time constants of a 5 Hz resonance with 1 % damping; use
 more for lighter damping).
 
@@ -61,6 +61,7 @@ __all__ = [
     "is_linear_system",
     "linear_output_psd",
     "random_response",
+    "settle_records_for",
 ]
 
 WELCH_OVERLAP = 2.0 / 3.0
@@ -156,7 +157,7 @@ class RandomResponse:
     oversample: int
     nperseg: int
     noverlap: int
-    settle_records: int
+    settle_records: float
     flags: NDArray[np.int64]
     reasons: tuple[str, ...]
     method: str = "time"
@@ -194,6 +195,59 @@ class RandomResponse:
         return (f"random response ({runs}): input RMS "
                 f"{self.input_rms:.4g} m/s^2, output RMS {self.output_rms:.4g} m/s^2, {kind} |H|^2 S_xx RMS "
                 f"{self.linear_output_rms:.4g} m/s^2")
+
+
+def settle_records_for(system, *, freq_step: float = 0.05, time_constants: float = 5.0,
+                       freq_range: tuple[float, float] = (1.0, 20.0), max_records: float = 1.0) -> float:
+    """Settling for :func:`random_response`: a few small-amplitude time constants, in records.
+
+    The top-mass resonance is the highest peak of the small-amplitude ``|H|^2`` over
+    ``freq_range`` (a 2e5-point grid); its half-power band gives ``zeta``, the time
+    constant is ``tau = 1 / (zeta 2 pi f0)`` and the settling ``time_constants * tau``
+    (a start-up transient left at ``exp(-5)`` = 0.7 % by default), in records of
+    ``1 / freq_step``, at most ``max_records``. An undamped small-amplitude system (a
+    stuck wire rope) gets ``max_records``. Slip adds damping, so larger amplitudes settle
+    faster; :attr:`RandomResponse.settling_error` checks a run.
+
+    Parameters
+    ----------
+    system : SDOFSystem or HybridSystem
+    freq_step : float
+        Line spacing of the random records, Hz (a record lasts ``1 / freq_step``).
+    time_constants : float
+        Settling time in time constants.
+    freq_range : (float, float)
+        Hz, where to look for the resonance.
+    max_records : float
+        Upper bound, records.
+
+    Returns
+    -------
+    float
+        Records to settle.
+
+    Examples
+    --------
+    >>> from idkit.models import SDOFSystem, VoigtModel
+    >>> mass, omega0, zeta = 15.0, 2 * np.pi * 5.0, 0.07
+    >>> system = SDOFSystem(mass, VoigtModel(k=mass * omega0**2, damping=2 * zeta * mass * omega0))
+    >>> round(settle_records_for(system), 3)  # 5 / (0.0707 * 2 pi 5 Hz) = 2.25 s of 20 s
+    0.113
+    """
+    freq = np.linspace(float(freq_range[0]), float(freq_range[1]), 200_001)
+    gain = np.abs(np.asarray(system.transmissibility(freq))) ** 2
+    peak = int(np.argmax(gain))
+    half = 0.5 * gain[peak]
+    below = np.nonzero(gain[:peak] <= half)[0]
+    above = np.nonzero(gain[peak:] <= half)[0]
+    if not (np.isfinite(half) and below.size and above.size):
+        return float(max_records)
+    width = freq[peak + above[0]] - freq[below[-1]]
+    zeta = width / (2.0 * freq[peak])
+    if not zeta > 0:
+        return float(max_records)
+    tau = 1.0 / (zeta * 2.0 * np.pi * freq[peak])
+    return float(min(max_records, time_constants * tau * freq_step))
 
 
 def _folded_lines(level: NDArray[np.float64], record: int) -> NDArray[np.float64]:
@@ -316,7 +370,7 @@ def _linear_start(system, signals: NDArray[np.float64], rate: float) -> dict[str
 
 
 def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, fs: float = 800.0,
-                    freq_step: float = 0.05, oversample: int = 4, settle_records: int = 1,
+                    freq_step: float = 0.05, oversample: int = 4, settle_records: float = 1.0,
                     nperseg: int | None = None, method: str = "time", start: str = "rest",
                     workers: int | None = None, executor=None) -> RandomResponse:
     """Simulate the top-mass response to random floor acceleration (module docstring).
@@ -338,9 +392,12 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         with 4x oversampling. ``oversample=1`` reproduces the thesis's 800 Hz signals.
     freq_step : float, default 0.05
         Line spacing of the synthesized spectrum, Hz (record length ``1/freq_step``).
-    settle_records : int, default 1
-        Repetitions of the periodic record simulated before the analysed one (which is
-        followed by the 2/3-segment overlap: 2.67 records simulated in all by default).
+    settle_records : float, default 1
+        Records (a fraction allowed, rounded to a sample at ``fs``) of the periodic drive
+        simulated before the analysed record, which is followed by the 2/3-segment overlap
+        (2.67 records simulated in all by default). A well-damped system needs only a few
+        time constants ``1 / (zeta 2 pi f0)``: 0.25 record (5 s) is 5.5 of them at
+        ``zeta`` = 0.035 and 5 Hz.
     nperseg : int, optional
         Welch segment length in samples at ``fs``, 8 to one record. Default: one record
         (``fs / freq_step`` samples, resolution ``freq_step``).
@@ -377,8 +434,8 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         raise SimulationError(f"system: found {type(system).__name__}, expected SDOFSystem or HybridSystem")
     if int(oversample) != oversample or oversample < 1:
         raise SimulationError(f"oversample: found {oversample!r}, expected an integer >= 1")
-    if int(settle_records) != settle_records or settle_records < 0:
-        raise SimulationError(f"settle_records: found {settle_records!r}, expected an integer >= 0")
+    if not (np.isfinite(settle_records) and settle_records >= 0):
+        raise SimulationError(f"settle_records: found {settle_records!r}, expected a number of records >= 0")
     if start not in ("rest", "linear"):
         raise SimulationError(f"start: found {start!r}, expected 'rest' or 'linear'")
     if method not in ("time", "frequency", "auto"):
@@ -392,7 +449,7 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
     if method in ("frequency", "auto") and linear and nperseg is None:
         return _expected_linear_response(system, input_psd, seed=seed, fs=float(fs),
                                          freq_step=float(freq_step), oversample=int(oversample),
-                                         settle_records=int(settle_records))
+                                         settle_records=float(settle_records))
     rate = float(fs) * int(oversample)
     signals = synthesize_random(input_psd, seed=seed, fs=rate, freq_step=freq_step, n_realizations=n_realizations)
     n_samples = signals.shape[1]
@@ -406,10 +463,11 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
     segment = int(segment)
     overlap = round(WELCH_OVERLAP * segment)  # as welch_psd rounds it
     analysed = record + overlap  # one record and the overlap of the next: whole-record shifts
-    repeats = 1 + int(settle_records)
-    # periodic records: repeat the record, analyse the last one plus the overlap that
-    # follows, plus one closing sample so the grid has n_steps + 1 points
-    total = (repeats - 1) * n_samples + analysed * step
+    first = round(float(settle_records) * record)  # first analysed sample at fs
+    # periodic records: repeat the record, settle, analyse one record plus the overlap that
+    # follows (any window of one record is a circular shift of it), plus one closing sample
+    # so the grid has n_steps + 1 points
+    total = (first + analysed) * step
     drive = np.tile(signals, (1, total // n_samples + 1))[:, :total + 1]
     time = np.arange(drive.shape[1]) / rate
     # integrate at the oversampled rate, record at fs: the analysed signals are sampled at
@@ -422,10 +480,9 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
     ok = response.flags == 0
     if not ok.any():
         raise SimulationError(f"random_response: every realization was flagged ({response.reasons[0]})")
-    start = (repeats - 1) * record
-    settling = _settling_error(response.velocity[ok], response.acceleration[ok], start, record)
-    top = response.acceleration[ok, 0, start:start + analysed]
-    base = drive[ok][:, start * step:(start + analysed) * step:step]
+    settling = _settling_error(response.velocity[ok], response.acceleration[ok], first, record)
+    top = response.acceleration[ok, 0, first:first + analysed]
+    base = drive[ok][:, first * step:(first + analysed) * step:step]
     input_estimate: PsdEstimate = welch_psd(base, fs=float(fs), nperseg=segment, overlap=WELCH_OVERLAP)
     output_estimate = welch_psd(top, fs=float(fs), nperseg=segment, overlap=WELCH_OVERLAP)
     keep = input_estimate.freq <= 0.5 * fs + 1e-9
@@ -436,7 +493,7 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         linear_output_psd=linear_output_psd(system, input_psd, freq), is_linear=is_linear_system(system),
         input_rms=rms_from_psd(freq, input_level), output_rms=rms_from_psd(freq, output_level),
         n_realizations=int(ok.sum()), seed=int(seed), fs=float(fs), freq_step=float(freq_step),
-        oversample=int(oversample), nperseg=input_estimate.nperseg, noverlap=input_estimate.noverlap, settle_records=int(settle_records),
+        oversample=int(oversample), nperseg=input_estimate.nperseg, noverlap=input_estimate.noverlap, settle_records=float(settle_records),
         flags=np.asarray(response.flags, dtype=np.int64), reasons=tuple(response.reasons),
         settling_error=settling,
     )
