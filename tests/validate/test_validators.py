@@ -308,3 +308,17 @@ def test_rig_drops_validate_on_the_rig_model_and_the_summary_names_it(rig_drops)
     assert "relative velocity step [m/s]" in conditioned.metrics
     with pytest.raises(ValueError, match="drop_model"):
         validate_drops(rig_drops, isolator=wire_rope(), drop_model="bouncy")
+
+
+def test_drops_recorded_on_a_rig_support_the_rig_model(rig_drops):
+    """The comparison picks the drop model the drops were made with, and a stiffened rope loses."""
+    from idkit.studies.drop_models import compare_drop_models
+
+    comparison = compare_drop_models(rig_drops, {"true rope": {"isolator": wire_rope()},
+                                                 "stiffness x2": {"isolator": wire_rope(2.0)}})
+    assert comparison.supported() == ("true rope", "rig")
+    table = comparison.table
+    assert set(table["drop model"]) == {"conditioned", "rig"} and set(table["top mass [kg]"]) == {4.33}
+    rig_row = table[(table["isolator model"] == "true rope") & (table["drop model"] == "rig")].iloc[0]
+    assert rig_row["median_compression_error [-]"] < 0.05 and rig_row["verdict"] == "PASS"
+    assert "supported by the held-out drops: true rope with the rig drop model" in comparison.report()
