@@ -415,7 +415,9 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         realization at t = 0 (isolator deflections and mass velocities from the line
         amplitudes and the small-amplitude stiffnesses; Jenkin forces ``k y``, Maxwell
         elements relaxed). Where the isolators stay stuck the run then starts settled, so
-        ``settle_records=0`` suffices; where they slip it is a better first guess.
+        ``settle_records=0`` suffices; where they slip the stuck state can be a worse
+        guess than rest (the transport study's wire rope at 1e-6 (m/s^2)^2/Hz: settling
+        error 6 against 0.2 from rest after one record): check :attr:`RandomResponse.settling_error`.
     workers, executor : see :func:`idkit.simulate.harmonic_response`.
 
     Returns
