@@ -33,6 +33,8 @@ __all__ = [
     "plot_shock_cases",
     "plot_transport_psd",
     "plot_transport_rest_shock",
+    "transport_psd_groups",
+    "curve_ends",
     "transport_figures",
 ]
 
@@ -152,50 +154,129 @@ def chapter_figures(study: ChapterStudy) -> dict:
     return _map_study_figures(study)
 
 
-def plot_transport_psd(study: TransportStudy, *, axes=None):
-    """Output acceleration PSD of every system, one panel per floor level (two panels per row).
+#: most curves drawn in one panel (more are split over panels)
+MAX_CURVES = 6
+#: PSD values below this fraction of a row's peak are numerical floor, not response
+PSD_FLOOR_FRACTION = 1e-12
+
+
+def transport_psd_groups(systems, max_curves: int = MAX_CURVES) -> list[list[str]]:
+    """Systems split into panels of at most ``max_curves`` curves.
+
+    The non-hybrid systems share the first panel; the hybrids are spread evenly over as
+    few further panels as fit, each with the reference repeated for comparison.
+
+    Examples
+    --------
+    >>> groups = transport_psd_groups(["reference", "elastomer", "wire rope"] + [f"h{r}" for r in range(7)])
+    >>> groups[0]
+    ['reference', 'elastomer', 'wire rope', 'h0', 'h1', 'h2']
+    >>> transport_psd_groups(["reference", "elastomer", "wire rope"] + [f"hybrid {r}" for r in range(7)])[1]
+    ['reference', 'hybrid 0', 'hybrid 1', 'hybrid 2', 'hybrid 3']
+    """
+    systems = list(systems)
+    hybrids = [name for name in systems if name.startswith("hybrid")]
+    others = [name for name in systems if name not in hybrids]
+    groups = [others[i:i + max_curves] for i in range(0, len(others), max_curves)]
+    if hybrids:
+        per_panel = max_curves - 1 if "reference" in systems else max_curves
+        panels = -(-len(hybrids) // per_panel)
+        size = -(-len(hybrids) // panels)
+        for i in range(0, len(hybrids), size):
+            groups.append((["reference"] if "reference" in systems else []) + hybrids[i:i + size])
+    return groups
+
+
+def curve_ends(table) -> dict[str, float]:
+    """``{column: last finite index value}`` of every column of ``table`` whose values stop before its last row.
+
+    A rest-shock sweep stops where the model goes invalid (the simulator flags the run and
+    the level is NaN from there on).
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> curve_ends(pd.DataFrame({"a": [1.0, 2.0, 3.0], "b": [1.0, 2.0, np.nan]}, index=[0.1, 0.2, 0.3]))
+    {'b': 0.2}
+    """
+    ends = {}
+    for name in table.columns:
+        finite = np.isfinite(table[name].to_numpy(float))
+        if finite.any() and not finite[-1]:
+            ends[name] = float(table.index.to_numpy(float)[np.flatnonzero(finite)[-1]])
+    return ends
+
+
+def plot_transport_psd(study: TransportStudy, *, axes=None, band_hz: tuple[float, float] = (0.1, 100.0),
+                       max_curves: int = MAX_CURVES):
+    """Output acceleration PSD per floor level (rows) and group of systems (columns).
+
+    At most ``max_curves`` curves a panel (:func:`transport_psd_groups`); the x axis spans
+    the floor band ``band_hz`` (beyond its upper edge the input is zero and the output is an
+    artefact of the band edge); the y axis is clipped at :data:`PSD_FLOOR_FRACTION` of the
+    row's peak (below it the curves are numerical floor).
 
     Returns
     -------
-    ndarray of Axes
-        One per level (unused panels hidden).
+    ndarray of Axes, shape (levels, groups)
     """
     levels = study.levels
-    rows = (len(levels) + 1) // 2
+    systems = [item.system for item in study.psd_at(levels[0])]
+    groups = transport_psd_groups(systems, max_curves)
     if axes is None:
-        axes = new_axes(rows, 2, figsize=(12, 3.2 * rows))
-    axes = np.atleast_1d(axes).ravel()
-    for ax, level in zip(axes, levels):
-        for item in study.psd_at(level):
-            keep = item.freq > 0
-            ax.loglog(item.freq[keep], item.output_psd[keep], label=item.system, linewidth=1.0)
-        ax.set_title(f"floor PSD {level:g} (m/s$^2$)$^2$/Hz, 0.1-100 Hz", fontsize="small")
+        axes = new_axes(len(levels), len(groups), figsize=(4.4 * len(groups), 2.5 * len(levels) + 0.8),
+                        squeeze=False, sharex=True)
+    axes = np.asarray(axes).reshape(len(levels), len(groups))
+    colours = {name: f"C{index % 10}" for index, name in enumerate(systems)}
+    for row, level in zip(axes, levels):
+        curves = {item.system: item for item in study.psd_at(level)}
+        inside = {name: (item.freq >= band_hz[0]) & (item.freq <= band_hz[1]) for name, item in curves.items()}
+        peak = max(float(np.nanmax(item.output_psd[inside[name]])) for name, item in curves.items())
+        for ax, group in zip(row, groups):
+            for name in group:
+                item = curves[name]
+                keep = inside[name] & (item.output_psd > 0)
+                ax.loglog(item.freq[keep], item.output_psd[keep], label=name, color=colours[name], linewidth=1.0)
+            ax.set_ylim(PSD_FLOOR_FRACTION * peak, 3.0 * peak)
+            ax.set_xlim(*band_hz)
+            ax.set_title(f"floor {level:g} (m/s$^2$)$^2$/Hz", fontsize="small")
+            ax.grid(True, which="major", alpha=0.3)
+        row[0].set_ylabel("top accel. PSD\n[(m/s$^2$)$^2$/Hz]")
+    for ax in axes[-1]:
         ax.set_xlabel("frequency [Hz]")
-        ax.set_ylabel("top acceleration PSD")
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0].legend(fontsize="xx-small", ncol=2)
-    for ax in axes[len(levels):]:
-        ax.set_visible(False)
+    for ax in axes[0]:
+        ax.legend(fontsize="x-small", loc="lower left")
     return axes
 
 
 def plot_transport_rest_shock(study: TransportStudy, *, axes=None):
     """Rest shock level of every system versus |v0| (left) and drop height in cm (right).
 
+    A curve that stops before the end of its sweep (the model left its valid range and the
+    simulator flagged the runs) ends in a cross labelled "model invalid beyond ...".
+
     Returns
     -------
     (Axes, Axes)
     """
-    by_speed, by_height = axes_or_new(axes, 1, 2, figsize=(11, 4.2))
-    for name in study.shock_velocity.columns:
-        by_speed.plot(study.shock_velocity.index, study.shock_velocity[name], marker=".", label=name)
-        by_height.plot(study.shock_height.index * 100, study.shock_height[name], marker=".", label=name)
+    by_speed, by_height = axes_or_new(axes, 1, 2, figsize=(11, 4.6))
+    for ax, table, scale, unit in ((by_speed, study.shock_velocity, 1.0, "m/s"),
+                                   (by_height, study.shock_height, 100.0, "cm")):
+        ends = curve_ends(table)
+        for index, name in enumerate(table.columns):
+            colour = f"C{index % 10}"
+            ax.plot(table.index * scale, table[name], marker=".", color=colour, label=name)
+            if name in ends:
+                x_end = ends[name] * scale
+                ax.plot([x_end], [table[name][ends[name]]], "x", color=colour, markersize=9, mew=2)
+                ax.annotate(f"{name}: model invalid beyond {x_end:.3g} {unit}", (x_end, table[name][ends[name]]),
+                            xytext=(6, 6), textcoords="offset points", fontsize="x-small", color=colour)
     by_speed.set_xlabel("impact speed |v0| [m/s]")
     by_height.set_xlabel("drop height h [cm]")
     for ax in (by_speed, by_height):
         ax.set_ylabel("rest shock level [m/s$^2$]")
         ax.grid(True, alpha=0.3)
-    by_speed.legend(fontsize="xx-small", ncol=2)
+    by_speed.legend(fontsize="x-small", ncol=2)
     return by_speed, by_height
 
 

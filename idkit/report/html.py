@@ -1,7 +1,9 @@
 """A small, dependency-free builder of self-contained HTML reports.
 
-Figures are embedded as base64 PNG, tables are rendered by pandas; nothing is
-fetched from the network when the file is opened.
+Figures are embedded as base64 PNG and, when the report is given a ``figures_dir``, also
+saved there as PNG and SVG; tables are rendered by pandas and, with a ``tables_dir``, also
+written there as CSV. Nothing is fetched from the network when the file is opened. A
+section can be collapsed (``<details>``) so that bulky provenance stays out of the way.
 """
 
 from __future__ import annotations
@@ -9,81 +11,158 @@ from __future__ import annotations
 import base64
 import html
 import io
+import re
+import time
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import pandas as pd
 
-__all__ = ["HtmlReport"]
+from idkit.atomic import write_bytes_atomic, write_text_atomic
+
+__all__ = ["MAX_TABLE_COLUMNS", "HtmlReport", "file_stem"]
+
+#: widest table the page shows (columns, index included); wider ones are transposed or split by the caller
+MAX_TABLE_COLUMNS = 12
 
 _STYLE = """
-body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1100px; color: #222; }
-h1 { border-bottom: 2px solid #345; padding-bottom: .2em; }
+body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1100px; padding: 0 1em; color: #222; }
+h1 { border-bottom: 2px solid #345; padding-bottom: .2em; font-size: 1.6em; overflow-wrap: anywhere; }
 h2 { border-bottom: 1px solid #aab; margin-top: 2em; }
-table { border-collapse: collapse; font-size: 0.85em; margin: .6em 0; }
-th, td { border: 1px solid #ccd; padding: .2em .5em; text-align: right; }
+h3 { margin-top: 1.4em; }
+table { border-collapse: collapse; font-size: 0.85em; margin: .6em 0; display: block; max-width: 100%;
+        overflow-x: auto; }
+th, td { border: 1px solid #ccd; padding: .2em .5em; text-align: right; overflow-wrap: anywhere; }
 th { background: #eef; }
-pre { background: #f6f6f8; padding: .6em; overflow-x: auto; font-size: 0.85em; }
-.pass { color: #176b2c; font-weight: bold; } .fail { color: #a11; font-weight: bold; } .inconclusive { color: #8a5a00; font-weight: bold; }
-nav a { margin-right: 1em; } figure { margin: 1em 0; } figcaption { font-size: .85em; color: #555; }
-img { max-width: 100%; }
+pre { background: #f6f6f8; padding: .6em; font-size: 0.85em; white-space: pre-wrap; overflow-wrap: anywhere; }
+.pass { color: #176b2c; font-weight: bold; } .fail { color: #a11; font-weight: bold; }
+.inconclusive { color: #8a5a00; font-weight: bold; }
+ul.conclusions li { margin: .3em 0; }
+nav a { margin-right: 1em; } figure { margin: 1em 0; } figcaption { font-size: .9em; color: #444; }
+img { max-width: 100%; height: auto; }
+details > summary { cursor: pointer; color: #345; }
 """
+
+
+def file_stem(text: str) -> str:
+    """A file-name stem made of ``text``: letters, digits, ``_``, ``-`` and ``.`` only.
+
+    Examples
+    --------
+    >>> file_stem("wire rope: drops, validation")
+    'wire_rope_drops_validation'
+    """
+    return re.sub(r"[^A-Za-z0-9.-]+", "_", text).strip("_") or "item"
 
 
 @dataclass
 class HtmlReport:
-    """Collects sections of HTML and renders one self-contained page."""
+    """Collects sections of HTML and renders one self-contained page.
+
+    Attributes
+    ----------
+    title : str
+    figures_dir, tables_dir : Path, optional
+        Where every figure is also saved (``<name>.png`` and ``<name>.svg``) and every
+        table written (``<name>.csv``); nothing is saved when None.
+    figure_seconds : float
+        Time spent rendering and saving figures (s), for the report's timings.
+    """
 
     title: str
-    _sections: list[tuple[str, str, list[str]]] = field(default_factory=list)
+    figures_dir: Path | None = None
+    tables_dir: Path | None = None
+    figure_seconds: float = 0.0
+    figure_files: list = field(default_factory=list)
+    table_files: list = field(default_factory=list)
+    _sections: list[tuple[str, str, list[str], bool]] = field(default_factory=list)
 
-    def section(self, title: str, anchor: str) -> None:
-        """Start a new section; later content goes into it."""
-        self._sections.append((title, anchor, []))
+    def section(self, title: str, anchor: str, *, collapsed: bool = False) -> None:
+        """Start a new section; later content goes into it (inside a closed ``<details>`` when ``collapsed``)."""
+        self._sections.append((title, anchor, [], collapsed))
 
     def _add(self, fragment: str) -> None:
         if not self._sections:
             self.section("Overview", "overview")
         self._sections[-1][2].append(fragment)
 
+    def heading(self, text: str) -> None:
+        self._add(f"<h3>{html.escape(text)}</h3>")
+
     def paragraph(self, text: str) -> None:
         self._add(f"<p>{html.escape(text)}</p>")
 
+    def items(self, entries) -> None:
+        """A bulleted list; each entry is a text or a ``(verdict, text)`` pair (verdict coloured)."""
+        rendered = []
+        for entry in entries:
+            if isinstance(entry, tuple):
+                verdict, text = entry
+                rendered.append(f"<li>{self._verdict_span(verdict)} {html.escape(text)}</li>")
+            else:
+                rendered.append(f"<li>{html.escape(entry)}</li>")
+        self._add('<ul class="conclusions">' + "".join(rendered) + "</ul>")
+
+    @staticmethod
+    def _verdict_span(verdict: str) -> str:
+        css = {"PASS": "pass", "FAIL": "fail"}.get(verdict, "inconclusive")
+        return f'<span class="{css}">{html.escape(verdict)}</span>'
+
     def verdict(self, label: str, verdict: str) -> None:
         """One validation verdict: ``"PASS"``, ``"INCONCLUSIVE"`` or ``"FAIL"``."""
-        css = {"PASS": "pass", "FAIL": "fail"}.get(verdict, "inconclusive")
-        self._add(f'<p>{html.escape(label)}: <span class="{css}">{html.escape(verdict)}</span></p>')
+        self._add(f"<p>{html.escape(label)}: {self._verdict_span(verdict)}</p>")
 
     def preformatted(self, text: str) -> None:
         self._add(f"<pre>{html.escape(text)}</pre>")
 
     def table(self, frame: pd.DataFrame, *, caption: str | None = None, index: bool = False,
-              float_format: str = "{:.4g}") -> None:
+              float_format: str = "{:.4g}", name: str | None = None) -> None:
+        """A table (and ``tables_dir/<name>.csv`` when ``name`` is given and the report has a tables folder)."""
         rendered = frame.to_html(index=index, float_format=float_format.format, border=0, na_rep="-")
         caption_html = f"<p><em>{html.escape(caption)}</em></p>" if caption else ""
+        if name and self.tables_dir is not None:
+            path = Path(self.tables_dir) / f"{file_stem(name)}.csv"
+            write_text_atomic(path, frame.to_csv(index=index))
+            self.table_files.append(path)
+            caption_html += f'<p class="file">CSV: tables/{html.escape(path.name)}</p>'
         self._add(caption_html + rendered)
 
-    def figure(self, figure, *, caption: str = "") -> None:
-        """Embed a matplotlib Figure as a base64 PNG."""
+    def figure(self, figure, *, caption: str, name: str, alt: str | None = None) -> None:
+        """Embed a matplotlib Figure as a base64 PNG; also ``figures_dir/<name>.png`` and ``.svg``.
+
+        ``caption`` is the one line under the figure (what to look at); ``alt`` (default the
+        caption) describes the picture for readers who cannot see it.
+        """
+        started = time.perf_counter()
         buffer = io.BytesIO()
         figure.savefig(buffer, format="png", dpi=90)
-        encoded = base64.b64encode(buffer.getvalue()).decode("ascii")
-        self._add(f'<figure><img alt="{html.escape(caption)}" src="data:image/png;base64,{encoded}">'
-                  f"<figcaption>{html.escape(caption)}</figcaption></figure>")
-
-    def image_file(self, path, *, caption: str = "") -> None:
-        """Embed a PNG file written elsewhere (e.g. by a study)."""
-        encoded = base64.b64encode(path.read_bytes()).decode("ascii")
-        self._add(f'<figure><img alt="{html.escape(caption)}" src="data:image/png;base64,{encoded}">'
-                  f"<figcaption>{html.escape(caption)}</figcaption></figure>")
+        png = buffer.getvalue()
+        if self.figures_dir is not None:
+            stem = file_stem(name)
+            png_path = write_bytes_atomic(Path(self.figures_dir) / f"{stem}.png", png)
+            svg = io.BytesIO()
+            figure.savefig(svg, format="svg")
+            svg_path = write_bytes_atomic(Path(self.figures_dir) / f"{stem}.svg", svg.getvalue())
+            self.figure_files.extend([png_path, svg_path])
+        encoded = base64.b64encode(png).decode("ascii")
+        self._add(f'<figure id="figure-{html.escape(file_stem(name))}"><img alt="{html.escape(alt or caption)}" '
+                  f'src="data:image/png;base64,{encoded}"><figcaption>{html.escape(caption)}</figcaption></figure>')
+        self.figure_seconds += time.perf_counter() - started
 
     @property
     def section_titles(self) -> list[str]:
-        return [title for title, _, _ in self._sections]
+        return [title for title, _, _, _ in self._sections]
 
     def render(self) -> str:
-        navigation = " ".join(f'<a href="#{anchor}">{html.escape(title)}</a>' for title, anchor, _ in self._sections)
-        body = "\n".join(f'<section id="{anchor}"><h2>{html.escape(title)}</h2>\n' + "\n".join(parts) + "</section>"
-                         for title, anchor, parts in self._sections)
+        navigation = " ".join(f'<a href="#{anchor}">{html.escape(title)}</a>' for title, anchor, _, _ in self._sections)
+        blocks = []
+        for title, anchor, parts, collapsed in self._sections:
+            content = "\n".join(parts)
+            if collapsed:
+                content = f"<details><summary>show {html.escape(title.lower())}</summary>\n{content}\n</details>"
+            blocks.append(f'<section id="{anchor}"><h2>{html.escape(title)}</h2>\n{content}</section>')
+        body = "\n".join(blocks)
         return (f"<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+                f"<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
                 f"<title>{html.escape(self.title)}</title><style>{_STYLE}</style></head>\n"
                 f"<body><h1>{html.escape(self.title)}</h1><nav>{navigation}</nav>\n{body}\n</body></html>\n")

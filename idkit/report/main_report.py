@@ -22,8 +22,10 @@ from idkit import __version__
 from idkit.atomic import atomic_output_folder, write_text_atomic
 from idkit.models import save_model
 from idkit.plot.fits import plot_frf_fit, plot_loop_fit, plot_storage_loss
+from idkit.plot.studies import curve_ends, plot_transport_psd, plot_transport_rest_shock
 from idkit.plot.validation import plot_drop_validation, plot_frf_validation, plot_harmonic_validation
-from idkit.report.html import HtmlReport
+from idkit.report.conclusions import fit_sentence, parameters_sentence, transport_conclusions, validation_sentence
+from idkit.report.html import HtmlReport, file_stem
 from idkit.report.study_files import write_transport_files
 from idkit.studies.pipeline import QUICK_NOTE, ReportData, ValidationEntry, compute_report_data
 
@@ -43,6 +45,8 @@ _VALIDATION_SECTIONS = (("Validation: wire rope", "validation-wire-rope", "wire 
                         ("Validation: hybrid", "validation-hybrid", "hybrid"))
 
 WRITING = "writing the report"
+#: the figures' share of the writing (label of the timings)
+FIGURES = "drawing and saving the figures (part of the writing)"
 
 
 @dataclass(frozen=True)
@@ -78,93 +82,185 @@ class ReportSummary:
         return 1 if "FAIL" in verdicts else 3 if "INCONCLUSIVE" in verdicts else 0
 
 
-def _metrics_csv(entry: ValidationEntry, path: Path) -> None:
-    metrics = entry.result.metrics.copy()
+def _metrics_frame(result) -> pd.DataFrame:
+    metrics = result.metrics.copy()
     for column in metrics.columns:
         if metrics[column].dtype == complex:
             metrics[column] = metrics[column].astype(str)
-    metrics.to_csv(path, index=False)
+    return metrics
 
 
-def _validation_section(report: HtmlReport, entry: ValidationEntry, tables_dir: Path, quick: bool) -> None:
+#: the one-line caption of each validation figure: what to look at
+_VALIDATION_CAPTIONS = {
+    "sweeps": "Markers measured, lines model, per amplitude level: look at where the model's resonance and peak "
+              "height leave the markers (right panel: the error in dB).",
+    "FRF": "Dots measured H1, lines model, per top mass: look at the resonance frequency and the peak height.",
+    "drops": "Filled markers measured, open markers model: look at how far the open markers sit from the filled "
+             "ones as the impact speed grows.",
+}
+
+
+def _validation_section(report: HtmlReport, entry: ValidationEntry, quick: bool) -> None:
     result = entry.result
-    report.verdict(result.name + (f" ({QUICK_NOTE})" if quick else ""), result.verdict)
-    report.preformatted(result.report())
+    report.heading(entry.key)
+    verdict, text = validation_sentence(entry.key, result, quick_note=QUICK_NOTE if quick else "")
+    report.items([(verdict, text)])
     rows = [{"metric": key, "value": value, "limit": result.thresholds.get(key, np.nan),
              "ok": result.checks.get(key, "")} for key, value in result.summary.items()]
-    report.table(pd.DataFrame(rows), caption="metrics (limits are the documented defaults)")
+    report.table(pd.DataFrame(rows), caption="metrics (limits are the documented defaults)",
+                 name=f"{entry.key} summary")
     axes = VALIDATION_PLOTS[entry.observable](result)
-    report.figure(axes[0].figure, caption=result.name)
-    _metrics_csv(entry, tables_dir / f"{entry.key.replace(' ', '_').replace(',', '')}.csv")
+    report.figure(axes[0].figure, caption=_VALIDATION_CAPTIONS[entry.observable], name=f"validation {entry.key}",
+                  alt=f"{result.name}: measured against simulated")
+    if report.tables_dir is not None:
+        write_text_atomic(report.tables_dir / f"{file_stem(entry.key)}.csv", _metrics_frame(result).to_csv(index=False))
 
 
-def _drop_model_section(report: HtmlReport, data: ReportData, tables_dir: Path) -> None:
+def _drop_model_section(report: HtmlReport, data: ReportData) -> None:
     """The wire rope's held-out drops under both drop models, plain and slip-modulated Iwan."""
     comparison = data.drop_models
     model, drop = comparison.supported()
-    table = comparison.table
-    write_text_atomic(tables_dir / "wire_rope_drop_models.csv", table.to_csv(index=False))
+    report.heading("drop models compared")
     report.paragraph(f"Drop models compared on the same held-out wire-rope drops (the drop validations above use "
                      f"drop_model='{data.drop_model}'): the conditioned free fall of the study (every mass at the "
                      "impact velocity, base fixed) and the drop rig (the stack released from its statically "
                      "loaded rest state, the bottom mass bouncing on the floor), each with the plain Iwan model "
                      "and with the slip-modulated Iwan model fitted on the same loops.")
-    report.table(table, caption="median and worst |relative error| of the peak top-mass acceleration per phase "
-                                "and top mass; verdict of each validation")
-    best = comparison.results[(model, drop)].summary
-    report.paragraph(f"The held-out drops support the {model} model with the {drop} drop model: median peak "
-                     f"error {best['median_peak_acceleration_compression_error']:.3f} in compression and "
-                     f"{best['median_peak_acceleration_tension_error']:.3f} in tension.")
+    report.table(comparison.table, caption="median and worst |relative error| of the peak top-mass acceleration per "
+                                           "phase and top mass; verdict of each validation",
+                 name="wire rope drop models")
+    report.paragraph(_drop_model_words(data))
     for note in comparison.notes:
         report.paragraph(note)
 
 
+def _drop_model_words(data: ReportData) -> str:
+    comparison = data.drop_models
+    model, drop = comparison.supported()
+    best = comparison.results[(model, drop)].summary
+    return (f"The held-out drops support the {model} model with the {drop} drop model: median peak "
+            f"error {best['median_peak_acceleration_compression_error']:.3f} in compression and "
+            f"{best['median_peak_acceleration_tension_error']:.3f} in tension.")
+
+
+def _valid_range_words(data: ReportData) -> str:
+    lower, upper = data.iwan.model.valid_deflection_range()
+    return (f"valid for deflections {1e3 * lower:.1f} mm <= x <= {1e3 * upper:.1f} mm (its parallel spring's "
+            f"local stiffness stays >= 0, SPEC 1.2; required: {1e3 * data.valid_range[0]:.1f} to "
+            f"{1e3 * data.valid_range[1]:.1f} mm, 1.25 times the data set's deflections)")
+
+
 def _summary_section(report: HtmlReport, data: ReportData) -> None:
+    """Conclusions first: per isolator the model, its range, what it predicts and where it fails; the transport study."""
     report.section("Summary", "summary")
     report.paragraph(f"Data: {data.data_dir} ({data.n_measurements} measurements). "
-                     f"idkit {__version__}, seed {data.seed}{', quick mode' if data.quick else ''}.")
-    iwan, boucwen, maxwell = data.iwan.result, data.boucwen.result, data.maxwell.result
-    rows = [
-        {"item": "wire rope (Iwan, order 2)",
-         "result": f"small {100 * iwan.error_small:.2f} %, large {100 * iwan.error_large:.2f} % (eq. 7.1)"},
-        {"item": "wire rope (Bouc-Wen)",
-         "result": f"small {100 * boucwen.error_small:.2f} %, large {100 * boucwen.error_large:.2f} %"},
-        {"item": "elastomer (Maxwell, order 2)", "result": f"{100 * maxwell.error:.2f} % (eq. 7.5)"},
-    ]
-    for entry in data.validations:
-        cannot_see = entry.result.cannot_see
-        rows.append({"item": entry.key, "result": entry.result.verdict + (f" ({QUICK_NOTE})" if data.quick else "")
-                     + (f"; cannot see: {'; '.join(cannot_see)}" if cannot_see else "")})
-    report.table(pd.DataFrame(rows), caption="identification errors and validation verdicts")
+                     f"idkit {__version__}, seed {data.seed}{'; ' + QUICK_NOTE if data.quick else ''}. "
+                     "Every sentence below is read off the computed fits and validations.")
+    iwan, boucwen, maxwell = data.iwan, data.boucwen, data.maxwell
+
+    report.heading("Wire rope")
+    items = [f"Identified: Iwan model of order {iwan.model.order}, "
+             + parameters_sentence(iwan.parameters_table()) + ".",
+             f"The identified Iwan model is {_valid_range_words(data)}.",
+             fit_sentence(f"Iwan fit (loop error small {100 * iwan.result.error_small:.2f} %, large "
+                          f"{100 * iwan.result.error_large:.2f} %, eq. 7.1)", iwan),
+             fit_sentence(f"Bouc-Wen comparison (small {100 * boucwen.result.error_small:.2f} %, large "
+                          f"{100 * boucwen.result.error_large:.2f} %)", boucwen)]
+    items += [validation_sentence(entry.key, entry.result, quick_note=QUICK_NOTE if data.quick else "")
+              for entry in data.validations_of("wire rope")]
+    if data.drop_models is not None:
+        items.append(_drop_model_words(data))
+    report.items(items)
+
+    report.heading("Elastomer")
+    items = [f"Identified: generalized Maxwell model of order {len(maxwell.model.k)}, "
+             + parameters_sentence(maxwell.parameters_table())
+             + f"; k0 = {maxwell.k0.k0:.4g} +- {maxwell.k0.stderr:.2g} N/m from the quasi-static loops.",
+             "A linear viscoelastic model: no deflection limit of its own; it is validated only over the "
+             "amplitudes of the held-out data.",
+             fit_sentence(f"Maxwell fit (FRF error {100 * maxwell.result.error:.2f} %, eq. 7.5)", maxwell)]
+    items += [validation_sentence(entry.key, entry.result, quick_note=QUICK_NOTE if data.quick else "")
+              for entry in data.validations_of("elastomer")]
+    report.items(items)
+
+    entries = data.validations_of("hybrid")
+    if entries:
+        report.heading("Hybrid (elastomer on wire rope, nothing fitted to it)")
+        report.items([validation_sentence(entry.key, entry.result, quick_note=QUICK_NOTE if data.quick else "")
+                      for entry in entries])
+
+    report.heading("Transport study: which system protects the payload best")
+    report.items(transport_conclusions(data.transport))
 
 
 def _fit_sections(report: HtmlReport, data: ReportData) -> None:
     report.section("Wire rope fit", "wire-rope-fit")
-    lower, upper = data.iwan.model.valid_deflection_range()
-    report.paragraph(f"Valid range of the identified Iwan model: its parallel spring's local stiffness "
-                     f"g1 + 2 g2 x + 3 g3 x^2 stays >= 0 for {1e3 * lower:.1f} mm <= x <= {1e3 * upper:.1f} mm "
-                     f"(SPEC 1.2). The fit was required to keep it valid over "
-                     f"{1e3 * data.valid_range[0]:.1f} to {1e3 * data.valid_range[1]:.1f} mm, 1.25 times the "
-                     f"deflections in the data set; simulations beyond the valid range are flagged, and validations "
-                     f"count them as failures.")
+    report.paragraph(f"Valid range of the identified Iwan model: {_valid_range_words(data)}; simulations beyond the "
+                     "valid range are flagged, and validations count them as failures.")
     report.preformatted(data.iwan.report())
     report.table(data.iwan.parameters_table(),
                  caption="Iwan parameters: stderr from the residual Jacobian at the optimum (the spread "
                          "within this data set; stderr_note says why one is missing) beside the spread across "
                          "repetitions (std of one refit per repetition, repetition_values)"
-                         + (f"; {data.iwan.spread_note}" if data.iwan.spread_note else ""))
-    report.figure(plot_loop_fit(data.iwan_loops, label="Iwan")[0].figure, caption="measured and fitted loops (Iwan)")
+                         + (f"; {data.iwan.spread_note}" if data.iwan.spread_note else ""),
+                 name="wire rope iwan parameters")
+    report.figure(plot_loop_fit(data.iwan_loops, label="Iwan")[0].figure, name="wire rope iwan loops",
+                  caption="Grey measured, dashed Iwan model: look at the loop tips and the width of the small loops.",
+                  alt="measured and fitted force-deflection loops (Iwan), small and large")
     report.preformatted(data.boucwen.report())
-    report.figure(plot_loop_fit(data.boucwen_loops, label="Bouc-Wen")[0].figure,
-                  caption="measured and fitted loops (Bouc-Wen)")
+    report.figure(plot_loop_fit(data.boucwen_loops, label="Bouc-Wen")[0].figure, name="wire rope bouc-wen loops",
+                  caption="Grey measured, dashed Bouc-Wen model: compare the loop tips with the Iwan figure above.",
+                  alt="measured and fitted force-deflection loops (Bouc-Wen), small and large")
 
     report.section("Elastomer fit", "elastomer-fit")
     report.preformatted(data.maxwell.report())
-    report.table(data.maxwell.parameters_table(), caption="Maxwell parameters (k0 from the quasi-static loops)")
-    report.table(data.order_table, caption="order selection: error (7.5) for n = 1..4 and the Voigt model")
-    report.figure(plot_frf_fit(data.maxwell.model, list(data.maxwell.data))[0].figure,
-                  caption="measured H1 and fitted transmissibility per top mass")
-    report.figure(plot_storage_loss(data.maxwell.model)[0].figure, caption="complex stiffness and loss factor")
+    report.table(data.maxwell.parameters_table(), caption="Maxwell parameters (k0 from the quasi-static loops)",
+                 name="elastomer maxwell parameters")
+    report.table(data.order_table, caption="order selection: error (7.5) for n = 1..4 and the Voigt model",
+                 name="maxwell order table")
+    report.figure(plot_frf_fit(data.maxwell.model, list(data.maxwell.data))[0].figure, name="elastomer frf fit",
+                  caption="Thin measured H1 (every repetition), dashed model, per top mass: look at the resonance "
+                          "peaks.",
+                  alt="measured and fitted transmissibility magnitude and phase per top mass")
+    report.figure(plot_storage_loss(data.maxwell.model)[0].figure, name="elastomer complex stiffness",
+                  caption="Storage and loss stiffness and loss factor of the identified model over 0.1-1000 Hz: look "
+                          "at how fast the stiffness rises with frequency.",
+                  alt="complex stiffness and loss factor of the identified elastomer model")
+
+
+def _transport_section(report: HtmlReport, data: ReportData) -> None:
+    study = data.transport
+    report.section("Transport study", "transport-study")
+    report.table(study.tuning, caption="systems tuned to a 5 Hz small-amplitude resonance (SPEC 6)",
+                 name="transport tuning")
+    report.table(study.summary_table(), index=True, name="transport summary",
+                 caption="RMS top acceleration [m/s^2] per floor level and rest shock per drop height")
+    axes = plot_transport_psd(study)
+    report.figure(axes.flat[0].figure, name="transport output psd",
+                  caption="Top acceleration PSD per floor level (rows), at most six systems a panel, over the floor "
+                          "band 0.1-100 Hz and 12 decades below each row's peak: the lowest curve above the "
+                          "resonance isolates best.",
+                  alt="output acceleration PSD of every tuned system at every floor level")
+    ends = curve_ends(study.shock_velocity)
+    note = ("; " + "; ".join(f"the {name} curve stops at {speed:.3g} m/s where its model leaves its valid range"
+                             for name, speed in ends.items())) if ends else ""
+    report.figure(plot_transport_rest_shock(study)[0].figure, name="transport rest shock",
+                  caption="Rest shock level versus impact speed and drop height: the lowest curve protects best"
+                          + note + ".",
+                  alt="rest shock level of every system versus impact speed and drop height")
+
+
+def _provenance_section(report: HtmlReport, data: ReportData, timings: dict, hashes: dict) -> None:
+    report.section("Provenance", "provenance", collapsed=True)
+    report.paragraph(f"idkit {__version__}; seed {data.seed}; quick {data.quick}; drop model {data.drop_model}; "
+                     f"data {data.data_dir}. Models in models/, tables in tables/, figures in figures/ (PNG and "
+                     "SVG); provenance.json holds everything below.")
+    report.table(pd.DataFrame([{"stage": stage, "duration [s]": seconds} for stage, seconds in timings.items()]),
+                 caption="timings (durations in seconds)", name="timings")
+    report.table(pd.DataFrame([{"isolator": isolator, "file": name, "sha256": digest}
+                               for isolator, digests in hashes.items() for name, digest in digests.items()]),
+                 caption=f"data files and their SHA-256 ({sum(len(d) for d in hashes.values())} files)",
+                 name="data files sha256")
 
 
 def _write_models(data: ReportData, models_dir: Path) -> None:
@@ -180,20 +276,19 @@ def _write_models(data: ReportData, models_dir: Path) -> None:
 def write_report(data: ReportData, folder) -> ReportSummary:
     """Render ``data`` into an existing, empty ``folder`` (module docstring); returns what was written.
 
-    The provenance table of the page lists every stage's duration; the writing itself is
-    still running when that table is drawn and is labelled "(until this table)";
-    ``provenance.json`` holds its full duration.
+    The page's timings table lists every stage's duration; the writing itself is still
+    running when that table is drawn and is labelled "(until this table)"; the figures'
+    share of it is "drawing the figures". ``provenance.json`` holds the full durations.
     """
     started = time.perf_counter()
     folder = Path(folder)
-    models_dir, tables_dir = folder / "models", folder / "tables"
-    models_dir.mkdir()
-    tables_dir.mkdir()
+    models_dir, tables_dir, figures_dir = folder / "models", folder / "tables", folder / "figures"
+    for directory in (models_dir, tables_dir, figures_dir):
+        directory.mkdir()
     _write_models(data, models_dir)
-    data.order_table.to_csv(tables_dir / "maxwell_order_table.csv", index=False)
-    transport_files = write_transport_files(data.transport, folder, tables_dir=tables_dir)
+    write_transport_files(data.transport, folder, tables_dir=tables_dir, figures=False)
 
-    report = HtmlReport(f"idkit report: {data.data_dir}")
+    report = HtmlReport(f"idkit report: {data.data_dir}", figures_dir=figures_dir, tables_dir=tables_dir)
     _summary_section(report, data)
     report.section("Data", "data")
     for isolator, inspection in data.inspections.items():
@@ -206,35 +301,27 @@ def write_report(data: ReportData, folder) -> ReportSummary:
         if not entries:
             report.paragraph("no measurements of this isolator in the data set")
         for entry in entries:
-            _validation_section(report, entry, tables_dir, data.quick)
+            _validation_section(report, entry, data.quick)
         if isolator == "wire rope" and data.drop_models is not None:
-            _drop_model_section(report, data, tables_dir)
+            _drop_model_section(report, data)
+    _transport_section(report, data)
 
-    report.section("Transport study", "transport-study")
-    report.table(data.transport.tuning, caption="systems tuned to a 5 Hz small-amplitude resonance (SPEC 6)")
-    report.table(data.transport.summary_table(), index=True,
-                 caption="RMS top acceleration [m/s^2] per floor level and rest shock per drop height")
-    for path in transport_files:
-        if path.suffix == ".png":
-            report.image_file(path, caption=path.stem.replace("_", " "))
-
-    report.section("Provenance", "provenance")
-    report.paragraph(f"idkit {__version__}; seed {data.seed}; models in models/, tables in tables/.")
-    so_far = {**data.timings_s, f"{WRITING} (until this table)": round(time.perf_counter() - started, 3)}
-    report.table(pd.DataFrame([{"stage": stage, "duration [s]": seconds} for stage, seconds in so_far.items()]),
-                 caption="timings (durations)")
     hashes = {isolator: s.hashes() for isolator, s in data.sets.items()}
-    report.table(pd.DataFrame([{"isolator": isolator, "file": name, "sha256": digest}
-                               for isolator, digests in hashes.items() for name, digest in digests.items()]),
-                 caption="data files and their SHA-256")
+    so_far = {**data.timings_s, FIGURES: round(report.figure_seconds, 3),
+              f"{WRITING} (until this table)": round(time.perf_counter() - started, 3)}
+    _provenance_section(report, data, so_far, hashes)
     html_path = folder / "report.html"
-    html_path.write_text(report.render(), encoding="utf-8")
-    timings = {**data.timings_s, WRITING: round(time.perf_counter() - started, 3)}
+    write_text_atomic(html_path, report.render())
+    timings = {**data.timings_s, FIGURES: round(report.figure_seconds, 3),
+               WRITING: round(time.perf_counter() - started, 3)}
     provenance = {
         "idkit_version": __version__, "seed": data.seed, "quick": data.quick, "data_dir": str(data.data_dir),
-        "data_files_sha256": hashes, "timings_s": timings, "models": sorted(p.name for p in models_dir.iterdir()),
+        "drop_model": data.drop_model, "data_files_sha256": hashes, "timings_s": timings,
+        "models": sorted(p.name for p in models_dir.iterdir()),
+        "figures": sorted(p.name for p in figures_dir.iterdir()),
+        "tables": sorted(p.name for p in tables_dir.iterdir()),
     }
-    (folder / "provenance.json").write_text(json.dumps(provenance, indent=1, default=str) + "\n")
+    write_text_atomic(folder / "provenance.json", json.dumps(provenance, indent=1, default=str) + "\n")
     verdicts = data.verdicts
     return ReportSummary(out_dir=folder, html=html_path, sections=tuple(report.section_titles),
                          validation_passed={entry.key: entry.result.passed for entry in data.validations},

@@ -89,14 +89,16 @@ def run_study(name: str, out_dir, *, force: bool = False, quick: bool = False, w
     return study
 
 
-def write_transport_files(study: TransportStudy, folder: Path, *, tables_dir: Path | None = None) -> list[Path]:
+def write_transport_files(study: TransportStudy, folder: Path, *, tables_dir: Path | None = None,
+                          figures: bool = True) -> list[Path]:
     """Figures, CSV tables (``transport_*.csv``) and the long PSD table (``transport_psd.csv.gz``).
 
-    Figures go to ``folder``, tables to ``tables_dir`` (default ``folder``). Returns the files.
+    Figures go to ``folder`` (none when ``figures`` is false: the caller draws them), tables
+    to ``tables_dir`` (default ``folder``). Returns the files.
     """
     folder = Path(folder)
     tables_dir = folder if tables_dir is None else Path(tables_dir)
-    written = write_figures(transport_figures(study), folder)
+    written = write_figures(transport_figures(study), folder) if figures else []
     tables = {
         "transport_tuning.csv": (study.tuning, False),
         "transport_rms.csv": (study.rms, True),

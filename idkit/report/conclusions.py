@@ -1,0 +1,146 @@
+"""The report's conclusions in words, read off the computed results (nothing here is fixed text about the data).
+
+:func:`isolator_conclusions` states, per isolator, the identified model with its standard
+errors and valid deflection range, and each validation's verdict with its reason: which
+thresholded metrics are within their limits (what the model predicts well) and which are
+not (where it fails), with the numbers. :func:`transport_conclusions` names the system that
+protects the payload best at each floor level (lowest RMS top acceleration) and each drop
+height (lowest rest shock), with the margin over the runner-up and the reference, and where a
+system's rest-shock curve ends because its model went invalid.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+
+from idkit.plot.studies import curve_ends
+
+__all__ = [
+    "fit_sentence",
+    "parameters_sentence",
+    "transport_conclusions",
+    "validation_sentence",
+]
+
+
+def _number(value: float, digits: int = 3) -> str:
+    return "n/a" if value is None or not np.isfinite(value) else f"{value:.{digits}g}"
+
+
+def parameters_sentence(table: pd.DataFrame, *, limit: int | None = None) -> str:
+    """``name = value +- stderr unit`` for the fitted parameters of a ``parameters_table``.
+
+    Examples
+    --------
+    >>> table = pd.DataFrame({"parameter": ["k", "c"], "unit": ["N/m", "N s/m"], "value": [1200.0, 3.5],
+    ...                       "stderr": [15.0, None], "fitted": [True, True]})
+    >>> parameters_sentence(table)
+    'k = 1.2e+03 +- 15 N/m; c = 3.5 N s/m (no stderr)'
+    """
+    parts = []
+    rows = table[table["fitted"]] if "fitted" in table else table
+    for _, row in rows.iterrows():
+        unit = f" {row['unit']}" if isinstance(row.get("unit"), str) and row["unit"] else ""
+        stderr = row.get("stderr")
+        if stderr is not None and not (isinstance(stderr, float) and math.isnan(stderr)):
+            parts.append(f"{row['parameter']} = {_number(row['value'])} +- {_number(float(stderr), 2)}{unit}")
+        else:
+            parts.append(f"{row['parameter']} = {_number(row['value'])}{unit} (no stderr)")
+    if limit is not None and len(parts) > limit:
+        parts = parts[:limit] + [f"{len(parts) - limit} more in the fit section"]
+    return "; ".join(parts)
+
+
+def fit_sentence(name: str, fit) -> tuple[str, str]:
+    """``(verdict, text)``: whether the fit of a :class:`~idkit.fit.measurements.MeasurementFit` succeeded, and why not."""
+    if fit.success:
+        return "PASS", f"{name}: the fit succeeded."
+    return "FAIL", f"{name}: the fit is not a success: " + "; ".join(fit.reasons) + "."
+
+
+def validation_sentence(key: str, result, *, quick_note: str = "") -> tuple[str, str]:
+    """``(verdict, text)`` of a :class:`~idkit.validate.ValidationResult`: the verdict and its reason with numbers.
+
+    FAIL names every metric over its limit; INCONCLUSIVE the reasons the metrics cannot
+    carry a PASS; PASS every metric with its limit. Metrics within their limits follow as
+    what the model predicts well.
+    """
+    checks, summary, thresholds = result.checks, result.summary, result.thresholds
+    unmeasured = set(result.unmeasured)
+    good = [f"{metric} {_number(summary[metric])} <= {thresholds[metric]:g}" for metric, ok in checks.items() if ok]
+    bad = [f"{metric} {_number(summary[metric])} > {thresholds[metric]:g}" for metric, ok in checks.items()
+           if not ok and metric not in unmeasured]
+    points = f"{len(result.metrics)} points"
+    if result.verdict == "FAIL":
+        text = f"{key} ({points}): fails on " + "; ".join(bad)
+        if good:
+            text += "; within the limits: " + "; ".join(good)
+    elif result.verdict == "INCONCLUSIVE":
+        reasons = list(result.inconclusive) + [f"{metric} could not be computed" for metric in sorted(unmeasured)]
+        text = f"{key} ({points}): inconclusive because " + "; ".join(reasons)
+        if good:
+            text += "; the metrics that were computed are within their limits: " + "; ".join(good)
+    else:
+        text = f"{key} ({points}): predicts well: " + "; ".join(good)
+    if result.cannot_see:
+        text += "; this check cannot tell these wrong components apart: " + "; ".join(result.cannot_see)
+    return result.verdict, text + (f" ({quick_note})" if quick_note else "") + "."
+
+
+def _ranking_sentence(values: pd.Series, what: str, unit: str) -> str:
+    finite = values[np.isfinite(values.to_numpy(float))].sort_values()
+    if finite.empty:
+        return f"{what}: no system gives a finite value."
+    best, best_value = finite.index[0], float(finite.iloc[0])
+    text = f"{what}: {best} protects the payload best ({_number(best_value)} {unit}"
+    if len(finite) > 1:
+        second, second_value = finite.index[1], float(finite.iloc[1])
+        text += f"; next {second} {_number(second_value)} {unit}, {_number(second_value / best_value)} times as much"
+    if "reference" in finite.index and best != "reference":
+        text += f"; the viscous reference {_number(float(finite['reference']))} {unit}"
+    missing = [name for name in values.index if name not in finite.index]
+    if missing:
+        text += "; no value (model invalid) for " + ", ".join(missing)
+    return text + ")."
+
+
+def transport_conclusions(study, heights=(0.02, 0.05, 0.10)) -> list[str]:
+    """Which system protects the payload best at each floor level and drop height, in words.
+
+    Parameters
+    ----------
+    study : TransportStudy
+    heights : sequence of float
+        Drop heights (m) to state (interpolated in the study's height sweep, within its range).
+
+    Returns
+    -------
+    list of str
+        One sentence per floor level, one per drop height, one per system whose rest-shock
+        curve ends because its model went invalid.
+    """
+    sentences = []
+    for column in study.rms.columns:
+        sentences.append(_ranking_sentence(study.rms[column], f"floor PSD {column}, RMS top acceleration", "m/s^2"))
+    table_heights = study.shock_height.index.to_numpy(float)
+    for height in heights:
+        if not table_heights.min() <= height <= table_heights.max():
+            continue
+        values = pd.Series({name: float(np.interp(height, table_heights, study.shock_height[name].to_numpy(float),
+                                                   left=np.nan, right=np.nan))
+                            for name in study.shock_height.columns})
+        # a level interpolated next to an invalid point is not a value
+        for name in values.index:
+            column = study.shock_height[name].to_numpy(float)
+            above = np.searchsorted(table_heights, height)
+            neighbours = column[max(above - 1, 0):above + 1]
+            if not np.all(np.isfinite(neighbours)):
+                values[name] = np.nan
+        sentences.append(_ranking_sentence(values, f"drop height {100 * height:g} cm, rest shock", "m/s^2"))
+    for name, speed in curve_ends(study.shock_velocity).items():
+        sentences.append(f"{name}: the rest-shock curve stops at an impact speed of {speed:.3g} m/s; beyond it the "
+                         "model leaves its valid range (the simulator flags the runs), so no level is given.")
+    return sentences
