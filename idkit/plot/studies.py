@@ -30,12 +30,12 @@ if TYPE_CHECKING:
 
 __all__ = [
     "chapter_figures",
+    "curve_ends",
     "plot_shock_cases",
     "plot_transport_psd",
     "plot_transport_rest_shock",
-    "transport_psd_groups",
-    "curve_ends",
     "transport_figures",
+    "transport_psd_groups",
 ]
 
 

@@ -29,7 +29,7 @@ from idkit.report.html import HtmlReport, file_stem
 from idkit.report.study_files import write_transport_files
 from idkit.studies.pipeline import QUICK_NOTE, ReportData, ValidationEntry, compute_report_data
 
-__all__ = ["REPORT_SECTIONS", "QUICK_NOTE", "ReportSummary", "run_report", "write_report"]
+__all__ = ["QUICK_NOTE", "REPORT_SECTIONS", "ReportSummary", "run_report", "write_report"]
 
 REPORT_SECTIONS = (
     "Summary", "Data", "Wire rope fit", "Elastomer fit", "Validation: wire rope", "Validation: elastomer",
@@ -119,7 +119,6 @@ def _validation_section(report: HtmlReport, entry: ValidationEntry, quick: bool)
 def _drop_model_section(report: HtmlReport, data: ReportData) -> None:
     """The wire rope's held-out drops under both drop models, plain and slip-modulated Iwan."""
     comparison = data.drop_models
-    model, drop = comparison.supported()
     report.heading("drop models compared")
     report.paragraph(f"Drop models compared on the same held-out wire-rope drops (the drop validations above use "
                      f"drop_model='{data.drop_model}'): the conditioned free fall of the study (every mass at the "
@@ -176,8 +175,8 @@ def _summary_section(report: HtmlReport, data: ReportData) -> None:
     items = [f"Identified: generalized Maxwell model of order {len(maxwell.model.k)}, "
              + parameters_sentence(maxwell.parameters_table())
              + f"; k0 = {maxwell.k0.k0:.4g} +- {maxwell.k0.stderr:.2g} N/m from the quasi-static loops.",
-             "A linear viscoelastic model: no deflection limit of its own; it is validated only over the "
-             "amplitudes of the held-out data.",
+             ("A linear viscoelastic model: no deflection limit of its own; it is validated only over the "
+              "amplitudes of the held-out data."),
              fit_sentence(f"Maxwell fit (FRF error {100 * maxwell.result.error:.2f} %, eq. 7.5)", maxwell)]
     items += [validation_sentence(entry.key, entry.result, quick_note=QUICK_NOTE if data.quick else "")
               for entry in data.validations_of("elastomer")]
