@@ -64,6 +64,35 @@ def compile_time(label, name):
     return float(result.stdout.strip().splitlines()[-1])
 
 
+def harmonic_map(repeats):
+    """A 6 x 5 harmonic map (1-30 Hz x 1e-4..3e-3 m, from rest, at most 200 periods) per structure,
+    generic and specialised: seconds (min, median) and ns per simulated step."""
+    from idkit.models import library
+    from idkit.simulate import _kernel, harmonic_response
+
+    freq, amplitude = np.meshgrid(np.geomspace(1.0, 30.0, 6), np.geomspace(1e-4, 3e-3, 5))
+    print("harmonic map 6 x 5 (maps drive the same step), one worker: s min (median), ns per step")
+    for label, name in CASES.items():
+        system = library.get(name)
+        line = f"{label:14s}"
+        for which in ("generic", "specialised"):
+            saved = _kernel.SPECIALISED
+            if which == "generic":
+                _kernel.SPECIALISED = frozenset()
+            try:
+                response = harmonic_response(system, freq, amplitude, max_periods=200, workers=1)
+                times = []
+                for _ in range(repeats):
+                    start = time.perf_counter()
+                    response = harmonic_response(system, freq, amplitude, max_periods=200, workers=1)
+                    times.append(time.perf_counter() - start)
+            finally:
+                _kernel.SPECIALISED = saved
+            steps = float(np.sum(response.periods * response.steps_per_period))
+            line += f"  {which} {min(times):6.3f} ({np.median(times):6.3f}) s {min(times) / steps * 1e9:6.1f} ns"
+        print(line)
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--steps", type=int, default=200_000)
@@ -94,6 +123,7 @@ def main():
         g, s = seconds["generic"], seconds["specialised"]
         print(f"{label:14s} {g.min():12.1f} {np.median(g):8.1f} {s.min():12.1f} {np.median(s):8.1f} "
               f"{g.min() / s.min():8.2f} {diff:15.1e}")
+    harmonic_map(options.repeats)
     if options.no_compile:
         return
     print("first call (compile) in a fresh process, empty numba cache, s")
