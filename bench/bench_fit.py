@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from idkit.datasets import read_pyvisco_complex_modulus, realdata_dir
 from idkit.fit import (
     fit_boucwen,
     fit_complex_stiffness,
@@ -27,7 +28,6 @@ from idkit.fit import (
     transmissibility_sets,
 )
 from idkit.io import load_measurement_set
-from idkit.datasets import read_pyvisco_complex_modulus, realdata_dir
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

@@ -18,7 +18,7 @@ def _cmd_report(args) -> int:
     check_output(args.output, kind="replaced", force=args.force, inputs=[args.data_dir or default_data_dir()])
     summary = run_report(args.data_dir, args.output, force=args.force, quick=args.quick, seed=args.seed,
                          workers=args.workers, progress=lambda message: say(message, enabled=not args.quiet),
-                         start_state=args.start_state)
+                         start_state=args.start_state, drop_model=args.drop_model)
     for name, verdict in summary.validation_verdicts.items():
         print(f"{verdict:12s}  {name}")
     if summary.quick:
@@ -40,5 +40,9 @@ def register(commands) -> None:
     parser.add_argument("--start-state", choices=["auto", "cycled", "virgin"], default="auto",
                         help="wire-rope fits: model state at each record's first reversal (default auto: "
                              "virgin when the record starts unloaded, else cycled)")
+    parser.add_argument("--drop-model", choices=["auto", "rig", "conditioned"], default="auto",
+                        help="drop model of the drop validations: the drop rig (bottom mass on the floor, from the "
+                             "statically loaded rest state), the conditioned free fall of the study, or auto (the rig "
+                             "when the drops give bottom mass and height; default)")
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     parser.set_defaults(handler=_cmd_report)

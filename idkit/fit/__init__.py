@@ -45,7 +45,6 @@ from idkit.fit.boucwen_output import (
     boucwen_output_start,
     fit_boucwen_output,
 )
-from idkit.fit.boucwen import fit_boucwen
 from idkit.fit.compare import (
     LoopModelComparison,
     compare_loop_models,

@@ -19,7 +19,7 @@ import pandas as pd
 from idkit.errors import ValidationError
 from idkit.validate import validate_drops
 
-__all__ = ["DROP_MODELS", "DropModelComparison", "compare_drop_models"]
+__all__ = ["DROP_MODELS", "DropModelComparison", "compare_drop_models", "wire_rope_drop_models"]
 
 #: The two drop models of :func:`idkit.validate.validate_drops`.
 DROP_MODELS = ("conditioned", "rig")
@@ -38,10 +38,13 @@ class DropModelComparison:
         ``drops``, ``verdict``.
     results : dict
         ``(model name, drop model) -> ValidationResult``.
+    notes : tuple of str
+        Models left out and why.
     """
 
     table: pd.DataFrame
     results: dict
+    notes: tuple = ()
 
     def supported(self) -> tuple[str, str]:
         """``(model name, drop model)`` the held-out drops support (module docstring)."""
@@ -58,7 +61,8 @@ class DropModelComparison:
         model, drop = self.supported()
         best = self.results[(model, drop)].summary
         text = self.table.to_string(index=False, float_format=lambda v: f"{v:.3f}")
-        return (f"{text}\nsupported by the held-out drops: {model} with the {drop} drop model (median peak "
+        notes = "".join(f"\n{note}" for note in self.notes)
+        return (f"{text}{notes}\nsupported by the held-out drops: {model} with the {drop} drop model (median peak "
                 f"error {best.get('median_peak_acceleration_compression_error', np.nan):.3f} in compression, "
                 f"{best.get('median_peak_acceleration_tension_error', np.nan):.3f} in tension)")
 
@@ -114,3 +118,43 @@ def compare_drop_models(measurements, models: dict, *, drop_models=DROP_MODELS, 
             results[(model_name, drop_model)] = result
             rows.extend(_per_mass(result, model_name, drop_model))
     return DropModelComparison(table=pd.DataFrame(rows), results=results)
+
+
+def wire_rope_drop_models(drops, plain_fit, *, valid_range=None, workers=None) -> DropModelComparison:
+    """Plain vs slip-modulated Iwan, conditioned fall vs drop rig, on a wire rope's held-out drops.
+
+    The modulated model is fitted here on the plain fit's own loop sets
+    (:func:`idkit.fit.iwan_modulated.fit_iwan_modulated`, a stage on top of ``plain_fit``);
+    a modulated fit that is not a success is left out of the table, with its reasons in
+    :attr:`DropModelComparison.notes`.
+
+    Parameters
+    ----------
+    drops : sequence of DropMeasurement
+        Held-out wire-rope drops.
+    plain_fit : MeasurementFit
+        The plain Iwan fit (:func:`idkit.fit.fit_iwan_measurements`), its ``data`` the loop sets.
+    valid_range : (float, float), optional
+        Deflections over which the modulated fit keeps the spring stiff (m).
+    workers : int, optional
+
+    Returns
+    -------
+    DropModelComparison
+    """
+    from idkit.fit.iwan_modulated import fit_iwan_modulated
+
+    plain = plain_fit.model
+    models = {"plain Iwan": {"isolator": plain}}
+    notes = []
+    modulated = fit_iwan_modulated(list(plain_fit.data.small), list(plain_fit.data.large), plain=plain_fit.result,
+                                   valid_range=valid_range)
+    if modulated.success:
+        model = modulated.model
+        if plain.c_visc and not model.c_visc:  # the drops see the same identified viscous term
+            model = type(model).from_params({**model.params(), "c_visc": plain.c_visc})
+        models["slip-modulated Iwan"] = {"isolator": model}
+    else:
+        notes.append("slip-modulated Iwan left out: " + "; ".join(modulated.reasons))
+    comparison = compare_drop_models(drops, models, name="wire rope drops", workers=workers)
+    return DropModelComparison(table=comparison.table, results=comparison.results, notes=tuple(notes))

@@ -42,6 +42,7 @@ from idkit.models import GeneralizedMaxwell, HybridSystem, IwanModel
 from idkit.observe.quality import MeasurementSummary, summarize_measurements
 from idkit.studies.transport import TransportStudy, compute_transport_study, quick_transport_options
 from idkit.validate import ValidationResult, blind_spots, validate_drops, validate_frf, validate_harmonic
+from idkit.studies.drop_models import DropModelComparison, wire_rope_drop_models
 
 __all__ = [
     "QUICK_HELD_OUT",
@@ -120,6 +121,10 @@ class ReportData:
     transport : TransportStudy
     timings_s : dict
         Seconds per stage of :data:`STAGES`.
+    drop_models : DropModelComparison or None
+        The wire rope's held-out drops under both drop models, plain and slip-modulated Iwan.
+    drop_model : str
+        The drop model the drop validations used ("auto", "rig" or "conditioned").
     """
 
     data_dir: Path
@@ -139,6 +144,8 @@ class ReportData:
     hybrid_masses_from: str | None
     transport: TransportStudy
     timings_s: dict = field(default_factory=dict)
+    drop_models: DropModelComparison | None = None
+    drop_model: str = "auto"
 
     @property
     def n_measurements(self) -> int:
@@ -186,7 +193,8 @@ class _Stages:
 
 
 def _validations(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell,
-                 limit: int | None) -> tuple[tuple[ValidationEntry, ...], HybridSystem | None, str | None]:
+                 limit: int | None, drop_model: str = "auto"
+                 ) -> tuple[tuple[ValidationEntry, ...], HybridSystem | None, str | None]:
     def held_out(measurement_set, kind, split="validation"):
         chosen = list(measurement_set.select(kind=kind, split=split))
         return chosen[:limit] if limit else chosen
@@ -197,10 +205,8 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
             held_out(wire_rope, "stepped_sine"), isolator=wire_model,
             name="wire rope: harmonic sweeps (validation split)")),
         ValidationEntry("wire rope drops", "wire rope", "drops", validate_drops(
-            held_out(wire_rope, "drop"), isolator=wire_model, name="wire rope: drops (validation split)")),
-        ValidationEntry("wire rope drops, relaxation", "wire rope", "drops", validate_drops(
-            held_out(wire_rope, "drop"), isolator=wire_model, relaxation=True,
-            name="wire rope: drops with relaxation (validation split)")),
+            held_out(wire_rope, "drop"), isolator=wire_model, drop_model=drop_model,
+            name="wire rope: drops (validation split)")),
         ValidationEntry("elastomer FRF", "elastomer", "FRF", validate_frf(
             held_out(elastomer, "white_noise"), isolator=elastomer_model,
             name="elastomer: white-noise FRFs (validation split)")),
@@ -208,7 +214,8 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
             held_out(elastomer, "stepped_sine"), isolator=elastomer_model,
             name="elastomer: harmonic sweeps (validation split)")),
         ValidationEntry("elastomer drops", "elastomer", "drops", validate_drops(
-            held_out(elastomer, "drop"), isolator=elastomer_model, name="elastomer: drops (validation split)")),
+            held_out(elastomer, "drop"), isolator=elastomer_model, drop_model=drop_model,
+            name="elastomer: drops (validation split)")),
     ]
     hybrid_set = sets.get("hybrid")
     if hybrid_set is None:
@@ -221,7 +228,7 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
         return validate_harmonic(hybrid_sweeps, name="hybrid: harmonic sweeps (all; not fitted)", **models)
 
     def rerun_drops(**models):
-        return validate_drops(hybrid_drops, name="hybrid: drops (all; not fitted)", **models)
+        return validate_drops(hybrid_drops, name="hybrid: drops (all; not fitted)", drop_model=drop_model, **models)
 
     entries.append(ValidationEntry("hybrid sweeps", "hybrid", "sweeps",
                                    blind_spots(rerun_sweeps(**components), rerun_sweeps, components)))
@@ -233,7 +240,8 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
 
 
 def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026, workers: int | None = None,
-                        progress: Callable[[str], None] | None = None, start_state: str = "auto") -> ReportData:
+                        progress: Callable[[str], None] | None = None, start_state: str = "auto",
+                        drop_model: str = "auto") -> ReportData:
     """Inspect, fit, validate and study a data set (module docstring).
 
     Parameters
@@ -251,6 +259,11 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
         Receives the name of each stage as it starts.
     start_state : {"auto", "cycled", "virgin"}
         Start state of the wire-rope loop fits (:func:`idkit.fit.fit_iwan`).
+    drop_model : {"auto", "rig", "conditioned"}
+        Drop model of every drop validation (:func:`idkit.validate.validate_drops`; "auto":
+        the rig when the drops give bottom mass and height). Whatever it is, the wire rope's
+        held-out drops are also compared under both drop models with the plain and the
+        slip-modulated Iwan model (``ReportData.drop_models``).
 
     Returns
     -------
@@ -282,7 +295,11 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
 
     stages.start(STAGES[3])
     validations, hybrid, masses_from = _validations(sets, iwan.model, maxwell.model,
-                                                    QUICK_HELD_OUT if quick else None)
+                                                    QUICK_HELD_OUT if quick else None, drop_model)
+    rope_drops = list(wire_rope.select(kind="drop", split="validation"))
+    drop_models = wire_rope_drop_models(rope_drops[:QUICK_HELD_OUT] if quick else rope_drops,
+                                        iwan,
+                                        valid_range=valid_range) if rope_drops else None
 
     stages.start(STAGES[4])
     options = quick_transport_options(max_speed=0.6, max_height=0.12) if quick else {}
@@ -294,6 +311,7 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
         valid_range=valid_range, iwan=iwan, boucwen=boucwen, iwan_loops=iwan_loops, boucwen_loops=boucwen_loops,
         maxwell=maxwell, order_table=order_table, validations=validations, hybrid=hybrid,
         hybrid_masses_from=masses_from, transport=transport, timings_s=stages.durations,
+        drop_models=drop_models, drop_model=drop_model,
     )
 
 

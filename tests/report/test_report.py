@@ -86,3 +86,22 @@ def test_iwan_table_shows_stderr_and_spread_across_repetitions(quick_report):
     for column in ("stderr", "stderr_note", "repetition_std", "repetition_values"):
         assert f"<th>{column}</th>" in html, column
     assert "spread across repetitions: repetition, 2 refits" in html
+
+
+@pytest.mark.slow
+def test_drop_models_are_compared_and_the_supported_one_named(quick_report):
+    """Conditioned vs rig, plain vs slip-modulated Iwan, on the same held-out drops (issue 15)."""
+    import pandas as pd
+
+    table = pd.read_csv(quick_report / "tables" / "wire_rope_drop_models.csv")
+    assert set(table["drop model"]) == {"conditioned", "rig"}
+    assert "plain Iwan" in set(table["isolator model"])
+    from html import unescape
+
+    html = unescape((quick_report / "report.html").read_text(encoding="utf-8"))
+    assert "The held-out drops support the" in html and "drop_model='auto'" in html
+    # the named pair is the one with the smallest worst-phase median error among the PASSes
+    passing = table[table["verdict"] == "PASS"].groupby(["isolator model", "drop model"])[
+        ["median_compression_error [-]", "median_tension_error [-]"]].median().max(axis=1)
+    model, drop = passing.idxmin()
+    assert f"support the {model} model with the {drop} drop model" in html
