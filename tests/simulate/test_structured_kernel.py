@@ -95,3 +95,14 @@ def test_kernels_are_compiled_once_per_structure():
     assert _kernel.time_kernel(GENERIC) is _kernel.run_time_batch
     # a structure outside SPECIALISED runs the generic driver
     assert _kernel.time_kernel(99) is _kernel.run_time_batch
+
+
+def test_constants_match_the_generic_step():
+    """The specialised steps repeat the generic step's flags and Newton settings (no import cycle)."""
+    from idkit.simulate import _structured
+
+    assert (_structured._FLAG_OK, _structured._FLAG_NEGATIVE_STIFFNESS, _structured._FLAG_NON_FINITE,
+            _structured._FLAG_NO_CONVERGENCE) == (_kernel.FLAG_OK, _kernel.FLAG_NEGATIVE_STIFFNESS,
+                                                  _kernel.FLAG_NON_FINITE, _kernel.FLAG_NO_CONVERGENCE)
+    assert (_structured._NEWTON_MAX_ITER, _structured._RES_TOL) == (_kernel._NEWTON_MAX_ITER, _kernel._RES_TOL)
+    assert (_structured._MGSUM, _structured._NJ, _structured._NM) == (_kernel._MGSUM, _kernel._NJ, _kernel._NM)
