@@ -26,6 +26,7 @@ members of the batch go on.
 from __future__ import annotations
 
 import math
+import threading
 
 import numba
 import numpy as np
@@ -571,6 +572,7 @@ run_time_batch = _time_kernel(GENERIC)
 run_harmonic_batch = _harmonic_kernel(GENERIC)
 _TIME_KERNELS = {GENERIC: run_time_batch}
 _HARMONIC_KERNELS = {GENERIC: run_harmonic_batch}
+_KERNELS_LOCK = threading.Lock()
 #: Structures that run their specialised step (the others run the generic one); tests empty it
 #: to run the generic kernel on the same inputs.
 SPECIALISED = frozenset({SDOF_IWAN, SDOF_MAXWELL, HYBRID})
@@ -580,17 +582,19 @@ def time_kernel(structure: int):
     """:func:`run_time_batch` compiled for ``structure`` (generic if it is not in :data:`SPECIALISED`);
     one dispatcher per structure and process, so nothing is compiled twice."""
     structure = structure if structure in SPECIALISED else GENERIC
-    if structure not in _TIME_KERNELS:
-        _TIME_KERNELS[structure] = _time_kernel(structure)
-    return _TIME_KERNELS[structure]
+    with _KERNELS_LOCK:  # callers in several threads still share one dispatcher
+        if structure not in _TIME_KERNELS:
+            _TIME_KERNELS[structure] = _time_kernel(structure)
+        return _TIME_KERNELS[structure]
 
 
 def harmonic_kernel(structure: int):
     """:func:`run_harmonic_batch` compiled for ``structure`` (as :func:`time_kernel`)."""
     structure = structure if structure in SPECIALISED else GENERIC
-    if structure not in _HARMONIC_KERNELS:
-        _HARMONIC_KERNELS[structure] = _harmonic_kernel(structure)
-    return _HARMONIC_KERNELS[structure]
+    with _KERNELS_LOCK:
+        if structure not in _HARMONIC_KERNELS:
+            _HARMONIC_KERNELS[structure] = _harmonic_kernel(structure)
+        return _HARMONIC_KERNELS[structure]
 
 
 # ------------------------------------------------------------------------------------------
