@@ -50,14 +50,14 @@ def compile_time(label, name):
     """Seconds of the first call of one kernel in a fresh process with an empty numba cache."""
     code = (
         "import time, sys\n"
-        "sys.path.insert(0, %r)\n"
+        f"sys.path.insert(0, {ROOT!r})\n"
         "from bench.bench_kernel import prepared\n"
         "from idkit.simulate import _kernel\n"
         "from idkit.simulate._structured import structure_of\n"
-        "arrays, args = prepared(%r, 10)\n"
-        "kernel = _kernel.time_kernel(structure_of(arrays)) if %r == 'specialised' else _kernel.run_time_batch\n"
+        f"arrays, args = prepared({name!r}, 10)\n"
+        f"kernel = _kernel.time_kernel(structure_of(arrays)) if {label!r} == 'specialised' else _kernel.run_time_batch\n"
         "start = time.perf_counter(); kernel(*args); print(time.perf_counter() - start)\n"
-    ) % (ROOT, name, label)
+    )
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache, IDKIT_WORKERS="1", OMP_NUM_THREADS="1")
         result = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)

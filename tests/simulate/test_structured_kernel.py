@@ -14,12 +14,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from idkit.models import BoucWenModel, ModulatedIwanModel
-from idkit.models import library
+from idkit.models import BoucWenModel, ModulatedIwanModel, library
 from idkit.models.systems import SDOFSystem
 from idkit.simulate import _kernel, free_fall, harmonic_response, simulate
 from idkit.simulate._arrays import system_arrays
-from idkit.simulate._structured import GENERIC, HYBRID, SDOF_IWAN, SDOF_MAXWELL, structure_of
+from idkit.simulate._structured import (
+    GENERIC,
+    HYBRID,
+    SDOF_IWAN,
+    SDOF_MAXWELL,
+    structure_of,
+)
 
 RTOL = 1e-10
 
