@@ -16,11 +16,11 @@ from idkit.cli import options as opt
 from idkit.errors import IdkitError
 
 
-def _check_outputs(kind: str, output: str, plots: str | None, dataset: str) -> None:
+def _check_outputs(kind: str, output: str, plots: str | None, dataset: str, *more_inputs: str) -> None:
     """Every output refused before fitting: existing, overlapping the data set, unwritable."""
     from idkit.output_checks import check_output
 
-    check_output(output, inputs=[dataset])
+    check_output(output, inputs=[dataset, *more_inputs])
     if plots is not None:
         check_output(plots, kind="folder", inputs=[dataset], option="--plots")
         from idkit.plot.fits import fit_plot_paths
@@ -99,9 +99,77 @@ def _cmd_boucwen(args) -> int:
     return _finish(fit, args)
 
 
+def _read_table(path: str):
+    """A complex stiffness / DMA table file in idkit's format or pyvisco's two-line header layout."""
+    from idkit.io.discover import complex_table_format
+
+    kind = complex_table_format(path)
+    if kind == "complex_stiffness":
+        from idkit.io import read_complex_stiffness
+
+        return read_complex_stiffness(path)
+    if kind == "pyvisco":
+        from idkit.datasets import read_pyvisco_complex_modulus
+
+        return read_pyvisco_complex_modulus(path)
+    raise IdkitError(f"file {path}: not a complex stiffness / DMA table; expected the columns 'frequency [Hz]', "
+                     "'storage [unit]', 'loss [unit]' (docs/data-format.md) or pyvisco's 'f, E_stor, E_loss' "
+                     "with a units line, or a measurement-set folder")
+
+
+def _read_shift_factors(path: str):
+    from idkit.io.discover import shift_factor_format
+
+    if shift_factor_format(path) == "pyvisco":
+        from idkit.datasets import read_pyvisco_shift_factors
+
+        return read_pyvisco_shift_factors(path)
+    from idkit.io import read_shift_factors
+
+    return read_shift_factors(path)
+
+
+def _cmd_maxwell_table(args) -> int:
+    """``idkit fit maxwell TABLE.csv``: a DMA / complex stiffness table, isotherms or master curve."""
+    from idkit.fit import fit_dma_table
+
+    if args.k0 is not None or args.order_table or args.cross_check:
+        raise IdkitError("--k0, --order-table and --cross-check apply to measurement sets; a DMA table is fitted "
+                         "with --order auto|N (auto prints the order table)")
+    _check_outputs("maxwell", args.output, None, args.dataset,
+                   *(() if args.shift_factors is None else (args.shift_factors,)))
+    if args.plots is not None:
+        raise IdkitError("--plots: not available for a DMA table yet; expected no --plots with a table file")
+    if args.use_given_shift_factors and args.shift_factors is None:
+        raise IdkitError("--use-given-shift-factors: found no --shift-factors FILE, expected one")
+    table = _read_table(args.dataset)
+    given = None if args.shift_factors is None else _read_shift_factors(args.shift_factors)
+    reference = None if args.reference_temperature is None else args.reference_temperature + 273.15
+    fit = fit_dma_table(table, order="auto" if args.order in (None, "auto") else args.order,
+                        reference_temperature_k=reference, shift_factors=given,
+                        use_given_shift_factors=args.use_given_shift_factors, backend=args.backend, seed=args.seed)
+    print(fit.report())
+    fit.save(args.output)
+    print(f"wrote {args.output} ({fit.model.quantity} model, {fit.model.unit})", file=sys.stderr)
+    if fit.success:
+        return 0
+    print("idkit: the fit is not a success (the model file says so): " + "; ".join(fit.reasons), file=sys.stderr)
+    return 1
+
+
 def _cmd_maxwell(args) -> int:
     from idkit.fit import fit_maxwell_measurements, maxwell_order_table, transmissibility_sets
 
+    if Path(args.dataset).is_file():
+        return _cmd_maxwell_table(args)
+    for option, value in (("--reference-temperature", args.reference_temperature),
+                          ("--shift-factors", args.shift_factors)):
+        if value is not None:
+            raise IdkitError(f"{option}: applies to a DMA table file; found a measurement-set folder")
+    if args.order == "auto":
+        raise IdkitError("--order auto: applies to a DMA table file; for a measurement set give an order "
+                         "and see --order-table")
+    args.order = 2 if args.order is None else args.order
     opt.check_band("--band", args.band)
     _check_outputs("maxwell", args.output, args.plots, args.dataset)
     data = _load(args.dataset)
@@ -142,6 +210,13 @@ def _common(parser, *, loops: bool) -> None:
 _ORDER = opt.integer(at_most=opt.MAX_ORDER, why="each order adds two parameters the data do not identify")
 
 
+def _maxwell_order(value: str):
+    """``--order`` of the Maxwell fit: an integer order (a Prony series may need one a decade) or ``auto``."""
+    if value == "auto":
+        return "auto"
+    return opt.integer(at_most=opt.MAX_DMA_ORDER, why="one term a decade covers any measured master curve")(value)
+
+
 def _iwan_order(value: str):
     """``--order`` of the Iwan fit: an integer order or ``auto``."""
     return "auto" if value == "auto" else _ORDER(value)
@@ -163,10 +238,21 @@ def register(subparsers) -> None:
                       help="deflections in m (X_MIN < 0 < X_MAX) over which the spring must stay non-negative-stiff")
     iwan.set_defaults(handler=_cmd_iwan)
 
-    maxwell = kinds.add_parser("maxwell", help="generalized Maxwell fit: k0 from the loops, the rest from the FRFs")
+    maxwell = kinds.add_parser("maxwell", help="generalized Maxwell fit: k0 from the loops, the rest from the FRFs; "
+                                               "or a Prony series from a DMA / complex stiffness table file")
     _common(maxwell, loops=False)
-    maxwell.add_argument("--order", type=_ORDER, default=2,
-                         help=f"number of Maxwell elements (1 to {opt.MAX_ORDER}, default 2)")
+    maxwell.add_argument("--order", type=_maxwell_order, default=None,
+                         help=f"number of Maxwell elements (1 to {opt.MAX_DMA_ORDER}; default 2 for a measurement "
+                              "set), or 'auto' (default for a table: the fewest terms within 1.1 x the best error "
+                              "of orders 1 to one a decade)")
+    maxwell.add_argument("--reference-temperature", type=opt.real(above=-273.15, unit="C"),
+                         help="table with isotherms: reference temperature of the master curve in C (default: the "
+                              "given shift factors' reference, else the isotherm nearest the median temperature)")
+    maxwell.add_argument("--shift-factors", metavar="FILE",
+                         help="table with isotherms: given shift factors (temperature [C|K], log_aT [-]) to check "
+                              "against the ones estimated from the isotherms")
+    maxwell.add_argument("--use-given-shift-factors", action="store_true",
+                         help="build the master curve from --shift-factors instead of the estimated ones")
     maxwell.add_argument("--k0", type=opt.real(above=0, unit="N/m"), help="static stiffness in N/m (default: from the quasi-static loops)")
     maxwell.add_argument("--band", type=opt.real(above=0, unit="Hz"), nargs=2, default=[1.0, 100.0], metavar=("F_LOW", "F_HIGH"),
                          help="frequency band in Hz (default 1 100)")
