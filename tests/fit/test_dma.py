@@ -146,3 +146,22 @@ def test_pyvisco_isotherms_fitted_end_to_end():
     assert fit.check.agrees
     assert fit.result.error < 0.02
     assert fit.model.unit == "Pa"
+
+
+def test_plots_label_a_modulus_as_a_modulus():
+    from matplotlib.figure import Figure
+
+    from idkit.plot.fits import plot_storage_loss
+    from idkit.plot.responses import plot_complex_stiffness
+
+    material = GeneralizedMaxwell(k0=1.0e6, k=[2.0e6], rate=[50.0], quantity="modulus")
+    figure = Figure()
+    stiffness_ax, _ = plot_storage_loss(material, axes=figure.subplots(2, 1))
+    assert "[Pa]" in stiffness_ax.get_ylabel()
+    part = material.to_stiffness(area_m2=1e-3, thickness_m=0.01)
+    stiffness_ax, _ = plot_storage_loss(part, axes=figure.subplots(2, 1))
+    assert "[N/m]" in stiffness_ax.get_ylabel()
+    freq = np.array([1.0, 10.0])
+    axes = plot_complex_stiffness(freq, material.complex_modulus(freq), quantity="modulus",
+                                  axes=figure.subplots(2, 1))
+    assert axes[0].get_ylabel() == "|E*| [Pa]"
