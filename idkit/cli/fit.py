@@ -30,13 +30,26 @@ def _check_outputs(kind: str, output: str, plots: str | None, dataset: str, *mor
             raise FileExistsError(f"refusing to overwrite existing plot(s): {', '.join(existing)}")
 
 
-def _load(dataset: str):
+def _load(dataset: str, args=None):
+    """A measurement-set folder, or one data file (its enclosing manifest's metadata when it lists
+    it, otherwise its kind from the header); resolves the ``--isolator``/``--split`` defaults."""
     from idkit.io import load_measurement_set
+    from idkit.io.discover import load_measurements
 
-    folder = Path(dataset)
-    if not folder.is_dir():
-        raise IdkitError(f"DATASET {dataset}: not a folder; expected a measurement set (folder with manifest.json)")
-    return load_measurement_set(folder)
+    path = Path(dataset)
+    if path.is_dir():
+        if args is not None:
+            args.isolator = args.default_isolator if args.isolator is None else args.isolator
+            args.split = "fit" if args.split is None else args.split
+        return load_measurement_set(path)
+    if not path.exists():
+        raise IdkitError(f"DATASET {dataset}: no such file or folder; expected a measurement set (folder with "
+                         "manifest.json) or a data file")
+    # one file: every record in it is fitted unless --isolator/--split say otherwise
+    if args is not None:
+        args.split = "all" if args.split is None else args.split
+    _, measurements = load_measurements(path)
+    return measurements
 
 
 def _finish(fit, args) -> int:
@@ -68,7 +81,7 @@ def _cmd_iwan(args) -> int:
         opt.check_valid_range("--valid-range", args.valid_range)
     _check_outputs("iwan", args.output, args.plots, args.dataset)
     options = {"valid_range": tuple(args.valid_range)} if args.valid_range else {}
-    fit = fit_iwan_measurements(_load(args.dataset), order=args.order, small_threshold=args.small_threshold,
+    fit = fit_iwan_measurements(_load(args.dataset, args), order=args.order, small_threshold=args.small_threshold,
                                 isolator=args.isolator, split=_split(args.split), backend=args.backend,
                                 seed=args.seed, initial_state=args.start_state, remove_offsets=args.remove_offsets,
                                 **options)
@@ -88,7 +101,7 @@ def _cmd_boucwen(args) -> int:
     from idkit.fit import compare_loop_models, fit_boucwen_measurements, fit_iwan_measurements
 
     _check_outputs("boucwen", args.output, args.plots, args.dataset)
-    data = _load(args.dataset)
+    data = _load(args.dataset, args)
     options = {"small_threshold": args.small_threshold, "isolator": args.isolator, "split": _split(args.split),
                "backend": args.backend, "seed": args.seed, "initial_state": args.start_state,
                "remove_offsets": args.remove_offsets}
@@ -172,7 +185,7 @@ def _cmd_maxwell(args) -> int:
     args.order = 2 if args.order is None else args.order
     opt.check_band("--band", args.band)
     _check_outputs("maxwell", args.output, args.plots, args.dataset)
-    data = _load(args.dataset)
+    data = _load(args.dataset, args)
     fit = fit_maxwell_measurements(data, order=args.order, k0=args.k0, isolator=args.isolator,
                                    split=_split(args.split), band=tuple(args.band), backend=args.backend,
                                    cross_check=args.cross_check, seed=args.seed)
@@ -185,15 +198,17 @@ def _cmd_maxwell(args) -> int:
 
 
 def _common(parser, *, loops: bool) -> None:
-    parser.add_argument("dataset", help="measurement set folder (with manifest.json)")
+    parser.add_argument("dataset", help="measurement set folder (with manifest.json) or one data file")
     parser.add_argument("-o", "--output", required=True, help="model file to write (JSON); never overwritten")
     parser.add_argument("--plots", help="folder for figures (PNG; existing files are not overwritten)")
     parser.add_argument("--backend", choices=["nlopt", "scipy"], default="nlopt")
     parser.add_argument("--seed", type=opt.seed, default=0, help="seed of every random choice (default 0)")
-    parser.add_argument("--split", choices=["fit", "validation", "all"], default="fit",
-                        help="which measurements to fit (default: the fit split)")
-    parser.add_argument("--isolator", default="wire_rope" if loops else "elastomer",
-                        help="isolator name in the manifest (default %(default)s)")
+    parser.add_argument("--split", choices=["fit", "validation", "all"], default=None,
+                        help="which measurements to fit (default: the fit split of a set; every record of a file)")
+    parser.add_argument("--isolator", default=None,
+                        help="isolator name in the manifest (default for a set: "
+                             f"{'wire_rope' if loops else 'elastomer'}; for a file: any)")
+    parser.set_defaults(default_isolator="wire_rope" if loops else "elastomer")
     if loops:
         parser.add_argument("--small-threshold", type=opt.real(above=0, unit="m"), default=8e-3,
                             help="amplitude in m separating small- from large-loop records (default 8e-3)")

@@ -71,3 +71,22 @@ def test_hostile_dma_tables_are_refused_by_name(tmp_path):
                        inputs=[units], must_not_exist=[tmp_path / "m.json"])
     check(outcome, "error", ["--use-given-shift-factors", "--shift-factors"], case="dma-use-given-without-file")
     assert not shift.exists()
+
+
+def test_fit_iwan_on_one_loop_file(tmp_path):
+    # a lone loop record (no manifest beside it): its kind from the header, every record in it
+    # fitted as a one-amplitude test
+    from pathlib import Path
+    import shutil
+
+    source = Path(__file__).resolve().parents[2] / "data" / "wire_rope" / "quasi_static" / "qs_wr_large_1.csv.gz"
+    lone = tmp_path / source.name
+    shutil.copyfile(source, lone)
+    out = tmp_path / "rope.json"
+    outcome = run_main(["fit", "iwan", lone, "-o", out], inputs=[lone])
+    check(outcome, "ok")
+    assert "one-amplitude test" in outcome.stdout
+    assert load_model(out).kind == "iwan"
+    missing = run_main(["fit", "iwan", tmp_path / "nothing.csv", "-o", tmp_path / "x.json"],
+                       must_not_exist=[tmp_path / "x.json"])
+    check(missing, "error", ["nothing.csv", "no such file"], case="fit-missing-file")
