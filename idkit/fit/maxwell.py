@@ -698,6 +698,7 @@ def fit_complex_stiffness(
     global_max_evals: int = 10000,
     seed: int = 0,
     quantity: str = "stiffness",
+    start: GeneralizedMaxwell | None = None,
 ) -> MaxwellFitResult:
     """Fit a generalized Maxwell (Prony) model to complex stiffness / DMA data.
 
@@ -728,6 +729,9 @@ def fit_complex_stiffness(
     quantity : {"stiffness", "modulus"}
         What ``storage`` and ``loss`` are: N/m (a part) or Pa (a material, e.g. a DMA
         table's ``quantity``).
+    start : GeneralizedMaxwell, optional
+        Start of the SQP (same order; values inside the bounds); default: the seeded
+        default start.
     """
     if quantity not in ("stiffness", "modulus"):
         raise FitError(f"quantity: found {quantity!r}, expected 'stiffness' (N/m) or 'modulus' (Pa)")
@@ -761,7 +765,9 @@ def fit_complex_stiffness(
                                 set_names=[f"complex {quantity}"], transforms=transforms,
                                 loss_omega=_loss_grid(band, loss_grid_points) if monotone_loss else None,
                                 monotone_loss=monotone_loss)
-    result = _solve(problem, start=None, band=band, backend=backend, max_evals=max_evals, ftol=ftol,
+    if start is not None and start.quantity != "stiffness":
+        start = GeneralizedMaxwell(k0=start.k0, k=start.k, rate=start.rate)
+    result = _solve(problem, start=start, band=band, backend=backend, max_evals=max_evals, ftol=ftol,
                     cross_check=cross_check, global_method=global_method, global_max_evals=global_max_evals,
                     seed=seed, settings_extra={})
     if quantity == "stiffness":
