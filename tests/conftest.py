@@ -91,14 +91,25 @@ def repo_root() -> Path:
 # fresh clone (empty numba cache in __pycache__), every worker compiles the same big
 # kernels itself. Each snippet compiles one kernel through the public API (the argument
 # types the tests use) and writes numba's on-disk cache; the workers then load it.
-_WARM_UP = (
-    "from idkit.models import library\n"
-    "from idkit.simulate import harmonic_response\n"
-    "harmonic_response(library.get('system_b1_medium'), [5.0], 1e-3, workers=1)\n",
+_WARM_UP = tuple(
     "import numpy as np\n"
+    "from idkit.models import BoucWenModel, SDOFSystem, library\n"
+    "from idkit.simulate import harmonic_response, simulate\n"
+    f"system = {system}\n"
+    "harmonic_response(system, [5.0], 1e-3, workers=1)\n"
+    "simulate(system, np.arange(11) * 1e-4, workers=1)\n"
+    # one structure per snippet: each has its own specialised step (idkit.simulate._structured)
+    for system in ("library.get('system_b1_medium')", "library.get('system_a1_asymmetric')",
+                   "library.get('hybrid_asymmetric')",
+                   "SDOFSystem(2.0, BoucWenModel(k1=5e4, k2=0.0, k3=0.0, alpha=5e4, beta=800.0, gamma=-1100.0, n=1.0))")
+) + (
     "from idkit.models import library\n"
-    "from idkit.simulate import simulate\n"
-    "simulate(library.get('system_b1_medium'), np.arange(11) * 1e-4, workers=1)\n",
+    "from idkit.simulate import drop_rig\n"
+    "drop_rig(library.get('system_a1_asymmetric'), bottom_mass=8.0, drop_height=[0.01], duration=0.01, workers=1)\n"
+    "drop_rig(library.get('hybrid_asymmetric'), bottom_mass=8.0, drop_height=[0.01], duration=0.01, workers=1)\n",
+    "from idkit.models import library\n"
+    "from idkit.responses.periodic import periodic_response\n"
+    "periodic_response(library.get('system_a1_asymmetric'), [20.0], [1e-3], settle_periods=2)\n",
 )
 
 

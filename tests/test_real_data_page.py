@@ -38,4 +38,6 @@ def test_example_runs_and_prints_what_the_page_says(index, monkeypatch):
     elif index == 2:
         assert float(text.split()[0]) < 1e-6  # well under the published floor 3.2e-6 m
     else:
-        assert namespace["table"].quantity == "modulus"
+        assert namespace["table"].quantity == "modulus" and namespace["fit"].model.unit == "Pa"
+        assert "DISAGREE" in text.splitlines()[0] and " agree" in text.splitlines()[1]
+        assert namespace["fit"].result.error < 0.02 and namespace["part"].unit == "N/m"

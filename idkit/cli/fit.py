@@ -16,11 +16,11 @@ from idkit.cli import options as opt
 from idkit.errors import IdkitError
 
 
-def _check_outputs(kind: str, output: str, plots: str | None, dataset: str) -> None:
+def _check_outputs(kind: str, output: str, plots: str | None, dataset: str, *more_inputs: str) -> None:
     """Every output refused before fitting: existing, overlapping the data set, unwritable."""
     from idkit.output_checks import check_output
 
-    check_output(output, inputs=[dataset])
+    check_output(output, inputs=[dataset, *more_inputs])
     if plots is not None:
         check_output(plots, kind="folder", inputs=[dataset], option="--plots")
         from idkit.plot.fits import fit_plot_paths
@@ -30,13 +30,26 @@ def _check_outputs(kind: str, output: str, plots: str | None, dataset: str) -> N
             raise FileExistsError(f"refusing to overwrite existing plot(s): {', '.join(existing)}")
 
 
-def _load(dataset: str):
+def _load(dataset: str, args=None):
+    """A measurement-set folder, or one data file (its enclosing manifest's metadata when it lists
+    it, otherwise its kind from the header); resolves the ``--isolator``/``--split`` defaults."""
     from idkit.io import load_measurement_set
+    from idkit.io.discover import load_measurements
 
-    folder = Path(dataset)
-    if not folder.is_dir():
-        raise IdkitError(f"DATASET {dataset}: not a folder; expected a measurement set (folder with manifest.json)")
-    return load_measurement_set(folder)
+    path = Path(dataset)
+    if path.is_dir():
+        if args is not None:
+            args.isolator = args.default_isolator if args.isolator is None else args.isolator
+            args.split = "fit" if args.split is None else args.split
+        return load_measurement_set(path)
+    if not path.exists():
+        raise IdkitError(f"DATASET {dataset}: no such file or folder; expected a measurement set (folder with "
+                         "manifest.json) or a data file")
+    # one file: every record in it is fitted unless --isolator/--split say otherwise
+    if args is not None:
+        args.split = "all" if args.split is None else args.split
+    _, measurements = load_measurements(path)
+    return measurements
 
 
 def _finish(fit, args) -> int:
@@ -68,7 +81,7 @@ def _cmd_iwan(args) -> int:
         opt.check_valid_range("--valid-range", args.valid_range)
     _check_outputs("iwan", args.output, args.plots, args.dataset)
     options = {"valid_range": tuple(args.valid_range)} if args.valid_range else {}
-    fit = fit_iwan_measurements(_load(args.dataset), order=args.order, small_threshold=args.small_threshold,
+    fit = fit_iwan_measurements(_load(args.dataset, args), order=args.order, small_threshold=args.small_threshold,
                                 isolator=args.isolator, split=_split(args.split), backend=args.backend,
                                 seed=args.seed, initial_state=args.start_state, remove_offsets=args.remove_offsets,
                                 **options)
@@ -88,7 +101,7 @@ def _cmd_boucwen(args) -> int:
     from idkit.fit import compare_loop_models, fit_boucwen_measurements, fit_iwan_measurements
 
     _check_outputs("boucwen", args.output, args.plots, args.dataset)
-    data = _load(args.dataset)
+    data = _load(args.dataset, args)
     options = {"small_threshold": args.small_threshold, "isolator": args.isolator, "split": _split(args.split),
                "backend": args.backend, "seed": args.seed, "initial_state": args.start_state,
                "remove_offsets": args.remove_offsets}
@@ -99,12 +112,80 @@ def _cmd_boucwen(args) -> int:
     return _finish(fit, args)
 
 
+def _read_table(path: str):
+    """A complex stiffness / DMA table file in idkit's format or pyvisco's two-line header layout."""
+    from idkit.io.discover import complex_table_format
+
+    kind = complex_table_format(path)
+    if kind == "complex_stiffness":
+        from idkit.io import read_complex_stiffness
+
+        return read_complex_stiffness(path)
+    if kind == "pyvisco":
+        from idkit.datasets import read_pyvisco_complex_modulus
+
+        return read_pyvisco_complex_modulus(path)
+    raise IdkitError(f"file {path}: not a complex stiffness / DMA table; expected the columns 'frequency [Hz]', "
+                     "'storage [unit]', 'loss [unit]' (docs/data-format.md) or pyvisco's 'f, E_stor, E_loss' "
+                     "with a units line, or a measurement-set folder")
+
+
+def _read_shift_factors(path: str):
+    from idkit.io.discover import shift_factor_format
+
+    if shift_factor_format(path) == "pyvisco":
+        from idkit.datasets import read_pyvisco_shift_factors
+
+        return read_pyvisco_shift_factors(path)
+    from idkit.io import read_shift_factors
+
+    return read_shift_factors(path)
+
+
+def _cmd_maxwell_table(args) -> int:
+    """``idkit fit maxwell TABLE.csv``: a DMA / complex stiffness table, isotherms or master curve."""
+    from idkit.fit import fit_dma_table
+
+    if args.k0 is not None or args.order_table or args.cross_check:
+        raise IdkitError("--k0, --order-table and --cross-check apply to measurement sets; a DMA table is fitted "
+                         "with --order auto|N (auto prints the order table)")
+    _check_outputs("maxwell", args.output, None, args.dataset,
+                   *(() if args.shift_factors is None else (args.shift_factors,)))
+    if args.plots is not None:
+        raise IdkitError("--plots: not available for a DMA table yet; expected no --plots with a table file")
+    if args.use_given_shift_factors and args.shift_factors is None:
+        raise IdkitError("--use-given-shift-factors: found no --shift-factors FILE, expected one")
+    table = _read_table(args.dataset)
+    given = None if args.shift_factors is None else _read_shift_factors(args.shift_factors)
+    reference = None if args.reference_temperature is None else args.reference_temperature + 273.15
+    fit = fit_dma_table(table, order="auto" if args.order in (None, "auto") else args.order,
+                        reference_temperature_k=reference, shift_factors=given,
+                        use_given_shift_factors=args.use_given_shift_factors, backend=args.backend, seed=args.seed)
+    print(fit.report())
+    fit.save(args.output)
+    print(f"wrote {args.output} ({fit.model.quantity} model, {fit.model.unit})", file=sys.stderr)
+    if fit.success:
+        return 0
+    print("idkit: the fit is not a success (the model file says so): " + "; ".join(fit.reasons), file=sys.stderr)
+    return 1
+
+
 def _cmd_maxwell(args) -> int:
     from idkit.fit import fit_maxwell_measurements, maxwell_order_table, transmissibility_sets
 
+    if Path(args.dataset).is_file():
+        return _cmd_maxwell_table(args)
+    for option, value in (("--reference-temperature", args.reference_temperature),
+                          ("--shift-factors", args.shift_factors)):
+        if value is not None:
+            raise IdkitError(f"{option}: applies to a DMA table file; found a measurement-set folder")
+    if args.order == "auto":
+        raise IdkitError("--order auto: applies to a DMA table file; for a measurement set give an order "
+                         "and see --order-table")
+    args.order = 2 if args.order is None else args.order
     opt.check_band("--band", args.band)
     _check_outputs("maxwell", args.output, args.plots, args.dataset)
-    data = _load(args.dataset)
+    data = _load(args.dataset, args)
     fit = fit_maxwell_measurements(data, order=args.order, k0=args.k0, isolator=args.isolator,
                                    split=_split(args.split), band=tuple(args.band), backend=args.backend,
                                    cross_check=args.cross_check, seed=args.seed)
@@ -117,15 +198,17 @@ def _cmd_maxwell(args) -> int:
 
 
 def _common(parser, *, loops: bool) -> None:
-    parser.add_argument("dataset", help="measurement set folder (with manifest.json)")
+    parser.add_argument("dataset", help="measurement set folder (with manifest.json) or one data file")
     parser.add_argument("-o", "--output", required=True, help="model file to write (JSON); never overwritten")
     parser.add_argument("--plots", help="folder for figures (PNG; existing files are not overwritten)")
     parser.add_argument("--backend", choices=["nlopt", "scipy"], default="nlopt")
     parser.add_argument("--seed", type=opt.seed, default=0, help="seed of every random choice (default 0)")
-    parser.add_argument("--split", choices=["fit", "validation", "all"], default="fit",
-                        help="which measurements to fit (default: the fit split)")
-    parser.add_argument("--isolator", default="wire_rope" if loops else "elastomer",
-                        help="isolator name in the manifest (default %(default)s)")
+    parser.add_argument("--split", choices=["fit", "validation", "all"], default=None,
+                        help="which measurements to fit (default: the fit split of a set; every record of a file)")
+    parser.add_argument("--isolator", default=None,
+                        help="isolator name in the manifest (default for a set: "
+                             f"{'wire_rope' if loops else 'elastomer'}; for a file: any)")
+    parser.set_defaults(default_isolator="wire_rope" if loops else "elastomer")
     if loops:
         parser.add_argument("--small-threshold", type=opt.real(above=0, unit="m"), default=8e-3,
                             help="amplitude in m separating small- from large-loop records (default 8e-3)")
@@ -140,6 +223,13 @@ def _common(parser, *, loops: bool) -> None:
 
 # More elements than the data identify only slow the fit down (order 100000 never ends).
 _ORDER = opt.integer(at_most=opt.MAX_ORDER, why="each order adds two parameters the data do not identify")
+
+
+def _maxwell_order(value: str):
+    """``--order`` of the Maxwell fit: an integer order (a Prony series may need one a decade) or ``auto``."""
+    if value == "auto":
+        return "auto"
+    return opt.integer(at_most=opt.MAX_DMA_ORDER, why="one term a decade covers any measured master curve")(value)
 
 
 def _iwan_order(value: str):
@@ -163,10 +253,21 @@ def register(subparsers) -> None:
                       help="deflections in m (X_MIN < 0 < X_MAX) over which the spring must stay non-negative-stiff")
     iwan.set_defaults(handler=_cmd_iwan)
 
-    maxwell = kinds.add_parser("maxwell", help="generalized Maxwell fit: k0 from the loops, the rest from the FRFs")
+    maxwell = kinds.add_parser("maxwell", help="generalized Maxwell fit: k0 from the loops, the rest from the FRFs; "
+                                               "or a Prony series from a DMA / complex stiffness table file")
     _common(maxwell, loops=False)
-    maxwell.add_argument("--order", type=_ORDER, default=2,
-                         help=f"number of Maxwell elements (1 to {opt.MAX_ORDER}, default 2)")
+    maxwell.add_argument("--order", type=_maxwell_order, default=None,
+                         help=f"number of Maxwell elements (1 to {opt.MAX_DMA_ORDER}; default 2 for a measurement "
+                              "set), or 'auto' (default for a table: the fewest terms within 1.1 x the best error "
+                              "of orders 1 to one a decade)")
+    maxwell.add_argument("--reference-temperature", type=opt.real(above=-273.15, unit="C"),
+                         help="table with isotherms: reference temperature of the master curve in C (default: the "
+                              "given shift factors' reference, else the isotherm nearest the median temperature)")
+    maxwell.add_argument("--shift-factors", metavar="FILE",
+                         help="table with isotherms: given shift factors (temperature [C|K], log_aT [-]) to check "
+                              "against the ones estimated from the isotherms")
+    maxwell.add_argument("--use-given-shift-factors", action="store_true",
+                         help="build the master curve from --shift-factors instead of the estimated ones")
     maxwell.add_argument("--k0", type=opt.real(above=0, unit="N/m"), help="static stiffness in N/m (default: from the quasi-static loops)")
     maxwell.add_argument("--band", type=opt.real(above=0, unit="Hz"), nargs=2, default=[1.0, 100.0], metavar=("F_LOW", "F_HIGH"),
                          help="frequency band in Hz (default 1 100)")

@@ -8,7 +8,24 @@ __all__ = ["register"]
 
 
 def _cmd_inspect(args) -> None:
+    from pathlib import Path
+
     from idkit.studies.inspection import inspect_path
+
+    if Path(args.path).is_file() and args.kind is None:
+        from idkit.io.discover import complex_table_format
+
+        if complex_table_format(args.path) is not None:
+            from idkit.cli.fit import _read_table
+            from idkit.studies.inspection import inspect_complex_table
+
+            if args.plots:
+                from idkit.errors import IdkitError
+
+                raise IdkitError("--plots: not available for a DMA table yet; expected no --plots with a table file")
+            print(Path(args.path).name)
+            print(inspect_complex_table(_read_table(args.path)).report())
+            return
 
     if args.plots:
         from idkit.output_checks import check_output

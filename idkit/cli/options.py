@@ -45,11 +45,13 @@ from idkit.errors import IdkitError
 __all__ = [
     "IdkitArgumentParser", "OptionError", "real", "integer", "Axis", "parse_axis", "check_grid_size",
     "check_band", "check_valid_range", "check_drop", "seed", "workers",
-    "MAX_ORDER", "MAX_EVALS", "MAX_HARMONICS", "MIN_TOLERANCE", "MIN_TIME_STEP", "MAX_STEPS",
+    "MAX_ORDER", "MAX_DMA_ORDER", "MAX_EVALS", "MAX_HARMONICS", "MIN_TOLERANCE", "MIN_TIME_STEP", "MAX_STEPS",
     "DEFAULT_MAX_POINTS", "DEFAULT_MAX_SAMPLES", "MAX_WORKERS", "MAX_SEED",
 ]
 
 MAX_ORDER = 12
+#: Highest Prony order of a DMA table fit (one term a decade of a 40-decade master curve).
+MAX_DMA_ORDER = 40
 MAX_EVALS = 10**7
 MAX_HARMONICS = 32
 MIN_TOLERANCE = 1e-12

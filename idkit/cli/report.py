@@ -9,11 +9,46 @@ from idkit.cli import options as opt
 __all__ = ["register"]
 
 
+def _cmd_file_report(args) -> int:
+    """``idkit report FILE``: the report of one data file."""
+    from idkit.cli.progress import say
+    from idkit.errors import IdkitError
+    from idkit.io.discover import complex_table_format
+    from idkit.output_checks import check_output
+    from idkit.report.file_report import write_file_report
+
+    for option, given in (("--quick", args.quick), ("--workers", args.workers is not None),
+                          ("--drop-model", args.drop_model != "auto"), ("--start-state", args.start_state != "auto")):
+        if given:
+            raise IdkitError(f"{option}: applies to the report of a data folder; found a single file "
+                             f"({args.data_dir})")
+    check_output(args.output, kind="replaced", force=args.force, inputs=[args.data_dir])
+    table = None
+    if complex_table_format(args.data_dir) is not None:
+        from idkit.cli.fit import _read_table
+
+        table = _read_table(args.data_dir)
+    summary = write_file_report(args.data_dir, args.output, table=table, force=args.force, seed=args.seed,
+                                progress=lambda message: say(message, enabled=not args.quiet))
+    verdict = "PASS" if summary.success else "FLAGGED"
+    print(f"{verdict:12s}  {summary.kind} fit" if summary.kind in ("complex_stiffness", "quasi_static")
+          else f"{'-':12s}  {summary.kind}: inspection only")
+    for reason in summary.reasons:
+        print(f"  not a success: {reason}")
+    print(f"report written to {summary.html}", file=sys.stderr)
+    return summary.exit_status
+
+
 def _cmd_report(args) -> int:
+    from pathlib import Path
+
     from idkit.cli.progress import say
     from idkit.io.discover import default_data_dir
     from idkit.output_checks import check_output
     from idkit.report.main_report import QUICK_NOTE, run_report
+
+    if args.data_dir is not None and Path(args.data_dir).is_file():
+        return _cmd_file_report(args)
 
     check_output(args.output, kind="replaced", force=args.force, inputs=[args.data_dir or default_data_dir()])
     summary = run_report(args.data_dir, args.output, force=args.force, quick=args.quick, seed=args.seed,
@@ -31,7 +66,8 @@ def register(commands) -> None:
     """Add ``idkit report``."""
     parser = commands.add_parser("report", help="fit, validate and study a data set; write an HTML report")
     parser.add_argument("data_dir", nargs="?", default=None,
-                        help="folder of measurement sets (default: ./data, the bundled synthetic data)")
+                        help="folder of measurement sets (default: ./data, the bundled synthetic data), or one "
+                             "data file (a DMA table or a loop record is fitted; other records are inspected)")
     parser.add_argument("-o", "--output", default="idkit-report", help="output folder (default: idkit-report)")
     parser.add_argument("--force", action="store_true", help="replace an existing output folder")
     parser.add_argument("--quick", action="store_true", help="smaller study and validation (seconds, for tests)")

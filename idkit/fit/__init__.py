@@ -9,6 +9,9 @@
   global cross-check; :func:`fit_voigt`, :func:`fit_complex_stiffness` (DMA / complex
   stiffness data), :func:`maxwell_objective` (:mod:`idkit.fit.frf_objective`); the FRFs and
   k0 come from :mod:`idkit.observe` (:func:`transmissibility_sets`, :func:`estimate_k0`).
+- :mod:`idkit.fit.dma` - material data: :func:`fit_prony` (Prony series pruned to the fewest
+  terms within a stated factor of the best), :func:`fit_dma_table` (isotherms -> shift
+  factors estimated and checked -> master curve -> modulus model).
 - :mod:`idkit.fit.compare` - :func:`compare_loop_models`, :func:`iwan_order_table`,
   :func:`maxwell_order_table`.
 - :func:`fit_boucwen` - staged (elastic, loop shape), scaled, globally searched
@@ -45,7 +48,6 @@ from idkit.fit.boucwen_output import (
     boucwen_output_start,
     fit_boucwen_output,
 )
-from idkit.fit.boucwen import fit_boucwen
 from idkit.fit.compare import (
     LoopModelComparison,
     compare_loop_models,
@@ -59,6 +61,7 @@ from idkit.fit.iwan_start import iwan_start
 from idkit.fit.landscape import ErrorLandscape, maxwell_error_landscape
 from idkit.fit.loop_objective import boucwen_set_errors, boucwen_set_forces, iwan_set_errors, iwan_set_forces
 from idkit.fit.maxwell import fit_complex_stiffness, fit_maxwell, fit_voigt
+from idkit.fit.dma import DmaFit, PronyFit, fit_dma_table, fit_prony
 from idkit.fit.measurements import (
     ElastomerData,
     MeasurementFit,
@@ -97,7 +100,7 @@ __all__ = [
     "LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "iwan_set_forces", "fit_iwan", "iwan_order_table",
     "IwanFitResult", "IwanFitSettings", "IwanStart", "StageResult",
     "TransmissibilitySet", "K0Estimate", "estimate_k0", "maxwell_objective", "fit_maxwell", "fit_voigt",
-    "fit_complex_stiffness", "maxwell_order_table",
+    "fit_complex_stiffness", "maxwell_order_table", "fit_prony", "PronyFit", "fit_dma_table", "DmaFit",
     "MaxwellFitResult", "MaxwellFitSettings", "CrossCheck",
     "fit_boucwen",
     "fit_viscous_damping", "ViscousDamping", "boucwen_set_errors", "boucwen_set_forces", "BoucWenFitResult", "BoucWenFitSettings",

@@ -44,6 +44,7 @@ parameter Jacobian) seen through an observation (:class:`_TransmissibilityProble
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 
@@ -696,13 +697,17 @@ def fit_complex_stiffness(
     global_method: str | None = None,
     global_max_evals: int = 10000,
     seed: int = 0,
+    quantity: str = "stiffness",
+    start: GeneralizedMaxwell | None = None,
 ) -> MaxwellFitResult:
     """Fit a generalized Maxwell (Prony) model to complex stiffness / DMA data.
 
     Objective: RMS over the points of ``|k*_model - k*_meas| / |k*_meas|`` with
     ``k*_meas = storage + i loss`` (storage and loss parts in N/m, or Pa for a
-    modulus: the model is then a modulus). Same SQP, scaling and cross-check as
-    :func:`fit_maxwell`; no mass.
+    modulus). Same SQP, scaling and cross-check as :func:`fit_maxwell`; no mass.
+    The model carries ``quantity``: a modulus model (Pa) is labelled so in its report,
+    model file and plots, and must be converted with
+    :meth:`~idkit.models.GeneralizedMaxwell.to_stiffness` before it enters a system.
 
     Parameters
     ----------
@@ -721,7 +726,16 @@ def fit_complex_stiffness(
         Default ``2 pi f_min / 10 .. 2 pi f_max * 10`` in 1/s (one decade beyond the data).
     monotone_loss : bool, default False
         DMA master curves have a loss peak, so the constraint is off by default.
+    quantity : {"stiffness", "modulus"}
+        What ``storage`` and ``loss`` are: N/m (a part) or Pa (a material, e.g. a DMA
+        table's ``quantity``).
+    start : GeneralizedMaxwell, optional
+        Start of the SQP (same order; values inside the bounds); default: the seeded
+        default start.
     """
+    if quantity not in ("stiffness", "modulus"):
+        raise FitError(f"quantity: found {quantity!r}, expected 'stiffness' (N/m) or 'modulus' (Pa)")
+    unit = "N/m" if quantity == "stiffness" else "Pa"
     order = _check_order(order)
     freq = np.asarray(freq, dtype=float)
     try:
@@ -734,11 +748,11 @@ def fit_complex_stiffness(
     f_in, k_in = band_points(freq, value, band, "complex stiffness", min_points=2 * order + 2)
     magnitude = np.abs(k_in)
     if k0 is None:
-        k0_bounds = _check_bounds("k0_bounds", k0_bounds or (1e-6 * k_in.real.min(), k_in.real.min()), "N/m")
+        k0_bounds = _check_bounds("k0_bounds", k0_bounds or (1e-6 * k_in.real.min(), k_in.real.min()), unit)
     elif not (math.isfinite(k0) and k0 >= 0):
-        raise FitError(f"k0: found {k0!r}, expected a non-negative stiffness or None (fitted)")
+        raise FitError(f"k0: found {k0!r}, expected a non-negative {quantity} in {unit} or None (fitted)")
     stiffness_bounds = _check_bounds("stiffness_bounds", stiffness_bounds or (1e-6 * magnitude.max(),
-                                                                             10 * magnitude.max()), "N/m")
+                                                                             10 * magnitude.max()), unit)
     rate_bounds = _check_bounds("rate_bounds", rate_bounds or (2 * np.pi * f_in.min() / 10,
                                                                2 * np.pi * f_in.max() * 10), "1/s")
     transforms = _maxwell_transforms(order, stiffness_bounds, rate_bounds,
@@ -748,9 +762,20 @@ def fit_complex_stiffness(
     law = _MaxwellLaw(order, None if k0 is None else float(k0), with_m_eff=False)
     problem = _StiffnessProblem(law, omega=omega, measured=k_in[order_index], mass=None,
                                 weights=np.full(omega.size, 1.0 / omega.size), set_index=np.zeros(omega.size, int),
-                                set_names=["complex stiffness"], transforms=transforms,
+                                set_names=[f"complex {quantity}"], transforms=transforms,
                                 loss_omega=_loss_grid(band, loss_grid_points) if monotone_loss else None,
                                 monotone_loss=monotone_loss)
-    return _solve(problem, start=None, band=band, backend=backend, max_evals=max_evals, ftol=ftol,
-                  cross_check=cross_check, global_method=global_method, global_max_evals=global_max_evals,
-                  seed=seed, settings_extra={})
+    if start is not None and start.quantity != "stiffness":
+        start = GeneralizedMaxwell(k0=start.k0, k=start.k, rate=start.rate)
+    result = _solve(problem, start=start, band=band, backend=backend, max_evals=max_evals, ftol=ftol,
+                    cross_check=cross_check, global_method=global_method, global_max_evals=global_max_evals,
+                    seed=seed, settings_extra={})
+    if quantity == "stiffness":
+        return result
+    model = GeneralizedMaxwell(k0=result.model.k0, k=result.model.k, rate=result.model.rate, quantity="modulus")
+    units = spec_units(model)
+    parameters = result.parameters.copy()
+    for name, parameter in parameters.items():
+        parameter.user_data = {**(parameter.user_data or {}), "unit": units.get(name, "")}
+    settings = dataclasses.replace(result.settings, data="complex modulus (Pa)")
+    return dataclasses.replace(result, model=model, parameters=parameters, settings=settings)

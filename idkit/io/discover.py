@@ -75,6 +75,34 @@ def find_measurement_sets(data_dir, *, required=("wire_rope", "elastomer")) -> d
     return sets
 
 
+def complex_table_format(path) -> str | None:
+    """``"complex_stiffness"`` (idkit CSV: frequency, storage, loss), ``"pyvisco"`` (two-line
+    header ``f, E_stor, E_loss`` / units) or None, from the first line of a file.
+
+    Raises
+    ------
+    DataError
+        The reader's own checks (not a file, corrupt gzip, not UTF-8).
+    """
+    path = Path(path)
+    header = decode_text(path, read_file_bytes(path)).lstrip("\ufeff").partition("\n")[0]
+    names = {cell.split("[")[0].strip() for cell in header.split(",")}
+    if {"frequency", "storage", "loss"} <= names:
+        return "complex_stiffness"
+    if {"f", "E_stor", "E_loss"} <= names:
+        return "pyvisco"
+    return None
+
+
+def shift_factor_format(path) -> str:
+    """``"pyvisco"`` (two-line header ``T, log_aT`` / units) or ``"idkit"`` (``temperature [C|K]``,
+    ``log_aT [-]``) from the first line of a shift-factor file."""
+    path = Path(path)
+    header = decode_text(path, read_file_bytes(path)).lstrip("\ufeff").partition("\n")[0]
+    names = {cell.split("[")[0].strip() for cell in header.split(",")}
+    return "pyvisco" if {"T", "log_aT"} <= names else "idkit"
+
+
 def guess_kind(path) -> str:
     """Kind of a lone CSV file from its header.
 

@@ -15,6 +15,8 @@ Schema (``format_version`` 1)::
 (``mass``, ``isolator``), ``hybrid`` (``mass``, ``intermediate_mass``, ``upper``,
 ``lower``), ``coulomb_spring``. ``units`` is required in every isolator entry, with
 exactly one unit per parameter, each equal to the declaration (an error, never converted).
+A ``generalized_maxwell`` entry whose ``k0`` unit is ``Pa`` is a material's modulus (Prony
+series, no ``m_eff``); with ``N/m`` it is a part's stiffness.
 Reading is strict (:mod:`idkit.inputfiles`): duplicate keys, NaN/Infinity, unknown keys
 (top level and inside ``model``) and booleans or strings as numbers are refused.
 See ``docs/model-file.md``.
@@ -107,7 +109,11 @@ def _isolator_from_dict(entry: dict, kind: str, where: str):
         raise ModelFileError(f"{where}.params: found {params!r}, expected an object name -> value")
     for name, value in params.items():
         _check_number(value, f"{where}.params.{name}")
-    model = _ISOLATORS[kind].from_params(params)
+    if kind == "generalized_maxwell" and isinstance(entry["units"], dict) and entry["units"].get("k0") == "Pa":
+        # a Prony series of a material: the units say so (N/m = a part, Pa = a modulus)
+        model = GeneralizedMaxwell.from_params(params, quantity="modulus")
+    else:
+        model = _ISOLATORS[kind].from_params(params)
     _check_units(entry, model, where)
     return model
 

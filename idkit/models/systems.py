@@ -26,6 +26,10 @@ MASS_SPEC = ParamSpec("mass", "kg", 0.0, math.inf, "mass", positive=True)
 def _check_isolator(isolator, role: str) -> IsolatorModel:
     if not isinstance(isolator, IsolatorModel):
         raise ParameterError(f"{role}: found {type(isolator).__name__}, expected an idkit isolator model")
+    if getattr(isolator, "quantity", "stiffness") != "stiffness":
+        raise ParameterError(f"{role}: found a {isolator.quantity} model ({isolator.unit}, a material), expected "
+                             "a stiffness model (N/m, a part); convert it with to_stiffness(area_m2=..., "
+                             "thickness_m=...)")
     return isolator
 
 

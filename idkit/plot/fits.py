@@ -110,7 +110,7 @@ def plot_frf_fit(model, frfs, *, band=(1.0, 100.0), axes=None):
 
 
 def plot_storage_loss(model, freq=None, *, axes=None, label=None):
-    """Storage and loss stiffness (N/m) and loss factor of an elastomer model.
+    """Storage and loss stiffness (N/m; moduli in Pa for a modulus model) and loss factor of a Maxwell model.
 
     Parameters
     ----------
@@ -122,7 +122,7 @@ def plot_storage_loss(model, freq=None, *, axes=None, label=None):
     Returns
     -------
     (Axes, Axes)
-        Stiffness and loss-factor axes.
+        Stiffness (modulus, in Pa, for a modulus model) and loss-factor axes.
     """
     axes = axes_or_new(axes, 2, sharex=True)
     freq = np.geomspace(0.1, 1000.0, 400) if freq is None else np.asarray(freq, float)
@@ -131,7 +131,8 @@ def plot_storage_loss(model, freq=None, *, axes=None, label=None):
     stiffness_ax.loglog(freq, stiffness.real, label=f"storage {label or ''}".strip())
     stiffness_ax.loglog(freq, np.abs(stiffness.imag), ls="--", label=f"loss {label or ''}".strip())
     loss_ax.semilogx(freq, stiffness.imag / stiffness.real, label=label)
-    stiffness_ax.set_ylabel("k* [N/m]")
+    modulus = getattr(model, "quantity", "stiffness") == "modulus"
+    stiffness_ax.set_ylabel("E', E'' [Pa]" if modulus else "k', k'' [N/m]")
     loss_ax.set_ylabel("loss factor [-]")
     loss_ax.set_xlabel("frequency [Hz]")
     stiffness_ax.legend(fontsize="small")

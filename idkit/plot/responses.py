@@ -133,13 +133,16 @@ def plot_resonance_vs_amplitude(hmap, *, label=None, ax=None):
     return ax
 
 
-def plot_complex_stiffness(freq, stiffness, *, label=None, axes=None):
-    """|k*| (log-log) and loss factor (thesis fig. 4.3) of a complex stiffness; returns both Axes."""
+def plot_complex_stiffness(freq, stiffness, *, label=None, axes=None, quantity: str = "stiffness"):
+    """|k*| (log-log) and loss factor (thesis fig. 4.3) of a complex stiffness; returns both Axes.
+
+    ``quantity="modulus"`` labels a complex modulus |E*| in Pa instead.
+    """
     axes = axes_or_new(axes, 2, sharex=True)
     stiffness = np.asarray(stiffness, dtype=complex)
     axes[0].loglog(freq, np.abs(stiffness), label=label)
     axes[1].semilogx(freq, stiffness.imag / stiffness.real, label=label)
-    axes[0].set_ylabel("|k*| [N/m]")
+    axes[0].set_ylabel("|E*| [Pa]" if quantity == "modulus" else "|k*| [N/m]")
     axes[1].set_ylabel("loss factor [-]")
     axes[1].set_xlabel("frequency [Hz]")
     for ax in axes:

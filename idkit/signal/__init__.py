@@ -9,7 +9,9 @@ measurement file, a model or a simulator. One concept per module:
 - :mod:`~idkit.signal.frf` - white-noise FRF estimators: H1, H2, coherence (SPEC 3);
 - :mod:`~idkit.signal.drop` - drop records: impact, shock peaks, peak deflection (SPEC 3, 5);
 - :mod:`~idkit.signal.srs` - shock response spectrum (Smallwood filter);
-- :mod:`~idkit.signal.psd` - random vibration: PSD profiles, synthesis, Welch, RMS (SPEC 5).
+- :mod:`~idkit.signal.psd` - random vibration: PSD profiles, synthesis, Welch, RMS (SPEC 5);
+- :mod:`~idkit.signal.shift_factors` - time-temperature superposition: shift factors from
+  isotherms, WLF and polynomial laws, checks of given shift factors.
 """
 
 from idkit.signal.cycles import (
@@ -63,16 +65,29 @@ from idkit.signal.psd import (
     synthesize_random,
     welch_psd,
 )
+from idkit.signal.shift_factors import (
+    compare_shift_factors,
+    estimate_shift_factors,
+    fit_shift_polynomial,
+    fit_wlf,
+    ShiftFactorCheck,
+    ShiftFactorEstimate,
+    ShiftLawFit,
+)
 
 __all__ = [
     "classify_amplitudes",
+    "compare_shift_factors",
     "cumulative_rms",
     "CycleSplit",
     "drop_phase_peaks",
     "DropResult",
     "estimate_frf",
+    "estimate_shift_factors",
     "find_reversals",
     "fit_harmonics",
+    "fit_shift_polynomial",
+    "fit_wlf",
     "FrfEstimate",
     "HarmonicFit",
     "hosidf",
@@ -94,6 +109,9 @@ __all__ = [
     "resonance_peak",
     "reversal_threshold",
     "rms_from_psd",
+    "ShiftFactorCheck",
+    "ShiftFactorEstimate",
+    "ShiftLawFit",
     "shock_response_spectrum",
     "shock_spectra",
     "ShockResponseSpectrum",

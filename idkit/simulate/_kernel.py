@@ -26,11 +26,15 @@ members of the batch go on.
 from __future__ import annotations
 
 import math
+import threading
 
 import numba
 import numpy as np
+from numba import types
+from numba.extending import overload
 
 from idkit.models.laws import boucwen_z_step
+from idkit.simulate._structured import GENERIC, HYBRID, SDOF_IWAN, SDOF_MAXWELL, step_hybrid, step_sdof
 
 FLAG_OK = 0
 FLAG_NEGATIVE_STIFFNESS = 1
@@ -304,6 +308,32 @@ def _step(ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scal
     return FLAG_OK
 
 
+def _step_by(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+    """The step of ``structure`` (:mod:`idkit.simulate._structured`), the generic :func:`_step`
+    for :data:`GENERIC`; compiled code only (the overload below)."""
+    raise NotImplementedError("_step_by runs in compiled drivers only")
+
+
+@overload(_step_by, inline="always", prefer_literal=True)
+def _step_by_overload(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+    # ``structure`` is a constant of the driver (typed as a literal): only the chosen step is
+    # typed and compiled into the driver
+    chosen = structure.literal_value if isinstance(structure, types.IntegerLiteral) else GENERIC
+    if chosen == SDOF_IWAN:
+        def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+            return step_sdof(1, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+    elif chosen == SDOF_MAXWELL:
+        def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+            return step_sdof(2, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+    elif chosen == HYBRID:
+        def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+            return step_hybrid(m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+    else:
+        def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+            return _step(ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+    return step
+
+
 @numba.njit(cache=True)
 def _isolator_forces_now(ndof, state, xb, vb, P, S, out):
     """Isolator forces (N) of the current ``state = [q0, q1, v0, v1, a0, a1]``."""
@@ -335,196 +365,236 @@ def _initial_acceleration(ndof, masses, state, load, xb, vb, P, S):
         state[5] = (frc[0] - frc[1]) / masses[1] - load
 
 
-@numba.njit(cache=True, nogil=True)
-def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, h, base_disp, base_vel, gravity,
-                   q0, v0, jforce0, mstate0, bwz0, record_every, force_scale):
-    """Simulate a batch on a common time grid; record every ``record_every`` steps.
+def _time_kernel(structure):
+    """The compiled :func:`run_time_batch` of one structure (:mod:`idkit.simulate._structured`)."""
 
-    Parameters (arrays are float64)
-    ----------
-    base_disp, base_vel : (n_base, n_steps + 1) base displacement (m) and velocity
-        (m/s) at every step time; ``n_base`` is 1 (shared) or the batch size.
-    q0, v0 : (batch, ndof) initial absolute displacement (m) and velocity (m/s).
-    jforce0 : (batch, ndof, nj) initial Jenkin forces (N); mstate0 : (batch, ndof, nm)
-        initial Maxwell elongations (m); bwz0 : (batch, ndof) initial Bouc-Wen z (N).
+    @numba.njit(cache=True, nogil=True)
+    def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, h, base_disp, base_vel, gravity,
+                       q0, v0, jforce0, mstate0, bwz0, record_every, force_scale):
+        """Simulate a batch on a common time grid; record every ``record_every`` steps.
 
-    Returns
-    -------
-    q, v, a, force : (batch, ndof, n_records) absolute records and isolator forces;
-    flags, flag_step : (batch,)
-    """
-    batch = q0.shape[0]
-    ndof = masses.shape[0]
-    m0 = masses[0]
-    m1 = masses[1] if ndof == 2 else 1.0
-    n_steps = base_disp.shape[1] - 1
-    n_records = n_steps // record_every + 1
-    rec_q = np.full((batch, ndof, n_records), np.nan)
-    rec_v = np.full((batch, ndof, n_records), np.nan)
-    rec_a = np.full((batch, ndof, n_records), np.nan)
-    rec_f = np.full((batch, ndof, n_records), np.nan)
-    flags = np.zeros(batch, dtype=np.int64)
-    flag_step = np.full(batch, -1, dtype=np.int64)
-    P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
-    frc = np.zeros(2)
-    for b in range(batch):
-        row = np.int64(b) if base_disp.shape[0] > 1 else np.int64(0)
-        state = np.zeros(6)
-        for d in range(ndof):
-            state[d] = q0[b, d]
-            state[2 + d] = v0[b, d]
-        S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
-        _initial_acceleration(ndof, masses, state, gravity, base_disp[row, 0], base_vel[row, 0], P, S)
-        _isolator_forces_now(ndof, state, base_disp[row, 0], base_vel[row, 0], P, S, frc)
-        for d in range(ndof):
-            rec_q[b, d, 0] = state[d]
-            rec_v[b, d, 0] = state[2 + d]
-            rec_a[b, d, 0] = state[4 + d]
-            rec_f[b, d, 0] = frc[d]
-        for n in range(1, n_steps + 1):
-            flag = _step(ndof, m0, m1, state, h, gravity, base_disp[row, n - 1], base_disp[row, n],
-                         base_vel[row, n], P, S, force_scale)
-            if flag != FLAG_OK:
-                flags[b] = flag
-                flag_step[b] = n
-                break
-            if n % record_every == 0:
-                r = n // record_every
-                _isolator_forces_now(ndof, state, base_disp[row, n], base_vel[row, n], P, S, frc)
-                for d in range(ndof):
-                    rec_q[b, d, r] = state[d]
-                    rec_v[b, d, r] = state[2 + d]
-                    rec_a[b, d, r] = state[4 + d]
-                    rec_f[b, d, r] = frc[d]
-    return rec_q, rec_v, rec_a, rec_f, flags, flag_step
+        Parameters (arrays are float64)
+        ----------
+        base_disp, base_vel : (n_base, n_steps + 1) base displacement (m) and velocity
+            (m/s) at every step time; ``n_base`` is 1 (shared) or the batch size.
+        q0, v0 : (batch, ndof) initial absolute displacement (m) and velocity (m/s).
+        jforce0 : (batch, ndof, nj) initial Jenkin forces (N); mstate0 : (batch, ndof, nm)
+            initial Maxwell elongations (m); bwz0 : (batch, ndof) initial Bouc-Wen z (N).
 
-
-@numba.njit(cache=True, nogil=True)
-def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitude, steps_per_period,
-                       n_coeff, tolerance, min_windows, max_windows, force_scale, q0, v0, jforce0, mstate0, bwz0):
-    """Run harmonic base displacement ``A sin(2 pi f t)`` to steady state, per member.
-
-    From the initial state ``q0, v0`` (batch, ndof; absolute m and m/s) and internal
-    states ``jforce0, mstate0, bwz0`` (zeros: at rest with unloaded isolators, thesis 3.4).
-    Every window of two excitation periods, the Fourier coefficients of the
-    absolute top displacement at multiples ``m/2`` of ``f`` (``m = 0 .. n_coeff-1``)
-    are computed; the run stops when the change between consecutive windows,
-    relative to the first-harmonic amplitude, and its geometric extrapolation to
-    infinity are both below ``tolerance``.
-
-    Returns
-    -------
-    coeff : complex (batch, n_coeff) amplitudes X_m with x(t) = Re(sum X_m exp(i m w t / 2))
-        (X_0 is the mean), of the last window.
-    half_range : (batch,) peak-peak/2 of the absolute top displacement (m), last window.
-    accel_peak : (batch,) max |absolute top acceleration| (m/s^2), last window.
-    deflection_coeff : complex (batch, n_coeff) same for the top deflection (q_top).
-    windows, change, converged, flags.
-    """
-    batch = freq.shape[0]
-    ndof = masses.shape[0]
-    m0 = masses[0]
-    m1 = masses[1] if ndof == 2 else 1.0
-    coeff = np.zeros((batch, n_coeff), dtype=np.complex128)
-    dcoeff = np.zeros((batch, n_coeff), dtype=np.complex128)
-    half_range = np.full(batch, np.nan)
-    accel_peak = np.full(batch, np.nan)
-    windows = np.zeros(batch, dtype=np.int64)
-    change = np.full(batch, np.nan)
-    converged = np.zeros(batch, dtype=np.bool_)
-    flags = np.zeros(batch, dtype=np.int64)
-    for b in range(batch):
-        omega = 2.0 * math.pi * freq[b]
-        n_per = steps_per_period[b]
-        h = 1.0 / (freq[b] * n_per)
-        amp = amplitude[b]
+        Returns
+        -------
+        q, v, a, force : (batch, ndof, n_records) absolute records and isolator forces;
+        flags, flag_step : (batch,)
+        """
+        batch = q0.shape[0]
+        ndof = masses.shape[0]
+        m0 = masses[0]
+        m1 = masses[1] if ndof == 2 else 1.0
+        n_steps = base_disp.shape[1] - 1
+        n_records = n_steps // record_every + 1
+        rec_q = np.full((batch, ndof, n_records), np.nan)
+        rec_v = np.full((batch, ndof, n_records), np.nan)
+        rec_a = np.full((batch, ndof, n_records), np.nan)
+        rec_f = np.full((batch, ndof, n_records), np.nan)
+        flags = np.zeros(batch, dtype=np.int64)
+        flag_step = np.full(batch, -1, dtype=np.int64)
         P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
-        state = np.zeros(6)
-        for d in range(ndof):
-            state[d] = q0[b, d]
-            state[2 + d] = v0[b, d]
-        S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
-        _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
-        window = 2 * n_per
-        # twiddle factors for the window
-        cos_t = np.empty((n_coeff, window))
-        sin_t = np.empty((n_coeff, window))
-        for m in range(n_coeff):
-            for n in range(window):
-                angle = 2.0 * math.pi * m * n / window
-                cos_t[m, n] = math.cos(angle)
-                sin_t[m, n] = math.sin(angle)
-        previous = np.zeros(n_coeff, dtype=np.complex128)
-        current = np.zeros(n_coeff, dtype=np.complex128)
-        dcurrent = np.zeros(n_coeff, dtype=np.complex128)
-        last_change = np.inf
-        step = 0
-        flag = FLAG_OK
-        for w in range(max_windows):
+        frc = np.zeros(2)
+        for b in range(batch):
+            row = np.int64(b) if base_disp.shape[0] > 1 else np.int64(0)
+            state = np.zeros(6)
+            for d in range(ndof):
+                state[d] = q0[b, d]
+                state[2 + d] = v0[b, d]
+            S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
+            _initial_acceleration(ndof, masses, state, gravity, base_disp[row, 0], base_vel[row, 0], P, S)
+            _isolator_forces_now(ndof, state, base_disp[row, 0], base_vel[row, 0], P, S, frc)
+            for d in range(ndof):
+                rec_q[b, d, 0] = state[d]
+                rec_v[b, d, 0] = state[2 + d]
+                rec_a[b, d, 0] = state[4 + d]
+                rec_f[b, d, 0] = frc[d]
+            for n in range(1, n_steps + 1):
+                flag = _step_by(structure, ndof, m0, m1, state, h, gravity, base_disp[row, n - 1], base_disp[row, n],
+                             base_vel[row, n], P, S, force_scale)
+                if flag != FLAG_OK:
+                    flags[b] = flag
+                    flag_step[b] = n
+                    break
+                if n % record_every == 0:
+                    r = n // record_every
+                    _isolator_forces_now(ndof, state, base_disp[row, n], base_vel[row, n], P, S, frc)
+                    for d in range(ndof):
+                        rec_q[b, d, r] = state[d]
+                        rec_v[b, d, r] = state[2 + d]
+                        rec_a[b, d, r] = state[4 + d]
+                        rec_f[b, d, r] = frc[d]
+        return rec_q, rec_v, rec_a, rec_f, flags, flag_step
+
+    return run_time_batch
+
+
+def _harmonic_kernel(structure):
+    """The compiled :func:`run_harmonic_batch` of one structure (:mod:`idkit.simulate._structured`)."""
+
+    @numba.njit(cache=True, nogil=True)
+    def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitude, steps_per_period,
+                           n_coeff, tolerance, min_windows, max_windows, force_scale, q0, v0, jforce0, mstate0, bwz0):
+        """Run harmonic base displacement ``A sin(2 pi f t)`` to steady state, per member.
+
+        From the initial state ``q0, v0`` (batch, ndof; absolute m and m/s) and internal
+        states ``jforce0, mstate0, bwz0`` (zeros: at rest with unloaded isolators, thesis 3.4).
+        Every window of two excitation periods, the Fourier coefficients of the
+        absolute top displacement at multiples ``m/2`` of ``f`` (``m = 0 .. n_coeff-1``)
+        are computed; the run stops when the change between consecutive windows,
+        relative to the first-harmonic amplitude, and its geometric extrapolation to
+        infinity are both below ``tolerance``.
+
+        Returns
+        -------
+        coeff : complex (batch, n_coeff) amplitudes X_m with x(t) = Re(sum X_m exp(i m w t / 2))
+            (X_0 is the mean), of the last window.
+        half_range : (batch,) peak-peak/2 of the absolute top displacement (m), last window.
+        accel_peak : (batch,) max |absolute top acceleration| (m/s^2), last window.
+        deflection_coeff : complex (batch, n_coeff) same for the top deflection (q_top).
+        windows, change, converged, flags.
+        """
+        batch = freq.shape[0]
+        ndof = masses.shape[0]
+        m0 = masses[0]
+        m1 = masses[1] if ndof == 2 else 1.0
+        coeff = np.zeros((batch, n_coeff), dtype=np.complex128)
+        dcoeff = np.zeros((batch, n_coeff), dtype=np.complex128)
+        half_range = np.full(batch, np.nan)
+        accel_peak = np.full(batch, np.nan)
+        windows = np.zeros(batch, dtype=np.int64)
+        change = np.full(batch, np.nan)
+        converged = np.zeros(batch, dtype=np.bool_)
+        flags = np.zeros(batch, dtype=np.int64)
+        for b in range(batch):
+            omega = 2.0 * math.pi * freq[b]
+            n_per = steps_per_period[b]
+            h = 1.0 / (freq[b] * n_per)
+            amp = amplitude[b]
+            P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
+            state = np.zeros(6)
+            for d in range(ndof):
+                state[d] = q0[b, d]
+                state[2 + d] = v0[b, d]
+            S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
+            _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
+            window = 2 * n_per
+            # twiddle factors for the window
+            cos_t = np.empty((n_coeff, window))
+            sin_t = np.empty((n_coeff, window))
             for m in range(n_coeff):
-                current[m] = 0.0
-                dcurrent[m] = 0.0
-            lo = np.inf
-            hi = -np.inf
-            apeak = 0.0
-            for n in range(window):
-                # sample at the start of the step (t = step * h), then advance
-                base = amp * math.sin(omega * step * h)
-                top = state[0]
+                for n in range(window):
+                    angle = 2.0 * math.pi * m * n / window
+                    cos_t[m, n] = math.cos(angle)
+                    sin_t[m, n] = math.sin(angle)
+            previous = np.zeros(n_coeff, dtype=np.complex128)
+            current = np.zeros(n_coeff, dtype=np.complex128)
+            dcurrent = np.zeros(n_coeff, dtype=np.complex128)
+            last_change = np.inf
+            step = 0
+            flag = FLAG_OK
+            for w in range(max_windows):
                 for m in range(n_coeff):
-                    twiddle = complex(cos_t[m, n], -sin_t[m, n])
-                    current[m] += top * twiddle
-                    dcurrent[m] += (top - base) * twiddle
-                lo = min(lo, top)
-                hi = max(hi, top)
-                apeak = max(apeak, abs(state[4]))
-                step += 1
-                phase = omega * step * h
-                flag = _step(ndof, m0, m1, state, h, 0.0, base, amp * math.sin(phase), amp * omega * math.cos(phase),
-                             P, S, force_scale)
+                    current[m] = 0.0
+                    dcurrent[m] = 0.0
+                lo = np.inf
+                hi = -np.inf
+                apeak = 0.0
+                for n in range(window):
+                    # sample at the start of the step (t = step * h), then advance
+                    base = amp * math.sin(omega * step * h)
+                    top = state[0]
+                    for m in range(n_coeff):
+                        twiddle = complex(cos_t[m, n], -sin_t[m, n])
+                        current[m] += top * twiddle
+                        dcurrent[m] += (top - base) * twiddle
+                    lo = min(lo, top)
+                    hi = max(hi, top)
+                    apeak = max(apeak, abs(state[4]))
+                    step += 1
+                    phase = omega * step * h
+                    flag = _step_by(structure, ndof, m0, m1, state, h, 0.0, base, amp * math.sin(phase), amp * omega * math.cos(phase),
+                                 P, S, force_scale)
+                    if flag != FLAG_OK:
+                        break
                 if flag != FLAG_OK:
                     break
+                for m in range(n_coeff):
+                    scale = 1.0 / window if m == 0 else 2.0 / window
+                    current[m] *= scale
+                    dcurrent[m] *= scale
+                first = abs(current[2]) if n_coeff > 2 else abs(current[0])
+                diff = 0.0
+                for m in range(n_coeff):
+                    diff = max(diff, abs(current[m] - previous[m]))
+                relative = diff / max(first, 1e-300)
+                # geometric extrapolation of the remaining change: r/(1-r) * relative
+                if relative == 0.0:
+                    remaining = 0.0
+                elif last_change > 0.0 and math.isfinite(last_change) and relative < last_change:
+                    ratio = relative / last_change
+                    remaining = relative * ratio / (1.0 - ratio)
+                else:
+                    remaining = np.inf
+                last_change = relative
+                for m in range(n_coeff):
+                    previous[m] = current[m]
+                windows[b] = w + 1
+                change[b] = relative
+                half_range[b] = 0.5 * (hi - lo)
+                accel_peak[b] = apeak
+                if w + 1 >= min_windows and relative < tolerance and remaining < tolerance:
+                    converged[b] = True
+                    break
+            flags[b] = flag
             if flag != FLAG_OK:
-                break
-            for m in range(n_coeff):
-                scale = 1.0 / window if m == 0 else 2.0 / window
-                current[m] *= scale
-                dcurrent[m] *= scale
-            first = abs(current[2]) if n_coeff > 2 else abs(current[0])
-            diff = 0.0
-            for m in range(n_coeff):
-                diff = max(diff, abs(current[m] - previous[m]))
-            relative = diff / max(first, 1e-300)
-            # geometric extrapolation of the remaining change: r/(1-r) * relative
-            if relative == 0.0:
-                remaining = 0.0
-            elif last_change > 0.0 and math.isfinite(last_change) and relative < last_change:
-                ratio = relative / last_change
-                remaining = relative * ratio / (1.0 - ratio)
+                half_range[b] = np.nan
+                accel_peak[b] = np.nan
+                for m in range(n_coeff):
+                    coeff[b, m] = np.nan
+                    dcoeff[b, m] = np.nan
             else:
-                remaining = np.inf
-            last_change = relative
-            for m in range(n_coeff):
-                previous[m] = current[m]
-            windows[b] = w + 1
-            change[b] = relative
-            half_range[b] = 0.5 * (hi - lo)
-            accel_peak[b] = apeak
-            if w + 1 >= min_windows and relative < tolerance and remaining < tolerance:
-                converged[b] = True
-                break
-        flags[b] = flag
-        if flag != FLAG_OK:
-            half_range[b] = np.nan
-            accel_peak[b] = np.nan
-            for m in range(n_coeff):
-                coeff[b, m] = np.nan
-                dcoeff[b, m] = np.nan
-        else:
-            for m in range(n_coeff):
-                coeff[b, m] = previous[m]
-                dcoeff[b, m] = dcurrent[m]
-    return coeff, half_range, accel_peak, dcoeff, windows, change, converged, flags
+                for m in range(n_coeff):
+                    coeff[b, m] = previous[m]
+                    dcoeff[b, m] = dcurrent[m]
+        return coeff, half_range, accel_peak, dcoeff, windows, change, converged, flags
+
+    return run_harmonic_batch
+
+
+#: The generic drivers (every structure; the reference of the specialised ones).
+run_time_batch = _time_kernel(GENERIC)
+run_harmonic_batch = _harmonic_kernel(GENERIC)
+_TIME_KERNELS = {GENERIC: run_time_batch}
+_HARMONIC_KERNELS = {GENERIC: run_harmonic_batch}
+_KERNELS_LOCK = threading.Lock()
+#: Structures that run their specialised step (the others run the generic one); tests empty it
+#: to run the generic kernel on the same inputs.
+SPECIALISED = frozenset({SDOF_IWAN, SDOF_MAXWELL, HYBRID})
+
+
+def time_kernel(structure: int):
+    """:func:`run_time_batch` compiled for ``structure`` (generic if it is not in :data:`SPECIALISED`);
+    one dispatcher per structure and process, so nothing is compiled twice."""
+    structure = structure if structure in SPECIALISED else GENERIC
+    with _KERNELS_LOCK:  # callers in several threads still share one dispatcher
+        if structure not in _TIME_KERNELS:
+            _TIME_KERNELS[structure] = _time_kernel(structure)
+        return _TIME_KERNELS[structure]
+
+
+def harmonic_kernel(structure: int):
+    """:func:`run_harmonic_batch` compiled for ``structure`` (as :func:`time_kernel`)."""
+    structure = structure if structure in SPECIALISED else GENERIC
+    with _KERNELS_LOCK:
+        if structure not in _HARMONIC_KERNELS:
+            _HARMONIC_KERNELS[structure] = _harmonic_kernel(structure)
+        return _HARMONIC_KERNELS[structure]
 
 
 # ------------------------------------------------------------------------------------------

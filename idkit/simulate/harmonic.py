@@ -9,8 +9,9 @@ import pandas as pd
 
 from idkit.errors import SimulationError
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
-from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS, run_harmonic_batch
+from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS, harmonic_kernel
 from idkit.simulate._parallel import run_chunked
+from idkit.simulate._structured import structure_of
 from idkit.models.laws import hybrid_displacements, sdof_transmissibility
 
 __all__ = ["HarmonicResponse", "harmonic_response", "default_steps_per_period", "small_amplitude_resonance",
@@ -235,6 +236,7 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
     min_windows = max(1, int(np.ceil(min_periods / 2)))
     max_windows = max(1, int(np.ceil(max_periods / 2)))
     kernel_arrays = arrays.as_tuple()
+    run_harmonic_batch = harmonic_kernel(structure_of(arrays))
 
     if start == "rest":
         q0 = np.zeros((freq.size, arrays.ndof))

@@ -12,8 +12,9 @@ from idkit.models.laws import kernel_array
 from idkit.models.base import IsolatorModel
 from idkit.gravity import impact_velocity_from_height
 from idkit.simulate._arrays import STANDARD_GRAVITY, force_scale, resolve_system, system_arrays
-from idkit.simulate._kernel import FLAG_REASONS, run_time_batch
+from idkit.simulate._kernel import FLAG_REASONS, time_kernel
 from idkit.simulate._parallel import run_chunked
+from idkit.simulate._structured import structure_of
 from idkit.simulate.base_motion import BaseMotion, integrate_acceleration
 
 __all__ = ["TimeResponse", "simulate", "free_fall", "static_deflection", "initial_states", "relaxation_deflection"]
@@ -219,6 +220,7 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     base_vel = kernel_array(base_vel)
     q0 = kernel_array(q0)
     scale = force_scale(arrays, accel_scale)
+    run_time_batch = time_kernel(structure_of(arrays))
 
     def task(part: slice):
         rows = part if base_disp.shape[0] > 1 else slice(0, 1)

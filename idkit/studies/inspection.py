@@ -16,7 +16,8 @@ from idkit.observe.quality import MeasurementSummary, summarize_measurements
 from idkit.observe.stepped_sine import SteppedSineSweep, stepped_sine_sweep
 from idkit.observe.white_noise import WhiteNoiseFrf, frf_from_white_noise
 
-__all__ = ["Inspection", "InspectionOverview", "inspect_path", "overview"]
+__all__ = ["ComplexTableInspection", "Inspection", "InspectionOverview", "inspect_complex_table", "inspect_path",
+           "overview"]
 
 
 @dataclass(frozen=True)
@@ -109,3 +110,85 @@ def inspect_path(path, *, kind: str | None = None) -> Inspection:
     """
     title, measurements = load_measurements(path, kind)
     return Inspection(title, tuple(measurements), summarize_measurements(measurements))
+
+
+@dataclass(frozen=True)
+class ComplexTableInspection:
+    """What a complex stiffness / DMA table holds, with data-quality warnings.
+
+    Attributes
+    ----------
+    table : ComplexStiffnessTable
+    shift_estimate : ShiftFactorEstimate or None
+        Shift factors estimated from the isotherms (tables with a temperature column).
+    warnings : tuple of str
+    """
+
+    table: object
+    shift_estimate: object
+    warnings: tuple[str, ...]
+
+    def report(self) -> str:
+        t = self.table
+        eta = t.loss / t.storage
+        lines = [f"{t.freq.size} points, {t.quantity} in {t.unit}, frequency {t.freq.min():.4g}-{t.freq.max():.4g} Hz, "
+                 f"storage {t.storage.min():.4g}-{t.storage.max():.4g} {t.unit}, loss factor {eta.min():.3g}-"
+                 f"{eta.max():.3g}"]
+        if self.shift_estimate is None:
+            lines.append("no temperature column: a master curve (or one isotherm) as given")
+        else:
+            est = self.shift_estimate
+            lines.append(f"{est.temperature_k.size} isotherms, {est.temperature_k.min() - 273.15:.1f} to "
+                         f"{est.temperature_k.max() - 273.15:.1f} C; shift factors estimated from them (reference "
+                         f"{est.reference_temperature_k - 273.15:.2f} C):")
+            lines.append(est.to_dataframe().round(4).to_string(index=False))
+            lines.append(f"pairwise superposition residual (log10 |E*|): max {est.pair_residual_decades.max():.4f} "
+                         "decades")
+        lines.extend(f"warning: {w}" for w in self.warnings) if self.warnings else lines.append("no warnings")
+        return "\n".join(lines)
+
+
+def inspect_complex_table(table, *, reference_temperature_k: float | None = None) -> ComplexTableInspection:
+    """Summarize a complex stiffness / DMA table: ranges, isotherms, estimated shift factors, warnings.
+
+    Warnings: a negative storage or loss part (not a passive material), storage falling with
+    frequency inside an isotherm (against linear viscoelasticity), an isotherm with fewer
+    than 4 points, a pair of isotherms that superposes worse than 0.02 decades of |E*|.
+    """
+    import numpy as np
+
+    from idkit.signal.shift_factors import estimate_shift_factors, group_isotherms
+
+    warnings = []
+    for name, column in (("storage", table.storage), ("loss", table.loss)):
+        bad = np.flatnonzero(column <= 0 if name == "storage" else column < 0)
+        if bad.size:
+            rule = "storage > 0" if name == "storage" else "loss >= 0"
+            warnings.append(f"{bad.size} row(s) with a {'non-positive' if name == 'storage' else 'negative'} "
+                            f"{name} part (first: {table.source.row_label(int(bad[0]))}); a passive material has "
+                            f"{rule}")
+    estimate = None
+    if table.temperature is not None:
+        labels, temps = group_isotherms(table.temperature)
+        for i, temperature in enumerate(temps):
+            rows = np.flatnonzero(labels == i)
+            order = rows[np.argsort(table.freq[rows])]
+            if rows.size < 4:
+                warnings.append(f"isotherm at {temperature - 273.15:.1f} C has {rows.size} points (< 4)")
+            falling = int(np.sum(np.diff(table.storage[order]) < 0))
+            if falling:
+                warnings.append(f"isotherm at {temperature - 273.15:.1f} C: storage falls with frequency at "
+                                f"{falling} step(s)")
+        if temps.size >= 2 and not any("non-positive" in w for w in warnings):
+            reference = reference_temperature_k
+            if reference is None:
+                reference = float(temps[np.argmin(np.abs(temps - np.median(table.temperature)))])
+            estimate = estimate_shift_factors(table.freq, table.storage, table.loss, table.temperature,
+                                              reference_temperature_k=reference,
+                                              source=str(table.source.path or "table"))
+            for i, residual in enumerate(estimate.pair_residual_decades):
+                if residual > 0.02:
+                    warnings.append(f"isotherms {temps[i] - 273.15:.1f} C and {temps[i + 1] - 273.15:.1f} C superpose "
+                                    f"to {residual:.3f} decades of |E*| only (> 0.02): not thermorheologically simple "
+                                    "there, or a measurement problem")
+    return ComplexTableInspection(table=table, shift_estimate=estimate, warnings=tuple(warnings))

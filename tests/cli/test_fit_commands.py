@@ -52,7 +52,7 @@ def test_cli_fit_maxwell_and_boucwen(dataset, tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["fit", "iwan", "{missing}", "-o", "{out}"], "not a folder"),
+    (["fit", "iwan", "{missing}", "-o", "{out}"], "no such file or folder"),
     (["fit", "iwan", "{set}", "--order", "0", "-o", "{out}"], "--order"),
     (["fit", "maxwell", "{set}", "--isolator", "hybrid", "-o", "{out}"], "found none"),
     (["fit", "iwan", "{set}", "--small-threshold", "0.1", "-o", "{out}"], "no large-loop record"),

@@ -1,7 +1,5 @@
 """Sanity of the solve_ivp reference path (idkit.simulate.reference) on problems with known answers."""
 
-import doctest
-import importlib
 
 import numpy as np
 import pytest

@@ -1,0 +1,257 @@
+"""Steps specialised to one system structure (numba), the same scheme as the generic step.
+
+The generic step of :mod:`idkit.simulate._kernel` tests at run time which parts each isolator
+has (Jenkin elements, Maxwell elements, Bouc-Wen, slip modulation) and how many masses the
+system has; the compiled step carries every part. The steps here are written for one
+structure each and carry only its parts:
+
+* :data:`SDOF_IWAN`: one mass on an isolator of Jenkin elements (Iwan, the wire ropes), a
+  cubic spring and a dashpot;
+* :data:`SDOF_MAXWELL`: one mass on Maxwell elements (generalized Maxwell, Voigt), a cubic
+  spring and a dashpot;
+* :data:`HYBRID`: the series hybrid, a Maxwell-only isolator under the top mass above an
+  Iwan-only isolator on the base.
+
+They perform the same floating-point operations as the generic step in the same order on the
+parts the structure has (the generic step's absent parts add exact zeros), so both paths give
+the same records to round-off; ``tests/simulate/test_structured_kernel.py`` runs both on the
+same inputs. Any other structure (Bouc-Wen, modulated slip, mixed isolators) runs the generic
+step. A driver is compiled once per structure (:func:`idkit.simulate._kernel.time_kernel`):
+the structure is a constant of the driver, so numba prunes the other branches before typing
+and the kernel compiles only the code it runs.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+GENERIC = 0
+SDOF_IWAN = 1
+SDOF_MAXWELL = 2
+HYBRID = 3
+STRUCTURE_NAMES = {GENERIC: "generic", SDOF_IWAN: "SDOF Iwan", SDOF_MAXWELL: "SDOF Maxwell",
+                   HYBRID: "hybrid Maxwell over Iwan"}
+
+# the same constants as the generic step (idkit.simulate._kernel)
+_FLAG_OK = 0
+_FLAG_NEGATIVE_STIFFNESS = 1
+_FLAG_NON_FINITE = 2
+_FLAG_NO_CONVERGENCE = 3
+_NEWTON_MAX_ITER = 60
+_RES_TOL = 1e-13
+_MGSUM, _NJ, _NM = 4, 5, 6
+
+_IWAN = 1
+_MAXWELL = 2
+
+
+def structure_of(arrays) -> int:
+    """The specialised structure of a system's kernel arrays, or :data:`GENERIC`.
+
+    ``arrays`` is a :class:`idkit.simulate._arrays.SystemArrays`.
+    """
+    kinds = []
+    for j in range(arrays.ndof):
+        jenkin = bool(np.any(arrays.jk[j] > 0.0))
+        maxwell = bool(np.any(arrays.mk[j] > 0.0))
+        if arrays.bw[j, 0] != 0.0 or arrays.sm[j, 0] != 0.0 or (jenkin and maxwell):
+            return GENERIC
+        kinds.append(_MAXWELL if maxwell else _IWAN)
+    if arrays.ndof == 1:
+        return SDOF_IWAN if kinds[0] == _IWAN else SDOF_MAXWELL
+    if kinds == [_MAXWELL, _IWAN]:
+        return HYBRID
+    return GENERIC
+
+
+@numba.njit(cache=True, inline="always")
+def _part_force(kind, j, y, dy, vrel, h, P, S, commit):
+    """Force (N) and tangent (N/m) of isolator ``j`` made of the parts ``kind`` only; the same
+    operations as the generic ``_isolator_force`` (a constant ``kind``: the other branch is
+    pruned)."""
+    g1 = P[j, 0, 0]
+    g2 = P[j, 0, 1]
+    g3 = P[j, 0, 2]
+    force = y * (g1 + y * (g2 + y * g3)) + P[j, 0, 3] * vrel
+    tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
+    if kind == 1:  # _IWAN (a literal: numba prunes the other branch)
+        for i in range(int(P[j, 0, _NJ])):
+            trial = S[j, 0, i] + P[j, 1, i] * dy
+            limit = P[j, 2, i]
+            if trial > limit:
+                trial = limit
+            elif trial < -limit:
+                trial = -limit
+            else:
+                tangent += P[j, 1, i]
+            force += trial
+            if commit:
+                S[j, 0, i] = trial
+    else:
+        force += S[j, 2, 1] + P[j, 0, _MGSUM] * dy
+        tangent += P[j, 0, _MGSUM]
+        if commit:
+            base = 0.0
+            for i in range(int(P[j, 0, _NM])):
+                u = P[j, 4, i] * S[j, 1, i] + P[j, 5, i] * dy
+                S[j, 1, i] = u
+                base += P[j, 3, i] * P[j, 4, i] * u
+            S[j, 2, 1] = base
+    return force, tangent
+
+
+@numba.njit(cache=True, inline="always")
+def _residual_sdof(kind, m0, qn0, vn0, an0, q0, h, c2, c4, load, xb_old, xb_new, vb_new, P, S):
+    """Residual (N), tangent (N/m) and size of the residual's terms (N) of a one-mass step."""
+    v0 = c2 * (q0 - qn0) - vn0
+    a0 = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
+    y = q0 - xb_new
+    f0, t0 = _part_force(kind, 0, y, y - (qn0 - xb_old), v0 - vb_new, h, P, S, False)
+    r0 = m0 * (a0 + load) + f0
+    magnitude = m0 * (abs(a0) + abs(load) + c4 * (abs(q0) + abs(qn0))) + abs(f0)
+    return r0, t0, magnitude
+
+
+@numba.njit(cache=True, inline="always")
+def step_sdof(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+    """One step of a single mass on a ``kind`` isolator; the generic step's arguments and flags."""
+    qn0 = state[0]
+    vn0 = state[2]
+    an0 = state[4]
+    c2 = 2.0 / h
+    c4 = c2 * c2
+    q0 = qn0 + h * vn0 + 0.5 * h * h * an0
+    r0, t0, magnitude = _residual_sdof(kind, m0, qn0, vn0, an0, q0, h, c2, c4, load, xb_old, xb_new, vb_new, P, S)
+    rnorm = math.sqrt(r0 * r0)
+    converged = False
+    for _iteration in range(_NEWTON_MAX_ITER):
+        dq0 = -r0 / (c4 * m0 + t0)
+        scale = 1.0
+        accepted = False
+        trial0 = q0
+        new_norm = rnorm
+        for _ in range(40):
+            trial0 = q0 + scale * dq0
+            r0, t0, magnitude = _residual_sdof(kind, m0, qn0, vn0, an0, trial0, h, c2, c4, load, xb_old, xb_new,
+                                               vb_new, P, S)
+            new_norm = math.sqrt(r0 * r0)
+            if new_norm < rnorm or new_norm <= _RES_TOL * (magnitude + force_scale):
+                accepted = True
+                break
+            scale *= 0.5
+        q0 = trial0
+        rnorm = new_norm
+        if rnorm <= _RES_TOL * (magnitude + force_scale):
+            converged = True
+            break
+        if not accepted or abs(scale * dq0) <= 1e-15 * (abs(q0) + abs(qn0)):
+            converged = rnorm <= 1e3 * _RES_TOL * (magnitude + force_scale)
+            break
+    if not converged:
+        return _FLAG_NO_CONVERGENCE
+    v0 = c2 * (q0 - qn0) - vn0
+    y = q0 - xb_new
+    _part_force(kind, 0, y, y - (qn0 - xb_old), v0 - vb_new, h, P, S, True)
+    state[0] = q0
+    state[2] = v0
+    state[4] = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
+    if not (math.isfinite(state[0]) and math.isfinite(state[2]) and math.isfinite(state[4])):
+        return _FLAG_NON_FINITE
+    if P[0, 0, 0] + y * (2.0 * P[0, 0, 1] + 3.0 * P[0, 0, 2] * y) < 0.0:
+        return _FLAG_NEGATIVE_STIFFNESS
+    return _FLAG_OK
+
+
+@numba.njit(cache=True, inline="always")
+def _residual_hybrid(m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, c2, c4, load, xb_old, xb_new, vb_new,
+                     P, S):
+    """Residuals (N), tangents (N/m) and size of the terms (N) of the hybrid's step."""
+    v0 = c2 * (q0 - qn0) - vn0
+    a0 = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
+    v1 = c2 * (q1 - qn1) - vn1
+    a1 = c4 * (q1 - qn1) - 2.0 * c2 * vn1 - an1
+    y_up = q0 - q1
+    f0, t0 = _part_force(2, 0, y_up, y_up - (qn0 - qn1), v0 - v1, h, P, S, False)
+    y_low = q1 - xb_new
+    f1, t1 = _part_force(1, 1, y_low, y_low - (qn1 - xb_old), v1 - vb_new, h, P, S, False)
+    r0 = m0 * (a0 + load) + f0
+    magnitude = m0 * (abs(a0) + abs(load) + c4 * (abs(q0) + abs(qn0))) + abs(f0)
+    r1 = m1 * (a1 + load) - f0 + f1
+    magnitude += m1 * (abs(a1) + abs(load) + c4 * (abs(q1) + abs(qn1))) + abs(f1)
+    return r0, r1, t0, t1, magnitude
+
+
+@numba.njit(cache=True, inline="always")
+def step_hybrid(m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+    """One step of the hybrid (Maxwell isolator over an Iwan isolator); the generic step's
+    arguments and flags."""
+    qn0 = state[0]
+    qn1 = state[1]
+    vn0 = state[2]
+    vn1 = state[3]
+    an0 = state[4]
+    an1 = state[5]
+    c2 = 2.0 / h
+    c4 = c2 * c2
+    q0 = qn0 + h * vn0 + 0.5 * h * h * an0
+    q1 = qn1 + h * vn1 + 0.5 * h * h * an1
+    r0, r1, t0, t1, magnitude = _residual_hybrid(m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, c2, c4, load,
+                                                 xb_old, xb_new, vb_new, P, S)
+    rnorm = math.sqrt(r0 * r0 + r1 * r1)
+    converged = False
+    for _iteration in range(_NEWTON_MAX_ITER):
+        j00 = c4 * m0 + t0
+        j01 = -t0
+        j11 = c4 * m1 + t0 + t1
+        det = j00 * j11 - j01 * j01
+        dq0 = -(j11 * r0 - j01 * r1) / det
+        dq1 = -(j00 * r1 - j01 * r0) / det
+        scale = 1.0
+        accepted = False
+        trial0 = q0
+        trial1 = q1
+        new_norm = rnorm
+        for _ in range(40):
+            trial0 = q0 + scale * dq0
+            trial1 = q1 + scale * dq1
+            r0, r1, t0, t1, magnitude = _residual_hybrid(m0, m1, qn0, qn1, vn0, vn1, an0, an1, trial0, trial1, h,
+                                                         c2, c4, load, xb_old, xb_new, vb_new, P, S)
+            new_norm = math.sqrt(r0 * r0 + r1 * r1)
+            if new_norm < rnorm or new_norm <= _RES_TOL * (magnitude + force_scale):
+                accepted = True
+                break
+            scale *= 0.5
+        q0 = trial0
+        q1 = trial1
+        rnorm = new_norm
+        if rnorm <= _RES_TOL * (magnitude + force_scale):
+            converged = True
+            break
+        if not accepted or abs(scale * dq0) + abs(scale * dq1) <= 1e-15 * (abs(q0) + abs(q1) + abs(qn0)):
+            converged = rnorm <= 1e3 * _RES_TOL * (magnitude + force_scale)
+            break
+    if not converged:
+        return _FLAG_NO_CONVERGENCE
+    v0 = c2 * (q0 - qn0) - vn0
+    v1 = c2 * (q1 - qn1) - vn1
+    y_up = q0 - q1
+    _part_force(2, 0, y_up, y_up - (qn0 - qn1), v0 - v1, h, P, S, True)
+    y_low = q1 - xb_new
+    _part_force(1, 1, y_low, y_low - (qn1 - xb_old), v1 - vb_new, h, P, S, True)
+    state[0] = q0
+    state[2] = v0
+    state[4] = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
+    state[1] = q1
+    state[3] = v1
+    state[5] = c4 * (q1 - qn1) - 2.0 * c2 * vn1 - an1
+    for d in range(6):
+        if not math.isfinite(state[d]):
+            return _FLAG_NON_FINITE
+    if P[0, 0, 0] + y_up * (2.0 * P[0, 0, 1] + 3.0 * P[0, 0, 2] * y_up) < 0.0:
+        return _FLAG_NEGATIVE_STIFFNESS
+    if P[1, 0, 0] + y_low * (2.0 * P[1, 0, 1] + 3.0 * P[1, 0, 2] * y_low) < 0.0:
+        return _FLAG_NEGATIVE_STIFFNESS
+    return _FLAG_OK

@@ -1,0 +1,113 @@
+"""The steps specialised per system structure against the generic step, on the same inputs.
+
+The specialised steps (:mod:`idkit.simulate._structured`) perform the generic step's
+floating-point operations in the same order on the parts the structure has (the generic step
+adds exact zeros for the absent ones), so the records agree to round-off. Tolerance: 1e-10
+relative to the record's largest magnitude, four orders above what a reordering of a few
+operations by the compiler could produce (1e-14 per step, amplified by the Newton tolerance
+1e-13 over 1e4 steps of a stable system). Flags must be identical. The generic path is obtained
+by emptying ``_kernel.SPECIALISED`` (every structure then runs the generic driver).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from idkit.models import BoucWenModel, ModulatedIwanModel, library
+from idkit.models.systems import SDOFSystem
+from idkit.simulate import _kernel, free_fall, harmonic_response, simulate
+from idkit.simulate._arrays import system_arrays
+from idkit.simulate._structured import (
+    GENERIC,
+    HYBRID,
+    SDOF_IWAN,
+    SDOF_MAXWELL,
+    structure_of,
+)
+
+RTOL = 1e-10
+
+SYSTEMS = {
+    "sdof_iwan": (lambda: library.get("system_a1_asymmetric"), SDOF_IWAN),
+    "sdof_maxwell": (lambda: library.get("system_b1_medium"), SDOF_MAXWELL),
+    "hybrid": (lambda: library.get("hybrid_asymmetric"), HYBRID),
+    "sdof_boucwen": (lambda: SDOFSystem(1.0, BoucWenModel(k1=3e3, k2=2e5, k3=-1e6, alpha=2.5e4, beta=1.2e4,
+                                                          gamma=3e3, n=1.3, b=np.e, c=20.0)), GENERIC),
+    "sdof_modulated_iwan": (lambda: SDOFSystem(1.0, ModulatedIwanModel(
+        g1=1.84e4, g2=2.45e5, g3=-4.57e5, k=[1.88e5, 9.09e3], fc=[15.5, 10.3], slip_modulation=0.35,
+        slip_length=6e-3)), GENERIC),
+}
+
+
+def both_paths(monkeypatch, run):
+    """``run()`` with the specialised kernels, then with the generic kernel only."""
+    specialised = run()
+    with monkeypatch.context() as patch:
+        patch.setattr(_kernel, "SPECIALISED", frozenset())
+        generic = run()
+    return specialised, generic
+
+
+def assert_same_records(specialised, generic, names):
+    for name in names:
+        a = np.asarray(getattr(specialised, name))
+        b = np.asarray(getattr(generic, name))
+        assert np.array_equal(np.isnan(a), np.isnan(b)), name
+        finite = ~np.isnan(b)
+        scale = np.max(np.abs(b[finite])) if finite.any() else 1.0
+        np.testing.assert_allclose(a[finite], b[finite], rtol=0, atol=RTOL * scale, err_msg=name)
+    np.testing.assert_array_equal(specialised.flags, generic.flags)
+
+
+@pytest.mark.parametrize("name", list(SYSTEMS))
+def test_structure_is_recognised(name):
+    build, expected = SYSTEMS[name]
+    assert structure_of(system_arrays(build())) == expected
+
+
+@pytest.mark.parametrize("name", list(SYSTEMS))
+def test_random_base_and_drop_agree(monkeypatch, name):
+    """Random base acceleration (random vibration) and a conditioned drop with gravity."""
+    system = SYSTEMS[name][0]()
+    rng = np.random.default_rng(7)
+    time = np.arange(4001) * 2e-4
+    accel = rng.normal(0.0, 20.0, size=(3, time.size))
+    names = ("displacement", "velocity", "acceleration", "isolator_force")
+    assert_same_records(*both_paths(monkeypatch, lambda: simulate(system, time, base_acceleration=accel,
+                                                                    workers=1)), names)
+    assert_same_records(*both_paths(monkeypatch, lambda: free_fall(
+        system, impact_velocity=[-0.5, -2.0], duration=0.2, time_step=1e-4, gravity=True, workers=1)), names)
+
+
+@pytest.mark.parametrize("name", list(SYSTEMS))
+def test_harmonic_map_agrees(monkeypatch, name):
+    """Steady-state map points, including one far outside the valid range of the wire rope."""
+    system = SYSTEMS[name][0]()
+    freq = np.array([3.0, 8.0, 20.0])
+    amplitude = np.array([2e-4, 1e-3, 5e-2])
+    specialised, generic = both_paths(monkeypatch, lambda: harmonic_response(
+        system, freq, amplitude, max_periods=40, workers=1))
+    assert_same_records(specialised, generic, ("coefficients", "deflection_coefficients", "half_range",
+                                               "peak_acceleration", "change"))
+    np.testing.assert_array_equal(specialised.periods, generic.periods)
+    np.testing.assert_array_equal(specialised.converged, generic.converged)
+
+
+def test_kernels_are_compiled_once_per_structure():
+    assert _kernel.time_kernel(SDOF_IWAN) is _kernel.time_kernel(SDOF_IWAN)
+    assert _kernel.harmonic_kernel(HYBRID) is _kernel.harmonic_kernel(HYBRID)
+    assert _kernel.time_kernel(GENERIC) is _kernel.run_time_batch
+    # a structure outside SPECIALISED runs the generic driver
+    assert _kernel.time_kernel(99) is _kernel.run_time_batch
+
+
+def test_constants_match_the_generic_step():
+    """The specialised steps repeat the generic step's flags and Newton settings (no import cycle)."""
+    from idkit.simulate import _structured
+
+    assert (_structured._FLAG_OK, _structured._FLAG_NEGATIVE_STIFFNESS, _structured._FLAG_NON_FINITE,
+            _structured._FLAG_NO_CONVERGENCE) == (_kernel.FLAG_OK, _kernel.FLAG_NEGATIVE_STIFFNESS,
+                                                  _kernel.FLAG_NON_FINITE, _kernel.FLAG_NO_CONVERGENCE)
+    assert (_structured._NEWTON_MAX_ITER, _structured._RES_TOL) == (_kernel._NEWTON_MAX_ITER, _kernel._RES_TOL)
+    assert (_structured._MGSUM, _structured._NJ, _structured._NM) == (_kernel._MGSUM, _kernel._NJ, _kernel._NM)
