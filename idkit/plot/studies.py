@@ -282,5 +282,5 @@ def plot_transport_rest_shock(study: TransportStudy, *, axes=None):
 
 def transport_figures(study: TransportStudy) -> dict:
     """The transport study's figures keyed by file name: ``transport_output_psd.png``, ``transport_rest_shock.png``."""
-    return {"transport_output_psd.png": plot_transport_psd(study)[0].figure,
+    return {"transport_output_psd.png": np.ravel(plot_transport_psd(study))[0].figure,
             "transport_rest_shock.png": plot_transport_rest_shock(study)[0].figure}

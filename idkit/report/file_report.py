@@ -11,7 +11,7 @@ rope, elastomer, hybrid). A single file gets a report of what it can support:
 * any other measurement: the inspection summary and its overview figures.
 
 Output folder (built in a staging folder, swapped in when complete): ``report.html``
-(self-contained), ``model.json`` (fits), ``tables/*.csv``, ``figures/*.png``,
+(self-contained), ``model.json`` (fits), ``tables/*.csv``, ``figures/*.png`` and ``*.svg``,
 ``provenance.json`` (input path and SHA-256, idkit version, settings, durations).
 """
 
@@ -26,7 +26,7 @@ import pandas as pd
 
 from idkit.atomic import atomic_output_folder, write_text_atomic
 from idkit.io.provenance import file_sha256
-from idkit.plot._figure import new_axes, save_figure
+from idkit.plot._figure import new_axes
 from idkit.report.html import HtmlReport
 
 __all__ = ["FileReportSummary", "write_file_report"]
@@ -179,15 +179,15 @@ def write_file_report(path, output, *, table=None, force: bool = False, seed: in
     with atomic_output_folder(output, force=force) as staging:
         (staging / "figures").mkdir()
         (staging / "tables").mkdir()
+        report.figures_dir = staging / "figures"
         for name, figure, caption in figures:
-            report.figure(figure, caption=caption)
-            save_figure(figure, staging / "figures" / f"{name}.png")
+            report.figure(figure, caption=caption, name=name)
         for name, frame in tables.items():
             write_text_atomic(staging / "tables" / f"{name}.csv", frame.to_csv(index=False))
         if model_fit is not None:
             model_fit.save(staging / "model.json")
         timings["total"] = time.perf_counter() - start
-        report.section("Provenance", "provenance")
+        report.section("Provenance", "provenance", collapsed=True)
         provenance = {"idkit_version": __version__, "input": {"path": str(path), "sha256": file_sha256(path)},
                       "kind": kind, "seed": seed, "success": success, "reasons": list(reasons),
                       "durations_s": {k: round(v, 3) for k, v in timings.items()}}

@@ -122,7 +122,11 @@ class HtmlReport:
         caption_html = f"<p><em>{html.escape(caption)}</em></p>" if caption else ""
         if name and self.tables_dir is not None:
             path = Path(self.tables_dir) / f"{file_stem(name)}.csv"
-            write_text_atomic(path, frame.to_csv(index=index))
+            text = frame.to_csv(index=index)
+            # a study may have written the same table already (same name, same content): keep it;
+            # a different table under the same name is a bug, never a silent overwrite
+            if not (path.exists() and path.read_text(encoding="utf-8") == text):
+                write_text_atomic(path, text)
             self.table_files.append(path)
             caption_html += f'<p class="file">CSV: tables/{html.escape(path.name)}</p>'
         self._add(caption_html + rendered)

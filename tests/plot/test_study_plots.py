@@ -14,5 +14,43 @@ def test_transport_figures_draw_the_study():
     np.testing.assert_allclose(by_height.get_lines()[0].get_xdata(), [1.0, 2.0])  # m drawn in cm
     np.testing.assert_array_equal(by_speed.get_lines()[0].get_ydata(), study.shock_velocity["reference"])
     panels = plot_transport_psd(study)
-    assert len(panels) == 4 and [ax.get_visible() for ax in panels] == [True, True, True, False]
+    assert panels.shape == (3, 2) and all(ax.get_visible() for ax in panels.flat)  # levels x system groups
     assert sorted(transport_figures(study)) == ["transport_output_psd.png", "transport_rest_shock.png"]
+
+
+def test_psd_panels_hold_at_most_six_curves_and_clip_the_floor():
+    """Ten systems split over panels of <= 6 curves; y axis 12 decades under the row's peak; x axis the band."""
+    from idkit.plot.studies import PSD_FLOOR_FRACTION, transport_psd_groups
+
+    names = ["reference", "elastomer", "wire rope"] + [f"hybrid r_k={r}" for r in (0.1, 0.2, 0.4, 0.6, 0.8, 1, 1.25)]
+    groups = transport_psd_groups(names)
+    assert all(len(group) <= 6 for group in groups)
+    assert sorted({name for group in groups for name in group}) == sorted(names)
+    study = compute_transport_study(levels=(1e-6, 1e-4), n_realizations=2, r_k_values=(0.5,),
+                                     speeds=[0.05, 0.1], heights=[0.01, 0.02], seed=1)
+    panels = plot_transport_psd(study)
+    assert panels.shape == (2, 2)
+    for row, level in zip(panels, study.levels):
+        peak = max(float(item.output_psd[(item.freq >= 0.1) & (item.freq <= 100)].max()) for item in study.psd_at(level))
+        for ax in row:
+            low, high = ax.get_ylim()
+            assert np.isclose(low, PSD_FLOOR_FRACTION * peak) and high > peak
+            assert ax.get_xlim() == (0.1, 100.0)
+            assert len(ax.get_lines()) <= 6
+    assert "[(m/s$^2$)$^2$/Hz]" in panels[0, 0].get_ylabel()
+
+
+def test_a_rest_shock_curve_that_ends_says_so():
+    import pandas as pd
+
+    from idkit.plot.studies import curve_ends
+    from idkit.studies.transport import TransportStudy
+
+    speeds = pd.Index([0.1, 0.2, 0.3])
+    study = TransportStudy(tuning=pd.DataFrame(), rms=pd.DataFrame(), psd=(), seed=0, n_realizations=1,
+                           flagged_runs=0, shock_velocity=pd.DataFrame({"a": [1.0, 2, 3], "b": [1.0, 2, np.nan]},
+                                                                       index=speeds),
+                           shock_height=pd.DataFrame({"a": [1.0, 2], "b": [1.0, 2]}, index=pd.Index([0.01, 0.02])))
+    assert curve_ends(study.shock_velocity) == {"b": 0.2}
+    by_speed, _ = plot_transport_rest_shock(study)
+    assert [t.get_text() for t in by_speed.texts] == ["b: model invalid beyond 0.2 m/s"]

@@ -1,11 +1,17 @@
 """``idkit report`` end to end on the bundled data (quick mode) and its safety rules."""
 
 import json
+import re
+from html import unescape
+from html.parser import HTMLParser
 from pathlib import Path
 
+import numpy as np
+import pandas as pd
 import pytest
 
 from idkit.cli.main import main
+from idkit.report.html import MAX_TABLE_COLUMNS
 from idkit.report.main_report import REPORT_SECTIONS
 
 DATA = Path(__file__).resolve().parents[2] / "data"
@@ -91,13 +97,9 @@ def test_iwan_table_shows_stderr_and_spread_across_repetitions(quick_report):
 @pytest.mark.slow
 def test_drop_models_are_compared_and_the_supported_one_named(quick_report):
     """Conditioned vs rig, plain vs slip-modulated Iwan, on the same held-out drops (issue 15)."""
-    import pandas as pd
-
     table = pd.read_csv(quick_report / "tables" / "wire_rope_drop_models.csv")
     assert set(table["drop model"]) == {"conditioned", "rig"}
     assert "plain Iwan" in set(table["isolator model"])
-    from html import unescape
-
     html = unescape((quick_report / "report.html").read_text(encoding="utf-8"))
     assert "The held-out drops support the" in html and "drop_model='auto'" in html
     # the named pair is the one with the smallest worst-phase median error among the PASSes
@@ -105,3 +107,108 @@ def test_drop_models_are_compared_and_the_supported_one_named(quick_report):
         ["median_compression_error [-]", "median_tension_error [-]"]].median().max(axis=1)
     model, drop = passing.idxmin()
     assert f"support the {model} model with the {drop} drop model" in html
+
+
+class _Page(HTMLParser):
+    """The parts of the report a reader sees: sections, figures (alt, caption), tables (columns), details."""
+
+    def __init__(self):
+        super().__init__()
+        self.sections, self.figures, self.tables, self.details_sections = [], [], [], []
+        self._stack, self._text = [], None
+
+    def handle_starttag(self, tag, attrs):
+        attrs = dict(attrs)
+        self._stack.append(tag)
+        if tag == "section":
+            self.sections.append(attrs.get("id"))
+        elif tag == "figure":
+            self.figures.append({"alt": None, "caption": ""})
+        elif tag == "img" and self.figures and "figure" in self._stack:
+            self.figures[-1]["alt"] = attrs.get("alt")
+        elif tag == "figcaption":
+            self._text = "caption"
+        elif tag == "table":
+            self.tables.append(0)
+        elif tag == "tr" and self.tables:
+            self._row = 0
+        elif tag in ("td", "th") and self.tables:
+            self._row += int(attrs.get("colspan", 1))
+            self.tables[-1] = max(self.tables[-1], self._row)
+        elif tag == "details":
+            self.details_sections.append(self.sections[-1])
+
+    def handle_endtag(self, tag):
+        while self._stack and self._stack.pop() != tag:
+            pass
+        if tag == "figcaption":
+            self._text = None
+
+    def handle_data(self, data):
+        if self._text == "caption":
+            self.figures[-1]["caption"] += data
+
+
+def _page(folder):
+    parser = _Page()
+    parser.feed((folder / "report.html").read_text(encoding="utf-8"))
+    return parser
+
+
+@pytest.mark.slow
+def test_page_reads_conclusions_first_and_provenance_last_collapsed(quick_report):
+    page = _page(quick_report)
+    assert page.sections[0] == "summary" and page.sections[-1] == "provenance"
+    assert page.details_sections == ["provenance"]  # the hashes are out of the way
+    html = unescape((quick_report / "report.html").read_text(encoding="utf-8"))
+    summary = html[html.index('id="summary"'):html.index('id="data"')]
+    for heading in ("Wire rope", "Elastomer", "Hybrid", "Transport study: which system protects the payload best"):
+        assert f"<h3>{heading}" in summary, heading
+    assert "Identified: Iwan model of order" in summary and " +- " in summary  # values with stderr
+    assert "valid for deflections" in summary
+    assert summary.count("protects the payload best") >= 2  # levels and drop heights
+
+
+@pytest.mark.slow
+def test_transport_conclusion_names_the_lowest_rms_system(quick_report):
+    """The words follow the numbers of the CSV the page was written with, level by level."""
+    rms = pd.read_csv(quick_report / "tables" / "transport_rms.csv", index_col=0)
+    html = unescape((quick_report / "report.html").read_text(encoding="utf-8"))
+    for column in rms.columns:
+        assert f"floor PSD {column}, RMS top acceleration: {rms[column].idxmin()} protects the payload best" in html
+
+
+@pytest.mark.slow
+def test_every_figure_has_caption_alt_text_and_files(quick_report):
+    page = _page(quick_report)
+    assert len(page.figures) >= 10
+    for figure in page.figures:
+        assert figure["alt"] and figure["caption"].strip(), figure
+    figures = {p.name for p in (quick_report / "figures").iterdir()}
+    pngs = {name[:-4] for name in figures if name.endswith(".png")}
+    assert len(pngs) == len(page.figures)
+    assert pngs == {name[:-4] for name in figures if name.endswith(".svg")}
+    html = (quick_report / "report.html").read_text(encoding="utf-8")
+    assert html.count("data:image/png;base64,") == len(page.figures)  # self-contained
+
+
+@pytest.mark.slow
+def test_no_table_is_wider_than_the_page_limit_and_every_table_has_a_csv(quick_report):
+    page = _page(quick_report)
+    assert max(page.tables) <= MAX_TABLE_COLUMNS, page.tables
+    html = (quick_report / "report.html").read_text(encoding="utf-8")
+    listed = re.findall(r"CSV: tables/([^<]+)</p>", html)
+    assert len(listed) == len(page.tables)
+    assert all((quick_report / "tables" / name).stat().st_size > 0 for name in listed)
+    assert "white-space: pre-wrap" in html  # warnings wrap instead of running off the page
+
+
+@pytest.mark.slow
+def test_the_rest_shock_figure_says_where_a_curve_ends(quick_report):
+    shock = pd.read_csv(quick_report / "tables" / "transport_shock_vs_velocity.csv", index_col=0)
+    ends = [name for name in shock.columns if np.isnan(shock[name].iloc[-1]) and np.isfinite(shock[name]).any()]
+    html = unescape((quick_report / "report.html").read_text(encoding="utf-8"))
+    for name in ends:
+        assert f"the {name} curve stops at" in html
+    provenance = json.loads((quick_report / "provenance.json").read_text())
+    assert provenance["timings_s"]["drawing and saving the figures (part of the writing)"] >= 0

@@ -1,0 +1,63 @@
+"""The report's sentences follow the numbers they are read from (small synthetic results)."""
+
+import numpy as np
+import pandas as pd
+
+from idkit.report.conclusions import transport_conclusions, validation_sentence
+from idkit.studies.transport import TransportStudy
+from idkit.validate import ValidationResult
+
+
+def _result(summary, thresholds, **extra):
+    return ValidationResult(name="check", metrics=pd.DataFrame({"x": [1, 2, 3]}), summary=summary,
+                            thresholds=thresholds, **extra)
+
+
+def test_a_failing_validation_names_the_metric_over_its_limit_and_what_holds():
+    verdict, text = validation_sentence("rope drops", _result({"peak error": 0.31, "phase error": 0.02},
+                                                              {"peak error": 0.2, "phase error": 0.1}))
+    assert verdict == "FAIL"
+    assert "fails on peak error 0.31 > 0.2" in text and "within the limits: phase error 0.02 <= 0.1" in text
+    assert "(3 points)" in text
+
+
+def test_an_inconclusive_validation_gives_its_reasons():
+    verdict, text = validation_sentence("sweeps", _result({"a": np.nan, "b": 0.01}, {"a": 1.0, "b": 0.1},
+                                                          inconclusive=("5 of 9 points never settled",)))
+    assert verdict == "INCONCLUSIVE"
+    assert "inconclusive because 5 of 9 points never settled; a could not be computed" in text
+    assert "b 0.01 <= 0.1" in text
+
+
+def test_a_passing_validation_says_what_it_predicts_well_and_what_it_cannot_see():
+    verdict, text = validation_sentence("hybrid", _result({"a": 0.05}, {"a": 0.1}, cannot_see=("upper x2",)),
+                                        quick_note="quick")
+    assert verdict == "PASS" and "predicts well: a 0.05 <= 0.1" in text
+    assert "cannot tell these wrong components apart: upper x2" in text and text.endswith("(quick).")
+
+
+def _study(rms, heights, shock_height, speeds, shock_velocity):
+    return TransportStudy(tuning=pd.DataFrame(), rms=rms, psd=(), seed=0, n_realizations=1, flagged_runs=0,
+                          shock_height=pd.DataFrame(shock_height, index=pd.Index(heights)),
+                          shock_velocity=pd.DataFrame(shock_velocity, index=pd.Index(speeds)))
+
+
+def test_transport_sentences_rank_the_systems_from_the_numbers():
+    rms = pd.DataFrame({"1e-06 [(m/s^2)^2/Hz]": [0.30, 0.10, 0.20], "0.001 [(m/s^2)^2/Hz]": [3.0, 4.0, 6.0]},
+                       index=["reference", "elastomer", "wire rope"])
+    heights = [0.01, 0.03, 0.05]
+    study = _study(rms, heights, {"reference": [10.0, 20.0, 30.0], "elastomer": [5.0, 12.0, 40.0],
+                                  "wire rope": [8.0, 9.0, np.nan]},
+                   [0.1, 0.2, 0.3], {"reference": [1.0, 2.0, 3.0], "elastomer": [1.0, 2.0, 3.0],
+                                     "wire rope": [1.0, 2.0, np.nan]})
+    sentences = transport_conclusions(study, heights=(0.02, 0.05))
+    assert sentences[0].startswith("floor PSD 1e-06 [(m/s^2)^2/Hz], RMS top acceleration: elastomer protects "
+                                   "the payload best (0.1 m/s^2; next wire rope 0.2 m/s^2, 2 times as much; "
+                                   "the viscous reference 0.3 m/s^2)")
+    assert "0.001 [(m/s^2)^2/Hz], RMS top acceleration: reference protects" in sentences[1]
+    # 2 cm: midway, elastomer 8.5, wire rope 8.5 -> 8.5 both; reference 15
+    assert "drop height 2 cm" in sentences[2] and "reference 15 m/s^2" in sentences[2]
+    # 5 cm: the wire rope has no value there (model invalid), the reference wins
+    assert sentences[3].startswith("drop height 5 cm, rest shock: reference protects the payload best (30 m/s^2")
+    assert "no value (model invalid) for wire rope" in sentences[3]
+    assert sentences[4].startswith("wire rope: the rest-shock curve stops at an impact speed of 0.2 m/s")
