@@ -13,9 +13,9 @@ def _cmd_inspect(args) -> None:
     from idkit.studies.inspection import inspect_path
 
     if Path(args.path).is_file() and args.kind is None:
-        from idkit.io.discover import complex_table_format
+        from idkit.io.discover import is_complex_table as _maybe_table
 
-        if complex_table_format(args.path) is not None:
+        if _maybe_table(args.path):
             from idkit.cli.fit import _read_table
             from idkit.studies.inspection import inspect_complex_table
 

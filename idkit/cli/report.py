@@ -13,7 +13,7 @@ def _cmd_file_report(args) -> int:
     """``idkit report FILE``: the report of one data file."""
     from idkit.cli.progress import say
     from idkit.errors import IdkitError
-    from idkit.io.discover import complex_table_format
+    from idkit.io.discover import is_complex_table as _maybe_table
     from idkit.output_checks import check_output
     from idkit.report.file_report import write_file_report
 
@@ -24,7 +24,7 @@ def _cmd_file_report(args) -> int:
                              f"({args.data_dir})")
     check_output(args.output, kind="replaced", force=args.force, inputs=[args.data_dir])
     table = None
-    if complex_table_format(args.data_dir) is not None:
+    if _maybe_table(args.data_dir):
         from idkit.cli.fit import _read_table
 
         table = _read_table(args.data_dir)

@@ -75,6 +75,18 @@ def find_measurement_sets(data_dir, *, required=("wire_rope", "elastomer")) -> d
     return sets
 
 
+def is_complex_table(path) -> bool:
+    """True when ``path`` is a text table whose header names a complex stiffness / DMA table
+    (``.mat`` and other binary files are not tables: False without reading them as text)."""
+    path = Path(path)
+    if path.suffix.lower() == ".mat":
+        return False
+    try:
+        return complex_table_format(path) is not None
+    except DataError:
+        return False
+
+
 def complex_table_format(path) -> str | None:
     """``"complex_stiffness"`` (idkit CSV: frequency, storage, loss), ``"pyvisco"`` (two-line
     header ``f, E_stor, E_loss`` / units) or None, from the first line of a file.
