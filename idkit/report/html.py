@@ -32,7 +32,8 @@ h2 { border-bottom: 1px solid #aab; margin-top: 2em; }
 h3 { margin-top: 1.4em; }
 table { border-collapse: collapse; font-size: 0.85em; margin: .6em 0; display: block; max-width: 100%;
         overflow-x: auto; }
-th, td { border: 1px solid #ccd; padding: .2em .5em; text-align: right; overflow-wrap: anywhere; }
+th, td { border: 1px solid #ccd; padding: .2em .5em; text-align: right; white-space: nowrap; }
+td.text, th.text { white-space: normal; }
 th { background: #eef; }
 pre { background: #f6f6f8; padding: .6em; font-size: 0.85em; white-space: pre-wrap; overflow-wrap: anywhere; }
 .pass { color: #176b2c; font-weight: bold; } .fail { color: #a11; font-weight: bold; }

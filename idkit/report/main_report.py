@@ -10,6 +10,8 @@ is never replaced without ``force``. Nothing here fits, validates or simulates.
 
 from __future__ import annotations
 
+import math
+
 import json
 import time
 from dataclasses import dataclass
@@ -144,7 +146,15 @@ def _drop_model_words(data: ReportData) -> str:
 
 def _valid_range_words(data: ReportData) -> str:
     lower, upper = data.iwan.model.valid_deflection_range()
-    return (f"valid for deflections {1e3 * lower:.1f} mm <= x <= {1e3 * upper:.1f} mm (its parallel spring's "
+    if math.isfinite(lower) and math.isfinite(upper):
+        span = f"{1e3 * lower:.1f} mm <= x <= {1e3 * upper:.1f} mm"
+    elif math.isfinite(lower):
+        span = f"x >= {1e3 * lower:.1f} mm (no upper limit)"
+    elif math.isfinite(upper):
+        span = f"x <= {1e3 * upper:.1f} mm (no lower limit)"
+    else:
+        span = "every deflection"
+    return (f"valid for deflections {span} (its parallel spring's "
             f"local stiffness stays >= 0, SPEC 1.2; required: {1e3 * data.valid_range[0]:.1f} to "
             f"{1e3 * data.valid_range[1]:.1f} mm, 1.25 times the data set's deflections)")
 
