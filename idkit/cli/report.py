@@ -17,7 +17,7 @@ def _cmd_file_report(args) -> int:
     from idkit.output_checks import check_output
     from idkit.report.file_report import write_file_report
 
-    for option, given in (("--quick", args.quick), ("--workers", args.workers is not None),
+    for option, given in (("--quick", args.quick), ("--workers", args.workers is not None), ("--pdf", args.pdf),
                           ("--drop-model", args.drop_model != "auto"), ("--start-state", args.start_state != "auto")):
         if given:
             raise IdkitError(f"{option}: applies to the report of a data folder; found a single file "
@@ -53,7 +53,7 @@ def _cmd_report(args) -> int:
     check_output(args.output, kind="replaced", force=args.force, inputs=[args.data_dir or default_data_dir()])
     summary = run_report(args.data_dir, args.output, force=args.force, quick=args.quick, seed=args.seed,
                          workers=args.workers, progress=lambda message: say(message, enabled=not args.quiet),
-                         start_state=args.start_state, drop_model=args.drop_model)
+                         start_state=args.start_state, drop_model=args.drop_model, pdf=args.pdf)
     for name, verdict in summary.validation_verdicts.items():
         print(f"{verdict:12s}  {name}")
     if summary.quick:
@@ -80,5 +80,7 @@ def register(commands) -> None:
                         help="drop model of the drop validations: the drop rig (bottom mass on the floor, from the "
                              "statically loaded rest state), the conditioned free fall of the study, or auto (the rig "
                              "when the drops give bottom mass and height; default)")
+    parser.add_argument("--pdf", action="store_true",
+                        help="also write report.pdf (text, figures with captions; tables stay CSV files)")
     parser.add_argument("--quiet", action="store_true", help="no progress lines")
     parser.set_defaults(handler=_cmd_report)

@@ -75,6 +75,8 @@ class HtmlReport:
     tables_dir: Path | None = None
     figure_seconds: float = 0.0
     figure_files: list = field(default_factory=list)
+    keep_figures: bool = False
+    kept_figures: list = field(default_factory=list)
     table_files: list = field(default_factory=list)
     _sections: list[tuple[str, str, list[str], bool]] = field(default_factory=list)
 
@@ -152,6 +154,8 @@ class HtmlReport:
         encoded = base64.b64encode(png).decode("ascii")
         self._add(f'<figure id="figure-{html.escape(file_stem(name))}"><img alt="{html.escape(alt or caption)}" '
                   f'src="data:image/png;base64,{encoded}"><figcaption>{html.escape(caption)}</figcaption></figure>')
+        if self.keep_figures:  # for the PDF export (idkit.report.pdf)
+            self.kept_figures.append((figure, caption))
         self.figure_seconds += time.perf_counter() - started
 
     @property

@@ -282,7 +282,7 @@ def _write_models(data: ReportData, models_dir: Path) -> None:
                                "masses_from": data.hybrid_masses_from, "idkit_version": __version__})
 
 
-def write_report(data: ReportData, folder) -> ReportSummary:
+def write_report(data: ReportData, folder, *, pdf: bool = False) -> ReportSummary:
     """Render ``data`` into an existing, empty ``folder`` (module docstring); returns what was written.
 
     The page's timings table lists every stage's duration; the writing itself is still
@@ -297,7 +297,8 @@ def write_report(data: ReportData, folder) -> ReportSummary:
     _write_models(data, models_dir)
     write_transport_files(data.transport, folder, tables_dir=tables_dir, figures=False)
 
-    report = HtmlReport(f"idkit report: {data.data_dir}", figures_dir=figures_dir, tables_dir=tables_dir)
+    report = HtmlReport(f"idkit report: {data.data_dir}", figures_dir=figures_dir, tables_dir=tables_dir,
+                        keep_figures=pdf)
     _summary_section(report, data)
     report.section("Data", "data")
     for isolator, inspection in data.inspections.items():
@@ -321,6 +322,10 @@ def write_report(data: ReportData, folder) -> ReportSummary:
     _provenance_section(report, data, so_far, hashes)
     html_path = folder / "report.html"
     write_text_atomic(html_path, report.render())
+    if pdf:
+        from idkit.report.pdf import write_pdf
+
+        write_pdf(report, folder / "report.pdf")
     timings = {**data.timings_s, FIGURES: round(report.figure_seconds, 3),
                WRITING: round(time.perf_counter() - started, 3)}
     provenance = {
@@ -339,7 +344,7 @@ def write_report(data: ReportData, folder) -> ReportSummary:
 
 def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, quick: bool = False,
                seed: int = 2026, workers=None, progress=None, start_state: str = "auto",
-               drop_model: str = "auto") -> ReportSummary:
+               drop_model: str = "auto", pdf: bool = False) -> ReportSummary:
     """Inspect, fit, validate, study (:func:`~idkit.studies.pipeline.compute_report_data`) and write the report.
 
     Parameters
@@ -364,6 +369,8 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
         the model files' provenance with the state each record was scored from.
     drop_model : {"auto", "rig", "conditioned"}
         Drop model of the drop validations (:func:`idkit.validate.validate_drops`).
+    pdf : bool
+        Also write ``report.pdf`` (:mod:`idkit.report.pdf`).
 
     Returns
     -------
@@ -374,7 +381,7 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
         data = compute_report_data(data_dir, quick=quick, seed=seed, workers=workers, progress=say,
                                    start_state=start_state, drop_model=drop_model)
         say(WRITING)
-        summary = write_report(data, folder)
+        summary = write_report(data, folder, pdf=pdf)
     out_dir = Path(out_dir)
     return ReportSummary(out_dir=out_dir, html=out_dir / "report.html", sections=summary.sections,
                          validation_passed=summary.validation_passed, timings_s=summary.timings_s,
