@@ -23,12 +23,14 @@ import pandas as pd
 from idkit import __version__
 from idkit.atomic import atomic_output_folder, write_text_atomic
 from idkit.models import save_model
+from idkit.plot.equivalent import plot_equivalent_linearization
 from idkit.plot.fits import plot_frf_fit, plot_loop_fit, plot_storage_loss
 from idkit.plot.studies import curve_ends, plot_transport_psd, plot_transport_rest_shock
 from idkit.plot.validation import plot_drop_validation, plot_frf_validation, plot_harmonic_validation
 from idkit.report.conclusions import fit_sentence, parameters_sentence, transport_conclusions, validation_sentence
 from idkit.report.html import HtmlReport, file_stem
 from idkit.report.study_files import write_transport_files
+from idkit.studies.equivalent import equivalent_linearization
 from idkit.studies.pipeline import QUICK_NOTE, ReportData, ValidationEntry, compute_report_data
 
 __all__ = ["QUICK_NOTE", "REPORT_SECTIONS", "ReportSummary", "run_report", "write_report"]
@@ -216,6 +218,16 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
     report.figure(plot_loop_fit(data.iwan_loops, label="Iwan")[0].figure, name="wire rope iwan loops",
                   caption="Grey measured, dashed Iwan model: look at the loop tips and the width of the small loops.",
                   alt="measured and fitted force-deflection loops (Iwan), small and large")
+    linear = equivalent_linearization(
+        [m for m in data.sets["wire_rope"].measurements if m.kind == "quasi_static"], data.iwan.model)
+    report.figure(plot_equivalent_linearization(linear, label="Iwan")[0].figure,
+                  name="wire rope equivalent stiffness and loss factor",
+                  caption="Secant stiffness and loss factor of every measured cycle (fit and validation records) "
+                          "against the Iwan model on the same deflection history: look at the small amplitudes, "
+                          "where the stiffness rises and the loss factor falls.",
+                  alt="equivalent stiffness and loss factor versus cycle amplitude, measured and Iwan model")
+    report.table(linear.to_dataframe(), name="wire rope equivalent linearization",
+                 caption="per cycle: amplitude, secant stiffness and loss factor, measured and model")
     report.preformatted(data.boucwen.report())
     report.figure(plot_loop_fit(data.boucwen_loops, label="Bouc-Wen")[0].figure, name="wire rope bouc-wen loops",
                   caption="Grey measured, dashed Bouc-Wen model: compare the loop tips with the Iwan figure above.",

@@ -1,0 +1,114 @@
+"""Equivalent linear stiffness and loss factor of hysteresis loops versus amplitude, measured and model.
+
+Definitions (per cycle of a quasi-static record, :func:`idkit.observe.quasi_static.cycle_statistics`):
+
+* amplitude ``X`` = half the cycle's deflection range (m);
+* secant stiffness ``k_eq = (F_max - F_min) / (x_max - x_min)`` (N/m);
+* loss factor ``eta_eq = W / (pi k_eq X^2)`` with ``W`` the energy the loop encloses (J):
+  the loss factor of the linear viscoelastic element that dissipates the same energy per
+  cycle at the same peak force (equivalent viscous damping ratio ``zeta_eq = eta_eq / 2``).
+
+For one Jenkin element (spring ``k``, slip force ``fc``) cycled at ``X > fc / k``:
+``k_eq = fc / X`` and ``eta_eq = 4 (X - fc / k) / (pi X)`` (a parallelogram loop); for a linear
+spring ``k`` with a dashpot ``c`` at frequency ``w``: ``k_eq = sqrt(k^2 + (c w)^2)`` and
+``eta_eq = c w / k_eq`` (an ellipse). The model's values come from its force on the measured
+deflection history of every record, through the same cycles: measured and model points are
+paired cycle by cycle.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from idkit.io import QuasiStaticMeasurement
+from idkit.observe.quasi_static import cycle_statistics, process_quasi_static
+
+__all__ = ["EquivalentLinearization", "equivalent_linearization", "loss_factor_of_cycles"]
+
+
+def loss_factor_of_cycles(energy_j, secant_stiffness_n_per_m, amplitude_m) -> np.ndarray:
+    """``eta_eq = W / (pi k_eq X^2)`` (dimensionless; NaN where ``k_eq X^2`` is 0).
+
+    Examples
+    --------
+    >>> round(float(loss_factor_of_cycles(4 * 10.0 * (2e-3 - 1e-3), 10.0 / 2e-3, 2e-3)), 6)  # Jenkin
+    0.63662
+    """
+    energy = np.asarray(energy_j, dtype=float)
+    stiffness = np.asarray(secant_stiffness_n_per_m, dtype=float)
+    amplitude = np.asarray(amplitude_m, dtype=float)
+    denominator = np.pi * stiffness * amplitude ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(denominator > 0, energy / denominator, np.nan)
+
+
+@dataclass(frozen=True)
+class EquivalentLinearization:
+    """Per-cycle equivalent stiffness and loss factor, measured and model (module docstring).
+
+    Attributes
+    ----------
+    record : tuple of str
+        Measurement id of each cycle.
+    amplitude_m : numpy.ndarray
+    secant_stiffness_n_per_m, loss_factor : numpy.ndarray
+        Measured.
+    model_secant_stiffness_n_per_m, model_loss_factor : numpy.ndarray
+        The model on the same deflection history and cycles.
+    """
+
+    record: tuple[str, ...]
+    amplitude_m: np.ndarray
+    secant_stiffness_n_per_m: np.ndarray
+    loss_factor: np.ndarray
+    model_secant_stiffness_n_per_m: np.ndarray
+    model_loss_factor: np.ndarray
+
+    def to_dataframe(self):
+        import pandas as pd
+
+        return pd.DataFrame({"record": list(self.record), "amplitude [m]": self.amplitude_m,
+                             "secant stiffness measured [N/m]": self.secant_stiffness_n_per_m,
+                             "secant stiffness model [N/m]": self.model_secant_stiffness_n_per_m,
+                             "loss factor measured [-]": self.loss_factor,
+                             "loss factor model [-]": self.model_loss_factor})
+
+
+def equivalent_linearization(measurements, model) -> EquivalentLinearization:
+    """Equivalent stiffness and loss factor of every cycle of quasi-static records and of ``model``.
+
+    Parameters
+    ----------
+    measurements : sequence of QuasiStaticMeasurement
+    model : IsolatorModel
+        Its ``force(deflection, time)`` on each record's deflection (elements start unloaded
+        at the record's first sample, as a record that starts unloaded does).
+
+    Returns
+    -------
+    EquivalentLinearization
+    """
+    columns = {name: [] for name in ("record", "amplitude", "k", "eta", "k_model", "eta_model")}
+    for measurement in measurements:
+        cycles = process_quasi_static(measurement)
+        measured = cycle_statistics(measurement, result=cycles)
+        simulated = QuasiStaticMeasurement(time=measurement.time, deflection=measurement.deflection,
+                                           force=model.force(measurement.deflection, measurement.time))
+        predicted = cycle_statistics(simulated, result=cycles)
+        columns["record"] += [measurement.id] * measured.amplitude.size
+        columns["amplitude"].append(measured.amplitude)
+        columns["k"].append(measured.secant_stiffness)
+        columns["eta"].append(loss_factor_of_cycles(measured.dissipated_energy, measured.secant_stiffness,
+                                                    measured.amplitude))
+        columns["k_model"].append(predicted.secant_stiffness)
+        columns["eta_model"].append(loss_factor_of_cycles(predicted.dissipated_energy, predicted.secant_stiffness,
+                                                          predicted.amplitude))
+    joined = {key: np.concatenate(value) if value else np.empty(0)
+              for key, value in columns.items() if key != "record"}
+    order = np.argsort(joined["amplitude"], kind="stable")
+    return EquivalentLinearization(
+        record=tuple(columns["record"][i] for i in order), amplitude_m=joined["amplitude"][order],
+        secant_stiffness_n_per_m=joined["k"][order], loss_factor=joined["eta"][order],
+        model_secant_stiffness_n_per_m=joined["k_model"][order], model_loss_factor=joined["eta_model"][order])

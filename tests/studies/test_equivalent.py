@@ -1,0 +1,61 @@
+"""Equivalent stiffness and loss factor per cycle: closed forms of a Jenkin element and a
+Kelvin element, and the model paired with the measurement cycle by cycle."""
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from idkit.io import QuasiStaticMeasurement
+from idkit.models import GeneralizedMaxwell, IwanModel
+from idkit.plot.equivalent import plot_equivalent_linearization
+from idkit.studies.equivalent import equivalent_linearization
+
+
+def _record(amplitudes_m, period_s=10.0, samples_per_cycle=4000):
+    """Cycles at growing amplitude from an unloaded start (the SPEC 3 protocol)."""
+    pieces = [a * np.sin(2 * np.pi * np.arange(3 * samples_per_cycle) / samples_per_cycle) for a in amplitudes_m]
+    x = np.concatenate(pieces)
+    t = np.arange(x.size) * period_s / samples_per_cycle
+    return t, x
+
+
+def test_one_jenkin_element_gives_its_closed_form():
+    # spring 1e5 N/m, slip 20 N (slips at 0.2 mm); parallel spring 0: a parallelogram loop
+    k, fc = 1e5, 20.0
+    jenkin = IwanModel(g1=0.0, g2=0.0, g3=0.0, k=[k], fc=[fc])
+    t, x = _record([1e-3, 2e-3, 4e-3])
+    measurement = QuasiStaticMeasurement(time=t, deflection=x, force=jenkin.force(x))
+    result = equivalent_linearization([measurement], jenkin)
+    # cycles wholly at one amplitude (the cycle that steps up to the next amplitude is not closed)
+    steady = np.isclose(result.amplitude_m[:, None], [1e-3, 2e-3, 4e-3], rtol=1e-6).any(axis=1)
+    assert steady.sum() >= 5
+    X = result.amplitude_m[steady]
+    # 4000 samples a cycle: the sampled extremes and the trapezoid area are exact to ~(2 pi/4000)^2 = 2.5e-6
+    np.testing.assert_allclose(result.secant_stiffness_n_per_m[steady], fc / X, rtol=1e-4)
+    np.testing.assert_allclose(result.loss_factor[steady], 4 * (X - fc / k) / (np.pi * X), rtol=1e-4)
+    # the model is the generating law: paired cycle by cycle, identical
+    np.testing.assert_allclose(result.model_loss_factor, result.loss_factor, rtol=1e-12)
+
+
+@pytest.mark.parametrize("period_s", [2.0, 10.0])
+def test_kelvin_element_gives_its_ellipse(period_s):
+    k, c = 2e4, 300.0
+    kelvin = GeneralizedMaxwell(k0=k, k=[1e9], rate=[1e9 / c])  # a dashpot c in parallel, to 1e-5
+    t, x = _record([3e-3], period_s=period_s)
+    measurement = QuasiStaticMeasurement(time=t, deflection=x, force=k * x + c * np.gradient(x, t))
+    result = equivalent_linearization([measurement], kelvin)
+    w = 2 * np.pi / period_s
+    steady = slice(1, None)  # the first cycle starts at rest
+    np.testing.assert_allclose(result.secant_stiffness_n_per_m[steady], np.hypot(k, c * w), rtol=1e-3)
+    np.testing.assert_allclose(result.loss_factor[steady], c * w / np.hypot(k, c * w), rtol=1e-3)
+    np.testing.assert_allclose(result.model_loss_factor[steady], result.loss_factor[steady], rtol=1e-3)
+
+
+def test_plot_labels_both_panels():
+    jenkin = IwanModel(g1=1e3, g2=0.0, g3=0.0, k=[1e5], fc=[20.0])
+    t, x = _record([1e-3, 2e-3])
+    result = equivalent_linearization([QuasiStaticMeasurement(time=t, deflection=x, force=jenkin.force(x))],
+                                      jenkin)
+    stiffness_ax, loss_ax = plot_equivalent_linearization(result, axes=Figure().subplots(2, 1))
+    assert "[N/m]" in stiffness_ax.get_ylabel() and "[-]" in loss_ax.get_ylabel()
+    assert "[mm]" in loss_ax.get_xlabel() and len(stiffness_ax.lines) == 2
