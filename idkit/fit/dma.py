@@ -26,6 +26,7 @@ import pandas as pd
 
 from idkit.errors import FitError
 from idkit.fit.maxwell import fit_complex_stiffness
+from idkit.fit.measurements import _jsonable
 from idkit.fit.result import MaxwellFitResult
 from idkit.models import GeneralizedMaxwell
 from idkit.io.complex_stiffness import ComplexStiffnessTable, ShiftFactorTable
@@ -320,21 +321,6 @@ class DmaFit:
         from idkit.models import save_model
 
         return save_model(self.model, path, provenance=self.provenance_dict(), overwrite=overwrite)
-
-
-def _jsonable(value):
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, (np.floating, float)):
-        number = float(value)
-        return number if math.isfinite(number) else str(number)
-    if isinstance(value, (np.integer, np.bool_)):
-        return value.item()
-    if isinstance(value, np.ndarray):
-        return _jsonable(value.tolist())
-    return value
 
 
 def fit_dma_table(table: ComplexStiffnessTable, *, order: int | str = "auto",

@@ -267,8 +267,8 @@ def _jsonable(value):
     if isinstance(value, (np.floating, float)):
         number = float(value)
         return number if math.isfinite(number) else str(number)
-    if isinstance(value, np.integer):
-        return int(value)
+    if isinstance(value, (np.integer, np.bool_)):
+        return value.item()
     if isinstance(value, np.ndarray):
         return _jsonable(value.tolist())
     return value
