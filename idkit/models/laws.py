@@ -330,3 +330,39 @@ def boucwen_z_history(deflection, alpha, beta, gamma, exponent, initial_z, n_sub
         )
         z_history[i] = z
     return z_history
+
+
+def stiffness_from_transmissibility(transmissibility, moving_mass, omega):
+    """Complex stiffness ``k* = m omega^2 H / (H - 1)`` that gives the transmissibility ``H``.
+
+    The inverse of :func:`sdof_transmissibility` (``H = k* / (k* - m omega^2)``): a measured
+    FRF of a mass on an isolator read as the isolator's complex stiffness. Ill-conditioned
+    where ``H`` is close to 1 (far below the resonance the top follows the base and the
+    isolator is barely deformed): a relative error ``e`` of ``H`` becomes ``e |H| / |H - 1|``
+    in ``k*``; callers keep the frequencies where ``|H - 1|`` is large enough.
+
+    Parameters
+    ----------
+    transmissibility : complex or ndarray
+        Top over base motion (dimensionless).
+    moving_mass : float or ndarray
+        Top mass plus the isolator's ``m_eff``, kg.
+    omega : float or ndarray
+        Angular frequency in rad/s.
+
+    Returns
+    -------
+    complex or ndarray
+        ``k*`` in N/m (NaN where ``H == 1``).
+
+    Examples
+    --------
+    >>> k = 1.2e4 + 1.5e3j
+    >>> h = sdof_transmissibility(k, 2.0, 2 * np.pi * 20.0)
+    >>> complex(np.round(stiffness_from_transmissibility(h, 2.0, 2 * np.pi * 20.0), 6))
+    (12000+1500j)
+    """
+    h = np.asarray(transmissibility, dtype=complex)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        value = np.asarray(moving_mass) * np.asarray(omega) ** 2 * h / (h - 1.0)
+    return np.where(h == 1.0, np.nan + 0j, value)

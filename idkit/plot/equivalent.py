@@ -6,7 +6,7 @@ import numpy as np
 
 from idkit.plot._figure import axes_or_new
 
-__all__ = ["plot_equivalent_linearization"]
+__all__ = ["plot_complex_stiffness_comparison", "plot_equivalent_linearization"]
 
 
 def plot_equivalent_linearization(result, *, axes=None, label: str = "model"):
@@ -33,4 +33,39 @@ def plot_equivalent_linearization(result, *, axes=None, label: str = "model"):
     stiffness_ax.set_yscale("log")
     loss_ax.set_xlabel("cycle amplitude X [mm]")
     stiffness_ax.legend(fontsize="small")
+    return stiffness_ax, loss_ax
+
+
+def plot_complex_stiffness_comparison(result, *, axes=None, max_curves: int = 6):
+    """Measured |k*| and loss factor per top mass (thin) and the model's (dashed); returns both Axes.
+
+    Parameters
+    ----------
+    result : ComplexStiffnessComparison
+        From :func:`idkit.studies.equivalent.complex_stiffness_comparison`.
+    axes : pair of Axes, optional
+    max_curves : int
+        Most top masses drawn (evenly picked when there are more).
+    """
+    stiffness_ax, loss_ax = axes_or_new(axes, 2, sharex=True)
+    picks = np.unique(np.linspace(0, len(result.mass_kg) - 1, min(max_curves, len(result.mass_kg))).round().astype(int))
+    for colour, i in enumerate(picks):
+        freq, measured, model = result.freq_hz[i], result.measured[i], result.model[i]
+        label = f"{result.mass_kg[i]:.2f} kg"
+        stiffness_ax.loglog(freq, np.abs(measured), lw=0.8, color=f"C{colour}", label=label)
+        loss_ax.semilogx(freq, measured.imag / measured.real, lw=0.8, color=f"C{colour}")
+    freq = result.freq_hz[picks[0]]
+    model = result.model[picks[0]]
+    stiffness_ax.loglog(freq, np.abs(model), "k--", lw=1.4, label="model")
+    loss_ax.semilogx(freq, model.imag / model.real, "k--", lw=1.4)
+    finite = np.concatenate([np.abs(m)[np.isfinite(m)] for m in (result.measured[i] for i in picks)] + [np.abs(model)])
+    stiffness_ax.set_ylim(0.5 * finite.min(), 2.0 * finite.max())
+    eta = np.abs(model.imag / model.real)
+    loss_ax.set_ylim(-0.5 * eta.max(), 3.0 * eta.max())
+    stiffness_ax.set_ylabel("|k*| [N/m]")
+    loss_ax.set_ylabel("loss factor [-]")
+    loss_ax.set_xlabel("frequency [Hz]")
+    stiffness_ax.legend(fontsize="x-small", ncol=2, title="measured per top mass", title_fontsize="x-small")
+    for ax in (stiffness_ax, loss_ax):
+        ax.grid(True, which="both", alpha=0.3)
     return stiffness_ax, loss_ax

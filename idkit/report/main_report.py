@@ -23,14 +23,14 @@ import pandas as pd
 from idkit import __version__
 from idkit.atomic import atomic_output_folder, write_text_atomic
 from idkit.models import save_model
-from idkit.plot.equivalent import plot_equivalent_linearization
+from idkit.plot.equivalent import plot_complex_stiffness_comparison, plot_equivalent_linearization
 from idkit.plot.fits import plot_frf_fit, plot_loop_fit, plot_storage_loss
 from idkit.plot.studies import curve_ends, plot_transport_psd, plot_transport_rest_shock
 from idkit.plot.validation import plot_drop_validation, plot_frf_validation, plot_harmonic_validation
 from idkit.report.conclusions import fit_sentence, parameters_sentence, transport_conclusions, validation_sentence
 from idkit.report.html import HtmlReport, file_stem
 from idkit.report.study_files import write_transport_files
-from idkit.studies.equivalent import equivalent_linearization
+from idkit.studies.equivalent import complex_stiffness_comparison, equivalent_linearization
 from idkit.studies.pipeline import QUICK_NOTE, ReportData, ValidationEntry, compute_report_data
 
 __all__ = ["QUICK_NOTE", "REPORT_SECTIONS", "ReportSummary", "run_report", "write_report"]
@@ -247,6 +247,12 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
                   caption="Storage and loss stiffness and loss factor of the identified model over 0.1-1000 Hz: look "
                           "at how fast the stiffness rises with frequency.",
                   alt="complex stiffness and loss factor of the identified elastomer model")
+    measured = complex_stiffness_comparison(list(data.maxwell.data), data.maxwell.model)
+    report.figure(plot_complex_stiffness_comparison(measured)[0].figure, name="elastomer measured complex stiffness",
+                  caption="Complex stiffness read off each top mass's measured H1 (k* = M w^2 H / (H - 1), M the top "
+                          "mass plus m_eff; left out where |H - 1| < 0.2) against the model (dashed): the measured "
+                          "curves should overlap one another and the model between the resonances.",
+                  alt="measured complex stiffness magnitude and loss factor per top mass against the Maxwell model")
 
 
 def _transport_section(report: HtmlReport, data: ReportData) -> None:

@@ -25,7 +25,8 @@ import numpy as np
 from idkit.io import QuasiStaticMeasurement
 from idkit.observe.quasi_static import cycle_statistics, process_quasi_static
 
-__all__ = ["EquivalentLinearization", "equivalent_linearization", "loss_factor_of_cycles"]
+__all__ = ["ComplexStiffnessComparison", "EquivalentLinearization", "MIN_DISTANCE_FROM_ONE",
+           "complex_stiffness_comparison", "equivalent_linearization", "loss_factor_of_cycles"]
 
 
 def loss_factor_of_cycles(energy_j, secant_stiffness_n_per_m, amplitude_m) -> np.ndarray:
@@ -112,3 +113,58 @@ def equivalent_linearization(measurements, model) -> EquivalentLinearization:
         record=tuple(columns["record"][i] for i in order), amplitude_m=joined["amplitude"][order],
         secant_stiffness_n_per_m=joined["k"][order], loss_factor=joined["eta"][order],
         model_secant_stiffness_n_per_m=joined["k_model"][order], model_loss_factor=joined["eta_model"][order])
+
+
+#: Frequencies where the measured transmissibility is within this distance of 1 are left out
+#: of the measured complex stiffness: a relative error e of H becomes e |H| / |H - 1| in k*
+#: (at most 5 e |H| here).
+MIN_DISTANCE_FROM_ONE = 0.2
+
+
+@dataclass(frozen=True)
+class ComplexStiffnessComparison:
+    """The elastomer's complex stiffness read off each measured FRF, beside the model's.
+
+    Attributes
+    ----------
+    mass_kg : tuple of float
+        Top mass of each FRF (one FRF per top mass: the first repetition).
+    freq_hz : tuple of numpy.ndarray
+    measured : tuple of numpy.ndarray
+        ``k* = M w^2 H / (H - 1)`` with ``M`` the top mass plus the model's ``m_eff`` (N/m),
+        NaN where ``|H - 1| <`` :data:`MIN_DISTANCE_FROM_ONE`.
+    model : tuple of numpy.ndarray
+        The model's ``k*`` at the same frequencies (N/m).
+    """
+
+    mass_kg: tuple
+    freq_hz: tuple
+    measured: tuple
+    model: tuple
+
+
+def complex_stiffness_comparison(frfs, model) -> ComplexStiffnessComparison:
+    """Measured complex stiffness of every top mass (first repetition each) and the model's.
+
+    Parameters
+    ----------
+    frfs : sequence of TransmissibilitySet
+    model : GeneralizedMaxwell or VoigtModel
+        Supplies ``m_eff`` for the moving mass and ``complex_stiffness``.
+    """
+    from idkit.models.laws import stiffness_from_transmissibility
+
+    first = {}
+    for frf in frfs:
+        first.setdefault(float(frf.mass), frf)
+    masses, freqs, measured, predicted = [], [], [], []
+    for mass, frf in sorted(first.items()):
+        omega = 2 * np.pi * np.asarray(frf.freq)
+        h = np.asarray(frf.transmissibility)
+        k = stiffness_from_transmissibility(h, mass + model.m_eff, omega)
+        k = np.where(np.abs(h - 1.0) >= MIN_DISTANCE_FROM_ONE, k, np.nan + 0j)
+        masses.append(mass)
+        freqs.append(np.asarray(frf.freq))
+        measured.append(k)
+        predicted.append(model.complex_stiffness(frf.freq))
+    return ComplexStiffnessComparison(tuple(masses), tuple(freqs), tuple(measured), tuple(predicted))

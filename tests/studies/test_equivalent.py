@@ -59,3 +59,25 @@ def test_plot_labels_both_panels():
     stiffness_ax, loss_ax = plot_equivalent_linearization(result, axes=Figure().subplots(2, 1))
     assert "[N/m]" in stiffness_ax.get_ylabel() and "[-]" in loss_ax.get_ylabel()
     assert "[mm]" in loss_ax.get_xlabel() and len(stiffness_ax.lines) == 2
+
+
+def test_complex_stiffness_read_off_a_transmissibility_is_the_law():
+    from idkit.models.laws import sdof_transmissibility
+    from idkit.observe.white_noise import TransmissibilitySet
+    from idkit.plot.equivalent import plot_complex_stiffness_comparison
+    from idkit.studies.equivalent import MIN_DISTANCE_FROM_ONE, complex_stiffness_comparison
+
+    law = GeneralizedMaxwell(k0=1.4e4, k=[3.5e3, 1.1e4], rate=[47.0, 840.0], m_eff=0.05)
+    freq = np.linspace(1.0, 100.0, 397)
+    frfs = [TransmissibilitySet(mass=m, freq=freq, transmissibility=sdof_transmissibility(
+        law.complex_stiffness(freq), m + law.m_eff, 2 * np.pi * freq)) for m in (1.0, 2.5, 1.0)]
+    result = complex_stiffness_comparison(frfs, law)
+    assert result.mass_kg == (1.0, 2.5)  # one FRF per top mass
+    for freq_hz, measured, model, mass in zip(result.freq_hz, result.measured, result.model, result.mass_kg):
+        h = sdof_transmissibility(model, mass + law.m_eff, 2 * np.pi * freq_hz)
+        kept = np.abs(h - 1) >= MIN_DISTANCE_FROM_ONE
+        assert kept.sum() > 300 and np.all(np.isnan(measured[~kept]))
+        # the exact inverse: round-off only (|H - 1| >= 0.2 bounds the amplification by 5 |H|)
+        np.testing.assert_allclose(measured[kept], model[kept], rtol=1e-10)
+    stiffness_ax, loss_ax = plot_complex_stiffness_comparison(result, axes=Figure().subplots(2, 1))
+    assert len(stiffness_ax.lines) == 3 and "[N/m]" in stiffness_ax.get_ylabel()
