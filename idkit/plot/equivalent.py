@@ -6,7 +6,7 @@ import numpy as np
 
 from idkit.plot._figure import axes_or_new
 
-__all__ = ["plot_complex_stiffness_comparison", "plot_equivalent_linearization"]
+__all__ = ["plot_complex_stiffness_comparison", "plot_drop_shock_spectra", "plot_equivalent_linearization"]
 
 
 def plot_equivalent_linearization(result, *, axes=None, label: str = "model"):
@@ -69,3 +69,18 @@ def plot_complex_stiffness_comparison(result, *, axes=None, max_curves: int = 6)
     for ax in (stiffness_ax, loss_ax):
         ax.grid(True, which="both", alpha=0.3)
     return stiffness_ax, loss_ax
+
+
+def plot_drop_shock_spectra(result, *, ax=None, max_curves: int = 6):
+    """Absolute-acceleration SRS of measured drops, one curve per height (at most ``max_curves``)."""
+    ax = axes_or_new(ax)
+    picks = np.unique(np.linspace(0, len(result.height_m) - 1, min(max_curves, len(result.height_m))).round().astype(int))
+    for i in picks:
+        ax.loglog(result.freq_hz, result.acceleration[i], label=f"h = {100 * result.height_m[i]:.3g} cm")
+    ax.set_xlabel("natural frequency [Hz]")
+    ax.set_ylabel("maximax absolute acceleration [m/s$^2$]")
+    ax.set_title(f"{result.isolator}, top mass {result.top_mass_kg:.2f} kg, damping {result.damping_ratio:g}",
+                 fontsize="small")
+    ax.legend(fontsize="x-small")
+    ax.grid(True, which="both", alpha=0.3)
+    return ax

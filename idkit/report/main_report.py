@@ -23,14 +23,18 @@ import pandas as pd
 from idkit import __version__
 from idkit.atomic import atomic_output_folder, write_text_atomic
 from idkit.models import save_model
-from idkit.plot.equivalent import plot_complex_stiffness_comparison, plot_equivalent_linearization
+from idkit.plot.equivalent import (
+    plot_complex_stiffness_comparison,
+    plot_drop_shock_spectra,
+    plot_equivalent_linearization,
+)
 from idkit.plot.fits import plot_frf_fit, plot_loop_fit, plot_storage_loss
 from idkit.plot.studies import curve_ends, plot_transport_psd, plot_transport_rest_shock
 from idkit.plot.validation import plot_drop_validation, plot_frf_validation, plot_harmonic_validation
 from idkit.report.conclusions import fit_sentence, parameters_sentence, transport_conclusions, validation_sentence
 from idkit.report.html import HtmlReport, file_stem
 from idkit.report.study_files import write_transport_files
-from idkit.studies.equivalent import complex_stiffness_comparison, equivalent_linearization
+from idkit.studies.equivalent import complex_stiffness_comparison, drop_shock_spectra, equivalent_linearization
 from idkit.studies.pipeline import QUICK_NOTE, ReportData, ValidationEntry, compute_report_data
 
 __all__ = ["QUICK_NOTE", "REPORT_SECTIONS", "ReportSummary", "run_report", "write_report"]
@@ -332,6 +336,14 @@ def write_report(data: ReportData, folder, *, pdf: bool = False) -> ReportSummar
             _validation_section(report, entry, data.quick)
         if isolator == "wire rope" and data.drop_models is not None:
             _drop_model_section(report, data)
+        spectra = drop_shock_spectra(list(data.sets[isolator.replace(" ", "_")].measurements))
+        if spectra is not None:
+            report.figure(plot_drop_shock_spectra(spectra).figure, name=f"{isolator} measured drop srs",
+                          caption=f"Shock response spectrum of the measured top acceleration ({isolator}, "
+                                  f"{spectra.top_mass_kg:.2f} kg, every drop height, 5 % damping): what a "
+                                  "component of that natural frequency on the payload would see; look at how the "
+                                  "peak moves with the drop height.",
+                          alt=f"absolute-acceleration shock response spectra of the measured {isolator} drops")
     _transport_section(report, data)
 
     hashes = {isolator: s.hashes() for isolator, s in data.sets.items()}

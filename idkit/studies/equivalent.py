@@ -25,8 +25,8 @@ import numpy as np
 from idkit.io import QuasiStaticMeasurement
 from idkit.observe.quasi_static import cycle_statistics, process_quasi_static
 
-__all__ = ["ComplexStiffnessComparison", "EquivalentLinearization", "MIN_DISTANCE_FROM_ONE",
-           "complex_stiffness_comparison", "equivalent_linearization", "loss_factor_of_cycles"]
+__all__ = ["ComplexStiffnessComparison", "DropShockSpectra", "EquivalentLinearization", "MIN_DISTANCE_FROM_ONE",
+           "complex_stiffness_comparison", "drop_shock_spectra", "equivalent_linearization", "loss_factor_of_cycles"]
 
 
 def loss_factor_of_cycles(energy_j, secant_stiffness_n_per_m, amplitude_m) -> np.ndarray:
@@ -168,3 +168,67 @@ def complex_stiffness_comparison(frfs, model) -> ComplexStiffnessComparison:
         measured.append(k)
         predicted.append(model.complex_stiffness(frf.freq))
     return ComplexStiffnessComparison(tuple(masses), tuple(freqs), tuple(measured), tuple(predicted))
+
+
+@dataclass(frozen=True)
+class DropShockSpectra:
+    """Absolute-acceleration SRS of measured drops of one isolator and top mass, one per height.
+
+    Attributes
+    ----------
+    isolator : str
+    top_mass_kg : float
+    height_m : tuple of float
+        Drop height of each spectrum (the first repetition at each height).
+    freq_hz : numpy.ndarray
+        Natural frequencies of the SRS (Hz).
+    acceleration : tuple of numpy.ndarray
+        Maximax absolute acceleration of a 5 %-damped oscillator on the top mass (m/s^2),
+        from the mean of the two top accelerometers.
+    damping_ratio : float
+    """
+
+    isolator: str
+    top_mass_kg: float
+    height_m: tuple
+    freq_hz: np.ndarray
+    acceleration: tuple
+    damping_ratio: float
+
+
+def drop_shock_spectra(measurements, *, damping_ratio: float = 0.05, points: int = 60) -> DropShockSpectra | None:
+    """SRS of the measured top acceleration of every drop height, for the top mass with most heights.
+
+    The band runs from 1 Hz to the highest natural frequency the sampling resolves
+    (``fs /`` :data:`idkit.signal.srs.MIN_SAMPLES_PER_PERIOD`). Returns None when there are
+    no drop records.
+
+    Parameters
+    ----------
+    measurements : sequence of DropMeasurement
+        Drops of one isolator.
+    damping_ratio : float
+        Damping of the SRS oscillators (default 0.05, ISO 18431-4's usual value).
+    points : int
+        Logarithmically spaced natural frequencies.
+    """
+    from idkit.signal.srs import MIN_SAMPLES_PER_PERIOD, shock_spectra
+
+    drops = [m for m in measurements if m.kind == "drop"]
+    if not drops:
+        return None
+    by_mass = {}
+    for drop in drops:
+        by_mass.setdefault(round(float(drop.info.top_mass_kg), 6), {}).setdefault(float(drop.info.drop_height_m), drop)
+    mass, by_height = max(by_mass.items(), key=lambda item: (len(item[1]), item[0]))
+    heights = sorted(by_height)
+    fs = min(by_height[h].sample_rate_hz for h in heights)
+    freq = np.geomspace(1.0, fs / MIN_SAMPLES_PER_PERIOD, points)
+    spectra = []
+    for height in heights:
+        drop = by_height[height]
+        acceleration = 0.5 * (np.asarray(drop.a_top_1) + np.asarray(drop.a_top_2))
+        spectra.append(shock_spectra(acceleration, fs=drop.sample_rate_hz, freq=freq,
+                                     damping_ratio=damping_ratio).absolute_acceleration)
+    return DropShockSpectra(isolator=str(drops[0].info.isolator), top_mass_kg=mass, height_m=tuple(heights),
+                            freq_hz=freq, acceleration=tuple(spectra), damping_ratio=damping_ratio)

@@ -81,3 +81,32 @@ def test_complex_stiffness_read_off_a_transmissibility_is_the_law():
         np.testing.assert_allclose(measured[kept], model[kept], rtol=1e-10)
     stiffness_ax, loss_ax = plot_complex_stiffness_comparison(result, axes=Figure().subplots(2, 1))
     assert len(stiffness_ax.lines) == 3 and "[N/m]" in stiffness_ax.get_ylabel()
+
+
+def test_drop_shock_spectra_of_a_half_sine_pulse():
+    # a half-sine of peak A over tau: an oscillator far above 1/tau follows it (maximax ~ A);
+    # one far below sees an impulse dv = 2 A tau / pi and peaks at ~ w_n dv (5 % damping
+    # shaves a few percent off)
+    from idkit.io import DropMeasurement
+    from idkit.io.info import MeasurementInfo
+    from idkit.plot.equivalent import plot_drop_shock_spectra
+    from idkit.studies.equivalent import drop_shock_spectra
+
+    fs, tau, peak = 20000.0, 0.02, 300.0
+    t = np.arange(0, 2.0, 1 / fs)
+    drops = []
+    for height, scale in ((0.05, 0.5), (0.1, 1.0)):
+        a = np.where((t > 0.1) & (t < 0.1 + tau), scale * peak * np.sin(np.pi * (t - 0.1) / tau), 0.0)
+        for mass in (2.0, 4.0) if height == 0.1 else (4.0,):
+            info = MeasurementInfo(isolator="pad", top_mass_kg=mass, drop_height_m=height)
+            drops.append(DropMeasurement(time=t, deflection=np.zeros_like(t), a_top_1=a, a_top_2=a, info=info))
+    result = drop_shock_spectra(drops)
+    assert result.top_mass_kg == 4.0 and result.height_m == (0.05, 0.1)  # the mass with most heights
+    srs = result.acceleration[1]
+    assert peak <= srs[-1] <= 1.1 * peak  # 1000 Hz oscillator on a 25 Hz pulse
+    dv = 2 * peak * tau / np.pi
+    np.testing.assert_allclose(srs[0], 2 * np.pi * 1.0 * dv, rtol=0.1)
+    np.testing.assert_allclose(result.acceleration[0], 0.5 * srs, rtol=1e-9)  # linear in the record
+    ax = plot_drop_shock_spectra(result, ax=Figure().subplots())
+    assert len(ax.lines) == 2 and "[Hz]" in ax.get_xlabel()
+    assert drop_shock_spectra([]) is None
