@@ -6,7 +6,8 @@ import numpy as np
 
 from idkit.plot._figure import axes_or_new
 
-__all__ = ["plot_complex_stiffness_comparison", "plot_drop_shock_spectra", "plot_equivalent_linearization"]
+__all__ = ["plot_complex_stiffness_comparison", "plot_drop_shock_spectra", "plot_equivalent_linearization",
+           "plot_loop_residuals"]
 
 
 def plot_equivalent_linearization(result, *, axes=None, label: str = "model"):
@@ -84,3 +85,36 @@ def plot_drop_shock_spectra(result, *, ax=None, max_curves: int = 6):
     ax.legend(fontsize="x-small")
     ax.grid(True, which="both", alpha=0.3)
     return ax
+
+
+def plot_loop_residuals(prediction, *, axes=None, label: str = "model"):
+    """Force residual (model - measured) along the deflection of every loop set; returns both Axes.
+
+    Small sets left, large sets right, one curve per set (at most six a panel: evenly
+    picked when there are more); a model that fits leaves residuals at the noise level
+    without a pattern that follows the loop (a pattern at the reversals means the loop shape
+    is wrong there).
+
+    Parameters
+    ----------
+    prediction : LoopFitPrediction
+        From :func:`idkit.fit.predictions.predict_loops`.
+    axes : pair of Axes, optional
+    label : str
+        Model name for the y label.
+    """
+    small_ax, large_ax = axes_or_new(axes, 2)
+    for ax, sets, title in ((small_ax, prediction.small, "small loops"), (large_ax, prediction.large, "large loops")):
+        picks = np.unique(np.linspace(0, len(sets) - 1, min(6, len(sets))).round().astype(int)) if sets else []
+        for i in picks:
+            item = sets[i]
+            ax.plot(1e3 * np.asarray(item.deflection), np.asarray(item.model_force) - np.asarray(item.measured_force),
+                    lw=0.8, label=item.name)
+        ax.axhline(0.0, color="0.3", lw=0.8)
+        ax.set_title(title, fontsize="small")
+        ax.set_xlabel("deflection [mm] (+ tension)")
+        ax.grid(True, alpha=0.3)
+        if len(picks):
+            ax.legend(fontsize="x-small")
+    small_ax.set_ylabel(f"{label} - measured force [N]")
+    return small_ax, large_ax

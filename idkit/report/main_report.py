@@ -27,6 +27,7 @@ from idkit.plot.equivalent import (
     plot_complex_stiffness_comparison,
     plot_drop_shock_spectra,
     plot_equivalent_linearization,
+    plot_loop_residuals,
 )
 from idkit.plot.fits import plot_frf_fit, plot_loop_fit, plot_storage_loss
 from idkit.plot.studies import curve_ends, plot_transport_psd, plot_transport_rest_shock
@@ -222,6 +223,10 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
     report.figure(plot_loop_fit(data.iwan_loops, label="Iwan")[0].figure, name="wire rope iwan loops",
                   caption="Grey measured, dashed Iwan model: look at the loop tips and the width of the small loops.",
                   alt="measured and fitted force-deflection loops (Iwan), small and large")
+    report.figure(plot_loop_residuals(data.iwan_loops, label="Iwan")[0].figure, name="wire rope iwan residuals",
+                  caption="Iwan force minus measured force along every loop set: look for a pattern at the loop "
+                          "tips (the loop shape is wrong there) above the noise band.",
+                  alt="force residuals of the Iwan fit versus deflection, small and large loops")
     linear = equivalent_linearization(
         [m for m in data.sets["wire_rope"].measurements if m.kind == "quasi_static"], data.iwan.model)
     report.figure(plot_equivalent_linearization(linear, label="Iwan")[0].figure,

@@ -110,3 +110,18 @@ def test_drop_shock_spectra_of_a_half_sine_pulse():
     ax = plot_drop_shock_spectra(result, ax=Figure().subplots())
     assert len(ax.lines) == 2 and "[Hz]" in ax.get_xlabel()
     assert drop_shock_spectra([]) is None
+
+
+def test_loop_residual_plot_draws_model_minus_measured():
+    from idkit.fit.predictions import LoopFitPrediction, LoopPrediction
+    from idkit.plot.equivalent import plot_loop_residuals
+
+    x = np.linspace(-1e-3, 1e-3, 50)
+    small = tuple(LoopPrediction(f"s{i}", x, 100 * x, 100 * x + 0.5) for i in range(8))
+    large = (LoopPrediction("l1", 10 * x, 1e3 * x, 1e3 * x - 2.0),)
+    small_ax, large_ax = plot_loop_residuals(LoopFitPrediction(small=small, large=large),
+                                             axes=Figure().subplots(1, 2))
+    assert len(small_ax.lines) == 6 + 1  # at most six sets a panel, plus the zero line
+    np.testing.assert_allclose(small_ax.lines[0].get_ydata(), 0.5)
+    np.testing.assert_allclose(large_ax.lines[0].get_ydata(), -2.0)
+    assert "[N]" in small_ax.get_ylabel() and "[mm]" in large_ax.get_xlabel()
