@@ -7,7 +7,7 @@ import numpy as np
 from idkit.plot._figure import axes_or_new
 
 __all__ = ["plot_complex_stiffness_comparison", "plot_drop_shock_spectra", "plot_equivalent_linearization",
-           "plot_loop_residuals"]
+           "plot_frf_residuals", "plot_loop_residuals"]
 
 
 def plot_equivalent_linearization(result, *, axes=None, label: str = "model"):
@@ -118,3 +118,42 @@ def plot_loop_residuals(prediction, *, axes=None, label: str = "model"):
             ax.legend(fontsize="x-small")
     small_ax.set_ylabel(f"{label} - measured force [N]")
     return small_ax, large_ax
+
+
+def plot_frf_residuals(model, frfs, *, ax=None, band=(1.0, 100.0), max_curves: int = 6):
+    """Relative complex residual ``|H_model - H_meas| / |H_meas|`` of an FRF fit per top mass; returns the Axes.
+
+    One curve per top mass (its first repetition; at most ``max_curves``, evenly picked),
+    over ``band``: the quantity the Maxwell objective (7.5) averages, so a fit's error shows
+    where in frequency it comes from.
+
+    Parameters
+    ----------
+    model : GeneralizedMaxwell or VoigtModel
+    frfs : sequence of TransmissibilitySet
+    ax : Axes, optional
+    band : (float, float)
+        Frequency band in Hz.
+    """
+    from idkit.models.laws import sdof_transmissibility
+
+    ax = axes_or_new(ax)
+    first = {}
+    for frf in frfs:
+        first.setdefault(float(frf.mass), frf)
+    masses = sorted(first)
+    picks = np.unique(np.linspace(0, len(masses) - 1, min(max_curves, len(masses))).round().astype(int))
+    for i in picks:
+        frf = first[masses[i]]
+        freq = np.asarray(frf.freq)
+        inside = (freq >= band[0]) & (freq <= band[1])
+        measured = np.asarray(frf.transmissibility)[inside]
+        predicted = sdof_transmissibility(model.complex_stiffness(freq[inside]), masses[i] + model.m_eff,
+                                          2 * np.pi * freq[inside])
+        ax.semilogx(freq[inside], np.abs(predicted - measured) / np.abs(measured), lw=0.8,
+                    label=f"{masses[i]:.2f} kg")
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("|H_model - H_meas| / |H_meas| [-]")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize="x-small", ncol=2)
+    return ax

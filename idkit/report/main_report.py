@@ -27,6 +27,7 @@ from idkit.plot.equivalent import (
     plot_complex_stiffness_comparison,
     plot_drop_shock_spectra,
     plot_equivalent_linearization,
+    plot_frf_residuals,
     plot_loop_residuals,
 )
 from idkit.plot.fits import plot_frf_fit, plot_loop_fit, plot_storage_loss
@@ -256,6 +257,12 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
                   caption="Storage and loss stiffness and loss factor of the identified model over 0.1-1000 Hz: look "
                           "at how fast the stiffness rises with frequency.",
                   alt="complex stiffness and loss factor of the identified elastomer model")
+    report.figure(plot_frf_residuals(data.maxwell.model, list(data.maxwell.data)).figure,
+                  name="elastomer frf residuals",
+                  caption="Relative complex residual of the Maxwell fit per top mass (the quantity objective 7.5 "
+                          "averages): look at where in frequency the error comes from, and whether it is the same "
+                          "for every top mass.",
+                  alt="relative FRF residual of the Maxwell fit versus frequency per top mass")
     measured = complex_stiffness_comparison(list(data.maxwell.data), data.maxwell.model)
     report.figure(plot_complex_stiffness_comparison(measured)[0].figure, name="elastomer measured complex stiffness",
                   caption="Complex stiffness read off each top mass's measured H1 (k* = M w^2 H / (H - 1), M the top "

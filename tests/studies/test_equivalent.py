@@ -125,3 +125,18 @@ def test_loop_residual_plot_draws_model_minus_measured():
     np.testing.assert_allclose(small_ax.lines[0].get_ydata(), 0.5)
     np.testing.assert_allclose(large_ax.lines[0].get_ydata(), -2.0)
     assert "[N]" in small_ax.get_ylabel() and "[mm]" in large_ax.get_xlabel()
+
+
+def test_frf_residual_plot_is_zero_on_the_generating_law_and_sees_a_wrong_one():
+    from idkit.models.laws import sdof_transmissibility
+    from idkit.observe.white_noise import TransmissibilitySet
+    from idkit.plot.equivalent import plot_frf_residuals
+
+    law = GeneralizedMaxwell(k0=1.4e4, k=[3.5e3, 1.1e4], rate=[47.0, 840.0], m_eff=0.05)
+    freq = np.linspace(1.0, 100.0, 397)
+    frfs = [TransmissibilitySet(mass=m, freq=freq, transmissibility=sdof_transmissibility(
+        law.complex_stiffness(freq), m + law.m_eff, 2 * np.pi * freq)) for m in (1.0, 2.5)]
+    ax = plot_frf_residuals(law, frfs, ax=Figure().subplots())
+    assert len(ax.lines) == 2 and max(np.max(line.get_ydata()) for line in ax.lines) < 1e-12
+    wrong = plot_frf_residuals(law.scaled(2.0), frfs, ax=Figure().subplots())
+    assert min(np.max(line.get_ydata()) for line in wrong.lines) > 0.5  # stiffness x2 moves the resonance
