@@ -21,6 +21,7 @@ from idkit.plot.fits import (
     plot_error_landscape,
     plot_frf_fit,
     plot_loop_fit,
+    plot_parameter_spread,
     plot_storage_loss,
     save_fit_plots,
 )
@@ -36,22 +37,29 @@ from idkit.plot.responses import (
     plot_transmissibility,
 )
 from idkit.plot.validation import (
+    plot_drop_histories,
     plot_drop_validation,
     plot_frf_validation,
     plot_harmonic_validation,
+    plot_sweep_bode,
+    plot_sweep_maps,
 )
 
 __all__ = [
     "plot_bode",
     "plot_branch",
     "plot_complex_stiffness",
+    "plot_drop_histories",
     "plot_drop_validation",
     "plot_error_landscape",
     "plot_frf_fit",
     "plot_frf_validation",
     "plot_harmonic_cross_sections",
     "plot_harmonic_validation",
+    "plot_sweep_bode",
+    "plot_sweep_maps",
     "plot_loop_fit",
+    "plot_parameter_spread",
     "plot_loops",
     "plot_map_cross_sections",
     "plot_map_surface",

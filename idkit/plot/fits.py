@@ -26,6 +26,7 @@ __all__ = [
     "plot_error_landscape",
     "plot_frf_fit",
     "plot_loop_fit",
+    "plot_parameter_spread",
     "plot_storage_loss",
     "save_fit_plots",
 ]
@@ -213,3 +214,47 @@ def save_fit_plots(prediction: FitPrediction, folder, *, overwrite: bool = False
         written.append(save_figure(plot_error_landscape(prediction.landscape).figure, targets[2]))
     return written
 
+
+
+def plot_parameter_spread(fit, *, ax=None, title: str | None = None):
+    """Each fitted parameter's uncertainty relative to its value: Jacobian standard error and refits.
+
+    ``fit`` is an :class:`idkit.fit.MeasurementFit` (its :meth:`parameters_table` and, when
+    present, its :attr:`spread` across repetitions). Per fitted parameter (one row each): a
+    bar of +-1 and a lighter one of +-2 standard errors (residual Jacobian at the optimum)
+    and one dot per refit on a single repetition, all as percent of the fitted value. A dot
+    far outside the bars means the repetitions differ more than the residual noise
+    explains. The axis is linear within +-1 % and logarithmic beyond. Returns the Axes.
+    """
+    table = fit.parameters_table()
+    rows = table[table["fitted"]].reset_index(drop=True)
+    refits = {}
+    if fit.spread is not None:
+        refits = {name: np.asarray(fit.spread.samples[:, index], dtype=float)
+                  for index, name in enumerate(fit.spread.names)}
+    ax = axes_or_new(ax, figsize=(6.4, 1.4 + 0.38 * len(rows)))
+    for position, row in rows.iterrows():
+        value = float(row["value"])
+        stderr = row["stderr"]
+        if stderr is not None and np.isfinite(stderr) and value != 0:
+            relative = 100.0 * float(stderr) / abs(value)
+            ax.barh(position, 4 * relative, left=-2 * relative, height=0.5, color="C0", alpha=0.25,
+                    label="±2 standard errors" if position == 0 else None)
+            ax.barh(position, 2 * relative, left=-relative, height=0.5, color="C0", alpha=0.5,
+                    label="±1 standard error" if position == 0 else None)
+        samples = refits.get(row["parameter"], np.array([]))
+        if samples.size and value != 0:
+            ax.plot(100.0 * (samples / value - 1.0), np.full(samples.size, position), "o", color="C3",
+                    markersize=4, label="refit on one repetition" if position == 0 else None)
+    ax.axvline(0.0, color="0.3", linewidth=0.8)
+    # linear within +-1 %, logarithmic beyond: a 0.1 % and a 90 % uncertainty both stay readable
+    ax.set_xscale("symlog", linthresh=1.0, linscale=1.0)
+    ax.set_yticks(range(len(rows)), [f"{name} [{unit}]" if unit else name
+                                     for name, unit in zip(rows["parameter"], rows["unit"])])
+    ax.invert_yaxis()
+    ax.set_xlabel("deviation from the fitted value [%] (linear within ±1 %, log beyond)")
+    ax.grid(True, axis="x", alpha=0.3)
+    ax.legend(fontsize="x-small", loc="best")
+    if title:
+        ax.set_title(title, fontsize="small")
+    return ax

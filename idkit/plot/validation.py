@@ -6,7 +6,8 @@ import numpy as np
 
 from idkit.plot._figure import axes_or_new
 
-__all__ = ["plot_drop_validation", "plot_frf_validation", "plot_harmonic_validation"]
+__all__ = ["MAP_DECADES", "plot_drop_histories", "plot_drop_validation", "plot_frf_validation", "plot_harmonic_validation", "plot_sweep_bode",
+           "plot_sweep_maps"]
 
 
 def plot_harmonic_validation(result, *, axes=None):
@@ -79,4 +80,118 @@ def plot_drop_validation(result, *, axes=None):
     for ax in axes:
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize="x-small")
+    return axes
+
+
+def _order_name(order: float) -> str:
+    return {0.5: "1/2 subharmonic", 1.0: "first harmonic", 2.0: "second harmonic", 3.0: "third harmonic"}.get(
+        float(order), f"harmonic {order:g}")
+
+
+#: decades of |H| shown below a map panel's largest value (lower values are the numerical
+#: floor of the simulation or the noise floor of the measurement)
+MAP_DECADES = 4.0
+
+
+def plot_sweep_maps(maps, *, axes=None):
+    """Top views of |HOSIDF| orders 1, 2, 3 and 1/2: the model on its grid, measured points on top.
+
+    ``maps`` is a :class:`~idkit.studies.sweep_maps.SweepMaps`. Each panel shares one
+    logarithmic colour scale between the model grid (cells) and the measured records
+    (squares with a black edge), spanning :data:`MAP_DECADES` decades below the largest
+    value; a square whose colour stands out from the cells around it is a point the model
+    misses. Grid cells where the model did not reach a valid steady state are left blank.
+    Returns the 2 x 2 axes.
+    """
+    from matplotlib.colors import LogNorm
+
+    from idkit.studies.sweep_maps import MAP_ORDERS
+
+    axes = axes_or_new(axes, 2, 2, figsize=(10, 7.5))
+    hmap = maps.model
+    for ax, order in zip(np.ravel(axes), MAP_ORDERS):
+        model = np.where(hmap.valid, hmap.magnitude(order), np.nan)
+        rows = maps.order(order)
+        measured = np.abs(rows["H measured"].to_numpy(complex))
+        finite = np.concatenate([model[np.isfinite(model)], measured[np.isfinite(measured)]])
+        finite = finite[finite > 0]
+        if finite.size == 0:
+            ax.set_axis_off()
+            continue
+        top = float(finite.max())
+        norm = LogNorm(vmin=top * 10.0 ** -MAP_DECADES, vmax=top, clip=True)
+        mesh = ax.pcolormesh(hmap.freq, hmap.amplitude, np.where(model > 0, model, np.nan).T, shading="nearest",
+                             norm=norm, cmap="viridis")
+        ax.scatter(rows["freq [Hz]"], rows["base amplitude [m]"], c=np.where(measured > 0, measured, np.nan),
+                   norm=norm, cmap="viridis", marker="s", s=22, edgecolors="black", linewidths=0.6)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("frequency [Hz]")
+        ax.set_ylabel("base amplitude [m]")
+        ax.set_title(f"|H| {_order_name(order)}", fontsize="small")
+        ax.figure.colorbar(mesh, ax=ax, label="|HOSIDF| [-]", extend="min")
+    return axes
+
+
+def plot_sweep_bode(maps, *, max_levels: int = 6, axes=None):
+    """Bode cross sections of the first HOSIDF per excitation level: measured (markers), model (lines).
+
+    ``maps`` is a :class:`~idkit.studies.sweep_maps.SweepMaps`; at most ``max_levels``
+    levels are drawn (spread over the range when there are more). The model is evaluated
+    at each record's frequency and measured base amplitude; points where it did not reach
+    a valid steady state are left out. Returns the (magnitude, phase) axes.
+    """
+    axes = axes_or_new(axes, 2, sharex=True, figsize=(8, 6))
+    magnitude_ax, phase_ax = axes
+    levels = maps.levels
+    if len(levels) > max_levels:
+        levels = [levels[i] for i in np.unique(np.round(np.linspace(0, len(levels) - 1, max_levels)).astype(int))]
+    rows = maps.order(1.0)
+    for level in levels:
+        group = rows[np.isclose(rows["level"], level)].sort_values("freq [Hz]")
+        freq = group["freq [Hz]"].to_numpy(float)
+        measured = group["H measured"].to_numpy(complex)
+        model = group["H model"].to_numpy(complex)
+        (line,) = magnitude_ax.loglog(freq, np.abs(model), label=f"{level:g} m/s")
+        magnitude_ax.loglog(freq, np.abs(measured), "o", color=line.get_color(), markersize=3.5, fillstyle="none")
+        for values, style in ((model, "-"), (measured, "o")):
+            keep = np.isfinite(values)
+            phase = np.degrees(np.unwrap(np.angle(values[keep]))) if keep.any() else np.array([])
+            phase_ax.semilogx(freq[keep], phase, style, color=line.get_color(), markersize=3.5, fillstyle="none")
+    magnitude_ax.set_ylabel("|H1| [-]")
+    phase_ax.set_ylabel("phase of H1 [deg]")
+    phase_ax.set_xlabel("frequency [Hz]")
+    magnitude_ax.legend(fontsize="x-small", title="base velocity amplitude", title_fontsize="x-small")
+    magnitude_ax.set_title(f"{maps.setup}: lines model, circles measured", fontsize="small")
+    for ax in axes:
+        ax.grid(True, which="both", alpha=0.3)
+    return axes
+
+
+def plot_drop_histories(histories, *, axes=None):
+    """Top acceleration and deflection over time from the first contact: measured (dots) and model (lines).
+
+    ``histories`` is a :class:`~idkit.studies.drop_histories.DropHistories`; one colour per
+    drop height. A model curve that went invalid ends there and its legend entry says so.
+    Returns the (acceleration, deflection) axes.
+    """
+    axes = axes_or_new(axes, 2, sharex=True, figsize=(8, 6))
+    accel_ax, deflection_ax = axes
+    for drop in histories.drops:
+        note = "" if drop.status == "ok" else f" (model ends: {drop.status})"
+        (line,) = accel_ax.plot(1e3 * drop.simulated_time, drop.simulated_acceleration, linewidth=1.2,
+                                label=f"{100 * drop.drop_height_m:.3g} cm{note}")
+        accel_ax.plot(1e3 * drop.measured_time, drop.measured_acceleration, ".", color=line.get_color(),
+                      markersize=1.5)
+        deflection_ax.plot(1e3 * drop.simulated_time, 1e3 * drop.simulated_deflection, color=line.get_color(),
+                           linewidth=1.2)
+        deflection_ax.plot(1e3 * drop.measured_time, 1e3 * drop.measured_deflection, ".", color=line.get_color(),
+                           markersize=1.5)
+    accel_ax.set_ylabel("top acceleration [m/s²]")
+    deflection_ax.set_ylabel("deflection [mm]\n(tension positive)")
+    deflection_ax.set_xlabel("time from first contact [ms]")
+    accel_ax.legend(fontsize="x-small", title="drop height", title_fontsize="x-small")
+    accel_ax.set_title(f"{histories.setup}: lines model, dots measured", fontsize="small")
+    for ax in axes:
+        ax.grid(True, alpha=0.3)
     return axes

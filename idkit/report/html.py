@@ -4,6 +4,15 @@ Figures are embedded as base64 PNG and, when the report is given a ``figures_dir
 saved there as PNG and SVG; tables are rendered by pandas and, with a ``tables_dir``, also
 written there as CSV. Nothing is fetched from the network when the file is opened. A
 section can be collapsed (``<details>``) so that bulky provenance stays out of the way.
+
+Rendering a figure (layout, rasterising, SVG) costs far more than building it. With
+``render_processes > 1``, a ``figures_dir`` and a POSIX system on which the calling
+process runs a single Python thread, each figure is rendered and saved by a forked child
+process (at most ``render_processes`` at a time) while the caller goes on building the
+next one; :meth:`HtmlReport.render` waits for them, reads the PNGs back to embed them and
+raises :class:`~idkit.errors.OutputError` naming any figure a child failed to save. The
+files are byte for byte those of the in-process path (same calls, same settings).
+Otherwise figures are rendered in the calling process, one after the other.
 """
 
 from __future__ import annotations
@@ -11,14 +20,19 @@ from __future__ import annotations
 import base64
 import html
 import io
+import os
 import re
+import sys
+import threading
 import time
+import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import pandas as pd
 
 from idkit.atomic import write_bytes_atomic, write_text_atomic
+from idkit.errors import OutputError
 
 __all__ = ["MAX_TABLE_COLUMNS", "HtmlReport", "file_stem"]
 
@@ -45,6 +59,29 @@ details > summary { cursor: pointer; color: #345; }
 """
 
 
+def _render_figure(figure, *, with_svg: bool) -> tuple[bytes, bytes | None]:
+    """PNG (90 dpi) and, when asked, SVG bytes of a figure."""
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=90)
+    if not with_svg:
+        return buffer.getvalue(), None
+    # the layout was solved for the PNG: keep it rather than solve it again for the SVG
+    figure.set_layout_engine("none")
+    from matplotlib import rc_context
+
+    svg = io.BytesIO()
+    # no clock and no random ids in the file: the same figure gives the same bytes
+    with rc_context({"svg.hashsalt": "idkit"}):
+        figure.savefig(svg, format="svg", metadata={"Date": None})
+    return buffer.getvalue(), svg.getvalue()
+
+
+def _figure_html(stem: str, alt: str, caption: str, png: bytes) -> str:
+    encoded = base64.b64encode(png).decode("ascii")
+    return (f'<figure id="figure-{html.escape(stem)}"><img alt="{html.escape(alt)}" '
+            f'src="data:image/png;base64,{encoded}"><figcaption>{html.escape(caption)}</figcaption></figure>')
+
+
 def file_stem(text: str) -> str:
     """A file-name stem made of ``text``: letters, digits, ``_``, ``-`` and ``.`` only.
 
@@ -67,7 +104,11 @@ class HtmlReport:
         Where every figure is also saved (``<name>.png`` and ``<name>.svg``) and every
         table written (``<name>.csv``); nothing is saved when None.
     figure_seconds : float
-        Time spent rendering and saving figures (s), for the report's timings.
+        Time the caller spent on figures (s): rendering them, or handing them to child
+        processes and waiting for those; for the report's timings.
+    render_processes : int
+        Figures rendered at a time by forked children (module docstring); 0 or 1 renders
+        in the calling process.
     """
 
     title: str
@@ -78,7 +119,10 @@ class HtmlReport:
     keep_figures: bool = False
     kept_figures: list = field(default_factory=list)
     table_files: list = field(default_factory=list)
+    render_processes: int = 0
     _sections: list[tuple[str, str, list[str], bool]] = field(default_factory=list)
+    _children: dict = field(default_factory=dict)
+    _pending: dict = field(default_factory=dict)
 
     def section(self, title: str, anchor: str, *, collapsed: bool = False) -> None:
         """Start a new section; later content goes into it (inside a closed ``<details>`` when ``collapsed``)."""
@@ -141,21 +185,76 @@ class HtmlReport:
         caption) describes the picture for readers who cannot see it.
         """
         started = time.perf_counter()
-        buffer = io.BytesIO()
-        figure.savefig(buffer, format="png", dpi=90)
-        png = buffer.getvalue()
-        if self.figures_dir is not None:
-            stem = file_stem(name)
-            png_path = write_bytes_atomic(Path(self.figures_dir) / f"{stem}.png", png)
-            svg = io.BytesIO()
-            figure.savefig(svg, format="svg")
-            svg_path = write_bytes_atomic(Path(self.figures_dir) / f"{stem}.svg", svg.getvalue())
-            self.figure_files.extend([png_path, svg_path])
-        encoded = base64.b64encode(png).decode("ascii")
-        self._add(f'<figure id="figure-{html.escape(file_stem(name))}"><img alt="{html.escape(alt or caption)}" '
-                  f'src="data:image/png;base64,{encoded}"><figcaption>{html.escape(caption)}</figcaption></figure>')
+        stem = file_stem(name)
+        if self._can_fork():
+            self._fork_render(figure, name, alt or caption, caption)
+        else:
+            png, svg = _render_figure(figure, with_svg=self.figures_dir is not None)
+            if self.figures_dir is not None:
+                self.figure_files.append(write_bytes_atomic(Path(self.figures_dir) / f"{stem}.png", png))
+                self.figure_files.append(write_bytes_atomic(Path(self.figures_dir) / f"{stem}.svg", svg))
+            self._add(_figure_html(stem, alt or caption, caption, png))
         if self.keep_figures:  # for the PDF export (idkit.report.pdf)
             self.kept_figures.append((figure, caption))
+        self.figure_seconds += time.perf_counter() - started
+
+    def _can_fork(self) -> bool:
+        return (self.render_processes > 1 and self.figures_dir is not None and hasattr(os, "fork")
+                and threading.active_count() == 1)
+
+    def _fork_render(self, figure, name: str, alt: str, caption: str) -> None:
+        stem = file_stem(name)
+        while len(self._children) >= self.render_processes:
+            self._reap(next(iter(self._children)))
+        png_path, svg_path = Path(self.figures_dir) / f"{stem}.png", Path(self.figures_dir) / f"{stem}.svg"
+        sys.stdout.flush()
+        sys.stderr.flush()
+        pid = os.fork()
+        if pid == 0:  # child: render, save, leave without running the parent's exit handlers
+            status = 0
+            try:
+                png, svg = _render_figure(figure, with_svg=True)
+                write_bytes_atomic(png_path, png)
+                write_bytes_atomic(svg_path, svg)
+            except BaseException:  # noqa: BLE001 - reported through the exit status and stderr
+                traceback.print_exc()
+                status = 1
+            finally:
+                sys.stderr.flush()
+                os._exit(status)
+        token = f"\x00figure {len(self._pending)}\x00"
+        self._children[pid] = name
+        self._pending[token] = (stem, alt, caption, png_path, svg_path)
+        self._add(token)
+
+    def _reap(self, pid: int) -> None:
+        name = self._children.pop(pid)
+        _, status = os.waitpid(pid, 0)
+        if os.waitstatus_to_exitcode(status) != 0:
+            self.abandon_figures()
+            raise OutputError(f"figure {name!r}: the process rendering it failed "
+                              f"(exit status {os.waitstatus_to_exitcode(status)}; its error is printed above)")
+
+    def abandon_figures(self) -> None:
+        """Wait for every child still rendering, without embedding (on an error, before the folder goes)."""
+        while self._children:
+            pid = next(iter(self._children))
+            self._children.pop(pid)
+            os.waitpid(pid, 0)
+
+    def finish_figures(self) -> None:
+        """Wait for the figures rendered by child processes and embed them (see the module docstring)."""
+        started = time.perf_counter()
+        while self._children:
+            self._reap(next(iter(self._children)))
+        if self._pending:
+            embedded = {}
+            for token, (stem, alt, caption, png_path, svg_path) in self._pending.items():
+                embedded[token] = _figure_html(stem, alt, caption, png_path.read_bytes())
+                self.figure_files.extend([png_path, svg_path])
+            for _, _, parts, _ in self._sections:
+                parts[:] = [embedded.get(part, part) for part in parts]
+            self._pending.clear()
         self.figure_seconds += time.perf_counter() - started
 
     @property
@@ -163,6 +262,7 @@ class HtmlReport:
         return [title for title, _, _, _ in self._sections]
 
     def render(self) -> str:
+        self.finish_figures()
         navigation = " ".join(f'<a href="#{anchor}">{html.escape(title)}</a>' for title, anchor, _, _ in self._sections)
         blocks = []
         for title, anchor, parts, collapsed in self._sections:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 import json
+import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -30,9 +31,16 @@ from idkit.plot.equivalent import (
     plot_frf_residuals,
     plot_loop_residuals,
 )
-from idkit.plot.fits import plot_frf_fit, plot_loop_fit, plot_storage_loss
+from idkit.plot.fits import plot_frf_fit, plot_loop_fit, plot_parameter_spread, plot_storage_loss
 from idkit.plot.studies import curve_ends, plot_transport_psd, plot_transport_rest_shock
-from idkit.plot.validation import plot_drop_validation, plot_frf_validation, plot_harmonic_validation
+from idkit.plot.validation import (
+    plot_drop_histories,
+    plot_drop_validation,
+    plot_frf_validation,
+    plot_harmonic_validation,
+    plot_sweep_bode,
+    plot_sweep_maps,
+)
 from idkit.report.conclusions import fit_sentence, parameters_sentence, transport_conclusions, validation_sentence
 from idkit.report.html import HtmlReport, file_stem
 from idkit.report.study_files import write_transport_files
@@ -210,6 +218,50 @@ def _summary_section(report: HtmlReport, data: ReportData) -> None:
     report.items(transport_conclusions(data.transport))
 
 
+def _spread_figure(report: HtmlReport, fit, isolator: str, model: str) -> None:
+    refits = "" if fit.spread is not None else f" ({fit.spread_note or 'no refits'})"
+    report.figure(plot_parameter_spread(fit, title=f"{isolator} ({model})").figure,
+                  name=f"{isolator} {model.lower()} parameter spread",
+                  caption=f"Uncertainty of each fitted {model} parameter in percent of its value: bars +-1 and +-2 "
+                          f"standard errors from the residual Jacobian, dots one refit per repetition{refits}; a dot "
+                          "outside the bars means the repetitions differ more than the fit's residual explains.",
+                  alt=f"relative standard errors and per-repetition refits of the {isolator} {model} parameters")
+
+
+def _sweep_figures(report: HtmlReport, data: ReportData, isolator: str) -> None:
+    maps = data.sweep_maps.get(isolator)
+    if maps is not None:
+        unsettled = int((maps.order(1.0)["status"] != "ok").sum())
+        missing = int((~maps.model.valid).sum())
+        report.figure(plot_sweep_maps(maps)[0, 0].figure, name=f"{isolator} hosidf maps",
+                      caption=f"|HOSIDF| of orders 1, 2, 3 and 1/2 over frequency and base amplitude ({isolator}, "
+                              f"{maps.setup}, every stepped sine of the data set): cells the model, squares the "
+                              "measured records on the same colour scale (4 decades); a square that stands out from "
+                              "its cells is a point the model misses; the measured higher orders cannot fall below "
+                              "the noise floor of the records"
+                              + (f"; {missing} blank cells: the model went invalid or did not settle there"
+                                 if missing else "") + ".",
+                      alt=f"top-view colour maps of the measured and model HOSIDFs of the {isolator}")
+        report.figure(plot_sweep_bode(maps)[0].figure, name=f"{isolator} bode sections",
+                      caption=f"First HOSIDF, magnitude and phase, at each excitation level ({isolator}, "
+                              f"{maps.setup}; model at each record's frequency and measured base amplitude): look "
+                              "at how the resonance moves down and flattens as the level grows"
+                              + (f"; {unsettled} model points that did not settle are left out" if unsettled
+                                 else "") + ".",
+                      alt=f"Bode magnitude and phase of the first HOSIDF per excitation level, {isolator}")
+    histories = data.drop_histories.get(isolator)
+    if histories is not None:
+        ended = [drop for drop in histories.drops if drop.status != "ok"]
+        report.figure(plot_drop_histories(histories)[0].figure, name=f"{isolator} drop time histories",
+                      caption=f"Held-out drops of the {isolator} ({histories.setup}; lowest, middle and highest "
+                              f"height), measured and simulated on the drop rig (contact restitution "
+                              f"{histories.contact.restitution:.2f} read off the records): look at the ringing "
+                              "frequency and the rebound into tension"
+                              + (f"; {len(ended)} model curve(s) end where the model went invalid" if ended else "")
+                              + ".",
+                      alt=f"top acceleration and deflection versus time for measured and simulated {isolator} drops")
+
+
 def _fit_sections(report: HtmlReport, data: ReportData) -> None:
     report.section("Wire rope fit", "wire-rope-fit")
     report.paragraph(f"Valid range of the identified Iwan model: {_valid_range_words(data)}; simulations beyond the "
@@ -221,6 +273,7 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
                          "repetitions (std of one refit per repetition, repetition_values)"
                          + (f"; {data.iwan.spread_note}" if data.iwan.spread_note else ""),
                  name="wire rope iwan parameters")
+    _spread_figure(report, data.iwan, "wire rope", "Iwan")
     report.figure(plot_loop_fit(data.iwan_loops, label="Iwan")[0].figure, name="wire rope iwan loops",
                   caption="Grey measured, dashed Iwan model: look at the loop tips and the width of the small loops.",
                   alt="measured and fitted force-deflection loops (Iwan), small and large")
@@ -247,6 +300,7 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
     report.preformatted(data.maxwell.report())
     report.table(data.maxwell.parameters_table(), caption="Maxwell parameters (k0 from the quasi-static loops)",
                  name="elastomer maxwell parameters")
+    _spread_figure(report, data.maxwell, "elastomer", "Maxwell")
     report.table(data.order_table, caption="order selection: error (7.5) for n = 1..4 and the Voigt model",
                  name="maxwell order table")
     report.figure(plot_frf_fit(data.maxwell.model, list(data.maxwell.data))[0].figure, name="elastomer frf fit",
@@ -316,12 +370,14 @@ def _write_models(data: ReportData, models_dir: Path) -> None:
                                "masses_from": data.hybrid_masses_from, "idkit_version": __version__})
 
 
-def write_report(data: ReportData, folder, *, pdf: bool = False) -> ReportSummary:
+def write_report(data: ReportData, folder, *, pdf: bool = False, render_processes: int | None = None) -> ReportSummary:
     """Render ``data`` into an existing, empty ``folder`` (module docstring); returns what was written.
 
     The page's timings table lists every stage's duration; the writing itself is still
     running when that table is drawn and is labelled "(until this table)"; the figures'
     share of it is "drawing the figures". ``provenance.json`` holds the full durations.
+    Figures are rendered by up to ``render_processes`` child processes (default: the usable
+    cores; :class:`~idkit.report.html.HtmlReport`).
     """
     started = time.perf_counter()
     folder = Path(folder)
@@ -332,7 +388,23 @@ def write_report(data: ReportData, folder, *, pdf: bool = False) -> ReportSummar
     write_transport_files(data.transport, folder, tables_dir=tables_dir, figures=False)
 
     report = HtmlReport(f"idkit report: {data.data_dir}", figures_dir=figures_dir, tables_dir=tables_dir,
-                        keep_figures=pdf)
+                        keep_figures=pdf, render_processes=_usable_cores() if render_processes is None
+                        else int(render_processes))
+    try:
+        return _write_report(data, report, folder, started, pdf=pdf)
+    finally:
+        report.abandon_figures()  # no child may still write into the folder after this returns
+
+
+def _usable_cores() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def _write_report(data: ReportData, report: HtmlReport, folder: Path, started: float, *, pdf: bool) -> ReportSummary:
+    models_dir, tables_dir, figures_dir = folder / "models", folder / "tables", folder / "figures"
     _summary_section(report, data)
     report.section("Data", "data")
     for isolator, inspection in data.inspections.items():
@@ -346,6 +418,7 @@ def write_report(data: ReportData, folder, *, pdf: bool = False) -> ReportSummar
             report.paragraph("no measurements of this isolator in the data set")
         for entry in entries:
             _validation_section(report, entry, data.quick)
+        _sweep_figures(report, data, isolator)
         if isolator == "wire rope" and data.drop_models is not None:
             _drop_model_section(report, data)
         spectra = drop_shock_spectra(list(data.sets[isolator.replace(" ", "_")].measurements))
@@ -363,7 +436,7 @@ def write_report(data: ReportData, folder, *, pdf: bool = False) -> ReportSummar
               f"{WRITING} (until this table)": round(time.perf_counter() - started, 3)}
     _provenance_section(report, data, so_far, hashes)
     html_path = folder / "report.html"
-    write_text_atomic(html_path, report.render())
+    write_text_atomic(html_path, report.render())  # waits for the figures still rendering
     if pdf:
         from idkit.report.pdf import write_pdf
 

@@ -42,7 +42,9 @@ from idkit.models import GeneralizedMaxwell, HybridSystem, IwanModel
 from idkit.observe.quality import MeasurementSummary, summarize_measurements
 from idkit.studies.transport import TransportStudy, compute_transport_study, quick_transport_options
 from idkit.validate import ValidationResult, blind_spots, validate_drops, validate_frf, validate_harmonic
+from idkit.studies.drop_histories import DropHistories, drop_histories
 from idkit.studies.drop_models import DropModelComparison, wire_rope_drop_models
+from idkit.studies.sweep_maps import SweepMaps, sweep_maps
 
 __all__ = [
     "QUICK_HELD_OUT",
@@ -125,6 +127,13 @@ class ReportData:
         The wire rope's held-out drops under both drop models, plain and slip-modulated Iwan.
     drop_model : str
         The drop model the drop validations used ("auto", "rig" or "conditioned").
+    sweep_maps : dict of str to SweepMaps
+        Per nonlinear isolator ("wire rope", "hybrid"): measured and model HOSIDFs of every
+        stepped sine of its most-recorded setup, and the model's map
+        (:func:`idkit.studies.sweep_maps.sweep_maps`).
+    drop_histories : dict of str to DropHistories
+        Per isolator: a few held-out drops (every hybrid drop is held out), measured and
+        simulated over time (:func:`idkit.studies.drop_histories.drop_histories`).
     """
 
     data_dir: Path
@@ -146,6 +155,8 @@ class ReportData:
     timings_s: dict = field(default_factory=dict)
     drop_models: DropModelComparison | None = None
     drop_model: str = "auto"
+    sweep_maps: dict[str, SweepMaps] = field(default_factory=dict)
+    drop_histories: dict[str, DropHistories] = field(default_factory=dict)
 
     @property
     def n_measurements(self) -> int:
@@ -239,6 +250,28 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
     return tuple(entries), hybrid, sweep.info.id
 
 
+def _figures_data(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell
+                  ) -> tuple[dict[str, SweepMaps], dict[str, DropHistories]]:
+    """The HOSIDF maps of the nonlinear isolators and a few drop time histories per isolator."""
+    models = {"wire rope": {"isolator": wire_model}, "elastomer": {"isolator": elastomer_model},
+              "hybrid": {"upper": elastomer_model, "lower": wire_model}}
+    maps, histories = {}, {}
+    for isolator, model in models.items():
+        measurement_set = sets.get(isolator.replace(" ", "_"))
+        if measurement_set is None:
+            continue
+        if isolator != "elastomer":  # the elastomer model is linear: its higher HOSIDFs are zero
+            found = sweep_maps(measurement_set.measurements, **model)
+            if found is not None:
+                maps[isolator] = found
+        # held-out drops; nothing was fitted to the hybrid, so all of its drops are held out
+        drops = list(measurement_set.select(kind="drop", split=None if isolator == "hybrid" else "validation"))
+        found = drop_histories(drops, **model)
+        if found is not None:
+            histories[isolator] = found
+    return maps, histories
+
+
 def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026, workers: int | None = None,
                         progress: Callable[[str], None] | None = None, start_state: str = "auto",
                         drop_model: str = "auto") -> ReportData:
@@ -289,6 +322,7 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
     stages.start(STAGES[2])
     maxwell = fit_maxwell_measurements(sets["elastomer"], cross_check=True, seed=seed,
                                        **({"global_max_evals": 2000} if quick else {}))
+    maxwell = maxwell.with_repetition_spread()  # one refit per repetition (a fraction of a second)
     # the order table is scored on the FRFs the fit used (same selection, band and resolution)
     order_table = maxwell_order_table(list(maxwell.data), k0=maxwell.k0.k0,
                                       orders=(1, 2) if quick else (1, 2, 3, 4))
@@ -300,6 +334,7 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
     drop_models = wire_rope_drop_models(rope_drops[:QUICK_HELD_OUT] if quick else rope_drops,
                                         iwan,
                                         valid_range=valid_range) if rope_drops else None
+    maps, histories = _figures_data(sets, iwan.model, maxwell.model)
 
     stages.start(STAGES[4])
     options = quick_transport_options(max_speed=0.6, max_height=0.12) if quick else {}
@@ -311,7 +346,7 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
         valid_range=valid_range, iwan=iwan, boucwen=boucwen, iwan_loops=iwan_loops, boucwen_loops=boucwen_loops,
         maxwell=maxwell, order_table=order_table, validations=validations, hybrid=hybrid,
         hybrid_masses_from=masses_from, transport=transport, timings_s=stages.durations,
-        drop_models=drop_models, drop_model=drop_model,
+        drop_models=drop_models, drop_model=drop_model, sweep_maps=maps, drop_histories=histories,
     )
 
 

@@ -23,3 +23,62 @@ def test_figures_and_tables_are_embedded_and_saved(tmp_path):
     assert page.index("<details>") > page.index('id="provenance"')
     assert [p.name for p in report.figure_files] == ["a_line.png", "a_line.svg"]
     assert pd.read_csv(tmp_path / "one_row.csv")["a [m]"].tolist() == [1.0]
+
+
+_FORKED_SCRIPT = r'''
+import sys
+from pathlib import Path
+import numpy as np
+from idkit.plot._figure import new_axes
+from idkit.report.html import HtmlReport
+
+root, processes, broken = Path(sys.argv[1]), int(sys.argv[2]), sys.argv[3] == "broken"
+(root / "figures").mkdir(parents=True)
+report = HtmlReport("t", figures_dir=root / "figures", render_processes=processes)
+report.section("S", "s")
+for index in range(5):
+    ax = new_axes()
+    ax.loglog(np.arange(1, 50), np.arange(1, 50) ** (index + 1), label=f"curve {index}")
+    ax.set_title(f"figure {index}")
+    ax.legend()
+    if broken and index == 3:
+        ax.text(0.5, 0.5, "$\\notacommand$")  # mathtext fails only when the figure is drawn
+    report.figure(ax.figure, caption=f"caption {index}", name=f"figure {index}")
+    report.paragraph(f"after {index}")
+(root / "report.html").write_text(report.render())
+'''
+
+
+def _run_forked_script(tmp_path, name, processes, broken=False):
+    import subprocess
+    import sys
+
+    script = tmp_path / "make_report.py"
+    script.write_text(_FORKED_SCRIPT)
+    # a fresh interpreter: one Python thread, so the report may fork (pytest-xdist workers run two)
+    return subprocess.run([sys.executable, str(script), str(tmp_path / name), str(processes),
+                           "broken" if broken else "fine"], capture_output=True, text=True, timeout=120)
+
+
+def test_figures_rendered_by_child_processes_equal_those_rendered_in_process(tmp_path):
+    for name, processes in (("forked", 2), ("inline", 0)):
+        done = _run_forked_script(tmp_path, name, processes)
+        assert done.returncode == 0, done.stderr
+    forked, inline = tmp_path / "forked", tmp_path / "inline"
+    names = sorted(p.name for p in (inline / "figures").iterdir())
+    assert names == sorted(p.name for p in (forked / "figures").iterdir())
+    assert len(names) == 10  # five PNG + five SVG
+    for name in names:
+        assert (forked / "figures" / name).read_bytes() == (inline / "figures" / name).read_bytes(), name
+    html_forked, html_inline = (forked / "report.html").read_text(), (inline / "report.html").read_text()
+    assert html_forked == html_inline
+    # the figures stay in the order they were added, between the paragraphs
+    order = [html_forked.index(f"caption {i}") for i in range(5)] + [html_forked.index("after 4")]
+    assert order == sorted(order)
+
+
+def test_a_figure_that_fails_in_its_child_process_is_named(tmp_path):
+    done = _run_forked_script(tmp_path, "broken", 2, broken=True)
+    assert done.returncode != 0
+    assert "figure 3" in done.stderr and "OutputError" in done.stderr
+    assert not (tmp_path / "broken" / "report.html").exists()
