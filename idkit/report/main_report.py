@@ -332,6 +332,16 @@ def _transport_section(report: HtmlReport, data: ReportData) -> None:
                  name="transport tuning")
     report.table(study.summary_table(), index=True, name="transport summary",
                  caption="RMS top acceleration [m/s^2] per floor level and rest shock per drop height")
+    unsettled = study.unsettled()
+    if unsettled:
+        report.paragraph(
+            "Not settled (settling error above the study's limit, the change of the response over one periodic "
+            "record relative to the signal; the PSD and RMS of these runs are uncertain by about that much): "
+            + "; ".join(f"{system} at {level}: {value:.2g}" for system, level, value in unsettled) + ".")
+    if study.settling is not None:
+        report.table(study.settling, index=True, name="transport settling", float_format="{:.2g}",
+                     caption="largest settling error of the random runs per system and floor level (0: linear, "
+                             "solved in the frequency domain)")
     axes = plot_transport_psd(study)
     report.figure(axes.flat[0].figure, name="transport output psd",
                   caption="Top acceleration PSD per floor level (rows), at most six systems a panel, over the floor "

@@ -30,6 +30,7 @@ rate), 1.2 % at ``20 f_n``, 0.2 % at ``50 f_n``. Sample the record accordingly.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 import pandas as pd
@@ -112,12 +113,18 @@ def relative_displacement_coefficients(
     b = np.empty((fn.size, 3))
     a = np.empty((fn.size, 3))
     for index, f in enumerate(fn):
-        omega = 2.0 * np.pi * f
-        num, den, _ = sps.cont2discrete(([-1.0], [1.0, 2.0 * damping_ratio * omega, omega**2]), 1.0 / fs,
-                                        method="foh")
-        b[index] = np.ravel(num)[-3:]
-        a[index] = den
+        b[index], a[index] = _foh_coefficients(float(f), float(fs), float(damping_ratio))
     return b, a
+
+
+@lru_cache(maxsize=4096)
+def _foh_coefficients(freq: float, fs: float, damping_ratio: float) -> tuple[tuple, tuple]:
+    """One oscillator's first-order-hold filter (a matrix exponential each: cached, since the
+    same natural frequencies and sample rate recur record after record)."""
+    omega = 2.0 * np.pi * freq
+    num, den, _ = sps.cont2discrete(([-1.0], [1.0, 2.0 * damping_ratio * omega, omega**2]), 1.0 / fs,
+                                    method="foh")
+    return tuple(np.ravel(num)[-3:]), tuple(den)
 
 
 @dataclass(frozen=True)
