@@ -169,7 +169,7 @@ def plot_sweep_bode(maps, *, max_levels: int = 6, axes=None):
 
 
 def plot_drop_histories(histories, *, axes=None):
-    """Top acceleration and deflection over time from the first contact: measured (dots) and model (lines).
+    """Top acceleration and deflection over time from the impact: measured (dots) and model (lines).
 
     ``histories`` is a :class:`~idkit.studies.drop_histories.DropHistories`; one colour per
     drop height. A model curve that went invalid ends there and its legend entry says so.
@@ -189,7 +189,7 @@ def plot_drop_histories(histories, *, axes=None):
                            markersize=1.5)
     accel_ax.set_ylabel("top acceleration [m/s²]")
     deflection_ax.set_ylabel("deflection [mm]\n(tension positive)")
-    deflection_ax.set_xlabel("time from first contact [ms]")
+    deflection_ax.set_xlabel("time from the impact [ms]")
     accel_ax.legend(fontsize="x-small", title="drop height", title_fontsize="x-small")
     accel_ax.set_title(f"{histories.setup}: lines model, dots measured", fontsize="small")
     for ax in axes:

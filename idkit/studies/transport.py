@@ -7,7 +7,8 @@ the wire rope and seven hybrids, all tuned to a 5 Hz small-amplitude resonance
 * output acceleration PSDs for the six flat floor levels of SPEC 5 (30 seeded
   realizations, Welch; :func:`idkit.responses.random_vibration.random_response`; the
   linear reference and elastomer systems in the frequency domain, ``method="auto"``:
-  the same estimate without simulating; the others settle for five small-amplitude time
+  the same estimate without simulating, and so are the nonlinear ones at levels where no
+  Jenkin element would slip (:func:`~idkit.responses.random_vibration.stays_stuck`); the others settle for five small-amplitude time
   constants, at most one record, :func:`~idkit.responses.random_vibration.settle_records_for`,
   and a level whose runs are still not periodic (settling error above
   :data:`SETTLING_LIMIT`) is repeated from the small-amplitude steady state, the better

@@ -212,3 +212,20 @@ def test_the_rest_shock_figure_says_where_a_curve_ends(quick_report):
         assert f"the {name} curve stops at" in html
     provenance = json.loads((quick_report / "provenance.json").read_text())
     assert provenance["timings_s"]["drawing and saving the figures (part of the writing)"] >= 0
+
+
+def test_the_figures_a_reader_of_the_study_expects_are_there(quick_report):
+    """Issue 16's list: HOSIDF maps and Bode sections, equivalent stiffness and damping, the
+    measured complex stiffness, drop time histories, shock response spectra, residuals and
+    the parameters' spread, each drawn for every isolator it applies to."""
+    stems = {p.stem for p in (quick_report / "figures").iterdir()}
+    expected = {
+        "wire_rope_hosidf_maps", "hybrid_hosidf_maps", "wire_rope_bode_sections", "hybrid_bode_sections",
+        "wire_rope_equivalent_stiffness_and_loss_factor", "elastomer_measured_complex_stiffness",
+        "wire_rope_drop_time_histories", "elastomer_drop_time_histories", "hybrid_drop_time_histories",
+        "wire_rope_measured_drop_srs", "wire_rope_iwan_residuals", "elastomer_frf_residuals",
+        "wire_rope_iwan_parameter_spread", "elastomer_maxwell_parameter_spread",
+    }
+    assert expected <= stems, sorted(expected - stems)
+    html = (quick_report / "report.html").read_text(encoding="utf-8")
+    assert html.count('id="figure-hybrid_hosidf_maps"') == 1

@@ -156,8 +156,12 @@ def test_frequency_method_refuses_nonlinear_systems_and_auto_simulates_them():
         random_response(hybrid, profile, seed=1, method="frequency")
     with pytest.raises(SimulationError, match="method: found 'fft'"):
         random_response(hybrid, profile, seed=1, method="fft")
-    auto = random_response(hybrid, profile, seed=1, n_realizations=1, method="auto", freq_step=0.5, fs=400.0)
+    # at 1e-6 it stays stuck (solved in the frequency domain, next tests); at 1e-2 it slips
+    loud = PsdProfile.flat(1e-2, f_lo=0.1, f_hi=100.0)
+    auto = random_response(hybrid, loud, seed=1, n_realizations=1, method="auto", freq_step=0.5, fs=400.0)
     assert auto.method == "time" and auto.n_realizations == 1
+    quiet = random_response(hybrid, profile, seed=1, n_realizations=1, method="auto", freq_step=0.5, fs=400.0)
+    assert quiet.method == "frequency (stays stuck)"
 
 
 def test_linear_start_is_settled_and_a_rest_start_is_not():
@@ -215,3 +219,55 @@ def test_a_fraction_of_a_record_settles_a_damped_system():
     assert np.abs(result.output_psd[band] / expected.output_psd[band] - 1).max() < BIN_TOLERANCE_ALL
     with pytest.raises(SimulationError, match="settle_records: found -1"):
         random_response(system, profile, seed=4, settle_records=-1)
+
+
+def _stuck_wire_rope(friction_n=(20.0, 10.0), g2=0.0):
+    """A 5 Hz Iwan SDOF (15 kg, stuck stiffness 15 (2 pi 5)^2 N/m, zeta 0.03 from c_visc)."""
+    from idkit.models import IwanModel
+
+    mass, omega0 = 15.0, 2 * np.pi * 5.0
+    stuck = mass * omega0**2
+    return SDOFSystem(mass, IwanModel(g1=0.55 * stuck, g2=g2, g3=0.0, k=[0.3 * stuck, 0.15 * stuck],
+                                      fc=list(friction_n), c_visc=2 * 0.03 * mass * omega0))
+
+
+def test_a_run_that_stays_stuck_is_solved_in_the_frequency_domain_and_agrees_with_the_simulation():
+    """At 1e-6 (m/s^2)^2/Hz the elements carry at most a few mN against slip forces of 10-20 N:
+    the small-amplitude steady state is the nonlinear system's. "auto" then returns the
+    frequency-domain estimate; a simulation from that steady state (settled by construction)
+    agrees within the bin tolerances of the linear systems above."""
+    from idkit.responses.random_vibration import stays_stuck
+    from idkit.signal.psd import synthesize_random
+
+    system = _stuck_wire_rope()
+    profile = PsdProfile.flat(1e-6, f_lo=0.1, f_hi=100.0)
+    signals = synthesize_random(profile, seed=4, fs=3200.0, freq_step=0.05, n_realizations=4)
+    assert stays_stuck(system, signals, 3200.0) == (True, "")
+    auto = random_response(system, profile, seed=4, n_realizations=4, method="auto")
+    assert auto.method == "frequency (stays stuck)" and not auto.is_linear
+    simulated = random_response(system, profile, seed=4, n_realizations=4, start="linear", settle_records=0)
+    assert simulated.settling_error.max() < 1e-3
+    low = (auto.freq >= 1) & (auto.freq <= 10)
+    band = (auto.freq >= 1) & (auto.freq <= 99)
+    assert np.abs(simulated.output_psd[low] / auto.output_psd[low] - 1).max() < BIN_TOLERANCE_LOW
+    assert np.abs(simulated.output_psd[band] / auto.output_psd[band] - 1).max() < BIN_TOLERANCE_ALL
+
+
+def test_slip_a_nonlinear_spring_or_bouc_wen_keep_a_run_in_the_time_domain():
+    from idkit.models import BoucWenModel
+    from idkit.responses.random_vibration import LINEARITY_TOLERANCE, stays_stuck
+    from idkit.signal.psd import synthesize_random
+
+    signals = synthesize_random(PsdProfile.flat(1e-2, f_lo=0.1, f_hi=100.0), seed=4, fs=3200.0, freq_step=0.05,
+                                n_realizations=2)
+    stuck, why = stays_stuck(_stuck_wire_rope(friction_n=(1e-3, 1e-3)), signals, 3200.0)
+    assert not stuck and "Jenkin element 1 would slip" in why
+    # g2 x / g1 at the ~30 mm the floor level gives is far above the tolerance
+    stuck, why = stays_stuck(_stuck_wire_rope(g2=1e5), signals, 3200.0)
+    assert not stuck and f"nonlinear by more than {LINEARITY_TOLERANCE:g}" in why
+    bouc_wen = SDOFSystem(15.0, BoucWenModel(k1=2e3, k2=0, k3=0, alpha=2e4, beta=6e3, gamma=2e3, n=1.0))
+    stuck, why = stays_stuck(bouc_wen, signals, 3200.0)
+    assert not stuck and "Bouc-Wen" in why
+    slipping = random_response(_stuck_wire_rope(friction_n=(1e-3, 1e-3)), PsdProfile.flat(1e-2, f_lo=0.1, f_hi=100.0),
+                               seed=4, n_realizations=2, method="auto", settle_records=0.1)
+    assert slipping.method == "time"
