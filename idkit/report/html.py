@@ -76,6 +76,24 @@ def _render_figure(figure, *, with_svg: bool) -> tuple[bytes, bytes | None]:
     return buffer.getvalue(), svg.getvalue()
 
 
+def _warm_up() -> None:
+    """Render a small figure with the usual text (log ticks, mathtext, labels, legend) once.
+
+    A forked child starts with the caller's matplotlib state: fonts loaded, glyphs and text
+    layouts cached. Without this each child would load them anew for its one figure.
+    """
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(4, 3), layout="constrained")
+    ax = figure.subplots()
+    ax.loglog([1.0, 10.0, 100.0], [1e-3, 1.0, 1e3], label="curve")
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("|H| [-] (m/s$^2$)")
+    ax.set_title("title", fontsize="small")
+    ax.legend(fontsize="x-small", title="legend")
+    _render_figure(figure, with_svg=True)
+
+
 def _figure_html(stem: str, alt: str, caption: str, png: bytes) -> str:
     encoded = base64.b64encode(png).decode("ascii")
     return (f'<figure id="figure-{html.escape(stem)}"><img alt="{html.escape(alt)}" '
@@ -204,6 +222,8 @@ class HtmlReport:
 
     def _fork_render(self, figure, name: str, alt: str, caption: str) -> None:
         stem = file_stem(name)
+        if not self._children and not self._pending:
+            _warm_up()  # every child inherits the loaded fonts and text caches
         while len(self._children) >= self.render_processes:
             self._reap(next(iter(self._children)))
         png_path, svg_path = Path(self.figures_dir) / f"{stem}.png", Path(self.figures_dir) / f"{stem}.svg"

@@ -367,6 +367,29 @@ def _small_amplitude_lines(system, signals: NDArray[np.float64], rate: float):
     return omega, base, positions, deflections
 
 
+_LAST_SIGNALS: dict = {}
+
+
+def _synthesized(input_psd, seed, rate: float, freq_step: float, n_realizations: int) -> NDArray[np.float64]:
+    """:func:`synthesize_random`, remembering the last floor signals of a :class:`PsdProfile`.
+
+    A study drives many systems with the same seeded floor (the transport study: ten
+    systems per level); the realizations are a pure function of the profile's breakpoints,
+    the seed and the grid, so the last ones are reused (read-only) when all of these match.
+    """
+    key = None
+    if isinstance(input_psd, PsdProfile) and isinstance(seed, (int, np.integer)):
+        key = (input_psd.freq.tobytes(), input_psd.level.tobytes(), int(seed), rate, freq_step, n_realizations)
+        if _LAST_SIGNALS.get("key") == key:
+            return _LAST_SIGNALS["signals"]
+    signals = synthesize_random(input_psd, seed=seed, fs=rate, freq_step=freq_step, n_realizations=n_realizations)
+    if key is not None:
+        signals.setflags(write=False)
+        _LAST_SIGNALS.clear()
+        _LAST_SIGNALS.update(key=key, signals=signals)
+    return signals
+
+
 def stays_stuck(system, signals: NDArray[np.float64], rate: float) -> tuple[bool, str]:
     """Whether the small-amplitude (all stuck) periodic response is the nonlinear one.
 
@@ -520,7 +543,7 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
                                          freq_step=float(freq_step), oversample=int(oversample),
                                          settle_records=float(settle_records))
     rate = float(fs) * int(oversample)
-    signals = synthesize_random(input_psd, seed=seed, fs=rate, freq_step=freq_step, n_realizations=n_realizations)
+    signals = _synthesized(input_psd, seed, rate, float(freq_step), int(n_realizations))
     if method == "auto" and nperseg is None and stays_stuck(system, signals, rate)[0]:
         # every realization's small-amplitude steady state keeps the isolators stuck: it is the
         # nonlinear system's steady state, and a linear one (module docstring)

@@ -299,11 +299,13 @@ def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVEL
     done = 0
     rms_rows, psd, flagged, settling_rows = {}, [], 0, {}
     velocity_table, height_table = {}, {}
-    for item in systems:
-        rms_rows[item.name] = {}
-        settle = settle_records_for(item.system)
-        for level in levels:
-            profile = PsdProfile.flat(level, f_lo=0.1, f_hi=100.0)
+    settle_of = {item.name: settle_records_for(item.system) for item in systems}
+    rms_rows = {item.name: {} for item in systems}
+    # level by level: every system is driven by the same seeded floor signals, synthesized once
+    for level in levels:
+        profile = PsdProfile.flat(level, f_lo=0.1, f_hi=100.0)
+        for item in systems:
+            settle = settle_of[item.name]
             # linear systems in the frequency domain (the expected Welch estimate, nothing
             # simulated); nonlinear ones start at rest and settle five small-amplitude time
             # constants, at most one record; a run still not periodic then (the nearly stuck
@@ -327,6 +329,7 @@ def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVEL
             done += 1
             if progress is not None:
                 progress(done, total)
+    for item in systems:
         by_speed = shock_sweep(item.system, impact_velocity=-speeds, workers=workers)
         velocity_table[item.name] = by_speed.rest_shock_level
         done += 1

@@ -142,13 +142,16 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
         else:
             group_contact = contact
         contacts[str(key[0] if key else "all")] = group_contact
-        sweep = shock_sweep(model, drop_height=heights, duration=duration, workers=workers, drop_model="rig",
+        # repetitions share their nominal height: one simulation per distinct height
+        distinct, which = np.unique(np.asarray(heights, dtype=float), return_inverse=True)
+        sweep = shock_sweep(model, drop_height=distinct, duration=duration, workers=workers, drop_model="rig",
                             bottom_mass=bottom, contact=group_contact)
         for position, index in enumerate(indices):
+            run = int(which[position])
             simulated[index] = _Simulated(
-                float(sweep.impact_velocity[position]), float(sweep.peak_acceleration_compression[position]),
-                float(sweep.peak_acceleration_tension[position]), float(sweep.travel_compression[position]),
-                sweep.reasons[position])
+                float(sweep.impact_velocity[run]), float(sweep.peak_acceleration_compression[run]),
+                float(sweep.peak_acceleration_tension[run]), float(sweep.travel_compression[run]),
+                sweep.reasons[run])
     rows = []
     for measurement, result, sim in zip(measurements, processed, simulated):
         info = measurement.info
