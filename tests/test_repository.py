@@ -29,7 +29,7 @@ LAYERS = {
     "report": {"models", "simulate", "io", "signal", "observe", "responses", "synth", "fit", "validate", "studies",
                "plot", "report"},
 }
-CORE = {"errors", "params", "atomic", "inputfiles", "gravity"}
+CORE = {"errors", "params", "atomic", "inputfiles", "gravity", "forked"}
 
 
 def readme_commands():

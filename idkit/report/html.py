@@ -6,13 +6,14 @@ written there as CSV. Nothing is fetched from the network when the file is opene
 section can be collapsed (``<details>``) so that bulky provenance stays out of the way.
 
 Rendering a figure (layout, rasterising, SVG) costs far more than building it. With
-``render_processes > 1``, a ``figures_dir`` and a POSIX system on which the calling
-process runs a single Python thread, each figure is rendered and saved by a forked child
-process (at most ``render_processes`` at a time) while the caller goes on building the
-next one; :meth:`HtmlReport.render` waits for them, reads the PNGs back to embed them and
-raises :class:`~idkit.errors.OutputError` naming any figure a child failed to save. The
-files are byte for byte those of the in-process path (same calls, same settings).
-Otherwise figures are rendered in the calling process, one after the other.
+``render_processes > 1`` and a ``figures_dir``, where the caller can fork
+(:func:`idkit.forked.can_fork`), each figure is rendered by a forked child process (at
+most ``render_processes`` at a time, :func:`idkit.forked.fork_call`) while the caller
+goes on building the next one; the caller saves the PNG and SVG bytes the child sends
+back and embeds the PNG; :meth:`HtmlReport.render` waits for the last ones and raises
+:class:`~idkit.errors.OutputError` naming any figure whose child failed. The files are
+byte for byte those of the in-process path (same calls, same settings). Otherwise figures
+are rendered in the calling process, one after the other.
 """
 
 from __future__ import annotations
@@ -20,12 +21,8 @@ from __future__ import annotations
 import base64
 import html
 import io
-import os
 import re
-import sys
-import threading
 import time
-import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -33,6 +30,7 @@ import pandas as pd
 
 from idkit.atomic import write_bytes_atomic, write_text_atomic
 from idkit.errors import OutputError
+from idkit.forked import can_fork, fork_call
 
 __all__ = ["MAX_TABLE_COLUMNS", "HtmlReport", "file_stem"]
 
@@ -139,7 +137,6 @@ class HtmlReport:
     table_files: list = field(default_factory=list)
     render_processes: int = 0
     _sections: list[tuple[str, str, list[str], bool]] = field(default_factory=list)
-    _children: dict = field(default_factory=dict)
     _pending: dict = field(default_factory=dict)
 
     def section(self, title: str, anchor: str, *, collapsed: bool = False) -> None:
@@ -217,61 +214,45 @@ class HtmlReport:
         self.figure_seconds += time.perf_counter() - started
 
     def _can_fork(self) -> bool:
-        return (self.render_processes > 1 and self.figures_dir is not None and hasattr(os, "fork")
-                and threading.active_count() == 1)
+        return self.render_processes > 1 and self.figures_dir is not None and can_fork()
 
     def _fork_render(self, figure, name: str, alt: str, caption: str) -> None:
-        stem = file_stem(name)
-        if not self._children and not self._pending:
+        if not self._pending:
             _warm_up()  # every child inherits the loaded fonts and text caches
-        while len(self._children) >= self.render_processes:
-            self._reap(next(iter(self._children)))
-        png_path, svg_path = Path(self.figures_dir) / f"{stem}.png", Path(self.figures_dir) / f"{stem}.svg"
-        sys.stdout.flush()
-        sys.stderr.flush()
-        pid = os.fork()
-        if pid == 0:  # child: render, save, leave without running the parent's exit handlers
-            status = 0
-            try:
-                png, svg = _render_figure(figure, with_svg=True)
-                write_bytes_atomic(png_path, png)
-                write_bytes_atomic(svg_path, svg)
-            except BaseException:  # noqa: BLE001 - reported through the exit status and stderr
-                traceback.print_exc()
-                status = 1
-            finally:
-                sys.stderr.flush()
-                os._exit(status)
+        while sum(1 for entry in self._pending.values() if entry[0] is not None) >= self.render_processes:
+            self._collect(next(token for token, entry in self._pending.items() if entry[0] is not None))
         token = f"\x00figure {len(self._pending)}\x00"
-        self._children[pid] = name
-        self._pending[token] = (stem, alt, caption, png_path, svg_path)
+        self._pending[token] = (fork_call(_render_figure, figure, with_svg=True), name, alt, caption)
         self._add(token)
 
-    def _reap(self, pid: int) -> None:
-        name = self._children.pop(pid)
-        _, status = os.waitpid(pid, 0)
-        if os.waitstatus_to_exitcode(status) != 0:
+    def _collect(self, token: str) -> None:
+        """Wait for one child's figure, save its files and keep its HTML for the token."""
+        call, name, alt, caption = self._pending[token]
+        try:
+            png, svg = call.result()
+        except Exception as problem:
             self.abandon_figures()
-            raise OutputError(f"figure {name!r}: the process rendering it failed "
-                              f"(exit status {os.waitstatus_to_exitcode(status)}; its error is printed above)")
+            raise OutputError(f"figure {name!r}: rendering it failed in its child process ({problem})") from problem
+        stem = file_stem(name)
+        self.figure_files.append(write_bytes_atomic(Path(self.figures_dir) / f"{stem}.png", png))
+        self.figure_files.append(write_bytes_atomic(Path(self.figures_dir) / f"{stem}.svg", svg))
+        self._pending[token] = (None, _figure_html(stem, alt, caption, png), None, None)
 
     def abandon_figures(self) -> None:
-        """Wait for every child still rendering, without embedding (on an error, before the folder goes)."""
-        while self._children:
-            pid = next(iter(self._children))
-            self._children.pop(pid)
-            os.waitpid(pid, 0)
+        """Stop every child still rendering, without embedding (on an error, before the folder goes)."""
+        for token, entry in list(self._pending.items()):
+            if entry[0] is not None:
+                entry[0].abandon()
+                self._pending[token] = (None, "", None, None)
 
     def finish_figures(self) -> None:
         """Wait for the figures rendered by child processes and embed them (see the module docstring)."""
         started = time.perf_counter()
-        while self._children:
-            self._reap(next(iter(self._children)))
+        for token in list(self._pending):
+            if self._pending[token][0] is not None:
+                self._collect(token)
         if self._pending:
-            embedded = {}
-            for token, (stem, alt, caption, png_path, svg_path) in self._pending.items():
-                embedded[token] = _figure_html(stem, alt, caption, png_path.read_bytes())
-                self.figure_files.extend([png_path, svg_path])
+            embedded = {token: entry[1] for token, entry in self._pending.items()}
             for _, _, parts, _ in self._sections:
                 parts[:] = [embedded.get(part, part) for part in parts]
             self._pending.clear()

@@ -351,7 +351,7 @@ def _small_amplitude_lines(system, signals: NDArray[np.float64], rate: float):
     """Line amplitudes (one-sided, per realization) of the base displacement, the masses'
     positions and the isolators' deflections in the small-amplitude periodic steady state."""
     n_samples = signals.shape[1]
-    lines = np.fft.rfft(signals, axis=1)[:, 1:] * (2.0 / n_samples)  # DC and Nyquist are zero
+    lines = _line_amplitudes(signals)
     freq = np.fft.rfftfreq(n_samples, d=1.0 / rate)[1:]
     omega = 2.0 * np.pi * freq
     base = -lines / omega**2
@@ -388,6 +388,18 @@ def _synthesized(input_psd, seed, rate: float, freq_step: float, n_realizations:
         _LAST_SIGNALS.clear()
         _LAST_SIGNALS.update(key=key, signals=signals)
     return signals
+
+
+def _line_amplitudes(signals: NDArray[np.float64]) -> NDArray[np.complex128]:
+    """One-sided line amplitudes of real periodic records (the DC line dropped; it is zero),
+    kept with the last synthesized signals (:func:`_synthesized`) for the next system."""
+    if _LAST_SIGNALS.get("signals") is signals and "lines" in _LAST_SIGNALS:
+        return _LAST_SIGNALS["lines"]
+    lines = np.fft.rfft(signals, axis=1)[:, 1:] * (2.0 / signals.shape[1])
+    if _LAST_SIGNALS.get("signals") is signals:
+        lines.setflags(write=False)
+        _LAST_SIGNALS["lines"] = lines
+    return lines
 
 
 def stays_stuck(system, signals: NDArray[np.float64], rate: float) -> tuple[bool, str]:

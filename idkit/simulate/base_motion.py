@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 from scipy.interpolate import CubicSpline
 
@@ -142,18 +143,36 @@ def integrate_acceleration(acceleration, time_step: float, initial_displacement=
     """Displacement and velocity from acceleration samples by the trapezoidal (Newmark) rule.
 
     ``acceleration`` may be 1-D (n,) or 2-D (batch, n); integration runs along the last axis.
+    ``v_i = v_0 + sum_{j<i} h/2 (a_j + a_{j+1})`` and ``x_i = x_0 + sum_{j<i} h/2 (v_j + v_{j+1})``
+    (the Newmark average-acceleration update ``x+ = x + h v + h^2/4 (a + a+)``), summed
+    in order in one compiled pass per row.
     """
     a = np.asarray(acceleration, dtype=float)
     h = float(time_step)
-    velocity = np.concatenate(
-        [np.zeros(a.shape[:-1] + (1,)), np.cumsum(0.5 * h * (a[..., 1:] + a[..., :-1]), axis=-1)], axis=-1
-    ) + _column(initial_velocity)
-    # x+ = x + h v + h^2/4 (a + a+) = x + h/2 (v + v+)
-    displacement_increments = 0.5 * h * (velocity[..., 1:] + velocity[..., :-1])
-    displacement = np.concatenate(
-        [np.zeros(a.shape[:-1] + (1,)), np.cumsum(displacement_increments, axis=-1)], axis=-1
-    )
-    return displacement + _column(initial_displacement), velocity
+    rows = np.ascontiguousarray(a.reshape(-1, a.shape[-1]))
+    v0 = np.broadcast_to(np.asarray(initial_velocity, dtype=float), a.shape[:-1]).reshape(-1)
+    x0 = np.broadcast_to(np.asarray(initial_displacement, dtype=float), a.shape[:-1]).reshape(-1)
+    displacement, velocity = np.empty_like(rows), np.empty_like(rows)
+    _trapezoid_rows(rows, h, np.ascontiguousarray(x0), np.ascontiguousarray(v0), displacement, velocity)
+    return displacement.reshape(a.shape), velocity.reshape(a.shape)
+
+
+@numba.njit(cache=True, nogil=True)
+def _trapezoid_rows(a, h, x0, v0, displacement, velocity):
+    half = 0.5 * h
+    for row in range(a.shape[0]):
+        n = a.shape[1]
+        if n == 0:
+            continue
+        sum_v = 0.0
+        sum_x = 0.0
+        velocity[row, 0] = 0.0 + v0[row]
+        displacement[row, 0] = 0.0 + x0[row]
+        for i in range(1, n):
+            sum_v += half * (a[row, i] + a[row, i - 1])
+            velocity[row, i] = sum_v + v0[row]
+            sum_x += half * (velocity[row, i] + velocity[row, i - 1])
+            displacement[row, i] = sum_x + x0[row]
 
 
 def _column(value):

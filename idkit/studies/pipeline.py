@@ -9,12 +9,16 @@ computes nothing. Stages (each timed):
    per isolator: ``wire_rope``, ``elastomer``, ``hybrid``);
 2. fit the wire rope (three-stage Iwan, its parameters' spread over one refit per
    repetition (:meth:`~idkit.fit.MeasurementFit.with_repetition_spread`); Bouc-Wen for
-   comparison) and the elastomer (bounded SQP with a global cross-check; order table
+   comparison, in a forked child process beside the Iwan and elastomer fits
+   (:func:`idkit.forked.fork_call`), so its time is shared by the two stages' timings) and
+   the elastomer (bounded SQP with a global cross-check; order table
    n = 1..4 and Voigt) on the ``fit`` split;
 3. validate both on the ``validation`` split, and the hybrid built from them on all hybrid
    sweeps and drops (nothing was fitted to the hybrid), with the wrong components each
    hybrid check cannot see (:func:`idkit.validate.blind_spots`);
-4. run the transport-tool study with the identified parts (:mod:`idkit.studies.transport`).
+4. run the transport-tool study with the identified parts (:mod:`idkit.studies.transport`),
+   in a forked child process while stage 3 runs (:func:`idkit.forked.fork_call`; its
+   timing is then the wait for it after the validations).
 
 ``quick`` keeps the fits and checks but validates on at most :data:`QUICK_HELD_OUT`
 records per check and shrinks the transport study and the global searches.
@@ -30,6 +34,7 @@ from pathlib import Path
 import pandas as pd
 
 from idkit.fit import maxwell_order_table
+from idkit.forked import fork_call
 from idkit.fit.measurements import (
     MeasurementFit,
     fit_boucwen_measurements,
@@ -312,34 +317,46 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
     stages.start(STAGES[1])
     wire_rope = sets["wire_rope"]
     valid_range = valid_range_of(wire_rope)
-    iwan = fit_iwan_measurements(wire_rope, seed=seed, valid_range=valid_range, initial_state=start_state)
-    iwan = iwan.with_repetition_spread()  # one refit per repetition of the fit split (a few seconds)
-    boucwen = fit_boucwen_measurements(wire_rope, seed=seed, initial_state=start_state,
-                                       **({"global_max_evals": 800} if quick else {}))
-    iwan_loops = predict_loops(iwan.model, iwan.data.small, iwan.data.large)
+    # the Bouc-Wen comparison fit runs in a forked child beside the Iwan and elastomer fits
+    # (idkit.forked: the same seeded computation, so the same result as run here)
+    boucwen_call = fork_call(fit_boucwen_measurements, wire_rope, seed=seed, initial_state=start_state,
+                             **({"global_max_evals": 800} if quick else {}))
+    try:
+        iwan = fit_iwan_measurements(wire_rope, seed=seed, valid_range=valid_range, initial_state=start_state)
+        iwan = iwan.with_repetition_spread()  # one refit per repetition of the fit split (a few seconds)
+        iwan_loops = predict_loops(iwan.model, iwan.data.small, iwan.data.large)
+
+        stages.start(STAGES[2])
+        maxwell = fit_maxwell_measurements(sets["elastomer"], cross_check=True, seed=seed,
+                                           **({"global_max_evals": 2000} if quick else {}))
+        maxwell = maxwell.with_repetition_spread()  # one refit per repetition (a fraction of a second)
+        # the order table is scored on the FRFs the fit used (same selection, band and resolution)
+        order_table = maxwell_order_table(list(maxwell.data), k0=maxwell.k0.k0,
+                                          orders=(1, 2) if quick else (1, 2, 3, 4))
+        boucwen = boucwen_call.result()
+    finally:
+        boucwen_call.abandon()
     boucwen_loops = predict_loops(boucwen.model, boucwen.data.small, boucwen.data.large)
 
-    stages.start(STAGES[2])
-    maxwell = fit_maxwell_measurements(sets["elastomer"], cross_check=True, seed=seed,
-                                       **({"global_max_evals": 2000} if quick else {}))
-    maxwell = maxwell.with_repetition_spread()  # one refit per repetition (a fraction of a second)
-    # the order table is scored on the FRFs the fit used (same selection, band and resolution)
-    order_table = maxwell_order_table(list(maxwell.data), k0=maxwell.k0.k0,
-                                      orders=(1, 2) if quick else (1, 2, 3, 4))
-
-    stages.start(STAGES[3])
-    validations, hybrid, masses_from = _validations(sets, iwan.model, maxwell.model,
-                                                    QUICK_HELD_OUT if quick else None, drop_model)
-    rope_drops = list(wire_rope.select(kind="drop", split="validation"))
-    drop_models = wire_rope_drop_models(rope_drops[:QUICK_HELD_OUT] if quick else rope_drops,
-                                        iwan,
-                                        valid_range=valid_range) if rope_drops else None
-    maps, histories = _figures_data(sets, iwan.model, maxwell.model)
-
-    stages.start(STAGES[4])
+    # the transport study needs only the identified parts: it runs in a forked child while
+    # the validations run here (idkit.forked; the same seeded computation either way)
     options = quick_transport_options(max_speed=0.6, max_height=0.12) if quick else {}
-    transport = compute_transport_study(wire_rope=iwan.model, elastomer=maxwell.model, seed=seed, workers=workers,
-                                        **options)
+    transport_call = fork_call(compute_transport_study, wire_rope=iwan.model, elastomer=maxwell.model, seed=seed,
+                               workers=workers, **options)
+    try:
+        stages.start(STAGES[3])
+        validations, hybrid, masses_from = _validations(sets, iwan.model, maxwell.model,
+                                                        QUICK_HELD_OUT if quick else None, drop_model)
+        rope_drops = list(wire_rope.select(kind="drop", split="validation"))
+        drop_models = wire_rope_drop_models(rope_drops[:QUICK_HELD_OUT] if quick else rope_drops,
+                                            iwan,
+                                            valid_range=valid_range) if rope_drops else None
+        maps, histories = _figures_data(sets, iwan.model, maxwell.model)
+
+        stages.start(STAGES[4])
+        transport = transport_call.result()
+    finally:
+        transport_call.abandon()
     stages.finish()
     return ReportData(
         data_dir=data_dir, seed=int(seed), quick=bool(quick), sets=sets, inspections=inspections,
