@@ -13,7 +13,11 @@ from pathlib import Path
 
 from idkit.atomic import write_bytes_atomic
 
-__all__ = ["axes_or_new", "new_axes", "new_figure", "save_figure"]
+__all__ = ["MAX_PER_PANEL", "axes_or_new", "new_axes", "new_figure", "panel_groups", "save_figure"]
+
+#: setups (top masses) one panel shows before a figure is split into columns: with a
+#: measured and a model curve each, six curves a panel at most
+MAX_PER_PANEL = 3
 
 #: width of a default figure, inches
 WIDTH_IN = 6.4
@@ -64,6 +68,27 @@ def new_axes(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float] | N
 def axes_or_new(axes, nrows: int = 1, ncols: int = 1, **options):
     """``axes`` when the caller gave some, else :func:`new_axes` with ``options``."""
     return axes if axes is not None else new_axes(nrows, ncols, **options)
+
+
+def panel_groups(items, size: int = MAX_PER_PANEL) -> list[list]:
+    """``items`` in order, cut into the fewest groups of at most ``size``, as even as possible.
+
+    Examples
+    --------
+    >>> panel_groups([1, 2, 3, 4, 5, 6, 7, 8])
+    [[1, 2, 3], [4, 5, 6], [7, 8]]
+    >>> panel_groups([1, 2, 3, 4, 5, 6, 7])
+    [[1, 2, 3], [4, 5], [6, 7]]
+    """
+    items = list(items)
+    count = max(1, -(-len(items) // size))
+    base, extra = divmod(len(items), count)  # the first ``extra`` groups hold one more
+    groups, start = [], 0
+    for index in range(count):
+        stop = start + base + (1 if index < extra else 0)
+        groups.append(items[start:stop])
+        start = stop
+    return groups
 
 
 def save_figure(figure, path, *, overwrite: bool = True, dpi: int = 110) -> Path:

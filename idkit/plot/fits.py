@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from idkit.models.laws import sdof_transmissibility
-from idkit.plot._figure import axes_or_new, save_figure
+from idkit.plot._figure import axes_or_new, new_axes, panel_groups, save_figure
 
 if TYPE_CHECKING:  # types only: plotting never runs a fitter
     from idkit.fit.landscape import ErrorLandscape
@@ -78,36 +78,45 @@ def plot_frf_fit(model, frfs, *, band=(1.0, 100.0), axes=None):
     band : (float, float)
         Frequency range drawn, Hz.
     axes : pair of Axes (magnitude, phase), optional
+        Every top mass is drawn into them. Without axes, a new figure holds at most
+        :data:`~idkit.plot._figure.MAX_PER_PANEL` top masses per column.
 
     Returns
     -------
-    (Axes, Axes)
-        Magnitude and phase axes.
+    (Axes, Axes) or ndarray of Axes, shape (2, n_columns)
+        Magnitude and phase axes; a grid (magnitude row, phase row) when split.
     """
-    axes = axes_or_new(axes, 2, sharex=True)
-    magnitude_ax, phase_ax = axes
     masses = sorted({item.mass for item in frfs})
-    for index, mass in enumerate(masses):
-        colour = f"C{index % 10}"
-        for item in frfs:
-            if item.mass != mass:
-                continue
-            inside = (item.freq >= band[0]) & (item.freq <= band[1])
-            magnitude_ax.loglog(item.freq[inside], np.abs(item.transmissibility[inside]), color=colour, lw=0.6,
-                                alpha=0.6)
-            phase_ax.semilogx(item.freq[inside], np.degrees(np.angle(item.transmissibility[inside])), color=colour,
-                              lw=0.6, alpha=0.6)
-        freq = np.geomspace(band[0], band[1], 400)
-        response = sdof_transmissibility(model.small_amplitude_stiffness(freq), mass + model.m_eff, 2 * np.pi * freq)
-        magnitude_ax.loglog(freq, np.abs(response), color=colour, ls="--", lw=1.2, label=f"{mass:.2f} kg")
-        phase_ax.semilogx(freq, np.degrees(np.angle(response)), color=colour, ls="--", lw=1.2)
-    magnitude_ax.set_ylabel("|H| [-]")
-    phase_ax.set_ylabel("phase [deg]")
-    phase_ax.set_xlabel("frequency [Hz]")
-    magnitude_ax.legend(fontsize="x-small", ncol=2, title="measured (thin), model (dashed)", title_fontsize="x-small")
-    for ax in axes:
-        ax.grid(True, which="both", alpha=0.3)
-    return axes
+    groups = panel_groups(masses) if axes is None else [masses]
+    if axes is None:
+        grid = new_axes(2, len(groups), sharex=True, squeeze=False,
+                        figsize=(max(6.4, 4.0 * len(groups)), 6.8))
+    else:
+        grid = np.asarray(axes, dtype=object).reshape(2, 1)
+    freq = np.geomspace(band[0], band[1], 400)
+    for column, group in enumerate(groups):
+        magnitude_ax, phase_ax = grid[0, column], grid[1, column]
+        for index, mass in enumerate(group):
+            colour = f"C{index % 10}"
+            for item in frfs:
+                if item.mass != mass:
+                    continue
+                inside = (item.freq >= band[0]) & (item.freq <= band[1])
+                magnitude_ax.loglog(item.freq[inside], np.abs(item.transmissibility[inside]), color=colour, lw=0.6,
+                                    alpha=0.6)
+                phase_ax.semilogx(item.freq[inside], np.degrees(np.angle(item.transmissibility[inside])),
+                                  color=colour, lw=0.6, alpha=0.6)
+            response = sdof_transmissibility(model.small_amplitude_stiffness(freq), mass + model.m_eff,
+                                             2 * np.pi * freq)
+            magnitude_ax.loglog(freq, np.abs(response), color=colour, ls="--", lw=1.2, label=f"{mass:.2f} kg")
+            phase_ax.semilogx(freq, np.degrees(np.angle(response)), color=colour, ls="--", lw=1.2)
+        phase_ax.set_xlabel("frequency [Hz]")
+        magnitude_ax.legend(fontsize="x-small", title="measured (thin), model (dashed)", title_fontsize="x-small")
+        for ax in (magnitude_ax, phase_ax):
+            ax.grid(True, which="both", alpha=0.3)
+    grid[0, 0].set_ylabel("|H| [-]")
+    grid[1, 0].set_ylabel("phase [deg]")
+    return (grid[0, 0], grid[1, 0]) if len(groups) == 1 else grid
 
 
 def plot_storage_loss(model, freq=None, *, axes=None, label=None):

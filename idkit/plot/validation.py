@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from idkit.plot._figure import axes_or_new
+from idkit.plot._figure import axes_or_new, new_axes, panel_groups
 
 __all__ = ["MAP_DECADES", "plot_drop_histories", "plot_drop_validation", "plot_frf_validation", "plot_harmonic_validation", "plot_sweep_bode",
            "plot_sweep_maps"]
@@ -37,47 +37,66 @@ def plot_harmonic_validation(result, *, axes=None):
 
 
 def plot_frf_validation(result, *, axes=None):
-    """Measured H1 and model transmissibility per mass: magnitude and phase."""
-    axes = axes_or_new(axes, 2, sharex=True)
-    magnitude_ax, phase_ax = axes
-    for key, curve in result.details["curves"].items():
-        freq = curve["freq [Hz]"].to_numpy()
-        measured = curve["H1 measured"].to_numpy(complex)
-        model = curve["H model"].to_numpy(complex)
-        (line,) = magnitude_ax.loglog(freq, np.abs(model), label=f"model {key}")
-        magnitude_ax.loglog(freq, np.abs(measured), ".", color=line.get_color(), markersize=2)
-        phase_ax.semilogx(freq, np.degrees(np.angle(model)), color=line.get_color())
-        phase_ax.semilogx(freq, np.degrees(np.angle(measured)), ".", color=line.get_color(), markersize=2)
-    magnitude_ax.set_ylabel("|T| [-]")
-    phase_ax.set_ylabel("phase [deg]")
-    phase_ax.set_xlabel("frequency [Hz]")
-    magnitude_ax.legend(fontsize="x-small", ncol=2)
-    for ax in axes:
-        ax.grid(True, which="both", alpha=0.3)
-    return axes
+    """Measured H1 and model transmissibility per mass: magnitude and phase.
+
+    Without ``axes``, at most :data:`~idkit.plot._figure.MAX_PER_PANEL` masses a column
+    (a 2 x n_columns grid is returned when split); with a (magnitude, phase) pair, every
+    mass is drawn into it.
+    """
+    curves = result.details["curves"]
+    groups = panel_groups(list(curves)) if axes is None else [list(curves)]
+    if axes is None:
+        grid = new_axes(2, len(groups), sharex=True, squeeze=False, figsize=(max(6.4, 4.0 * len(groups)), 6.8))
+    else:
+        grid = np.asarray(axes, dtype=object).reshape(2, 1)
+    for column, group in enumerate(groups):
+        magnitude_ax, phase_ax = grid[0, column], grid[1, column]
+        for index, key in enumerate(group):
+            curve = curves[key]
+            colour = f"C{index % 10}"
+            freq = curve["freq [Hz]"].to_numpy()
+            measured = curve["H1 measured"].to_numpy(complex)
+            model = curve["H model"].to_numpy(complex)
+            magnitude_ax.loglog(freq, np.abs(model), color=colour, label=f"model {key}")
+            magnitude_ax.loglog(freq, np.abs(measured), ".", color=colour, markersize=2)
+            phase_ax.semilogx(freq, np.degrees(np.angle(model)), color=colour)
+            phase_ax.semilogx(freq, np.degrees(np.angle(measured)), ".", color=colour, markersize=2)
+        phase_ax.set_xlabel("frequency [Hz]")
+        magnitude_ax.legend(fontsize="x-small", title="lines model, dots measured", title_fontsize="x-small")
+        for ax in (magnitude_ax, phase_ax):
+            ax.grid(True, which="both", alpha=0.3)
+    grid[0, 0].set_ylabel("|T| [-]")
+    grid[1, 0].set_ylabel("phase [deg]")
+    return (grid[0, 0], grid[1, 0]) if len(groups) == 1 else grid
 
 
 def plot_drop_validation(result, *, axes=None):
-    """Peak accelerations (compression, tension) and peak compression versus impact speed."""
-    axes = axes_or_new(axes, 1, 2, figsize=(10, 4))
-    accel_ax, deflection_ax = axes
+    """Peak acceleration in compression, in tension, and peak compression versus impact speed.
+
+    One panel per quantity, one colour per top mass: filled markers measured, open markers
+    model (at most four series a panel). Returns the three axes.
+    """
+    axes = axes_or_new(axes, 1, 3, figsize=(12, 4))
+    compression_ax, tension_ax, deflection_ax = axes
     table = result.metrics
-    for mass, group in table.groupby("top mass [kg]"):
+    for index, (mass, group) in enumerate(table.groupby("top mass [kg]")):
+        colour = f"C{index % 10}"
         speed = np.abs(group["relative velocity step [m/s]"])
-        for phase, marker in (("compression", "o"), ("tension", "s")):
-            (line,) = accel_ax.plot(speed, group[f"peak accel {phase} simulated [m/s^2]"], marker, fillstyle="none",
-                                    label=f"model {phase}, {mass:g} kg")
-            accel_ax.plot(speed, group[f"peak accel {phase} measured [m/s^2]"], marker, color=line.get_color(),
-                          label=f"measured {phase}, {mass:g} kg")
-        (line,) = deflection_ax.plot(speed, 1e3 * group["peak compression simulated [m]"], "o", fillstyle="none",
-                                     label=f"model, {mass:g} kg")
-        deflection_ax.plot(speed, 1e3 * group["peak compression measured [m]"], "o", color=line.get_color(),
+        for ax, phase, marker in ((compression_ax, "compression", "o"), (tension_ax, "tension", "s")):
+            ax.plot(speed, group[f"peak accel {phase} simulated [m/s^2]"], marker, color=colour, fillstyle="none",
+                    label=f"model, {mass:g} kg")
+            ax.plot(speed, group[f"peak accel {phase} measured [m/s^2]"], marker, color=colour,
+                    label=f"measured, {mass:g} kg")
+        deflection_ax.plot(speed, 1e3 * group["peak compression simulated [m]"], "o", color=colour, fillstyle="none",
+                           label=f"model, {mass:g} kg")
+        deflection_ax.plot(speed, 1e3 * group["peak compression measured [m]"], "o", color=colour,
                            label=f"measured, {mass:g} kg")
-    accel_ax.set_xlabel("impact speed |v0| [m/s]")
-    accel_ax.set_ylabel("peak acceleration [m/s$^2$]")
-    deflection_ax.set_xlabel("impact speed |v0| [m/s]")
+    compression_ax.set_ylabel("peak acceleration [m/s²]")
+    compression_ax.set_title("while compressed", fontsize="small")
+    tension_ax.set_title("while in tension", fontsize="small")
     deflection_ax.set_ylabel("peak compression [mm]")
     for ax in axes:
+        ax.set_xlabel("impact speed |v0| [m/s]")
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize="x-small")
     return axes

@@ -112,9 +112,10 @@ def _metrics_frame(result) -> pd.DataFrame:
 _VALIDATION_CAPTIONS = {
     "sweeps": "Markers measured, lines model, per amplitude level: look at where the model's resonance and peak "
               "height leave the markers (right panel: the error in dB).",
-    "FRF": "Dots measured H1, lines model, per top mass: look at the resonance frequency and the peak height.",
-    "drops": "Filled markers measured, open markers model: look at how far the open markers sit from the filled "
-             "ones as the impact speed grows.",
+    "FRF": "Dots measured H1, lines model, per top mass (at most three a column): look at the resonance frequency "
+           "and the peak height.",
+    "drops": "Filled markers measured, open markers model, in compression, in tension and for the stroke: look at "
+             "how far the open markers sit from the filled ones as the impact speed grows.",
 }
 
 
@@ -128,7 +129,7 @@ def _validation_section(report: HtmlReport, entry: ValidationEntry, quick: bool)
     report.table(pd.DataFrame(rows), caption="metrics (limits are the documented defaults)",
                  name=f"{entry.key} summary")
     axes = VALIDATION_PLOTS[entry.observable](result)
-    report.figure(axes[0].figure, caption=_VALIDATION_CAPTIONS[entry.observable], name=f"validation {entry.key}",
+    report.figure(np.ravel(axes)[0].figure, caption=_VALIDATION_CAPTIONS[entry.observable], name=f"validation {entry.key}",
                   alt=f"{result.name}: measured against simulated")
     if report.tables_dir is not None:
         write_text_atomic(report.tables_dir / f"{file_stem(entry.key)}.csv", _metrics_frame(result).to_csv(index=False))
@@ -303,9 +304,9 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
     _spread_figure(report, data.maxwell, "elastomer", "Maxwell")
     report.table(data.order_table, caption="order selection: error (7.5) for n = 1..4 and the Voigt model",
                  name="maxwell order table")
-    report.figure(plot_frf_fit(data.maxwell.model, list(data.maxwell.data))[0].figure, name="elastomer frf fit",
-                  caption="Thin measured H1 (every repetition), dashed model, per top mass: look at the resonance "
-                          "peaks.",
+    report.figure(np.ravel(plot_frf_fit(data.maxwell.model, list(data.maxwell.data)))[0].figure, name="elastomer frf fit",
+                  caption="Thin measured H1 (every repetition), dashed model, per top mass (at most three a column): "
+                          "look at the resonance peaks.",
                   alt="measured and fitted transmissibility magnitude and phase per top mass")
     report.figure(plot_storage_loss(data.maxwell.model)[0].figure, name="elastomer complex stiffness",
                   caption="Storage and loss stiffness and loss factor of the identified model over 0.1-1000 Hz: look "

@@ -55,3 +55,26 @@ def test_save_fit_plots_refuses_to_overwrite_before_drawing(data, tmp_path):
     assert [p.name for p in written] == ["maxwell_frf.png", "maxwell_complex_stiffness.png"]  # no landscape given
     with pytest.raises(FileExistsError, match="refusing to overwrite"):
         save_fit_plots(prediction, tmp_path)
+
+
+def test_frf_figures_split_into_columns_of_at_most_three_top_masses():
+    """Eight top masses: three columns (3, 3, 2), each panel at most six curves' worth of
+    setups (a legend entry per top mass), every mass drawn once."""
+    from idkit.models.laws import sdof_transmissibility
+    from idkit.observe.white_noise import TransmissibilitySet
+    from idkit.plot._figure import panel_groups
+
+    assert panel_groups(range(8)) == [[0, 1, 2], [3, 4, 5], [6, 7]]
+    assert panel_groups(range(3)) == [[0, 1, 2]] and panel_groups([]) == [[]]
+    masses = [0.99, 1.29, 1.69, 2.20, 2.88, 3.75, 4.90, 6.40]
+    frfs = []
+    for mass in masses:
+        freq = np.linspace(1.0, 100.0, 200)
+        response = sdof_transmissibility(ELASTOMER.small_amplitude_stiffness(freq), mass + ELASTOMER.m_eff,
+                                         2 * np.pi * freq)
+        frfs.append(TransmissibilitySet(name=f"m{mass}", mass=mass, freq=freq, transmissibility=response))
+    grid = plot_frf_fit(ELASTOMER, frfs)
+    assert grid.shape == (2, 3)
+    labels = [[text.get_text() for text in ax.get_legend().get_texts()] for ax in grid[0]]
+    assert [len(column) for column in labels] == [3, 3, 2]
+    assert sum(labels, []) == [f"{mass:.2f} kg" for mass in masses]
