@@ -250,37 +250,49 @@ def plot_transport_psd(study: TransportStudy, *, axes=None, band_hz: tuple[float
 
 
 def plot_transport_rest_shock(study: TransportStudy, *, axes=None):
-    """Rest shock level of every system versus |v0| (left) and drop height in cm (right).
+    """Rest shock level versus |v0| (top row) and drop height in cm (bottom row).
 
-    A curve that stops before the end of its sweep (the model left its valid range and the
-    simulator flagged the runs) ends in a cross labelled "model invalid beyond ...".
+    More than :data:`MAX_CURVES` systems are split into columns (without ``axes``;
+    :func:`transport_psd_groups`: the non-hybrid systems first, then the hybrids with the
+    reference repeated); with a (speed, height) pair every system is drawn into it. A curve that stops before the end of its sweep (the model left its valid range and
+    the simulator flagged the runs) ends in a cross labelled "model invalid beyond ...".
+    One colour per system throughout.
 
     Returns
     -------
-    (Axes, Axes)
+    (Axes, Axes) or ndarray of Axes, shape (2, n_columns)
+        The pair, or the grid (speed row, height row) when split.
     """
-    by_speed, by_height = axes_or_new(axes, 1, 2, figsize=(11, 4.6))
-    for ax, table, scale, unit in ((by_speed, study.shock_velocity, 1.0, "m/s"),
-                                   (by_height, study.shock_height, 100.0, "cm")):
-        ends = curve_ends(table)
-        for index, name in enumerate(table.columns):
-            colour = f"C{index % 10}"
-            ax.plot(table.index * scale, table[name], marker=".", color=colour, label=name)
-            if name in ends:
-                x_end = ends[name] * scale
-                ax.plot([x_end], [table[name][ends[name]]], "x", color=colour, markersize=9, mew=2)
-                ax.annotate(f"{name}: model invalid beyond {x_end:.3g} {unit}", (x_end, table[name][ends[name]]),
-                            xytext=(6, 6), textcoords="offset points", fontsize="x-small", color=colour)
-    by_speed.set_xlabel("impact speed |v0| [m/s]")
-    by_height.set_xlabel("drop height h [cm]")
-    for ax in (by_speed, by_height):
-        ax.set_ylabel("rest shock level [m/s$^2$]")
-        ax.grid(True, alpha=0.3)
-    by_speed.legend(fontsize="x-small", ncol=2)
-    return by_speed, by_height
+    systems = list(study.shock_velocity.columns)
+    colours = {name: f"C{index % 10}" for index, name in enumerate(systems)}
+    groups = [systems] if axes is not None or len(systems) <= MAX_CURVES else transport_psd_groups(systems)
+    if axes is None:
+        grid = new_axes(2, len(groups), squeeze=False, figsize=(max(6.4, 4.4 * len(groups)), 7.6))
+    else:
+        grid = np.asarray(axes, dtype=object).reshape(2, 1)
+    for column, group in enumerate(groups):
+        for row, (table, scale, unit) in enumerate(((study.shock_velocity, 1.0, "m/s"),
+                                                     (study.shock_height, 100.0, "cm"))):
+            ax = grid[row, column]
+            ends = curve_ends(table)
+            for name in group:
+                colour = colours[name]
+                ax.plot(table.index * scale, table[name], marker=".", color=colour, label=name)
+                if name in ends:
+                    x_end = ends[name] * scale
+                    ax.plot([x_end], [table[name][ends[name]]], "x", color=colour, markersize=9, mew=2)
+                    ax.annotate(f"{name}: model invalid beyond {x_end:.3g} {unit}",
+                                (x_end, table[name][ends[name]]), xytext=(6, 6), textcoords="offset points",
+                                fontsize="x-small", color=colour)
+            ax.set_xlabel("impact speed |v0| [m/s]" if row == 0 else "drop height h [cm]")
+            ax.grid(True, alpha=0.3)
+        grid[0, column].legend(fontsize="x-small")
+    for row in range(2):
+        grid[row, 0].set_ylabel("rest shock level [m/s²]")
+    return (grid[0, 0], grid[1, 0]) if len(groups) == 1 else grid
 
 
 def transport_figures(study: TransportStudy) -> dict:
     """The transport study's figures keyed by file name: ``transport_output_psd.png``, ``transport_rest_shock.png``."""
     return {"transport_output_psd.png": np.ravel(plot_transport_psd(study))[0].figure,
-            "transport_rest_shock.png": plot_transport_rest_shock(study)[0].figure}
+            "transport_rest_shock.png": np.ravel(plot_transport_rest_shock(study))[0].figure}

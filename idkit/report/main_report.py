@@ -352,8 +352,9 @@ def _transport_section(report: HtmlReport, data: ReportData) -> None:
     ends = curve_ends(study.shock_velocity)
     note = ("; " + "; ".join(f"the {name} curve stops at {speed:.3g} m/s where its model leaves its valid range"
                              for name, speed in ends.items())) if ends else ""
-    report.figure(plot_transport_rest_shock(study)[0].figure, name="transport rest shock",
-                  caption="Rest shock level versus impact speed and drop height: the lowest curve protects best"
+    report.figure(np.ravel(plot_transport_rest_shock(study))[0].figure, name="transport rest shock",
+                  caption="Rest shock level versus impact speed (top) and drop height (bottom), at most six systems "
+                          "a column (the reference repeated beside the hybrids): the lowest curve protects best"
                           + note + ".",
                   alt="rest shock level of every system versus impact speed and drop height")
 

@@ -54,3 +54,25 @@ def test_a_rest_shock_curve_that_ends_says_so():
     assert curve_ends(study.shock_velocity) == {"b": 0.2}
     by_speed, _ = plot_transport_rest_shock(study)
     assert [t.get_text() for t in by_speed.texts] == ["b: model invalid beyond 0.2 m/s"]
+
+
+def test_ten_rest_shock_curves_are_split_into_columns_of_at_most_six():
+    import pandas as pd
+
+    from idkit.studies.transport import TransportStudy
+
+    names = ["reference", "elastomer", "wire rope"] + [f"hybrid r_k={r}" for r in (0.1, 0.2, 0.4, 0.6, 0.8, 1, 1.25)]
+    speeds, heights = pd.Index([0.1, 0.2]), pd.Index([0.01, 0.02])
+    study = TransportStudy(tuning=pd.DataFrame(), rms=pd.DataFrame(), psd=(), seed=0, n_realizations=1, flagged_runs=0,
+                           shock_velocity=pd.DataFrame({n: [1.0 + i, 2.0 + i] for i, n in enumerate(names)}, index=speeds),
+                           shock_height=pd.DataFrame({n: [1.0 + i, 2.0 + i] for i, n in enumerate(names)}, index=heights))
+    grid = plot_transport_rest_shock(study)
+    assert grid.shape == (2, 3)
+    drawn = [[line.get_label() for line in ax.get_lines()] for ax in grid.ravel()]
+    assert all(len(labels) <= 6 for labels in drawn)
+    assert set(sum(drawn, [])) == set(names)
+    # one colour per system in every panel (the reference is repeated beside the hybrids)
+    colours = {}
+    for ax in grid.ravel():
+        for line in ax.get_lines():
+            assert colours.setdefault(line.get_label(), line.get_color()) == line.get_color()
