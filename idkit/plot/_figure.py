@@ -13,7 +13,8 @@ from pathlib import Path
 
 from idkit.atomic import write_bytes_atomic
 
-__all__ = ["MAX_PER_PANEL", "axes_or_new", "new_axes", "new_figure", "panel_groups", "save_figure"]
+__all__ = ["MAX_PER_PANEL", "axes_or_new", "column_grid", "grid_result", "new_axes", "new_figure", "panel_groups",
+           "save_figure"]
 
 #: setups (top masses) one panel shows before a figure is split into columns: with a
 #: measured and a model curve each, six curves a panel at most
@@ -89,6 +90,22 @@ def panel_groups(items, size: int = MAX_PER_PANEL) -> list[list]:
         groups.append(items[start:stop])
         start = stop
     return groups
+
+
+def column_grid(axes, n_columns: int, *, sharex: bool = False, column_width: float = 4.0, height: float = 6.8):
+    """A 2 x ``n_columns`` object array of Axes: a new figure's, or the caller's (magnitude, phase)-like pair
+    as one column (the caller then draws every group into it)."""
+    import numpy as np
+
+    if axes is None:
+        return new_axes(2, n_columns, sharex=sharex, squeeze=False,
+                        figsize=(max(WIDTH_IN, column_width * n_columns), height))
+    return np.asarray(axes, dtype=object).reshape(2, 1)
+
+
+def grid_result(grid):
+    """The pair ``(grid[0, 0], grid[1, 0])`` for a one-column grid, else the grid itself."""
+    return (grid[0, 0], grid[1, 0]) if grid.shape[1] == 1 else grid
 
 
 def save_figure(figure, path, *, overwrite: bool = True, dpi: int = 110) -> Path:

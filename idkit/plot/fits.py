@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from idkit.models.laws import sdof_transmissibility
-from idkit.plot._figure import axes_or_new, new_axes, panel_groups, save_figure
+from idkit.plot._figure import axes_or_new, column_grid, grid_result, panel_groups, save_figure
 
 if TYPE_CHECKING:  # types only: plotting never runs a fitter
     from idkit.fit.landscape import ErrorLandscape
@@ -88,11 +88,7 @@ def plot_frf_fit(model, frfs, *, band=(1.0, 100.0), axes=None):
     """
     masses = sorted({item.mass for item in frfs})
     groups = panel_groups(masses) if axes is None else [masses]
-    if axes is None:
-        grid = new_axes(2, len(groups), sharex=True, squeeze=False,
-                        figsize=(max(6.4, 4.0 * len(groups)), 6.8))
-    else:
-        grid = np.asarray(axes, dtype=object).reshape(2, 1)
+    grid = column_grid(axes, len(groups), sharex=True)
     freq = np.geomspace(band[0], band[1], 400)
     for column, group in enumerate(groups):
         magnitude_ax, phase_ax = grid[0, column], grid[1, column]
@@ -116,7 +112,7 @@ def plot_frf_fit(model, frfs, *, band=(1.0, 100.0), axes=None):
             ax.grid(True, which="both", alpha=0.3)
     grid[0, 0].set_ylabel("|H| [-]")
     grid[1, 0].set_ylabel("phase [deg]")
-    return (grid[0, 0], grid[1, 0]) if len(groups) == 1 else grid
+    return grid_result(grid)
 
 
 def plot_storage_loss(model, freq=None, *, axes=None, label=None):

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from idkit.plot._figure import axes_or_new, new_axes
+from idkit.plot._figure import axes_or_new, column_grid, grid_result, new_axes
 from idkit.plot.responses import (
     plot_complex_stiffness,
     plot_map_cross_sections,
@@ -266,10 +266,7 @@ def plot_transport_rest_shock(study: TransportStudy, *, axes=None):
     systems = list(study.shock_velocity.columns)
     colours = {name: f"C{index % 10}" for index, name in enumerate(systems)}
     groups = [systems] if axes is not None or len(systems) <= MAX_CURVES else transport_psd_groups(systems)
-    if axes is None:
-        grid = new_axes(2, len(groups), squeeze=False, figsize=(max(6.4, 4.4 * len(groups)), 7.6))
-    else:
-        grid = np.asarray(axes, dtype=object).reshape(2, 1)
+    grid = column_grid(axes, len(groups), column_width=4.4, height=7.6)
     for column, group in enumerate(groups):
         for row, (table, scale, unit) in enumerate(((study.shock_velocity, 1.0, "m/s"),
                                                      (study.shock_height, 100.0, "cm"))):
@@ -289,7 +286,7 @@ def plot_transport_rest_shock(study: TransportStudy, *, axes=None):
         grid[0, column].legend(fontsize="x-small")
     for row in range(2):
         grid[row, 0].set_ylabel("rest shock level [m/s²]")
-    return (grid[0, 0], grid[1, 0]) if len(groups) == 1 else grid
+    return grid_result(grid)
 
 
 def transport_figures(study: TransportStudy) -> dict:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from idkit.plot._figure import axes_or_new, new_axes, panel_groups
+from idkit.plot._figure import axes_or_new, column_grid, grid_result, panel_groups
 
 __all__ = ["MAP_DECADES", "plot_drop_histories", "plot_drop_validation", "plot_frf_validation", "plot_harmonic_validation", "plot_sweep_bode",
            "plot_sweep_maps"]
@@ -45,10 +45,7 @@ def plot_frf_validation(result, *, axes=None):
     """
     curves = result.details["curves"]
     groups = panel_groups(list(curves)) if axes is None else [list(curves)]
-    if axes is None:
-        grid = new_axes(2, len(groups), sharex=True, squeeze=False, figsize=(max(6.4, 4.0 * len(groups)), 6.8))
-    else:
-        grid = np.asarray(axes, dtype=object).reshape(2, 1)
+    grid = column_grid(axes, len(groups), sharex=True)
     for column, group in enumerate(groups):
         magnitude_ax, phase_ax = grid[0, column], grid[1, column]
         for index, key in enumerate(group):
@@ -67,7 +64,7 @@ def plot_frf_validation(result, *, axes=None):
             ax.grid(True, which="both", alpha=0.3)
     grid[0, 0].set_ylabel("|T| [-]")
     grid[1, 0].set_ylabel("phase [deg]")
-    return (grid[0, 0], grid[1, 0]) if len(groups) == 1 else grid
+    return grid_result(grid)
 
 
 def plot_drop_validation(result, *, axes=None):
