@@ -119,12 +119,21 @@ def transport_conclusions(study, heights=(0.02, 0.05, 0.10)) -> list[str]:
     Returns
     -------
     list of str
-        One sentence per floor level, one per drop height, one per system whose rest-shock
-        curve ends because its model went invalid.
+        One sentence per floor level (saying so when the best or next system's random runs
+        did not settle, :meth:`~idkit.studies.transport.TransportStudy.unsettled`), one per
+        drop height, one per system whose rest-shock curve ends because its model went
+        invalid.
     """
     sentences = []
+    unsettled = {(system, level): value for system, level, value in study.unsettled()}
     for column in study.rms.columns:
-        sentences.append(_ranking_sentence(study.rms[column], f"floor PSD {column}, RMS top acceleration", "m/s^2"))
+        sentence = _ranking_sentence(study.rms[column], f"floor PSD {column}, RMS top acceleration", "m/s^2")
+        ranked = study.rms[column].dropna().sort_values().index[:2]
+        doubtful = [f"{name} (settling error {unsettled[(name, column)]:.2g})" for name in ranked
+                    if (name, column) in unsettled]
+        if doubtful:
+            sentence += (" Not settled, so uncertain by about that fraction: " + ", ".join(doubtful) + ".")
+        sentences.append(sentence)
     table_heights = study.shock_height.index.to_numpy(float)
     for height in heights:
         if not table_heights.min() <= height <= table_heights.max():

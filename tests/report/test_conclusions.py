@@ -61,3 +61,17 @@ def test_transport_sentences_rank_the_systems_from_the_numbers():
     assert sentences[3].startswith("drop height 5 cm, rest shock: reference protects the payload best (30 m/s^2")
     assert "no value (model invalid) for wire rope" in sentences[3]
     assert sentences[4].startswith("wire rope: the rest-shock curve stops at an impact speed of 0.2 m/s")
+
+
+def test_a_ranked_system_whose_runs_did_not_settle_is_flagged():
+    import dataclasses
+
+    rms = pd.DataFrame({"1e-06 [(m/s^2)^2/Hz]": [0.30, 0.10, 0.20]}, index=["reference", "elastomer", "wire rope"])
+    study = _study(rms, [0.01, 0.03], {"reference": [1.0, 2.0], "elastomer": [1.0, 2.0], "wire rope": [1.0, 2.0]},
+                   [0.1, 0.2], {"reference": [1.0, 2.0], "elastomer": [1.0, 2.0], "wire rope": [1.0, 2.0]})
+    settled = pd.DataFrame({"1e-06 [(m/s^2)^2/Hz]": [0.0, 0.0, 0.0]}, index=rms.index)
+    assert "Not settled" not in transport_conclusions(dataclasses.replace(study, settling=settled))[0]
+    ringing = settled.copy()
+    ringing.loc["wire rope"] = 0.26  # the second best: named; a third-ranked one would not be
+    sentence = transport_conclusions(dataclasses.replace(study, settling=ringing))[0]
+    assert sentence.endswith("Not settled, so uncertain by about that fraction: wire rope (settling error 0.26).")
