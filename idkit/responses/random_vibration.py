@@ -380,25 +380,27 @@ def _synthesized(input_psd, seed, rate: float, freq_step: float, n_realizations:
     key = None
     if isinstance(input_psd, PsdProfile) and isinstance(seed, (int, np.integer)):
         key = (input_psd.freq.tobytes(), input_psd.level.tobytes(), int(seed), rate, freq_step, n_realizations)
-        if _LAST_SIGNALS.get("key") == key:
-            return _LAST_SIGNALS["signals"]
+        kept = _LAST_SIGNALS.get("signals")  # (key, signals): read as one pair
+        if kept is not None and kept[0] == key:
+            return kept[1]
     signals = synthesize_random(input_psd, seed=seed, fs=rate, freq_step=freq_step, n_realizations=n_realizations)
     if key is not None:
         signals.setflags(write=False)
-        _LAST_SIGNALS.clear()
-        _LAST_SIGNALS.update(key=key, signals=signals)
+        _LAST_SIGNALS["signals"] = (key, signals)
     return signals
 
 
 def _line_amplitudes(signals: NDArray[np.float64]) -> NDArray[np.complex128]:
     """One-sided line amplitudes of real periodic records (the DC line dropped; it is zero),
     kept with the last synthesized signals (:func:`_synthesized`) for the next system."""
-    if _LAST_SIGNALS.get("signals") is signals and "lines" in _LAST_SIGNALS:
-        return _LAST_SIGNALS["lines"]
+    kept = _LAST_SIGNALS.get("lines")  # (signals, lines): the pair, so no other thread's lines are taken
+    if kept is not None and kept[0] is signals:
+        return kept[1]
     lines = np.fft.rfft(signals, axis=1)[:, 1:] * (2.0 / signals.shape[1])
-    if _LAST_SIGNALS.get("signals") is signals:
+    kept = _LAST_SIGNALS.get("signals")
+    if kept is not None and kept[1] is signals:
         lines.setflags(write=False)
-        _LAST_SIGNALS["lines"] = lines
+        _LAST_SIGNALS["lines"] = (signals, lines)
     return lines
 
 

@@ -271,3 +271,21 @@ def test_slip_a_nonlinear_spring_or_bouc_wen_keep_a_run_in_the_time_domain():
     slipping = random_response(_stuck_wire_rope(friction_n=(1e-3, 1e-3)), PsdProfile.flat(1e-2, f_lo=0.1, f_hi=100.0),
                                seed=4, n_realizations=2, method="auto", settle_records=0.1)
     assert slipping.method == "time"
+
+
+def test_floor_signals_are_reused_only_for_the_same_profile_seed_and_grid():
+    from idkit.responses.random_vibration import _line_amplitudes, _synthesized
+    from idkit.signal.psd import synthesize_random
+
+    quiet, loud = PsdProfile.flat(1e-6, f_lo=0.1, f_hi=100.0), PsdProfile.flat(1e-4, f_lo=0.1, f_hi=100.0)
+    first = _synthesized(quiet, 5, 400.0, 0.5, 3)
+    assert _synthesized(PsdProfile.flat(1e-6, f_lo=0.1, f_hi=100.0), 5, 400.0, 0.5, 3) is first  # equal profile
+    assert not first.flags.writeable
+    np.testing.assert_array_equal(first, synthesize_random(quiet, seed=5, fs=400.0, freq_step=0.5, n_realizations=3))
+    lines = _line_amplitudes(first)
+    assert _line_amplitudes(first) is lines
+    for other in (_synthesized(quiet, 6, 400.0, 0.5, 3), _synthesized(loud, 5, 400.0, 0.5, 3)):
+        assert other is not first and not np.array_equal(other, first)
+        assert _line_amplitudes(other) is not lines
+    more = _synthesized(quiet, 5, 400.0, 0.5, 4)  # one more realization: a new set (its first three are these)
+    assert more is not first and more.shape == (4, first.shape[1])
