@@ -9,9 +9,10 @@ pickled through a pipe) or raises what it raised. The child never touches the ca
 state and leaves with ``os._exit``.
 
 Forking is safe only when the caller runs a single Python thread (another thread may
-hold a lock the child would wait on forever), so where that does not hold -- or on a
-system without ``fork`` -- the call runs in the caller instead, when its result is asked
-for: the same value, without the overlap (:func:`can_fork`).
+hold a lock the child would wait on forever), so where that does not hold -- on a system
+without ``fork``, or when the system refuses a new process -- the call runs in the caller
+instead, when its result is asked for: the same value, without the overlap
+(:func:`can_fork`).
 """
 
 from __future__ import annotations
@@ -42,7 +43,10 @@ class Forked:
         self._done = False
         self._value = None
         if can_fork():
-            self._start()
+            try:
+                self._start()
+            except OSError:  # no process to be had (limits, memory): run it in the caller instead
+                self._pid = None
 
     @property
     def forked(self) -> bool:
@@ -53,7 +57,12 @@ class Forked:
         reader, writer = os.pipe()
         sys.stdout.flush()
         sys.stderr.flush()
-        pid = os.fork()
+        try:
+            pid = os.fork()
+        except OSError:
+            os.close(reader)
+            os.close(writer)
+            raise
         if pid == 0:  # the child: run, send the outcome, leave without the caller's exit handlers
             os.close(reader)
             function, args, kwargs = self._call

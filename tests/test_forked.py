@@ -91,3 +91,17 @@ def test_a_child_that_dies_without_a_result_is_reported():
               "try:\n    fork_call(os._exit, 3).result()\nexcept IdkitError as problem:\n    print(problem)\n")
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
     assert "ended without a result (exit status 3)" in done.stdout, done.stderr
+
+
+def test_a_refused_fork_runs_the_call_in_the_caller(monkeypatch):
+    import os
+
+    import idkit.forked as forked
+
+    def refuse():
+        raise BlockingIOError(11, "Resource temporarily unavailable")
+
+    monkeypatch.setattr(forked, "can_fork", lambda: True)
+    monkeypatch.setattr(os, "fork", refuse)
+    call = fork_call(sum, [4, 5])
+    assert not call.forked and call.result() == 9
