@@ -179,9 +179,6 @@ def _cmd_maxwell(args) -> int:
                           ("--shift-factors", args.shift_factors)):
         if value is not None:
             raise IdkitError(f"{option}: applies to a DMA table file; found a measurement-set folder")
-    if args.order == "auto":
-        raise IdkitError("--order auto: applies to a DMA table file; for a measurement set give an order "
-                         "and see --order-table")
     args.order = 2 if args.order is None else args.order
     opt.check_band("--band", args.band)
     _check_outputs("maxwell", args.output, args.plots, args.dataset)
@@ -189,11 +186,15 @@ def _cmd_maxwell(args) -> int:
     fit = fit_maxwell_measurements(data, order=args.order, k0=args.k0, isolator=args.isolator,
                                    split=_split(args.split), band=tuple(args.band), backend=args.backend,
                                    cross_check=args.cross_check, seed=args.seed)
-    if args.order_table:
-        frfs, _ = transmissibility_sets(data, isolator=args.isolator, split=_split(args.split), band=tuple(args.band))
-        table = maxwell_order_table(list(frfs), k0=fit.model.k0, band=tuple(args.band), backend=args.backend,
-                                    seed=args.seed)
-        print("[[Order selection]]\n" + table.to_string(index=False))
+    if args.order_table or fit.order_table is not None:
+        table = fit.order_table
+        if table is None:
+            frfs, _ = transmissibility_sets(data, isolator=args.isolator, split=_split(args.split),
+                                            band=tuple(args.band))
+            table = maxwell_order_table(list(frfs), k0=fit.model.k0, band=tuple(args.band), backend=args.backend,
+                                        seed=args.seed)
+        print("[[Order selection (rule: lowest successful order within 10 % of the best error)]]\n"
+              + table.to_string(index=False))
     return _finish(fit, args)
 
 
@@ -258,8 +259,9 @@ def register(subparsers) -> None:
     _common(maxwell, loops=False)
     maxwell.add_argument("--order", type=_maxwell_order, default=None,
                          help=f"number of Maxwell elements (1 to {opt.MAX_DMA_ORDER}; default 2 for a measurement "
-                              "set), or 'auto' (default for a table: the fewest terms within 1.1 x the best error "
-                              "of orders 1 to one a decade)")
+                              "set), or 'auto': for a measurement set, orders 1-4 fitted and the lowest successful "
+                              "one within 1.1 x the best error kept (the table is printed); for a table (its "
+                              "default), the fewest terms within 1.1 x the best error of orders 1 to one a decade")
     maxwell.add_argument("--reference-temperature", type=opt.real(above=-273.15, unit="C"),
                          help="table with isotherms: reference temperature of the master curve in C (default: the "
                               "given shift factors' reference, else the isotherm nearest the median temperature)")

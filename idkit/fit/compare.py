@@ -134,7 +134,10 @@ def maxwell_order_table(frfs, *, k0: float, orders: Sequence[int] = (1, 2, 3, 4)
 
     Returns a DataFrame with one row per model: ``model``, ``order``, ``n_params``,
     ``error_percent`` (objective 7.5), ``at_bound`` (free parameters stuck at a
-    bound, comma-separated, ``""`` if none), ``success``. ``options`` go to
+    bound, comma-separated, ``""`` if none), ``success`` and ``recommended``: the lowest
+    Maxwell order whose error is within :data:`ORDER_RULE_FACTOR` of the best Maxwell
+    error, among the successful fits (an order with a parameter at a bound is not
+    recommended while another succeeds; the Voigt row never is). ``options`` go to
     :func:`fit_maxwell` (and the common ones to :func:`fit_voigt`).
     """
     rows, previous = [], None
@@ -156,7 +159,12 @@ def maxwell_order_table(frfs, *, k0: float, orders: Sequence[int] = (1, 2, 3, 4)
         result = fit_voigt(frfs, k0=k0, **voigt_options)
         rows.append({"model": "voigt", "order": 0, "n_params": 3, "error_percent": 100 * result.error,
                      "at_bound": ", ".join(result.at_bound), "success": result.success})
-    return pd.DataFrame(rows)
+    table = pd.DataFrame(rows)
+    maxwell = table[table["model"] == "maxwell"]
+    candidates = maxwell[maxwell["success"]] if maxwell["success"].any() else maxwell
+    within = candidates[candidates["error_percent"] <= ORDER_RULE_FACTOR * candidates["error_percent"].min()]
+    table["recommended"] = (table["model"] == "maxwell") & (table["order"] == within["order"].min())
+    return table
 
 
 def _nested_start(model: GeneralizedMaxwell, order: int, k0: float, options: dict) -> GeneralizedMaxwell:

@@ -570,7 +570,7 @@ def elastomer_data(
 def fit_maxwell_measurements(
     measurements,
     *,
-    order: int = 2,
+    order: int | str = 2,
     k0: float | None = None,
     k0_window: float = 1e-3,
     isolator: str | None = "elastomer",
@@ -591,8 +591,10 @@ def fit_maxwell_measurements(
     Parameters
     ----------
     measurements : MeasurementSet or sequence of measurements
-    order : int, default 2
-        Number of Maxwell elements.
+    order : int or "auto", default 2
+        Number of Maxwell elements, or ``"auto"``: orders 1-4 are fitted
+        (:func:`idkit.fit.maxwell_order_table`, same band, backend and seed) and the one
+        its order rule recommends is kept; the table is in ``fit.order_table``.
     k0 : float, optional
         Static stiffness in N/m; default from the loops (window ``k0_window``, m).
     k0_window : float, default 1e-3
@@ -611,9 +613,19 @@ def fit_maxwell_measurements(
     """
     data = elastomer_data(measurements, k0=k0, k0_window=k0_window, isolator=isolator, split=split, band=band,
                           resolution_hz=resolution_hz)
-    result = fit_maxwell(list(data.frfs), k0=data.k0, k0_stderr=data.k0_stderr, order=order, band=band,
+    order_table = None
+    if order == "auto":
+        from idkit.fit.compare import maxwell_order_table
+
+        order_table = maxwell_order_table(list(data.frfs), k0=data.k0, band=band, backend=backend, seed=seed,
+                                          **options)
+        order = int(order_table.loc[order_table["recommended"], "order"].iloc[0])
+    elif isinstance(order, str) or not (isinstance(order, (int, np.integer)) and order >= 1):
+        raise FitError(f"order: found {order!r}, expected an integer >= 1 or 'auto'")
+    result = fit_maxwell(list(data.frfs), k0=data.k0, k0_stderr=data.k0_stderr, order=int(order), band=band,
                          backend=backend, cross_check=cross_check, seed=seed, **options)
     return MeasurementFit(kind="maxwell", result=result, data=data, provenance=data.provenance, k0=data.k0_estimate,
-                          options={"order": order, "k0_window": k0_window, "resolution_hz": resolution_hz,
-                                   "band": list(band), "backend": backend, "cross_check": cross_check, **options},
-                          repetitions=data.repetitions)
+                          options={"order": int(order), "order_rule": order_table is not None, "k0_window": k0_window,
+                                   "resolution_hz": resolution_hz, "band": list(band), "backend": backend,
+                                   "cross_check": cross_check, **options},
+                          repetitions=data.repetitions, order_table=order_table)

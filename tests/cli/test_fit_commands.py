@@ -51,6 +51,16 @@ def test_cli_fit_maxwell_and_boucwen(dataset, tmp_path, capsys):
     assert json.loads(bw.read_text())["model"]["kind"] == "bouc_wen"
 
 
+def test_cli_fit_maxwell_order_auto_keeps_the_recommended_order(dataset, tmp_path, capsys):
+    """The set's white noise comes from the order-2 Table 7.3 elastomer: the rule keeps 2."""
+    output = tmp_path / "auto.json"
+    assert main(["fit", "maxwell", str(dataset), "--order", "auto", "-o", str(output)]) == 0
+    printed = capsys.readouterr().out
+    assert "[[Order selection (rule: lowest successful order within 10 % of the best error)]]" in printed
+    params = load_model_document(output)["model"]["params"]
+    assert sorted(name for name in params if name.startswith("rate_")) == ["rate_1", "rate_2"]
+
+
 @pytest.mark.parametrize("argv, message", [
     (["fit", "iwan", "{missing}", "-o", "{out}"], "no such file or folder"),
     (["fit", "iwan", "{set}", "--order", "0", "-o", "{out}"], "--order"),

@@ -138,7 +138,6 @@ ERRORS = [
     ("iwan-order-negative", FIT_IWAN + ["--order", "-1"], ["--order", "found '-1'"]),
     ("maxwell-order-41", FIT_MAXWELL + ["--order", "41"], ["--order", "found '41'", "from 1 to 40"]),
     ("maxwell-order-text", FIT_MAXWELL + ["--order", "many"], ["--order", "found 'many'"]),
-    ("maxwell-order-auto-on-a-set", FIT_MAXWELL + ["--order", "auto"], ["--order auto", "DMA table"]),
     ("maxwell-reference-temperature-below-absolute-zero", FIT_MAXWELL + ["--reference-temperature", "-300"],
      ["--reference-temperature", "found '-300'", "-273.15"]),
     ("maxwell-reference-temperature-on-a-set", FIT_MAXWELL + ["--reference-temperature", "20"],

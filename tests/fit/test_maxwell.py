@@ -178,6 +178,8 @@ def test_order_table_falls_then_flattens_and_voigt_is_worse(noisy_frfs, truth, s
     assert errors[3] <= errors[2] * (1 + 1e-9) and errors[2] <= errors[1]
     assert table.loc[table["model"] == "voigt", "error_percent"].iloc[0] > 5 * errors[2]
     assert table["at_bound"].map(bool).any()  # superfluous or misfitting parameters get flagged
+    # the order rule: the truth's two rates (order 1 is > 5x worse, order 3 within 2 %)
+    assert table.loc[table["recommended"], "order"].tolist() == [2]
 
 
 def test_voigt_fit_runs_and_reports(clean_frfs):
