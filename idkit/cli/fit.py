@@ -179,7 +179,7 @@ def _cmd_maxwell(args) -> int:
                           ("--shift-factors", args.shift_factors)):
         if value is not None:
             raise IdkitError(f"{option}: applies to a DMA table file; found a measurement-set folder")
-    args.order = 2 if args.order is None else args.order
+    args.order = "auto" if args.order is None else args.order
     opt.check_band("--band", args.band)
     _check_outputs("maxwell", args.output, args.plots, args.dataset)
     data = _load(args.dataset, args)
@@ -245,9 +245,9 @@ def register(subparsers) -> None:
 
     iwan = kinds.add_parser("iwan", help="three-stage Iwan fit to the quasi-static wire-rope loops")
     _common(iwan, loops=True)
-    iwan.add_argument("--order", type=_iwan_order, default=2,
-                      help=f"number of Jenkin elements (1 to {opt.MAX_ORDER}, default 2), or 'auto': fit orders "
-                           "1-6 and keep the one the order rule recommends (docs/fitting.md)")
+    iwan.add_argument("--order", type=_iwan_order, default="auto",
+                      help=f"number of Jenkin elements (1 to {opt.MAX_ORDER}), or 'auto' (default): fit orders "
+                           "1-6, print their table and keep the one the order rule recommends (docs/fitting.md)")
     iwan.add_argument("--order-table", action="store_true",
                       help="also fit orders 1-6 and print errors, stuck stiffness and the recommended order")
     iwan.add_argument("--valid-range", type=opt.real(unit="m"), nargs=2, metavar=("X_MIN", "X_MAX"),
@@ -258,8 +258,8 @@ def register(subparsers) -> None:
                                                "or a Prony series from a DMA / complex stiffness table file")
     _common(maxwell, loops=False)
     maxwell.add_argument("--order", type=_maxwell_order, default=None,
-                         help=f"number of Maxwell elements (1 to {opt.MAX_DMA_ORDER}; default 2 for a measurement "
-                              "set), or 'auto': for a measurement set, orders 1-4 fitted and the lowest successful "
+                         help=f"number of Maxwell elements (1 to {opt.MAX_DMA_ORDER}), or 'auto' (the default): for a "
+                              "measurement set, orders 1-4 fitted and the lowest successful "
                               "one within 1.1 x the best error kept (the table is printed); for a table (its "
                               "default), the fewest terms within 1.1 x the best error of orders 1 to one a decade")
     maxwell.add_argument("--reference-temperature", type=opt.real(above=-273.15, unit="C"),

@@ -49,6 +49,7 @@ from idkit.fit.boucwen_output import (
     fit_boucwen_output,
 )
 from idkit.fit.compare import (
+    ORDER_RULE_FACTOR,
     LoopModelComparison,
     compare_loop_models,
     iwan_order_table,
@@ -60,7 +61,7 @@ from idkit.fit.iwan import fit_iwan
 from idkit.fit.iwan_start import iwan_start
 from idkit.fit.landscape import ErrorLandscape, maxwell_error_landscape
 from idkit.fit.loop_objective import boucwen_set_errors, boucwen_set_forces, iwan_set_errors, iwan_set_forces
-from idkit.fit.maxwell import fit_complex_stiffness, fit_maxwell, fit_voigt
+from idkit.fit.maxwell import LOSS_RULE_FACTOR, fit_complex_stiffness, fit_maxwell, fit_voigt
 from idkit.fit.dma import DmaFit, PronyFit, fit_dma_table, fit_prony
 from idkit.fit.measurements import (
     ElastomerData,
@@ -97,10 +98,10 @@ from idkit.observe.quasi_static import (
 from idkit.observe.white_noise import TransmissibilitySet, transmissibility_sets
 
 __all__ = [
-    "LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "iwan_set_forces", "fit_iwan", "iwan_order_table",
+    "LoopSet", "prepare_loops", "iwan_start", "iwan_set_errors", "iwan_set_forces", "fit_iwan", "iwan_order_table", "ORDER_RULE_FACTOR",
     "IwanFitResult", "IwanFitSettings", "IwanStart", "StageResult",
     "TransmissibilitySet", "K0Estimate", "estimate_k0", "maxwell_objective", "fit_maxwell", "fit_voigt",
-    "fit_complex_stiffness", "maxwell_order_table", "fit_prony", "PronyFit", "fit_dma_table", "DmaFit",
+    "fit_complex_stiffness", "maxwell_order_table", "LOSS_RULE_FACTOR", "fit_prony", "PronyFit", "fit_dma_table", "DmaFit",
     "MaxwellFitResult", "MaxwellFitSettings", "CrossCheck",
     "fit_boucwen",
     "fit_viscous_damping", "ViscousDamping", "boucwen_set_errors", "boucwen_set_forces", "BoucWenFitResult", "BoucWenFitSettings",

@@ -55,6 +55,12 @@ _NLOPT_NAMES = {nlopt.SUCCESS: "success", nlopt.STOPVAL_REACHED: "stopval reache
 _CONSTRAINT_TOL = 1e-10
 
 
+
+#: nlopt's generic failure: ``RuntimeError`` in most releases, ``nlopt.runtime_error`` (not a
+#: ``RuntimeError``) in others, e.g. when SLSQP meets incompatible linearised constraints
+#: from an infeasible start.
+_NLOPT_FAILURES = (RuntimeError, getattr(nlopt, "runtime_error", RuntimeError))
+
 def nlopt_result_name(code: int) -> str:
     """Readable name of an nlopt result code, e.g. ``"xtol reached"`` (``"code N"`` if unknown)."""
     return _NLOPT_NAMES.get(code, f"code {code}")
@@ -277,7 +283,12 @@ def sqp(problem: ConstrainedProblem, z0, *, backend: str, max_evals: int, ftol: 
         opt.set_upper_bounds(np.ones(z0.size))
 
         def nlopt_objective(z, grad):
-            value, gradient = problem.objective(z)
+            if not np.all(np.isfinite(z)):  # SLSQP stepped to NaN (a singular quasi-Newton update)
+                raise nlopt.ForcedStop
+            with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+                value, gradient = problem.objective(z)
+            if not (math.isfinite(value) and np.all(np.isfinite(gradient))):
+                raise nlopt.ForcedStop
             if grad.size:
                 grad[:] = gradient / scale
             track(z, value)
@@ -301,7 +312,9 @@ def sqp(problem: ConstrainedProblem, z0, *, backend: str, max_evals: int, ftol: 
             message, status = "nlopt SLSQP: " + nlopt_result_name(code), _nlopt_status(code)
         except nlopt.RoundoffLimited:
             message, status = "nlopt SLSQP: roundoff limited (best point kept)", STALLED
-        except RuntimeError as error:  # nlopt's generic failure, e.g. incompatible linearised constraints
+        except nlopt.ForcedStop:
+            message, status = "nlopt SLSQP: stepped to a non-finite point (best point kept)", STALLED
+        except _NLOPT_FAILURES as error:  # nlopt's generic failure, e.g. incompatible linearised constraints
             message, status = f"nlopt SLSQP: failure '{error}' (best point kept)", FAILED
     else:
         constraints = []

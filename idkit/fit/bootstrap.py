@@ -232,7 +232,8 @@ def bootstrap_measurements(fit, *, method: str = "repetition", n_resamples: int 
                                seed=seed, **options)
     if fit.kind == "maxwell":
         k0 = fit.model.k0
-        options = {"order": settings.order, "band": settings.band, "backend": settings.backend}
+        options = {"order": settings.order, "band": settings.band, "backend": settings.backend,
+                   "monotone_loss": settings.monotone_loss}
         return bootstrap_transmissibility(fit.data, k0=k0, groups=fit.repetitions or None, method=method,
                                           n_resamples=n_resamples, seed=seed, fitter=fit_maxwell, **options)
     raise FitError(f"fit.kind: found {fit.kind!r}, expected 'iwan', 'boucwen' or 'maxwell'")

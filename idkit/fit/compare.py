@@ -100,8 +100,10 @@ def iwan_order_table(small, large, *, orders: Sequence[int] = (1, 2, 3, 4, 5, 6)
     ``smallest_loop_secant [N/m]`` (tip-to-tip secant of the smallest measured loop, the
     data's own stuck-stiffness reading), ``spring_negative_below [m]`` and
     ``spring_negative_above [m]`` (where ``g1 + 2 g2 x + 3 g3 x^2`` turns negative,
-    +-inf if never), ``success``, ``reasons`` and ``recommended`` (the order chosen by
-    :data:`ORDER_RULE_FACTOR`). ``options`` go to :func:`fit_iwan`.
+    +-inf if never), ``success``, ``reasons`` and ``recommended``: the lowest order whose mean
+    of small and large error is within :data:`ORDER_RULE_FACTOR` of the best, among the
+    fits that succeeded (an order that stopped at a limit or a bound is not recommended
+    while another succeeds). ``options`` go to :func:`fit_iwan`.
     """
     small_sets = as_loop_sets(small, "small", options.get("points_per_set", 200))
     large_sets = as_loop_sets(large, "large", options.get("points_per_set", 200))
@@ -117,9 +119,17 @@ def iwan_order_table(small, large, *, orders: Sequence[int] = (1, 2, 3, 4, 5, 6)
                      "spring_negative_below [m]": below, "spring_negative_above [m]": above,
                      "success": result.success, "reasons": "; ".join(result.reasons)})
     table = pd.DataFrame(rows)
-    mean_error = 0.5 * (table["error_small_percent"] + table["error_large_percent"])
-    table["recommended"] = table["order"] == table.loc[mean_error <= ORDER_RULE_FACTOR * mean_error.min(), "order"].min()
+    table["recommended"] = table["order"] == _rule(table, 0.5 * (table["error_small_percent"]
+                                                                  + table["error_large_percent"]))
     return table
+
+
+def _rule(table: pd.DataFrame, error: pd.Series) -> int:
+    """The order rule: the lowest order whose ``error`` is within :data:`ORDER_RULE_FACTOR` of
+    the best, among the rows that succeeded (all rows when none did)."""
+    candidates = table["success"] if table["success"].any() else pd.Series(True, index=table.index)
+    error = error[candidates]
+    return int(table.loc[error.index[error <= ORDER_RULE_FACTOR * error.min()], "order"].min())
 
 
 def maxwell_order_table(frfs, *, k0: float, orders: Sequence[int] = (1, 2, 3, 4), voigt: bool = True,
@@ -161,9 +171,7 @@ def maxwell_order_table(frfs, *, k0: float, orders: Sequence[int] = (1, 2, 3, 4)
                      "at_bound": ", ".join(result.at_bound), "success": result.success})
     table = pd.DataFrame(rows)
     maxwell = table[table["model"] == "maxwell"]
-    candidates = maxwell[maxwell["success"]] if maxwell["success"].any() else maxwell
-    within = candidates[candidates["error_percent"] <= ORDER_RULE_FACTOR * candidates["error_percent"].min()]
-    table["recommended"] = (table["model"] == "maxwell") & (table["order"] == within["order"].min())
+    table["recommended"] = (table["model"] == "maxwell") & (table["order"] == _rule(maxwell, maxwell["error_percent"]))
     return table
 
 

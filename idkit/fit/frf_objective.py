@@ -118,12 +118,22 @@ def band_points(freq, value, band, what: str, *, min_points: int) -> tuple[np.nd
     return f_in, v_in
 
 
+def preloaded(model, static_stiffness):
+    """``model`` about a static preload (:meth:`GeneralizedMaxwell.preloaded`); other models,
+    and ``static_stiffness=None``, unchanged (a Voigt fit ignores the preload: its static
+    stiffness is a fitted parameter)."""
+    if static_stiffness is None or not isinstance(model, GeneralizedMaxwell):
+        return model
+    return model.preloaded(static_stiffness)
+
+
 def maxwell_objective(model: GeneralizedMaxwell | VoigtModel, frfs, *, band=(1.0, 100.0)) -> float:
     """Objective (7.5) of a given model on transmissibility sets: RMS relative complex error (fraction).
 
     ``e = sqrt(mean_sets mean_band |H_model - H_meas|^2 / |H_meas|^2)`` with
     ``H_model`` :func:`idkit.models.laws.sdof_transmissibility` of the set's top mass plus
-    the model's ``m_eff``: every set weighs the same whatever its number of points.
+    the model's ``m_eff`` (a Maxwell model about the set's preload, :func:`preloaded`): every
+    set weighs the same whatever its number of points.
 
     Parameters
     ----------
@@ -143,6 +153,7 @@ def maxwell_objective(model: GeneralizedMaxwell | VoigtModel, frfs, *, band=(1.0
     squares = []
     for item in sets:
         f_in, h_in = band_points(item.freq, item.transmissibility, band, f"frfs {item.name!r}", min_points=1)
-        h_model = sdof_transmissibility(model.complex_stiffness(f_in), item.mass + model.m_eff, 2 * np.pi * f_in)
+        local = preloaded(model, item.static_stiffness)
+        h_model = sdof_transmissibility(local.complex_stiffness(f_in), item.mass + model.m_eff, 2 * np.pi * f_in)
         squares.append(mean_squared_relative_error(h_model, h_in))
     return math.sqrt(float(np.mean(squares)))

@@ -52,7 +52,7 @@ import numpy as np
 import scipy.stats
 
 from idkit.errors import FitError
-from idkit.fit._optim import constrained_global_search, sqp
+from idkit.fit._optim import INFEASIBLE, constrained_global_search, sqp
 from idkit.fit._params import Transform, jacobian_statistics, spec_units, to_lmfit, to_physical_statistics
 from idkit.fit.frf_objective import as_transmissibility_sets, band_points, check_band, maxwell_objective
 from idkit.fit.result import CrossCheck, MaxwellFitResult, MaxwellFitSettings
@@ -160,9 +160,11 @@ class _Problem:
     data = ""
 
     def __init__(self, law, *, omega, measured, mass, weights, set_index, set_names, transforms: list[Transform],
-                 loss_omega, monotone_loss: bool):
+                 loss_omega, monotone_loss: bool, static_offset=None):
         self.law = law
         self.omega, self.measured = omega, measured
+        # per point: the static tangent stiffness at the set's preload minus k0 (N/m), added to k*
+        self.static_offset = np.zeros_like(omega) if static_offset is None else np.asarray(static_offset, float)
         self.s = 1j * omega
         self.mass = mass
         self.abs_measured = np.abs(measured)
@@ -195,7 +197,7 @@ class _Problem:
 
     def prediction(self, p, points=None, with_jacobian: bool = True):
         """Model prediction and its Jacobian wrt the physical parameters at ``points``
-        (``(omega, mass)``; default the measured points)."""
+        (``(omega, mass, static offset)``; default the measured points)."""
         raise NotImplementedError
 
     def _condense(self):
@@ -205,10 +207,12 @@ class _Problem:
         point, ``a = sum w / |Hm|^2``, ``b = sum w Hm / |Hm|^2``, ``c = sum w``.
         """
         mass = np.zeros_like(self.omega) if self.mass is None else self.mass
-        keys, inverse = np.unique(np.column_stack([self.omega, mass]), axis=0, return_inverse=True)
+        keys, inverse = np.unique(np.column_stack([self.omega, mass, self.static_offset]), axis=0,
+                                  return_inverse=True)
         inverse = inverse.ravel()
         ratio = self.weights / self.abs_measured**2
         self.c_omega, self.c_mass = keys[:, 0], (None if self.mass is None else keys[:, 1])
+        self.c_offset = keys[:, 2]
         self.c_a = np.bincount(inverse, ratio, minlength=keys.shape[0])
         self.c_b = (np.bincount(inverse, ratio * self.measured.real, minlength=keys.shape[0])
                     + 1j * np.bincount(inverse, ratio * self.measured.imag, minlength=keys.shape[0]))
@@ -223,7 +227,8 @@ class _Problem:
     def objective(self, z, with_gradient: bool = True):
         """``e^2`` (7.5 squared) and its gradient wrt ``z`` (on the condensed points)."""
         self.evaluations += 1
-        prediction, jacobian = self.prediction(self.physical(z), (self.c_omega, self.c_mass), with_gradient)
+        prediction, jacobian = self.prediction(self.physical(z), (self.c_omega, self.c_mass, self.c_offset),
+                                               with_gradient)
         value = float(np.sum(self.c_a * (prediction.real**2 + prediction.imag**2))
                       - 2.0 * np.real(np.vdot(prediction, self.c_b)) + self.c_c)
         value = max(value, 0.0)
@@ -275,9 +280,10 @@ class _TransmissibilityProblem(_Problem):
     data = "transmissibility"
 
     def prediction(self, p, points=None, with_jacobian: bool = True):
-        omega, mass = (self.omega, self.mass) if points is None else points
+        omega, mass, offset = (self.omega, self.mass, self.static_offset) if points is None else points
         values = self.law.values(p)
         stiffness, d_stiffness = self.law.stiffness(values, 1j * omega, with_jacobian)
+        stiffness = stiffness + offset
         moving_mass = mass + values["m_eff"]
         prediction = sdof_transmissibility(stiffness, moving_mass, omega)
         if not with_jacobian:
@@ -295,11 +301,17 @@ class _StiffnessProblem(_Problem):
     data = "stiffness"
 
     def prediction(self, p, points=None, with_jacobian: bool = True):
-        omega = self.omega if points is None else points[0]
+        omega = self.omega if points is None else points[0]  # no preload: the offsets are zero
         return self.law.stiffness(self.law.values(p), 1j * omega, with_jacobian)
 
 
 # --------------------------------------------------------------------------- input handling
+
+
+#: ``monotone_loss="auto"``: the loss-factor constraint is dropped when the free fit's error is
+#: below the constrained fit's by more than this factor, the standard an extra element must
+#: meet in the order rule (:data:`idkit.fit.compare.ORDER_RULE_FACTOR`).
+LOSS_RULE_FACTOR = 1.10
 
 
 def _check_order(order) -> int:
@@ -512,12 +524,19 @@ def _frf_problem(frfs, *, model, order, k0, band, stiffness_bounds, rate_bounds,
     band = check_band(band)
     sets = as_transmissibility_sets(frfs)
     n_params = (2 * order + 1) if model == "maxwell" else 3
-    parts = []
+    parts, offsets = [], []
     for item in sets:
         if not (math.isfinite(item.mass) and item.mass > 0):
             raise FitError(f"frfs {item.name!r}: found mass {item.mass!r}, expected a positive mass in kg")
         f_in, h_in = band_points(item.freq, item.transmissibility, band, f"frfs {item.name!r}", min_points=3)
         parts.append((f_in, h_in, item.mass))
+        static = item.static_stiffness
+        if static is not None and not (math.isfinite(static) and static > 0):
+            raise FitError(f"frfs {item.name!r}: found static_stiffness {static!r}, expected a positive N/m or None")
+        # a Maxwell model about the set's preload: k0 -> the static tangent stiffness there (the
+        # Voigt model's static stiffness is a parameter: it ignores the preload)
+        shift = 0.0 if static is None or model != "maxwell" else float(static) - float(k0 or 0.0)
+        offsets.append(np.full(f_in.size, shift))
     if sum(f.size for f, _, _ in parts) <= n_params:
         raise FitError(f"frfs: found {sum(f.size for f, _, _ in parts)} points in the band, "
                        f"expected more than the {n_params} parameters")
@@ -544,7 +563,8 @@ def _frf_problem(frfs, *, model, order, k0, band, stiffness_bounds, rate_bounds,
     law = _MaxwellLaw(order, float(k0), with_m_eff=True) if model == "maxwell" else _VoigtLaw(with_m_eff=True)
     return _TransmissibilityProblem(law, omega=omega, measured=measured, mass=mass, weights=weights,
                                     set_index=set_index, set_names=[item.name for item in sets], transforms=transforms,
-                                    loss_omega=loss_omega, monotone_loss=monotone_loss), band
+                                    loss_omega=loss_omega, monotone_loss=monotone_loss,
+                                    static_offset=np.concatenate(offsets)), band
 
 
 def fit_maxwell(
@@ -559,7 +579,7 @@ def fit_maxwell(
     rate_bounds=(1.0, 1e4),
     m_eff_max: float | None = None,
     isolator_mass: float | None = None,
-    monotone_loss: bool = True,
+    monotone_loss: bool | str = "auto",
     loss_grid_points: int = 25,
     start: GeneralizedMaxwell | None = None,
     max_evals: int = 500,
@@ -597,8 +617,12 @@ def fit_maxwell(
         half the smallest top mass.
     isolator_mass : float, optional
         Mass of the isolator in kg.
-    monotone_loss : bool, default True
-        Constrain the loss factor to be non-decreasing over the band.
+    monotone_loss : bool or "auto", default "auto"
+        Constrain the loss factor to be non-decreasing over the band (SPEC 4). ``"auto"``
+        fits with and without the constraint and keeps it unless the free fit's error is
+        below the constrained one by more than :data:`LOSS_RULE_FACTOR` (the data then
+        contradict it: a loss factor that falls with frequency, as a relaxation spectrum
+        spread over decades gives); ``settings.loss_rule`` says which and why.
     loss_grid_points : int, default 25
         Frequencies (log-spaced over the band) of that constraint.
     start : GeneralizedMaxwell, optional
@@ -632,15 +656,64 @@ def fit_maxwell(
         Order < 1, NaN or zero transmissibility in the band, too few points, bad bounds.
     """
     order = _check_order(order)
-    problem, band = _frf_problem(frfs, model="maxwell", order=order, k0=k0, band=band,
-                                 stiffness_bounds=stiffness_bounds, rate_bounds=rate_bounds, damping_bounds=None,
-                                 m_eff_max=m_eff_max, isolator_mass=isolator_mass, monotone_loss=monotone_loss,
-                                 loss_grid_points=loss_grid_points)
+    if monotone_loss not in (True, False, "auto"):
+        raise FitError(f"monotone_loss: found {monotone_loss!r}, expected True, False or 'auto'")
     if k0_stderr is not None and not (math.isfinite(k0_stderr) and k0_stderr >= 0):
         raise FitError(f"k0_stderr: found {k0_stderr!r}, expected a non-negative uncertainty in N/m or None")
-    return _solve(problem, start=start, band=band, backend=backend, max_evals=max_evals, ftol=ftol,
-                  cross_check=cross_check, global_method=global_method, global_max_evals=global_max_evals,
-                  seed=seed, settings_extra={}, k0_stderr=k0_stderr)
+
+    def problem_for(constrained: bool):
+        return _frf_problem(frfs, model="maxwell", order=order, k0=k0, band=band, stiffness_bounds=stiffness_bounds,
+                            rate_bounds=rate_bounds, damping_bounds=None, m_eff_max=m_eff_max,
+                            isolator_mass=isolator_mass, monotone_loss=constrained, loss_grid_points=loss_grid_points)
+
+    common = dict(backend=backend, max_evals=max_evals, ftol=ftol, global_method=global_method,
+                  global_max_evals=global_max_evals, seed=seed, k0_stderr=k0_stderr)
+    if monotone_loss != "auto":
+        problem, band = problem_for(bool(monotone_loss))
+        return _solve(problem, start=start, band=band, cross_check=cross_check,
+                      settings_extra={"loss_rule": f"monotone_loss={bool(monotone_loss)} (given)"}, **common)
+    problem, band = problem_for(True)
+    constrained = _solve(problem, start=start, band=band, cross_check=False, settings_extra={}, **common)
+    free_problem, _ = problem_for(False)
+    free = _solve(free_problem, start=start, band=band, cross_check=False, settings_extra={}, **common)
+    # each optimum starts the other problem too: the constrained one is feasible in the free
+    # problem, and the free one starts the constrained SQP (which restores feasibility), so the
+    # rule compares the best of both starts and a constrained SQP stuck at a bad start cannot
+    # drop the constraint
+    if constrained.error < free.error:
+        free = _better(free, _polish(free_problem, constrained.model, band, common))
+    if free.error * LOSS_RULE_FACTOR < constrained.error:
+        constrained = _better(constrained, _polish(problem, free.model, band, common))
+    drop = free.error * LOSS_RULE_FACTOR < constrained.error
+    rule = (f"auto: error {100 * constrained.error:.3g} % with a non-decreasing loss factor, "
+            f"{100 * free.error:.3g} % without; " +
+            (f"dropped (the free fit is better by more than a factor {LOSS_RULE_FACTOR:g}: the data do not "
+             "support a loss factor that never falls with frequency)" if drop else
+             f"kept (the free fit is not better by more than a factor {LOSS_RULE_FACTOR:g})"))
+    chosen_problem, chosen = (free_problem, free) if drop else (problem, constrained)
+    if not cross_check:
+        return dataclasses.replace(chosen, settings=dataclasses.replace(chosen.settings, loss_rule=rule))
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):  # SLSQP restarted on its optimum
+        return _solve(chosen_problem, start=chosen.model, band=band, cross_check=True,
+                      settings_extra={"loss_rule": rule}, **common)
+
+
+def _polish(problem, start, band, common):
+    """The SQP of ``problem`` from another problem's optimum, or None when it breaks down
+    (an SQP started on an exact zero of the objective can step to NaN)."""
+    try:
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            result = _solve(problem, start=start, band=band, cross_check=False, settings_extra={}, **common)
+    except (FitError, RuntimeError, ValueError):
+        return None
+    return result if math.isfinite(result.error) else None
+
+
+def _better(result, other):
+    """``other`` when it found a feasible point with a lower error, else ``result``."""
+    if other is None or other.status == INFEASIBLE or other.error >= result.error:
+        return result
+    return other
 
 
 def fit_voigt(

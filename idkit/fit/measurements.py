@@ -45,8 +45,11 @@ from idkit.observe.quasi_static import (
     LoopData,
     k0_from_records,
     loop_sets,
+    static_operating_point,
 )
+from idkit.gravity import STANDARD_GRAVITY
 from idkit.observe.white_noise import FRF_RESOLUTION_HZ, TransmissibilitySet, transmissibility_sets
+from idkit.signal.frf import HANN_ENBW_BINS, half_power_damping, window_peak_bias
 
 __all__ = [
     "ElastomerData",
@@ -280,7 +283,7 @@ def _jsonable(value):
 def fit_iwan_measurements(
     measurements,
     *,
-    order: int | str = 2,
+    order: int | str = "auto",
     small_threshold: float = SMALL_THRESHOLD,
     isolator: str | None = "wire_rope",
     split: str | None = "fit",
@@ -308,8 +311,8 @@ def fit_iwan_measurements(
     ----------
     measurements : MeasurementSet or sequence of measurements
         Selected by :func:`idkit.io.selection.select_measurements`.
-    order : int or "auto", default 2
-        Number of Jenkin elements, or ``"auto"`` for the order rule.
+    order : int or "auto", default "auto"
+        Number of Jenkin elements, or ``"auto"`` for the order rule (docs/fitting.md).
     small_threshold : float, default :data:`~idkit.observe.quasi_static.SMALL_THRESHOLD` (8e-3 m)
         Amplitude (m) at or below which a record is a small-loop set.
     isolator : str or None, default "wire_rope"
@@ -495,6 +498,10 @@ class ElastomerData:
         Every record used: the loops (when they gave k0) then the white-noise runs.
     repetitions : tuple of int
         Repetition number of each FRF (``info.repetition``, else its 1-based position).
+    operating_points : dict
+        Top mass (kg) -> :class:`~idkit.observe.quasi_static.StaticOperatingPoint` under its
+        weight on the loops (None where the loops do not reach it; empty when ``k0`` was
+        given). Each FRF carries that point's tangent stiffness as ``static_stiffness``.
     """
 
     frfs: tuple[TransmissibilitySet, ...]
@@ -504,6 +511,18 @@ class ElastomerData:
     loops: tuple[QuasiStaticMeasurement, ...]
     provenance: DataProvenance
     repetitions: tuple[int, ...]
+    operating_points: dict = field(default_factory=dict)
+
+    def static_stiffness(self, top_mass_kg: float) -> float | None:
+        """Tangent static stiffness (N/m) under ``top_mass_kg`` on the loops, None when unknown."""
+        point = self.operating_points.get(top_mass_kg)
+        if point is None and self.loops and top_mass_kg not in self.operating_points:
+            point = static_operating_point(self.loops, top_mass_kg * STANDARD_GRAVITY, window=self.k0_window)
+        return None if point is None else point.stiffness
+
+    @property
+    def k0_window(self) -> float:
+        return self.k0_estimate.window if self.k0_estimate is not None else 1e-3
 
     def __iter__(self):
         return iter(self.frfs)
@@ -563,14 +582,48 @@ def elastomer_data(
         estimate = k0_from_records(loops, window=k0_window)
         k0, stderr = estimate.k0, estimate.stderr
         provenance = loops_provenance.merged(provenance, kind="quasi_static (k0) + white_noise")
+    # each top mass's weight preloads the isolator: small-amplitude motion about that preload
+    # sees the loops' tangent stiffness there (a softening elastomer: lower than k0)
+    points = {mass: static_operating_point(loops, mass * STANDARD_GRAVITY, window=k0_window)
+              for mass in sorted({item.mass for item in frfs})} if loops else {}
+    frfs = [dataclasses.replace(item, static_stiffness=None if points.get(item.mass) is None
+                                else points[item.mass].stiffness) for item in frfs]
     return ElastomerData(frfs=tuple(frfs), k0=float(k0), k0_stderr=stderr, k0_estimate=estimate, loops=tuple(loops),
-                         provenance=provenance, repetitions=repetitions)
+                         provenance=provenance, repetitions=repetitions, operating_points=points)
+
+
+#: Largest peak loss of a measured resonance through the H1 estimator's Hann window
+#: (:func:`idkit.signal.frf.window_peak_bias`) for a Maxwell fit to be trusted near resonance.
+#: 10 %: the damping read from such a peak is then about 10 % high, a quarter of the FRF
+#: validation's 3 dB damping limit.
+WINDOW_BIAS_LIMIT = 0.10
+
+
+def _resolution_checks(frfs) -> tuple[str, ...]:
+    """A check when an H1 cannot resolve its resonance: the window's bandwidth against the
+    resonance's half-power width (the fit compares exact model curves with biased peaks)."""
+    worst = None
+    for item in frfs:
+        step = float(np.median(np.diff(item.freq)))
+        resonance, zeta = half_power_damping(item.freq, np.abs(item.transmissibility))
+        if not (math.isfinite(zeta) and zeta > 0):
+            continue
+        bias = window_peak_bias(step, 2.0 * zeta * resonance)
+        if worst is None or bias > worst[0]:
+            worst = (bias, item.name, step, 2.0 * zeta * resonance)
+    if worst is None or worst[0] <= WINDOW_BIAS_LIMIT:
+        return ()
+    bias, name, step, width = worst
+    return (f"the H1 of {name} cannot resolve its resonance: a {step:g} Hz step (window bandwidth "
+            f"{HANN_ENBW_BINS * step:g} Hz) against a half-power width of {width:.3g} Hz loses about "
+            f"{100 * bias:.0f} % of the peak (limit {100 * WINDOW_BIAS_LIMIT:g} %), so the damping near resonance "
+            "is biased; longer white-noise records (a finer resolution_hz) resolve it",)
 
 
 def fit_maxwell_measurements(
     measurements,
     *,
-    order: int | str = 2,
+    order: int | str = "auto",
     k0: float | None = None,
     k0_window: float = 1e-3,
     isolator: str | None = "elastomer",
@@ -591,7 +644,7 @@ def fit_maxwell_measurements(
     Parameters
     ----------
     measurements : MeasurementSet or sequence of measurements
-    order : int or "auto", default 2
+    order : int or "auto", default "auto"
         Number of Maxwell elements, or ``"auto"``: orders 1-4 are fitted
         (:func:`idkit.fit.maxwell_order_table`, same band, backend and seed) and the one
         its order rule recommends is kept; the table is in ``fit.order_table``.
@@ -625,6 +678,7 @@ def fit_maxwell_measurements(
     result = fit_maxwell(list(data.frfs), k0=data.k0, k0_stderr=data.k0_stderr, order=int(order), band=band,
                          backend=backend, cross_check=cross_check, seed=seed, **options)
     return MeasurementFit(kind="maxwell", result=result, data=data, provenance=data.provenance, k0=data.k0_estimate,
+                          checks=_resolution_checks(data.frfs),
                           options={"order": int(order), "order_rule": order_table is not None, "k0_window": k0_window,
                                    "resolution_hz": resolution_hz, "band": list(band), "backend": backend,
                                    "cross_check": cross_check, **options},

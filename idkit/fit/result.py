@@ -363,6 +363,7 @@ class MaxwellFitSettings:
     seed: int
     global_method: str | None
     global_max_evals: int | None
+    loss_rule: str = ""
 
 
 @dataclass(frozen=True)
@@ -498,7 +499,8 @@ class MaxwellFitResult(_LmfitStatistics):
             f"    error (7.5) {100 * self.error:.3f} % (SQP {100 * self.sqp_error:.3f} %, model from {self.source}), "
             f"{self.evaluations} evaluations, {self.elapsed_s:.3f} s, {self.message}",
             f"    at a bound: {', '.join(self.at_bound) if self.at_bound else 'none'}; "
-            f"loss factor non-decreasing constraint: {s.monotone_loss}",
+            f"loss factor non-decreasing constraint: {s.monotone_loss}"
+            + (f" ({s.loss_rule})" if s.loss_rule else ""),
             "    per set [%]: " + ", ".join(f"{n}: {100 * e:.2f}" for n, e in zip(self.set_names, self.set_errors)),
             f"    success {self.success}",
             *(f"    not a success: {reason}" for reason in self.reasons),

@@ -213,6 +213,18 @@ class GeneralizedMaxwell(IsolatorModel):
         """High-frequency limit ``k0 + sum k_i`` in N/m."""
         return self._k0 + float(self._k.sum())
 
+    def preloaded(self, static_stiffness: float | None) -> GeneralizedMaxwell:
+        """The model linearised about a static preload: ``k0`` replaced by the static tangent
+        stiffness there (N/m; :func:`idkit.observe.quasi_static.static_operating_point`), the
+        elements unchanged. ``None`` returns the model itself."""
+        if static_stiffness is None:
+            return self
+        if not (math.isfinite(static_stiffness) and static_stiffness > 0):
+            raise ParameterError(f"preloaded: found static_stiffness={static_stiffness!r}, expected a positive "
+                                 f"finite stiffness in {self.unit}")
+        return GeneralizedMaxwell(k0=float(static_stiffness), k=self._k, rate=self._rate, m_eff=self._m_eff,
+                                  quantity=self._quantity)
+
     def scaled(self, factor: float) -> GeneralizedMaxwell:
         """Model with every stiffness multiplied by ``factor`` (rates unchanged)."""
         if not (math.isfinite(factor) and factor > 0):

@@ -214,12 +214,17 @@ class TransmissibilitySet:
     transmissibility : ndarray (complex)
         Top-mass motion over base motion (any consistent kinematic quantity).
     name : str
+    static_stiffness : float or None
+        Tangent static stiffness (N/m) at the deflection the top mass's weight causes,
+        read off the quasi-static loops (:func:`~idkit.observe.quasi_static.static_operating_point`);
+        small-amplitude motion around that preload sees it in place of ``k0``. None: ``k0``.
     """
 
     mass: float
     freq: np.ndarray
     transmissibility: np.ndarray
     name: str = ""
+    static_stiffness: float | None = None
 
 
 def transmissibility_sets(

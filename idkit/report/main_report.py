@@ -23,6 +23,7 @@ import pandas as pd
 
 from idkit import __version__
 from idkit.atomic import atomic_output_folder, write_text_atomic
+from idkit.fit import ORDER_RULE_FACTOR
 from idkit.models import save_model
 from idkit.plot.equivalent import (
     plot_complex_stiffness_comparison,
@@ -274,6 +275,12 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
                          "repetitions (std of one refit per repetition, repetition_values)"
                          + (f"; {data.iwan.spread_note}" if data.iwan.spread_note else ""),
                  name="wire rope iwan parameters")
+    if data.iwan.order_table is not None:
+        report.table(data.iwan.order_table,
+                     caption=f"Iwan order table: the order rule (lowest successful order within "
+                             f"{ORDER_RULE_FACTOR:g} x the best mean loop error) chose order {data.iwan.model.order}; "
+                             "stuck stiffness g1 + sum k_i beside the secant of the shortest measured branch",
+                     name="wire rope iwan order table")
     _spread_figure(report, data.iwan, "wire rope", "Iwan")
     report.figure(plot_loop_fit(data.iwan_loops, label="Iwan")[0].figure, name="wire rope iwan loops",
                   caption="Grey measured, dashed Iwan model: look at the loop tips and the width of the small loops.",
@@ -302,7 +309,9 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
     report.table(data.maxwell.parameters_table(), caption="Maxwell parameters (k0 from the quasi-static loops)",
                  name="elastomer maxwell parameters")
     _spread_figure(report, data.maxwell, "elastomer", "Maxwell")
-    report.table(data.order_table, caption="order selection: error (7.5) for n = 1..4 and the Voigt model",
+    report.table(data.order_table, caption=f"order selection: error (7.5) for n = 1..4 and the Voigt model; the order rule "
+                         f"(lowest successful order within {ORDER_RULE_FACTOR:g} x the best) chose order "
+                         f"{data.maxwell.model.order}",
                  name="maxwell order table")
     report.figure(np.ravel(plot_frf_fit(data.maxwell.model, list(data.maxwell.data)))[0].figure, name="elastomer frf fit",
                   caption="Thin measured H1 (every repetition), dashed model, per top mass (at most three a column): "

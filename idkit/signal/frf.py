@@ -25,8 +25,9 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import signal as sps
 
 from idkit.errors import DataError
+from idkit.signal.harmonics import resonance_peak
 
-__all__ = ["FrfEstimate", "estimate_frf", "mean_squared_relative_error"]
+__all__ = ["FrfEstimate", "estimate_frf", "mean_squared_relative_error", "half_power_damping", "window_peak_bias"]
 
 
 @dataclass(frozen=True)
@@ -213,3 +214,45 @@ def mean_squared_relative_error(predicted, measured, axis: int | None = None):
     measured = np.asarray(measured)
     mean = np.mean(np.abs(predicted - measured) ** 2 / np.abs(measured) ** 2, axis=axis)
     return float(mean) if axis is None else mean
+
+
+def half_power_damping(freq: np.ndarray, magnitude: np.ndarray) -> tuple[float, float]:
+    """Resonance frequency (Hz) and damping ratio from the -3 dB width ``(f2 - f1) / (2 f_r)``.
+
+    The resonance and the peak height are refined between the grid points by
+    :func:`idkit.signal.harmonics.resonance_peak` (a parabola in log-log through the highest
+    point and its neighbours: on the 0.25 Hz grid the grid maximum alone is off by up to
+    0.125 Hz, 1.7 % at 7.5 Hz, a third of the 5 % resonance limit); the half-power points
+    are interpolated linearly; NaN when the band does not contain them.
+    """
+    index = int(np.argmax(magnitude))
+    resonance, peak = resonance_peak(freq, magnitude)
+    level = peak / np.sqrt(2.0)
+    below = np.flatnonzero(magnitude[:index] < level)
+    above = np.flatnonzero(magnitude[index:] < level)
+    if below.size == 0 or above.size == 0:
+        return resonance, np.nan
+    i1 = below[-1]
+    f1 = np.interp(level, [magnitude[i1], magnitude[i1 + 1]], [freq[i1], freq[i1 + 1]])
+    i2 = index + above[0]
+    f2 = np.interp(level, [magnitude[i2], magnitude[i2 - 1]], [freq[i2], freq[i2 - 1]])
+    return resonance, float((f2 - f1) / (2.0 * resonance))
+
+
+#: Equivalent noise bandwidth of the Hann window in frequency steps (``fs / nperseg``).
+HANN_ENBW_BINS = 1.5
+
+
+def window_peak_bias(freq_step_hz: float, half_power_width_hz: float) -> float:
+    """Relative loss of a resonance peak read through Welch's Hann window, ``(B_e / B_r)^2 / 3``.
+
+    ``B_e = 1.5 x freq_step_hz`` is the window's equivalent noise bandwidth and ``B_r`` the
+    resonance's half-power width ``2 zeta f_r``; the first-order bias of ``|H|`` at the
+    peak of a resonance smoothed by the window's power kernel.
+
+    Examples
+    --------
+    >>> round(window_peak_bias(0.25, 2.0), 4)
+    0.0117
+    """
+    return float((HANN_ENBW_BINS * freq_step_hz / half_power_width_hz) ** 2 / 3.0)

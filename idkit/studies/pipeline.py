@@ -209,7 +209,7 @@ class _Stages:
 
 
 def _validations(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell,
-                 limit: int | None, drop_model: str = "auto"
+                 limit: int | None, drop_model: str = "auto", static_stiffness=None
                  ) -> tuple[tuple[ValidationEntry, ...], HybridSystem | None, str | None]:
     def held_out(measurement_set, kind, split="validation"):
         chosen = list(measurement_set.select(kind=kind, split=split))
@@ -224,7 +224,7 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
             held_out(wire_rope, "drop"), isolator=wire_model, drop_model=drop_model,
             name="wire rope: drops (validation split)")),
         ValidationEntry("elastomer FRF", "elastomer", "FRF", validate_frf(
-            held_out(elastomer, "white_noise"), isolator=elastomer_model,
+            held_out(elastomer, "white_noise"), isolator=elastomer_model, static_stiffness=static_stiffness,
             name="elastomer: white-noise FRFs (validation split)")),
         ValidationEntry("elastomer sweeps", "elastomer", "sweeps", validate_harmonic(
             held_out(elastomer, "stepped_sine"), isolator=elastomer_model,
@@ -330,9 +330,11 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
         maxwell = fit_maxwell_measurements(sets["elastomer"], cross_check=True, seed=seed,
                                            **({"global_max_evals": 2000} if quick else {}))
         maxwell = maxwell.with_repetition_spread()  # one refit per repetition (a fraction of a second)
-        # the order table is scored on the FRFs the fit used (same selection, band and resolution)
-        order_table = maxwell_order_table(list(maxwell.data), k0=maxwell.k0.k0,
-                                          orders=(1, 2) if quick else (1, 2, 3, 4))
+        # the order table the fit's order rule chose from (scored on the FRFs the fit used)
+        order_table = maxwell.order_table
+        if order_table is None:
+            order_table = maxwell_order_table(list(maxwell.data), k0=maxwell.k0.k0,
+                                              orders=(1, 2) if quick else (1, 2, 3, 4))
         boucwen = boucwen_call.result()
     finally:
         boucwen_call.abandon()
@@ -346,7 +348,8 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
     try:
         stages.start(STAGES[3])
         validations, hybrid, masses_from = _validations(sets, iwan.model, maxwell.model,
-                                                        QUICK_HELD_OUT if quick else None, drop_model)
+                                                        QUICK_HELD_OUT if quick else None, drop_model,
+                                                        static_stiffness=maxwell.data.static_stiffness)
         rope_drops = list(wire_rope.select(kind="drop", split="validation"))
         drop_models = wire_rope_drop_models(rope_drops[:QUICK_HELD_OUT] if quick else rope_drops,
                                             iwan,

@@ -88,7 +88,10 @@ def test_maxwell_fit_and_order_table(maxwell_fit, elastomer):
     table = maxwell_order_table(list(maxwell_fit.data), k0=maxwell_fit.model.k0).set_index("model", append=True)
     errors = table["error_percent"].to_numpy()
     maxwell, voigt = errors[:4], errors[4]
-    assert maxwell[1] < 0.6 * maxwell[0]  # falls ...
+    # orders 1-4 (with the loss rule each drops the non-decreasing constraint, which costs the
+    # bundled data 12.2 -> 8.8 % at order 2: the internal mode near 200 Hz bends the loss factor
+    # down above 50 Hz): 12.0 / 8.8 / 8.8 / 8.9 %, Voigt 29.9 %
+    assert maxwell[1] < 0.8 * maxwell[0]  # falls ...
     assert maxwell[2] <= 100 * MAXWELL_3_MAX
     assert maxwell[3] >= maxwell[2] - 0.2  # ... then flattens (order 4 gains < 0.2 points)
     assert voigt > 2 * maxwell[1]  # Voigt clearly worse

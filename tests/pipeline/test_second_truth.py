@@ -144,12 +144,22 @@ def data_b(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def rope_fit(data_b):
-    return fit_iwan_measurements(data_b["wire_rope"], order=2)
+    return fit_iwan_measurements(data_b["wire_rope"])  # the CLI's default: order="auto"
 
 
 @pytest.fixture(scope="module")
-def body_fit(data_b):
-    return fit_maxwell_measurements(data_b["elastomer"], order=2)
+def body_fit_quick(data_b):
+    return fit_maxwell_measurements(data_b["elastomer"])  # order="auto", monotone_loss="auto"
+
+
+@pytest.fixture(scope="module")
+def body_fit(tmp_path_factory):
+    # the elastomer's targets on full-length records: the quick set's 4 s white-noise runs give
+    # H1 steps of 1 Hz that cannot resolve the resonances (see the resolution test below);
+    # the full elastomer set takes about 9 s to generate
+    folder = tmp_path_factory.mktemp("truth_b_elastomer")
+    generate(folder, truth="b", sets=("elastomer",))
+    return fit_maxwell_measurements(load_measurement_set(folder / "elastomer"))
 
 
 def _validation(measurement_set, kind):
@@ -182,10 +192,15 @@ def test_rope_fit_is_valid_over_the_data_and_its_damping_is_identified(data_b, r
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "order-2 Iwan (CLI default) cannot follow slip spread over 20 um - 7.5 mm: loop errors "
-    "5.6 % (small) / 3.4 % (large) where the truth scores 0.19 % / 0.13 % (5.4 / 3.2 pp over "
-    "the 2 pp target); order 6 reaches 1.5 % / 1.8 % but stops at the evaluation limit"))
+def test_rope_order_rule_picks_enough_elements_for_slip_spread_over_the_loops(rope_fit):
+    # order 2 (the thesis's) scored 5.6 % / 3.4 %: two elements cannot hold slip spread over
+    # 20 um - 7.5 mm; the rule keeps adding elements while each cuts the error by a tenth
+    table = rope_fit.order_table
+    assert table is not None and rope_fit.model.order >= 5
+    assert bool(table.loc[table["order"] == rope_fit.model.order, "success"].iloc[0])
+
+
+@pytest.mark.slow
 def test_rope_loop_errors_within_2_points_of_the_truth(rope_fit):
     sets = list(rope_fit.data.small) + list(rope_fit.data.large)
     fitted = iwan_set_errors(rope_fit.model, sets)
@@ -195,9 +210,6 @@ def test_rope_loop_errors_within_2_points_of_the_truth(rope_fit):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "order-2 Iwan stuck stiffness 1.21e5 N/m vs the truth's g1 + sum k_i = 2.09e5 N/m "
-    "(42 % low, target 20 %): two elements cannot hold 24 slip displacements"))
 def test_rope_stuck_stiffness_within_20_percent(rope_fit):
     model = rope_fit.model
     assert model.g1 + sum(model.k) == pytest.approx(ROPE.stuck_stiffness, rel=0.20)
@@ -209,33 +221,60 @@ def test_rope_stuck_stiffness_within_20_percent(rope_fit):
     "(900 N/m, rate 2 1/s) has not relaxed at the zero crossings 1-4 s after a reversal at "
     "~1 mm/s, expected bias up to 900 exp(-2) = 120 N/m (1.3 %): the loops are not "
     "quasi-static for a 0.5 s relaxation time"))
-def test_elastomer_k0_within_1_percent(body_fit):
-    assert body_fit.model.params()["k0"] == pytest.approx(BODY.k0, rel=0.01)
+def test_elastomer_k0_within_1_percent(body_fit_quick):
+    assert body_fit_quick.model.params()["k0"] == pytest.approx(BODY.k0, rel=0.01)
 
 
 @pytest.mark.slow
-def test_elastomer_k0_within_the_unrelaxed_bound(body_fit):
+def test_elastomer_k0_within_the_unrelaxed_bound(body_fit_quick, body_fit):
     # the bound of the xfail above, as a guard: k0 within k0 + 900 exp(-2) N/m + 1 %
-    assert BODY.k0 * 0.99 <= body_fit.model.params()["k0"] <= BODY.k0 * 1.01 + 900 * np.exp(-2)
+    for fit in (body_fit_quick, body_fit):
+        assert BODY.k0 * 0.99 <= fit.model.params()["k0"] <= BODY.k0 * 1.01 + 900 * np.exp(-2)
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "order-2 Maxwell (CLI default) on rates over three decades: |k*| at 5/20/50 Hz off by "
-    "-21/-18/-17 % (target 5 %), loss factor by -9/+24/+72 % (target 15 %), m_eff 0.04 kg vs "
-    "0.30 kg (stiffness and moving mass trade off in the transmissibility); order 5 reaches "
-    "-1.1/-0.8/-0.2 % but loss factor still +26 % at 50 Hz"))
-def test_elastomer_complex_stiffness_and_loss_factor(body_fit):
-    model = body_fit.model
+def test_elastomer_fit_on_records_too_short_for_the_resonances_says_so(body_fit_quick):
+    # 4 s runs: the H1 step is 1 Hz (window bandwidth 1.5 Hz) for resonances 1-4 Hz wide
+    assert not body_fit_quick.success
+    assert any("cannot resolve its resonance" in reason for reason in body_fit_quick.reasons)
+
+
+@pytest.mark.slow
+def test_elastomer_loss_factor_falls_so_the_constraint_is_dropped(body_fit):
+    # truth "b"'s loss factor falls from 0.145 at 5 Hz to 0.101 at 100 Hz; with the SPEC's
+    # non-decreasing constraint the order-2 fit scored 15.6 % (|k*| -21..-17 %, loss factor
+    # +72 % at 50 Hz, m_eff 0.04 kg for 0.30 kg); without it 3.7 %
+    truth = BODY.complex_stiffness(np.array([5.0, 100.0]))
+    assert (truth.imag / truth.real)[1] < (truth.imag / truth.real)[0]
+    settings = body_fit.result.settings
+    assert settings.monotone_loss is False and "dropped" in settings.loss_rule
+    # the constrained fit put m_eff at 0.04 kg for 0.30 (-87 %); free and about each preload, a
+    # three-element model of the seven-element truth reads 0.297 kg (0.272 about k0): within
+    # 5 %, the issue's |k*| tolerance (m_eff and stiffness trade off in the transmissibility)
+    assert body_fit.model.m_eff == pytest.approx(BODY.moving_mass_kg, rel=0.05)
+
+
+@pytest.mark.slow
+def test_elastomer_complex_stiffness_within_5_percent(body_fit):
     truth = BODY.complex_stiffness(FREQ_HZ)
-    np.testing.assert_allclose(np.abs(model.complex_stiffness(FREQ_HZ)), np.abs(truth), rtol=0.05)
-    np.testing.assert_allclose(model.loss_factor(FREQ_HZ), truth.imag / truth.real, rtol=0.15)
+    np.testing.assert_allclose(np.abs(body_fit.model.complex_stiffness(FREQ_HZ)), np.abs(truth), rtol=0.05)
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "order-2 Maxwell: small-amplitude resonance per top mass off by up to 12.5 % in the FRF "
-    "validation (target 2 %); see the complex-stiffness xfail for the cause"))
+def test_elastomer_loss_factor_within_15_percent_at_20_and_50_hz(body_fit):
+    truth = BODY.complex_stiffness(FREQ_HZ[1:])
+    np.testing.assert_allclose(body_fit.model.loss_factor(FREQ_HZ[1:]), truth.imag / truth.real, rtol=0.15)
+
+
+@pytest.mark.slow
+def test_elastomer_loss_factor_within_15_percent_at_5_hz(body_fit):
+    # on the quick set's 4 s runs it read 0.23 for 0.145 (+60 %): the 1 Hz H1 step smears the
+    # heavy masses' resonances (the fit says so, test above)
+    truth = BODY.complex_stiffness(FREQ_HZ[:1])
+    np.testing.assert_allclose(body_fit.model.loss_factor(FREQ_HZ[:1]), truth.imag / truth.real, rtol=0.15)
+
+
+@pytest.mark.slow
 def test_elastomer_resonance_per_top_mass_within_2_percent(data_b, body_fit):
     freq = np.linspace(1.0, 100.0, 19801)
     model = body_fit.model
@@ -266,28 +305,28 @@ def test_validations_that_pass_and_fail_for_a_doubled_stiffness(data_b, rope_fit
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "with the order-2 fits the wire-rope sweeps FAIL (rms 3.5 dB, peak 6.3 dB over limits 2 "
-    "and 3 dB, every level incl. 5e-4 m/s) and the elastomer FRF FAILs (max error 0.18 > 0.15, "
-    "resonance 12.5 % > 5 %): the model errors of the two fit xfails above"))
 def test_wire_rope_sweeps_and_elastomer_frf_pass(data_b, rope_fit, body_fit):
     harmonic = validate_harmonic(_validation(data_b["wire_rope"], "stepped_sine"), isolator=rope_fit.model)
     frf = validate_frf(_validation(data_b["elastomer"], "white_noise"), isolator=body_fit.model)
     assert harmonic.verdict == "PASS", harmonic.report()
     assert frf.verdict == "PASS", frf.report()
+    doubled = validate_frf(_validation(data_b["elastomer"], "white_noise"), isolator=body_fit.model.scaled(2.0))
+    assert doubled.verdict == "FAIL", doubled.report()
 
 
 @pytest.mark.slow
-def test_report_on_truth_b_writes_every_verdict_and_exits_1_on_the_failures(data_b, tmp_path, capsys):
+def test_report_on_truth_b_passes_every_validation_and_exits_0(data_b, tmp_path, capsys):
     from idkit.cli.main import main
 
     status = main(["report", str(data_b["folder"]), "-o", str(tmp_path / "report"), "--quick", "--quiet"])
     printed = dict(line.split(None, 1)[::-1] for line in capsys.readouterr().out.splitlines()
                    if line.split(None, 1)[0] in ("PASS", "FAIL", "INCONCLUSIVE"))
     assert (tmp_path / "report" / "report.html").exists()
-    # PASS for physical reasons: the components each validation sees are right
-    for name in ("wire rope drops", "elastomer sweeps", "elastomer drops", "hybrid sweeps", "hybrid drops"):
-        assert printed[name] == "PASS", printed
-    # the two model errors of the order-2 fits (strict xfails above) fail, so the exit is 1
-    assert {printed["wire rope sweeps"], printed["elastomer FRF"]} == {"FAIL"}
-    assert status == 1
+    # PASS for physical reasons: the components each validation sees are right (the
+    # tests above), and a doubled stiffness fails them (test_validations_that_pass_and_fail_...).
+    # With the thesis's order 2 the wire-rope sweeps failed (rms 3.5 dB, peak 6.3 dB) and the
+    # elastomer FRF failed (resonance 12.5 %) with the loss-factor constraint imposed.
+    assert set(printed) == {"wire rope sweeps", "wire rope drops", "elastomer FRF", "elastomer sweeps",
+                            "elastomer drops", "hybrid sweeps", "hybrid drops"}, printed
+    assert set(printed.values()) == {"PASS"}, printed
+    assert status == 0
