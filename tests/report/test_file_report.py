@@ -53,7 +53,9 @@ def test_report_of_a_loop_record(tmp_path):
     shutil.copyfile(source, lone)
     out = tmp_path / "report"
     outcome = run_main(["report", lone, "-o", out], inputs=[lone])
-    check(outcome, "ok")
+    # the bundled rope's slip changes with the deflection: the plain Iwan stays more than 2
+    # points above the record's noise floor, so the fit is flagged and the report says so
+    check(outcome, "flagged", ["above the noise floor"])
     assert "quasi_static fit" in outcome.stdout
     assert json.loads((out / "model.json").read_text())["model"]["kind"] == "iwan"
     assert (out / "figures" / "loops.png").exists()
