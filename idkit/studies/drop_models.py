@@ -11,7 +11,7 @@ not assumed.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
@@ -40,11 +40,15 @@ class DropModelComparison:
         ``(model name, drop model) -> ValidationResult``.
     notes : tuple of str
         Models left out and why.
+    loop_errors : dict
+        Model name -> ``(small, large)`` mean loop error (7.1, fractions) of each model on the
+        same fit loops (the model-form evidence beside the drops).
     """
 
     table: pd.DataFrame
     results: dict
     notes: tuple = ()
+    loop_errors: dict = field(default_factory=dict)
 
     def supported(self) -> tuple[str, str]:
         """``(model name, drop model)`` the held-out drops support (module docstring)."""
@@ -146,6 +150,7 @@ def wire_rope_drop_models(drops, plain_fit, *, valid_range=None, workers=None) -
 
     plain = plain_fit.model
     models = {"plain Iwan": {"isolator": plain}}
+    loop_errors = {"plain Iwan": (float(plain_fit.result.error_small), float(plain_fit.result.error_large))}
     notes = []
     modulated = fit_iwan_modulated(list(plain_fit.data.small), list(plain_fit.data.large), plain=plain_fit.result,
                                    valid_range=valid_range)
@@ -154,7 +159,9 @@ def wire_rope_drop_models(drops, plain_fit, *, valid_range=None, workers=None) -
         if plain.c_visc and not model.c_visc:  # the drops see the same identified viscous term
             model = type(model).from_params({**model.params(), "c_visc": plain.c_visc})
         models["slip-modulated Iwan"] = {"isolator": model}
+        loop_errors["slip-modulated Iwan"] = (float(modulated.error_small), float(modulated.error_large))
     else:
         notes.append("slip-modulated Iwan left out: " + "; ".join(modulated.reasons))
     comparison = compare_drop_models(drops, models, name="wire rope drops", workers=workers)
-    return DropModelComparison(table=comparison.table, results=comparison.results, notes=tuple(notes))
+    return DropModelComparison(table=comparison.table, results=comparison.results, notes=tuple(notes),
+                               loop_errors=loop_errors)

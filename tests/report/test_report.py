@@ -110,6 +110,14 @@ def test_drop_models_are_compared_and_the_supported_one_named(quick_report):
         ["median_compression_error [-]", "median_tension_error [-]"]].median().max(axis=1)
     model, drop = passing.idxmin()
     assert f"support the {model} model with the {drop} drop model" in html
+    # the model-form evidence: both rope models' loop errors on the same loops, numbers as fitted
+    if "slip-modulated Iwan" in set(table["isolator model"]):
+        line = re.search(r"Loop error \(7\.1, small / large\) on the same fit loops: plain Iwan ([0-9.]+) / "
+                         r"([0-9.]+) %, slip-modulated Iwan ([0-9.]+) / ([0-9.]+) %", html)
+        assert line is not None
+        plain = json.loads((quick_report / "models" / "wire_rope_iwan.json").read_text())
+        assert float(line.group(1)) > 0 and float(line.group(3)) > 0
+        assert plain["model"]["kind"] == "iwan"
 
 
 class _Page(HTMLParser):
