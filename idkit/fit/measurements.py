@@ -455,7 +455,8 @@ def _above_the_noise_floor(result, measurements, isolator, split) -> tuple[str, 
             reasons.append(f"{group}-loop error {100 * error:.3g} % is {100 * (error - floor):.3g} points above the "
                            f"noise floor {100 * floor:.2g} % of its {len(known)} record(s) (limit "
                            f"{100 * FLOOR_MARGIN:g} points): the model form misses the loops (a higher order, "
-                           "--order-table, or the slip-modulated Iwan, docs/fitting.md)")
+                           "--order-table, or the slip-modulated Iwan, docs/fitting.md), or the records carry a "
+                           "force offset the floor does not count (--remove-offsets)")
     return tuple(reasons)
 
 
