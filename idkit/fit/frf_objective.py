@@ -18,6 +18,7 @@ import numpy as np
 
 from idkit.errors import FitError
 from idkit.models import GeneralizedMaxwell, VoigtModel
+from idkit.models.maxwell import preloaded
 from idkit.models.laws import sdof_transmissibility
 from idkit.observe.white_noise import TransmissibilitySet
 from idkit.signal.frf import mean_squared_relative_error
@@ -118,21 +119,13 @@ def band_points(freq, value, band, what: str, *, min_points: int) -> tuple[np.nd
     return f_in, v_in
 
 
-def preloaded(model, static_stiffness):
-    """``model`` about a static preload (:meth:`GeneralizedMaxwell.preloaded`); other models,
-    and ``static_stiffness=None``, unchanged (a Voigt fit ignores the preload: its static
-    stiffness is a fitted parameter)."""
-    if static_stiffness is None or not isinstance(model, GeneralizedMaxwell):
-        return model
-    return model.preloaded(static_stiffness)
-
-
 def maxwell_objective(model: GeneralizedMaxwell | VoigtModel, frfs, *, band=(1.0, 100.0)) -> float:
     """Objective (7.5) of a given model on transmissibility sets: RMS relative complex error (fraction).
 
     ``e = sqrt(mean_sets mean_band |H_model - H_meas|^2 / |H_meas|^2)`` with
     ``H_model`` :func:`idkit.models.laws.sdof_transmissibility` of the set's top mass plus
-    the model's ``m_eff`` (a Maxwell model about the set's preload, :func:`preloaded`): every
+    the model's ``m_eff`` (a Maxwell model about the set's preload,
+    :func:`idkit.models.maxwell.preloaded`): every
     set weighs the same whatever its number of points.
 
     Parameters

@@ -423,3 +423,12 @@ class VoigtModel(IsolatorModel):
             maxwell_rate=np.zeros(0),
             boucwen=np.zeros(10),
         )
+
+
+def preloaded(model, static_stiffness: float | None):
+    """``model`` about a static preload (:meth:`GeneralizedMaxwell.preloaded`); any other
+    model, and ``static_stiffness=None``, unchanged (a Voigt model's static stiffness is a
+    fitted parameter of its own)."""
+    if static_stiffness is None or not isinstance(model, GeneralizedMaxwell):
+        return model
+    return model.preloaded(static_stiffness)

@@ -736,7 +736,7 @@ def static_operating_point(records, load: float, *, window: float = 1e-3) -> Sta
         inside = np.abs(x - centre) <= half
         if inside.sum() < 5:
             return None
-        c2, c1, c0 = np.polyfit((x[inside] - centre) / half, f[inside], 2)
+        _, c1, c0 = np.polyfit((x[inside] - centre) / half, f[inside], 2)
         return c0, c1 / half
 
     y = -load / estimate_k0(x, f, window).k0

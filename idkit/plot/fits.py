@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from idkit.models.laws import sdof_transmissibility
+from idkit.models.maxwell import preloaded
 from idkit.plot._figure import axes_or_new, column_grid, grid_result, panel_groups, save_figure
 
 if TYPE_CHECKING:  # types only: plotting never runs a fitter
@@ -103,8 +104,7 @@ def plot_frf_fit(model, frfs, *, band=(1.0, 100.0), axes=None):
                 phase_ax.semilogx(item.freq[inside], np.degrees(np.angle(item.transmissibility[inside])),
                                   color=colour, lw=0.6, alpha=0.6)
             static = next((item.static_stiffness for item in frfs if item.mass == mass), None)
-            local = model.preloaded(static) if static is not None and hasattr(model, "preloaded") else model
-            response = sdof_transmissibility(local.small_amplitude_stiffness(freq), mass + model.m_eff,
+            response = sdof_transmissibility(preloaded(model, static).small_amplitude_stiffness(freq), mass + model.m_eff,
                                              2 * np.pi * freq)
             magnitude_ax.loglog(freq, np.abs(response), color=colour, ls="--", lw=1.2, label=f"{mass:.2f} kg")
             phase_ax.semilogx(freq, np.degrees(np.angle(response)), color=colour, ls="--", lw=1.2)

@@ -10,6 +10,7 @@ import pandas as pd
 from idkit.errors import DataError, ValidationError
 from idkit.io import WhiteNoiseMeasurement
 from idkit.signal.frf import half_power_damping, mean_squared_relative_error
+from idkit.models.maxwell import preloaded
 from idkit.observe.white_noise import FRF_RESOLUTION_HZ, frf_from_white_noise
 from idkit.validate.result import ValidationResult, check_thresholds
 from idkit.validate.systems import system_for
@@ -102,9 +103,10 @@ def validate_frf(measurements, *, system=None, isolator=None, band=(1.0, 100.0),
         where = info.id or str(measurement.source.path)
         try:
             frf = frf_from_white_noise(measurement, band=band, resolution_hz=resolution_hz)
-            local = isolator
-            if static_stiffness is not None and isolator is not None and hasattr(isolator, "preloaded"):
-                local = isolator.preloaded(static_stiffness(info.top_mass_kg))
+            if static_stiffness is not None and isolator is not None:
+                local = preloaded(isolator, static_stiffness(info.top_mass_kg))
+            else:
+                local = isolator
             model = system_for(measurement, system=system, isolator=local)
             predicted = model_through_the_estimator(measurement, frf, model.transmissibility, band=band,
                                                     resolution_hz=resolution_hz)
