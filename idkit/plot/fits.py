@@ -240,19 +240,27 @@ def plot_parameter_spread(fit, *, ax=None, title: str | None = None):
         refits = {name: np.asarray(fit.spread.samples[:, index], dtype=float)
                   for index, name in enumerate(fit.spread.names)}
     ax = axes_or_new(ax, figsize=(6.4, 1.4 + 0.38 * len(rows)))
+    labelled = set()  # each legend entry once, on the first row that draws it
+
+    def label(text):
+        if text in labelled:
+            return None
+        labelled.add(text)
+        return text
+
     for position, row in rows.iterrows():
         value = float(row["value"])
         stderr = row["stderr"]
         if stderr is not None and np.isfinite(stderr) and value != 0:
             relative = 100.0 * float(stderr) / abs(value)
             ax.barh(position, 4 * relative, left=-2 * relative, height=0.5, color="C0", alpha=0.25,
-                    label="±2 standard errors" if position == 0 else None)
+                    label=label("±2 standard errors"))
             ax.barh(position, 2 * relative, left=-relative, height=0.5, color="C0", alpha=0.5,
-                    label="±1 standard error" if position == 0 else None)
+                    label=label("±1 standard error"))
         samples = refits.get(row["parameter"], np.array([]))
         if samples.size and value != 0:
             ax.plot(100.0 * (samples / value - 1.0), np.full(samples.size, position), "o", color="C3",
-                    markersize=4, label="refit on one repetition" if position == 0 else None)
+                    markersize=4, label=label("refit on one repetition"))
     ax.axvline(0.0, color="0.3", linewidth=0.8)
     # linear within +-1 %, logarithmic beyond: a 0.1 % and a 90 % uncertainty both stay readable
     ax.set_xscale("symlog", linthresh=1.0, linscale=1.0)
@@ -261,7 +269,11 @@ def plot_parameter_spread(fit, *, ax=None, title: str | None = None):
     ax.invert_yaxis()
     ax.set_xlabel("deviation from the fitted value [%] (linear within ±1 %, log beyond)")
     ax.grid(True, axis="x", alpha=0.3)
-    ax.legend(fontsize="x-small", loc="best")
+    if labelled:
+        ax.legend(fontsize="x-small", loc="best")
+    else:  # no standard error and no refit anywhere: say so rather than draw an empty panel
+        ax.text(0.5, 0.5, "no standard errors and no refits to show", transform=ax.transAxes, ha="center",
+                va="center", fontsize="small", color="0.4")
     if title:
         ax.set_title(title, fontsize="small")
     return ax

@@ -357,6 +357,9 @@ def _transport_section(report: HtmlReport, data: ReportData) -> None:
                  name="transport tuning")
     report.table(study.summary_table(), index=True, name="transport summary",
                  caption="RMS top acceleration [m/s^2] per floor level and rest shock per drop height")
+    if study.failures:
+        report.paragraph("Not computed (every realization left the model's valid range; RMS shown as NaN): "
+                         + "; ".join(study.failures) + ".")
     unsettled = study.unsettled()
     if unsettled:
         report.paragraph(

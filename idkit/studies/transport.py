@@ -195,6 +195,9 @@ class TransportStudy:
         Seed and number of random realizations per level.
     flagged_runs : int
         Simulations flagged by the kernel (random and shock runs together).
+    failures : tuple of str
+        Random runs that could not be computed at all (every realization left the model's
+        valid range): system, level and why; their RMS and settling entries are NaN.
     settling : DataFrame, optional
         Largest settling error (:attr:`~idkit.responses.random_vibration.RandomResponse.settling_error`:
         change over one record relative to the signal, 0 when periodic) per system (rows)
@@ -210,6 +213,7 @@ class TransportStudy:
     n_realizations: int
     flagged_runs: int
     settling: pd.DataFrame | None = None
+    failures: tuple = ()
 
     def unsettled(self, limit: float = SETTLING_LIMIT) -> list[tuple[str, str, float]]:
         """``(system, level column, settling error)`` of every random run whose settling error exceeds ``limit``."""
@@ -297,7 +301,7 @@ def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVEL
     heights = np.linspace(0.005, 0.15, 30) if heights is None else np.asarray(heights, dtype=float)
     total = len(systems) * (len(levels) + 2)
     done = 0
-    rms_rows, psd, flagged, settling_rows = {}, [], 0, {}
+    rms_rows, psd, flagged, settling_rows, failures = {}, [], 0, {}, []
     velocity_table, height_table = {}, {}
     settle_of = {item.name: settle_records_for(item.system) for item in systems}
     rms_rows = {item.name: {} for item in systems}
@@ -311,8 +315,18 @@ def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVEL
             # constants, at most one record; a run still not periodic then (the nearly stuck
             # wire rope rings for minutes) is repeated from its small-amplitude steady state,
             # and the better settled of the two is kept
-            result = random_response(item.system, profile, seed=seed, n_realizations=n_realizations,
-                                     method="auto", settle_records=settle, workers=workers)
+            try:
+                result = random_response(item.system, profile, seed=seed, n_realizations=n_realizations,
+                                         method="auto", settle_records=settle, workers=workers)
+            except SimulationError as problem:  # every realization left the model's valid range
+                flagged += int(n_realizations)
+                failures.append(f"{item.name} at {level:g} (m/s^2)^2/Hz: {problem}")
+                rms_rows[item.name][level] = np.nan
+                settling_rows.setdefault(item.name, {})[level] = np.nan
+                done += 1
+                if progress is not None:
+                    progress(done, total)
+                continue
             if _worst_settling(result) > SETTLING_LIMIT:
                 try:
                     linear = random_response(item.system, profile, seed=seed, n_realizations=n_realizations,
@@ -353,5 +367,5 @@ def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVEL
         shock_velocity=pd.DataFrame(velocity_table, index=pd.Index(speeds, name="impact speed [m/s]")),
         shock_height=pd.DataFrame(height_table, index=pd.Index(heights, name="drop height [m]")),
         psd=ordered, seed=int(seed), n_realizations=int(n_realizations), flagged_runs=flagged,
-        settling=settling,
+        settling=settling, failures=tuple(failures),
     )

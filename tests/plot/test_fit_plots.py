@@ -78,3 +78,25 @@ def test_frf_figures_split_into_columns_of_at_most_three_top_masses():
     labels = [[text.get_text() for text in ax.get_legend().get_texts()] for ax in grid[0]]
     assert [len(column) for column in labels] == [3, 3, 2]
     assert sum(labels, []) == [f"{mass:.2f} kg" for mass in masses]
+
+
+def test_parameter_spread_legend_does_not_depend_on_the_first_row():
+    # the first parameter at a bound (no standard error), the second with one: the legend
+    # still names the bars; with no standard error and no refit anywhere the panel says so
+    # (an empty legend was a matplotlib warning, an error under the test settings)
+    from types import SimpleNamespace
+
+    import pandas as pd
+
+    from idkit.plot import plot_parameter_spread
+
+    def fit(stderrs):
+        table = pd.DataFrame({"parameter": ["g1", "k_1"], "unit": ["N/m", "N/m"], "value": [1e4, 2e4],
+                              "stderr": stderrs, "fitted": [True, True]})
+        return SimpleNamespace(parameters_table=lambda: table, spread=None)
+
+    ax = plot_parameter_spread(fit([None, 400.0]))
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["±2 standard errors", "±1 standard error"]
+    empty = plot_parameter_spread(fit([None, None]))
+    assert empty.get_legend() is None
+    assert any("no standard errors" in t.get_text() for t in empty.texts)

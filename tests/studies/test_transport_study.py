@@ -49,3 +49,21 @@ def test_a_level_still_ringing_from_rest_is_redone_from_the_small_amplitude_stea
     assert study.settling.loc["wire rope"].iloc[0] < SETTLING_LIMIT
     assert not [row for row in study.unsettled() if row[0] == "wire rope"]
     assert (study.settling.loc[["reference", "elastomer"]] == 0).all().all()  # solved in the frequency domain
+
+
+def test_a_level_where_every_run_leaves_the_valid_range_is_reported_not_raised():
+    # a rope whose cubic turns the spring negative at +-0.3 mm: at 1e-3 (m/s^2)^2/Hz every
+    # realization of the rope alone leaves its valid range. The study goes on, the rope's RMS at
+    # that level is NaN and the failure is named; the other systems keep their numbers.
+    from idkit.models import IwanModel, library
+
+    rope = library.get("table_7_1_wire_rope")
+    soft = IwanModel(g1=rope.g1, g2=rope.g2, g3=-3 * rope.g1 / (0.3e-3) ** 2, k=rope.k, fc=rope.fc,
+                     c_visc=rope.c_visc)
+    assert max(abs(x) for x in soft.valid_deflection_range()) < 0.3e-3
+    study = compute_transport_study(wire_rope=soft, levels=(1e-3,), n_realizations=2, seed=3, r_k_values=(),
+                                    speeds=[0.1], heights=[0.01])
+    assert np.isnan(study.rms.loc["wire rope"].iloc[0])
+    assert any(failure.startswith("wire rope at 0.001") for failure in study.failures)
+    assert np.isfinite(study.rms.loc[["reference", "elastomer"]].to_numpy()).all()
+    assert study.flagged_runs >= 2
