@@ -256,6 +256,12 @@ class MeasurementFit:
         if self.k0 is not None:
             record["k0"] = {"value_N_per_m": self.k0.k0, "stderr_N_per_m": self.k0.stderr,
                             "window_m": self.k0.window, "per_record_N_per_m": dict(self.k0.per_record)}
+        points = getattr(self.data, "operating_points", None)
+        if points:  # each top mass was fitted about its preload: k0 -> this tangent stiffness
+            record["operating_points"] = {f"{mass:g} kg": None if point is None else
+                                          {"static_deflection_m": point.deflection,
+                                           "tangent_stiffness_N_per_m": point.stiffness}
+                                          for mass, point in points.items()}
         return record
 
     def save(self, path, *, overwrite: bool = False) -> Path:

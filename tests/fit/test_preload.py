@@ -137,3 +137,21 @@ def test_preloaded_keeps_the_elements_and_checks_its_input():
     assert softer.k0 == 1.2e4 and np.array_equal(softer.k, BODY.k) and softer.m_eff == BODY.m_eff
     with pytest.raises(Exception, match="static_stiffness"):
         BODY.preloaded(-1.0)
+
+
+def test_the_model_file_records_each_top_mass_preload(tmp_path):
+    # the Maxwell model file keeps k0 at the origin; the tangent stiffness each top mass was
+    # fitted about is in its provenance, so a later comparison can use the same preloads
+    from pathlib import Path
+
+    from idkit.fit.measurements import fit_maxwell_measurements
+    from idkit.io import load_measurement_set
+    from idkit.models import load_model_document
+
+    data = Path(__file__).resolve().parents[2] / "data" / "elastomer"
+    fit = fit_maxwell_measurements(load_measurement_set(data))
+    document = load_model_document(fit.save(tmp_path / "elastomer.json"))
+    points = document["provenance"]["operating_points"]
+    assert set(points) == {f"{mass:g} kg" for mass in fit.data.operating_points}
+    heavy = points["6.4 kg"]
+    assert heavy["static_deflection_m"] < 0 and heavy["tangent_stiffness_N_per_m"] < fit.model.k0
