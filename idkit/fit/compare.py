@@ -105,12 +105,19 @@ def iwan_order_table(small, large, *, orders: Sequence[int] = (1, 2, 3, 4, 5, 6)
     fits that succeeded (an order that stopped at a limit or a bound is not recommended
     while another succeeds). ``options`` go to :func:`fit_iwan`.
     """
+    return iwan_order_fits(small, large, orders=orders, **options)[0]
+
+
+def iwan_order_fits(small, large, *, orders: Sequence[int] = (1, 2, 3, 4, 5, 6), **options):
+    """:func:`iwan_order_table` and the fit of every order: ``(table, {order: IwanFitResult})``
+    (the measurement-level fit keeps the recommended order's fit instead of repeating it)."""
     small_sets = as_loop_sets(small, "small", options.get("points_per_set", 200))
     large_sets = as_loop_sets(large, "large", options.get("points_per_set", 200))
     secant = smallest_branch_secant(small_sets + large_sets)
-    rows = []
+    rows, results = [], {}
     for order in orders:
         result = fit_iwan(small_sets, large_sets, order=int(order), **options)
+        results[int(order)] = result
         below, above = result.model.valid_deflection_range()
         rows.append({"order": int(order), "n_params": 3 + 2 * int(order),
                      "error_small_percent": 100 * result.error_small, "error_large_percent": 100 * result.error_large,
@@ -121,7 +128,7 @@ def iwan_order_table(small, large, *, orders: Sequence[int] = (1, 2, 3, 4, 5, 6)
     table = pd.DataFrame(rows)
     table["recommended"] = table["order"] == _rule(table, 0.5 * (table["error_small_percent"]
                                                                   + table["error_large_percent"]))
-    return table
+    return table, results
 
 
 def _rule(table: pd.DataFrame, error: pd.Series) -> int:

@@ -31,7 +31,7 @@ import pandas as pd
 
 from idkit.errors import DataError, FitError
 from idkit.fit.boucwen import fit_boucwen
-from idkit.fit.compare import iwan_order_table
+from idkit.fit.compare import iwan_order_fits
 from idkit.fit.damping import ViscousDamping, fit_viscous_damping
 from idkit.fit.iwan import fit_iwan
 from idkit.fit.maxwell import fit_maxwell
@@ -367,12 +367,15 @@ def fit_iwan_measurements(
     # order rule between 3 and 4 with the CPU)
     free_options = {key: value for key, value in options.items() if key != "valid_range"}
     if order == "auto":
-        order_table = iwan_order_table(list(data.small), list(data.large), backend=backend, seed=seed,
-                                       **free_options)
+        order_table, order_fits = iwan_order_fits(list(data.small), list(data.large), backend=backend, seed=seed,
+                                                  **free_options)
         order = int(order_table.loc[order_table["recommended"], "order"].iloc[0])
+        result = order_fits[order]  # the table's own fit of that order (same sets and options)
     elif isinstance(order, str):
         raise FitError(f"order: found {order!r}, expected an integer >= 1 or 'auto'")
-    result = fit_iwan(list(data.small), list(data.large), order=order, backend=backend, seed=seed, **free_options)
+    else:
+        result = fit_iwan(list(data.small), list(data.large), order=order, backend=backend, seed=seed,
+                          **free_options)
     if options.get("valid_range") is not None and "start" not in options:
         result = fit_iwan(list(data.small), list(data.large), backend=backend, seed=seed, start=result.model,
                           **options)
