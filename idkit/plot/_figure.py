@@ -103,6 +103,20 @@ def column_grid(axes, n_columns: int, *, sharex: bool = False, column_width: flo
     return np.asarray(axes, dtype=object).reshape(2, 1)
 
 
+def finish_bode_grid(grid, *, legend_title: str, magnitude_label: str):
+    """Label a 2 x n magnitude / phase grid (legend in every magnitude panel, log grids) and
+    return it as :func:`grid_result` does."""
+    for column in range(grid.shape[1]):
+        magnitude_ax, phase_ax = grid[0, column], grid[1, column]
+        phase_ax.set_xlabel("frequency [Hz]")
+        magnitude_ax.legend(fontsize="x-small", title=legend_title, title_fontsize="x-small")
+        for ax in (magnitude_ax, phase_ax):
+            ax.grid(True, which="both", alpha=0.3)
+    grid[0, 0].set_ylabel(magnitude_label)
+    grid[1, 0].set_ylabel("phase [deg]")
+    return grid_result(grid)
+
+
 def grid_result(grid):
     """The pair ``(grid[0, 0], grid[1, 0])`` for a one-column grid, else the grid itself."""
     return (grid[0, 0], grid[1, 0]) if grid.shape[1] == 1 else grid

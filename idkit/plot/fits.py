@@ -16,7 +16,7 @@ import numpy as np
 
 from idkit.models.laws import sdof_transmissibility
 from idkit.models.maxwell import preloaded
-from idkit.plot._figure import axes_or_new, column_grid, grid_result, panel_groups, save_figure
+from idkit.plot._figure import axes_or_new, column_grid, finish_bode_grid, panel_groups, save_figure
 
 if TYPE_CHECKING:  # types only: plotting never runs a fitter
     from idkit.fit.landscape import ErrorLandscape
@@ -108,13 +108,7 @@ def plot_frf_fit(model, frfs, *, band=(1.0, 100.0), axes=None):
                                              2 * np.pi * freq)
             magnitude_ax.loglog(freq, np.abs(response), color=colour, ls="--", lw=1.2, label=f"{mass:.2f} kg")
             phase_ax.semilogx(freq, np.degrees(np.angle(response)), color=colour, ls="--", lw=1.2)
-        phase_ax.set_xlabel("frequency [Hz]")
-        magnitude_ax.legend(fontsize="x-small", title="measured (thin), model (dashed)", title_fontsize="x-small")
-        for ax in (magnitude_ax, phase_ax):
-            ax.grid(True, which="both", alpha=0.3)
-    grid[0, 0].set_ylabel("|H| [-]")
-    grid[1, 0].set_ylabel("phase [deg]")
-    return grid_result(grid)
+    return finish_bode_grid(grid, legend_title="measured (thin), model (dashed)", magnitude_label="|H| [-]")
 
 
 def plot_storage_loss(model, freq=None, *, axes=None, label=None):

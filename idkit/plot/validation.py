@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from idkit.plot._figure import axes_or_new, column_grid, grid_result, panel_groups
+from idkit.plot._figure import axes_or_new, column_grid, finish_bode_grid, panel_groups
 
 __all__ = ["MAP_DECADES", "plot_drop_histories", "plot_drop_validation", "plot_frf_validation", "plot_harmonic_validation", "plot_sweep_bode",
            "plot_sweep_maps"]
@@ -58,13 +58,7 @@ def plot_frf_validation(result, *, axes=None):
             magnitude_ax.loglog(freq, np.abs(measured), ".", color=colour, markersize=2)
             phase_ax.semilogx(freq, np.degrees(np.angle(model)), color=colour)
             phase_ax.semilogx(freq, np.degrees(np.angle(measured)), ".", color=colour, markersize=2)
-        phase_ax.set_xlabel("frequency [Hz]")
-        magnitude_ax.legend(fontsize="x-small", title="lines model, dots measured", title_fontsize="x-small")
-        for ax in (magnitude_ax, phase_ax):
-            ax.grid(True, which="both", alpha=0.3)
-    grid[0, 0].set_ylabel("|T| [-]")
-    grid[1, 0].set_ylabel("phase [deg]")
-    return grid_result(grid)
+    return finish_bode_grid(grid, legend_title="lines model, dots measured", magnitude_label="|T| [-]")
 
 
 def plot_drop_validation(result, *, axes=None):
