@@ -14,8 +14,7 @@ here: systems with Bouc-Wen elements use finite differences.
 Tangent layout (rows): ``q (ndof), v (ndof), a (ndof), F (ndof x nj), u (ndof x nm)``;
 columns: the independent initial values ``q, v, F, u`` (the initial acceleration follows from
 equilibrium). The functions here never call the step itself: the period-map kernel
-(:func:`idkit.responses.periodic._run_periods`) calls them around it, so that the (large,
-inlined) step is compiled once.
+(:func:`idkit.responses.periodic._run_periods`) calls them around it.
 """
 
 from __future__ import annotations

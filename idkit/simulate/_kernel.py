@@ -59,7 +59,12 @@ _BW_SUBSTEPS = 4
 #   row 3: Maxwell stiffness, row 4: exp(-rate h), row 5: (1 - exp(-rate h)) / (rate h)
 # States S[j, row, i]: row 0 Jenkin forces, row 1 Maxwell elongations,
 #   row 2: [Bouc-Wen z, mbase]. Packing keeps the number of arrays handed between the
-#   (inlined) functions small: each array argument costs reference counting per call.
+#   functions small. The steps and the isolator force are compiled once each and called by
+#   every driver (numba's IR inlining re-types a body at each call site: minutes of compile
+#   time); they allocate nothing, so they are compiled without reference counting
+#   (``_nrt=False``: an array argument otherwise costs an atomic increment and decrement per
+#   call) and with NumPy's error model (a division by zero gives inf/NaN, caught as a failed
+#   Newton iteration or a non-finite state, instead of raising).
 _P_WIDTH = 19
 _MGSUM, _NJ, _NM, _BW, _SM = 4, 5, 6, 7, 17
 
@@ -121,7 +126,7 @@ def _pack_states(packed, jforce, mstate, bwz):
     return states
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True, error_model="numpy", _nrt=False)
 def _isolator_force(j, y, dy, vrel, h, P, S, commit):
     """Force (N) and tangent (N/m, including 2 c / h) of isolator ``j`` at deflection ``y``.
 
@@ -187,16 +192,30 @@ def _isolator_force(j, y, dy, vrel, h, P, S, commit):
 def _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, P, S, commit):
     """Forces and tangents ``(f0, t0, f1, t1)`` of the isolators for a trial state.
 
-    Absolute coordinates: isolator 0 sits below mass 0, the last stands on the base.
+    Absolute coordinates: isolator 0 sits below mass 0, the last stands on the base. One call
+    site of :func:`_isolator_force` (a loop over the isolators) keeps the compiled step small.
     """
-    if ndof == 1:
-        y = q0 - xb_new
-        f0, t0 = _isolator_force(0, y, y - (qn0 - xb_old), v0 - vb_new, h, P, S, commit)
-        return f0, t0, 0.0, 0.0
-    y_up = q0 - q1
-    f0, t0 = _isolator_force(0, y_up, y_up - (qn0 - qn1), v0 - v1, h, P, S, commit)
-    y_low = q1 - xb_new
-    f1, t1 = _isolator_force(1, y_low, y_low - (qn1 - xb_old), v1 - vb_new, h, P, S, commit)
+    f0 = t0 = f1 = t1 = 0.0
+    for j in range(ndof):
+        if ndof == 2 and j == 0:
+            y = q0 - q1
+            dy = y - (qn0 - qn1)
+            vrel = v0 - v1
+        elif ndof == 1:
+            y = q0 - xb_new
+            dy = y - (qn0 - xb_old)
+            vrel = v0 - vb_new
+        else:
+            y = q1 - xb_new
+            dy = y - (qn1 - xb_old)
+            vrel = v1 - vb_new
+        f, t = _isolator_force(j, y, dy, vrel, h, P, S, commit)
+        if j == 0:
+            f0 = f
+            t0 = t
+        else:
+            f1 = f
+            t1 = t
     return f0, t0, f1, t1
 
 
@@ -227,7 +246,7 @@ def _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, load, xb_ol
     return r0, r1, t0, t1, magnitude
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True, error_model="numpy", _nrt=False)
 def _step(ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
     """Advance one step in place; returns a flag (0 ok).
 
@@ -601,7 +620,7 @@ def harmonic_kernel(structure: int):
 # Drop rig: a free chain of masses (top, [intermediate], bottom) above a unilateral floor
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True, error_model="numpy", _nrt=False)
 def _rig_residual(n, masses, qn, vn, an, q, h, load, P, S, k_c, c_c, r, diag, upper, commit, forces):
     """Residuals ``r`` (N) of the rig's step at trial positions ``q`` and the tridiagonal Jacobian.
 
@@ -646,7 +665,7 @@ def _rig_residual(n, masses, qn, vn, an, q, h, load, P, S, k_c, c_c, r, diag, up
     return magnitude + contact
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy", _nrt=False)
 def _rig_step(n, masses, q, v, a, h, load, P, S, k_c, c_c, force_scale, forces, work):
     """Advance the rig one step in place (average-acceleration Newmark); returns a flag."""
     qn = work[0]
@@ -726,7 +745,7 @@ def _rig_step(n, masses, q, v, a, h, load, P, S, k_c, c_c, force_scale, forces, 
 _RIG_HALVINGS = 4
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy", _nrt=False)
 def _rig_macro_step(n, masses, q, v, a, h, load, Ps, S, k_c, c_c, force_scale, forces, work, saved):
     """One step ``h`` of the rig, split into halves (recursively, to ``h / 2^_RIG_HALVINGS``)
     where the Newton iteration does not converge; returns a flag."""
@@ -795,7 +814,13 @@ def run_drop_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, h, n_steps, 
     P0 = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
     Ps = np.zeros((_RIG_HALVINGS + 1, P0.shape[0], P0.shape[1], P0.shape[2]))
     for level in range(_RIG_HALVINGS + 1):
-        Ps[level] = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h / 2.0**level)
+        packed = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h / 2.0**level)
+        # element-wise copy: an array assignment compiles numba's shape-mismatch error path,
+        # seconds of compile time for a case that cannot occur (same shapes)
+        for j in range(P0.shape[0]):
+            for row in range(P0.shape[1]):
+                for i in range(P0.shape[2]):
+                    Ps[level, j, row, i] = packed[j, row, i]
     P = Ps[0]
     work = np.zeros((7, n))
     forces = np.zeros(n)

@@ -115,7 +115,7 @@ def _residual_sdof(kind, m0, qn0, vn0, an0, q0, h, c2, c4, load, xb_old, xb_new,
     return r0, t0, magnitude
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True, error_model="numpy", _nrt=False)
 def step_sdof(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
     """One step of a single mass on a ``kind`` isolator; the generic step's arguments and flags."""
     qn0 = state[0]
@@ -184,7 +184,7 @@ def _residual_hybrid(m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, c2, c4, lo
     return r0, r1, t0, t1, magnitude
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True, error_model="numpy", _nrt=False)
 def step_hybrid(m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
     """One step of the hybrid (Maxwell isolator over an Iwan isolator); the generic step's
     arguments and flags."""
