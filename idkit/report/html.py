@@ -23,6 +23,7 @@ import html
 import io
 import re
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -147,6 +148,34 @@ class HtmlReport:
         if not self._sections:
             self.section("Overview", "overview")
         self._sections[-1][2].append(fragment)
+
+    def placeholder(self) -> str:
+        """Reserve the current place for content added later with :meth:`filling`; returns its token."""
+        token = f"\x00placeholder {sum(len(parts) for _, _, parts, _ in self._sections)}\x00"
+        self._add(token)
+        return token
+
+    @contextmanager
+    def filling(self, token: str):
+        """Content added inside the ``with`` block goes where :meth:`placeholder` returned ``token``.
+
+        The report can so be written in the order its inputs become ready (the summary's
+        transport paragraph is written once the study is done, at the end) while it reads
+        in its own order.
+        """
+        saved = self._sections
+        self._sections = [("", "", [], False)]
+        try:
+            yield
+        finally:
+            filled = self._sections[0][2]
+            self._sections = saved
+        for _, _, parts, _ in self._sections:
+            if token in parts:
+                at = parts.index(token)
+                parts[at:at + 1] = filled
+                return
+        raise ValueError("filling: no placeholder with this token (already filled?)")
 
     def heading(self, text: str) -> None:
         self._add(f"<h3>{html.escape(text)}</h3>")

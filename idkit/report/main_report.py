@@ -190,8 +190,9 @@ def _valid_range_words(data: ReportData) -> str:
             f"{1e3 * data.valid_range[1]:.1f} mm, 1.25 times the data set's deflections)")
 
 
-def _summary_section(report: HtmlReport, data: ReportData) -> None:
-    """Conclusions first: per isolator the model, its range, what it predicts and where it fails; the transport study."""
+def _summary_section(report: HtmlReport, data: ReportData) -> str:
+    """Conclusions first: per isolator the model, its range, what it predicts and where it fails; the
+    transport study's conclusions are left to :func:`_transport_section` (the returned placeholder)."""
     report.section("Summary", "summary")
     report.paragraph(f"Data: {data.data_dir} ({data.n_measurements} measurements). "
                      f"idkit {__version__}, seed {data.seed}{'; ' + QUICK_NOTE if data.quick else ''}. "
@@ -232,7 +233,7 @@ def _summary_section(report: HtmlReport, data: ReportData) -> None:
                       for entry in entries])
 
     report.heading("Transport study: which system protects the payload best")
-    report.items(transport_conclusions(data.transport))
+    return report.placeholder()  # filled by _transport_section once the study is done
 
 
 def _spread_figure(report: HtmlReport, fit, isolator: str, model: str) -> None:
@@ -350,8 +351,10 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
                   alt="measured complex stiffness magnitude and loss factor per top mass against the Maxwell model")
 
 
-def _transport_section(report: HtmlReport, data: ReportData) -> None:
-    study = data.transport
+def _transport_section(report: HtmlReport, data: ReportData, summary_slot: str) -> None:
+    study = data.transport  # waits for the study's child process (ReportData.transport)
+    with report.filling(summary_slot):
+        report.items(transport_conclusions(study))
     report.section("Transport study", "transport-study")
     report.table(study.tuning, caption="systems tuned to a 5 Hz small-amplitude resonance (SPEC 6)",
                  name="transport tuning")
@@ -424,7 +427,6 @@ def write_report(data: ReportData, folder, *, pdf: bool = False, render_processe
     for directory in (models_dir, tables_dir, figures_dir):
         directory.mkdir()
     _write_models(data, models_dir)
-    write_transport_files(data.transport, folder, tables_dir=tables_dir, figures=False)
 
     report = HtmlReport(f"idkit report: {data.data_dir}", figures_dir=figures_dir, tables_dir=tables_dir,
                         keep_figures=pdf, render_processes=_usable_cores() if render_processes is None
@@ -433,6 +435,7 @@ def write_report(data: ReportData, folder, *, pdf: bool = False, render_processe
         return _write_report(data, report, folder, started, pdf=pdf)
     finally:
         report.abandon_figures()  # no child may still write into the folder after this returns
+        data.abandon_transport()
 
 
 def _usable_cores() -> int:
@@ -444,7 +447,9 @@ def _usable_cores() -> int:
 
 def _write_report(data: ReportData, report: HtmlReport, folder: Path, started: float, *, pdf: bool) -> ReportSummary:
     models_dir, tables_dir, figures_dir = folder / "models", folder / "tables", folder / "figures"
-    _summary_section(report, data)
+    # everything that does not need the transport study first: it is still running in a child
+    # process (ReportData.transport), and these figures render meanwhile
+    summary_slot = _summary_section(report, data)
     report.section("Data", "data")
     for isolator, inspection in data.inspections.items():
         report.paragraph(f"{isolator}: {data.sets[isolator].folder}")
@@ -468,7 +473,8 @@ def _write_report(data: ReportData, report: HtmlReport, folder: Path, started: f
                                   "component of that natural frequency on the payload would see; look at how the "
                                   "peak moves with the drop height.",
                           alt=f"absolute-acceleration shock response spectra of the measured {isolator} drops")
-    _transport_section(report, data)
+    write_transport_files(data.transport, folder, tables_dir=tables_dir, figures=False)
+    _transport_section(report, data, summary_slot)
 
     hashes = {isolator: s.hashes() for isolator, s in data.sets.items()}
     so_far = {**data.timings_s, FIGURES: round(report.figure_seconds, 3),

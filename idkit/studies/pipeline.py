@@ -17,8 +17,10 @@ computes nothing. Stages (each timed):
    sweeps and drops (nothing was fitted to the hybrid), with the wrong components each
    hybrid check cannot see (:func:`idkit.validate.blind_spots`);
 4. run the transport-tool study with the identified parts (:mod:`idkit.studies.transport`),
-   in a forked child process while stage 3 runs (:func:`idkit.forked.fork_call`; its
-   timing is then the wait for it after the validations).
+   in a forked child process while stage 3 runs and the report is written
+   (:func:`idkit.forked.fork_call`): :func:`compute_report_data` returns without waiting for
+   it, the writer draws everything that does not need it first and the first use of
+   :attr:`ReportData.transport` waits for it (that wait is the stage's timing).
 
 ``quick`` keeps the fits and checks but validates on at most :data:`QUICK_HELD_OUT`
 records per check and shrinks the transport study and the global searches.
@@ -34,7 +36,7 @@ from pathlib import Path
 import pandas as pd
 
 from idkit.fit import maxwell_order_table
-from idkit.forked import fork_call
+from idkit.forked import Forked, fork_call
 from idkit.fit.measurements import (
     MeasurementFit,
     fit_boucwen_measurements,
@@ -126,6 +128,11 @@ class ReportData:
     hybrid_masses_from : str or None
         Id of the hybrid sweep whose masses ``hybrid`` carries.
     transport : TransportStudy
+        The transport study (a property: see ``transport_source``).
+    transport_source : TransportStudy or Forked
+        The study, or the forked child still computing it (:func:`compute_report_data` does
+        not wait for it, so the writer can draw everything else meanwhile); the first use of
+        :attr:`transport` waits for it and records the wait as the stage "transport-tool study".
     timings_s : dict
         Seconds per stage of :data:`STAGES`.
     drop_models : DropModelComparison or None
@@ -156,12 +163,31 @@ class ReportData:
     validations: tuple[ValidationEntry, ...]
     hybrid: HybridSystem | None
     hybrid_masses_from: str | None
-    transport: TransportStudy
+    transport_source: TransportStudy | Forked
     timings_s: dict = field(default_factory=dict)
     drop_models: DropModelComparison | None = None
     drop_model: str = "auto"
     sweep_maps: dict[str, SweepMaps] = field(default_factory=dict)
     drop_histories: dict[str, DropHistories] = field(default_factory=dict)
+
+    @property
+    def transport(self) -> TransportStudy:
+        """The transport study; the first use waits for the child computing it (see ``transport_source``)."""
+        source = self.transport_source
+        if isinstance(source, Forked):
+            started = time.perf_counter()
+            try:
+                study = source.result()
+            finally:
+                source.abandon()
+            self.timings_s[STAGES[4]] = round(time.perf_counter() - started, 3)
+            object.__setattr__(self, "transport_source", study)  # frozen: the one deferred field, set once
+        return self.transport_source
+
+    def abandon_transport(self) -> None:
+        """Stop the child computing the transport study if nobody will wait for it (on an error)."""
+        if isinstance(self.transport_source, Forked):
+            self.transport_source.abandon()
 
     @property
     def n_measurements(self) -> int:
@@ -355,17 +381,17 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
                                             iwan,
                                             valid_range=valid_range) if rope_drops else None
         maps, histories = _figures_data(sets, iwan.model, maxwell.model)
-
-        stages.start(STAGES[4])
-        transport = transport_call.result()
-    finally:
+    except BaseException:
         transport_call.abandon()
+        raise
+    # not waited for here: the writer draws everything else while the study runs
+    # (ReportData.transport waits on first use and times the wait)
     stages.finish()
     return ReportData(
         data_dir=data_dir, seed=int(seed), quick=bool(quick), sets=sets, inspections=inspections,
         valid_range=valid_range, iwan=iwan, boucwen=boucwen, iwan_loops=iwan_loops, boucwen_loops=boucwen_loops,
         maxwell=maxwell, order_table=order_table, validations=validations, hybrid=hybrid,
-        hybrid_masses_from=masses_from, transport=transport, timings_s=stages.durations,
+        hybrid_masses_from=masses_from, transport_source=transport_call, timings_s=stages.durations,
         drop_models=drop_models, drop_model=drop_model, sweep_maps=maps, drop_histories=histories,
     )
 

@@ -82,3 +82,39 @@ def test_a_figure_that_fails_in_its_child_process_is_named(tmp_path):
     assert done.returncode != 0
     assert "figure 3" in done.stderr and "OutputError" in done.stderr
     assert not (tmp_path / "broken" / "report.html").exists()
+
+
+def test_a_placeholder_is_filled_where_it_was_reserved(tmp_path):
+    report = HtmlReport("t", figures_dir=tmp_path)
+    report.section("Summary", "summary")
+    report.paragraph("first")
+    slot = report.placeholder()
+    report.paragraph("after the slot")
+    report.section("Later", "later")
+    report.paragraph("written before the slot's content")
+    with report.filling(slot):
+        report.heading("filled")
+        ax = new_axes()
+        ax.plot([0, 1], [1, 0])
+        report.figure(ax.figure, caption="a figure inside the slot", name="slot figure")
+    page = report.render()
+    order = [page.index(text) for text in ("first", "filled", "a figure inside the slot", "after the slot",
+                                           "written before the slot")]
+    assert order == sorted(order)
+    assert "\x00" not in page
+    assert report.section_titles == ["Summary", "Later"]
+    assert (tmp_path / "slot_figure.png").exists()
+
+
+def test_filling_an_unknown_placeholder_is_an_error():
+    import pytest
+
+    report = HtmlReport("t")
+    report.section("S", "s")
+    slot = report.placeholder()
+    with report.filling(slot):
+        report.paragraph("once")
+    with pytest.raises(ValueError, match="no placeholder"):
+        with report.filling(slot):
+            report.paragraph("twice")
+    assert "twice" not in report.render() and "once" in report.render()
