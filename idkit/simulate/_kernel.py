@@ -34,7 +34,16 @@ from numba import types
 from numba.extending import overload
 
 from idkit.models.laws import boucwen_z_step
-from idkit.simulate._structured import GENERIC, HYBRID, SDOF_IWAN, SDOF_MAXWELL, step_hybrid, step_sdof
+from idkit.simulate._structured import (
+    GENERIC,
+    HYBRID,
+    HYBRID_MODULATED,
+    SDOF_IWAN,
+    SDOF_IWAN_MODULATED,
+    SDOF_MAXWELL,
+    step_hybrid,
+    step_sdof,
+)
 
 FLAG_OK = 0
 FLAG_NEGATIVE_STIFFNESS = 1
@@ -346,7 +355,13 @@ def _step_by_overload(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, v
             return step_sdof(2, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
     elif chosen == HYBRID:
         def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
-            return step_hybrid(m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+            return step_hybrid(1, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+    elif chosen == SDOF_IWAN_MODULATED:
+        def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+            return step_sdof(3, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+    elif chosen == HYBRID_MODULATED:
+        def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+            return step_hybrid(3, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
     else:
         def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
             return _step(ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
@@ -594,7 +609,7 @@ _HARMONIC_KERNELS = {GENERIC: run_harmonic_batch}
 _KERNELS_LOCK = threading.Lock()
 #: Structures that run their specialised step (the others run the generic one); tests empty it
 #: to run the generic kernel on the same inputs.
-SPECIALISED = frozenset({SDOF_IWAN, SDOF_MAXWELL, HYBRID})
+SPECIALISED = frozenset({SDOF_IWAN, SDOF_MAXWELL, HYBRID, SDOF_IWAN_MODULATED, HYBRID_MODULATED})
 
 
 def time_kernel(structure: int):

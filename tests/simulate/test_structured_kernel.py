@@ -15,13 +15,15 @@ import numpy as np
 import pytest
 
 from idkit.models import BoucWenModel, ModulatedIwanModel, library
-from idkit.models.systems import SDOFSystem
+from idkit.models.systems import HybridSystem, SDOFSystem
 from idkit.simulate import _kernel, free_fall, harmonic_response, simulate
 from idkit.simulate._arrays import system_arrays
 from idkit.simulate._structured import (
     GENERIC,
     HYBRID,
+    HYBRID_MODULATED,
     SDOF_IWAN,
+    SDOF_IWAN_MODULATED,
     SDOF_MAXWELL,
     structure_of,
 )
@@ -34,10 +36,32 @@ SYSTEMS = {
     "hybrid": (lambda: library.get("hybrid_asymmetric"), HYBRID),
     "sdof_boucwen": (lambda: SDOFSystem(1.0, BoucWenModel(k1=3e3, k2=2e5, k3=-1e6, alpha=2.5e4, beta=1.2e4,
                                                           gamma=3e3, n=1.3, b=np.e, c=20.0)), GENERIC),
-    "sdof_modulated_iwan": (lambda: SDOFSystem(1.0, ModulatedIwanModel(
-        g1=1.84e4, g2=2.45e5, g3=-4.57e5, k=[1.88e5, 9.09e3], fc=[15.5, 10.3], slip_modulation=0.35,
-        slip_length=6e-3)), GENERIC),
+    "sdof_modulated_iwan": (lambda: SDOFSystem(1.0, _modulated_rope()), SDOF_IWAN_MODULATED),
+    "hybrid_modulated_iwan": (lambda: HybridSystem(1.0, library.get("table_7_3_elastomer"), 0.2,
+                                                   _modulated_rope()), HYBRID_MODULATED),
+    "sdof_modulated_maxwell_part": (lambda: SDOFSystem(1.0, _modulated_with_maxwell()), GENERIC),
 }
+
+
+def _modulated_rope():
+    return ModulatedIwanModel(g1=1.84e4, g2=2.45e5, g3=-4.57e5, k=[1.88e5, 9.09e3], fc=[15.5, 10.3],
+                              slip_modulation=0.35, slip_length=6e-3)
+
+
+def _modulated_with_maxwell():
+    """A modulated rope with a Maxwell element in the same isolator: no specialised step has both."""
+    from idkit.models.base import IsolatorArrays
+
+    rope = _modulated_rope()
+
+    class _Mixed(type(rope)):
+        def kernel_arrays(self) -> IsolatorArrays:
+            arrays = super().kernel_arrays()
+            return IsolatorArrays(**{**arrays.__dict__, "maxwell_stiffness": np.array([2e3]),
+                                     "maxwell_rate": np.array([50.0])})
+
+    return _Mixed(**{name: getattr(rope, name) for name in ("g1", "g2", "g3", "k", "fc", "slip_modulation",
+                                                            "slip_length")})
 
 
 def both_paths(monkeypatch, run):
@@ -110,4 +134,5 @@ def test_constants_match_the_generic_step():
             _structured._FLAG_NO_CONVERGENCE) == (_kernel.FLAG_OK, _kernel.FLAG_NEGATIVE_STIFFNESS,
                                                   _kernel.FLAG_NON_FINITE, _kernel.FLAG_NO_CONVERGENCE)
     assert (_structured._NEWTON_MAX_ITER, _structured._RES_TOL) == (_kernel._NEWTON_MAX_ITER, _kernel._RES_TOL)
-    assert (_structured._MGSUM, _structured._NJ, _structured._NM) == (_kernel._MGSUM, _kernel._NJ, _kernel._NM)
+    assert (_structured._MGSUM, _structured._NJ, _structured._NM, _structured._BW, _structured._SM) == (
+        _kernel._MGSUM, _kernel._NJ, _kernel._NM, _kernel._BW, _kernel._SM)
