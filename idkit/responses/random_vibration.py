@@ -59,7 +59,7 @@ from idkit.signal.psd import (
     synthesize_random,
     welch_psd,
 )
-from idkit.simulate import simulate
+from idkit.simulate import TimeState, simulate
 
 __all__ = [
     "FLAT_LEVELS",
@@ -149,6 +149,10 @@ class RandomResponse:
         of a mass's relative velocity or absolute acceleration over the analysed record
         (the drive is periodic, so a settled run returns to its state), relative to
         sqrt(2) times its RMS over the record. Empty for ``method="frequency"``.
+    extra_records : ndarray of int, shape (n_realizations,)
+        Records each analysed run was continued by past ``settle_records`` because it had not
+        settled (``settle_until``); its analysed record is then its last one. Empty for
+        ``method="frequency"``.
     """
 
     input_profile: object
@@ -171,6 +175,7 @@ class RandomResponse:
     reasons: tuple[str, ...]
     method: str = "time"
     settling_error: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
+    extra_records: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
 
     @property
     def input_cumulative_rms(self) -> NDArray[np.float64]:
@@ -324,21 +329,82 @@ def _expected_linear_response(system, input_psd, *, seed, fs, freq_step, oversam
     )
 
 
-def _settling_error(velocity: NDArray[np.float64], acceleration: NDArray[np.float64], start: int,
+def _settling_error(velocity: NDArray[np.float64], acceleration: NDArray[np.float64], start,
                     record: int) -> NDArray[np.float64]:
     """Per run: largest change of a relative velocity or absolute acceleration over one record,
     relative to sqrt(2) times its RMS over the record (0 for a run in its periodic steady state;
-    deflections are left out: a slow creep of the set point barely touches the PSD)."""
+    deflections are left out: a slow creep of the set point barely touches the PSD). ``start``:
+    the first analysed sample, one for all runs or one per run."""
+    starts = np.broadcast_to(np.asarray(start, dtype=np.int64), (velocity.shape[0],))
     worst = np.zeros(velocity.shape[0])
-    for values in (velocity, acceleration):
-        span = values[:, :, start + 1:start + record + 1]
-        # one sample in: the first sample of a run carries its initial state, which need
-        # not be consistent (relaxed Maxwell elements of a linear start)
-        change = np.abs(values[:, :, start + record + 1] - values[:, :, start + 1])
-        scale = np.sqrt(2.0) * span.std(axis=-1)
-        ratio = np.divide(change, scale, out=np.zeros_like(change), where=scale > 0)
-        worst = np.maximum(worst, ratio.max(axis=1))
+    for first in np.unique(starts):
+        runs = starts == first
+        for values in (velocity[runs], acceleration[runs]):
+            span = values[:, :, first + 1:first + record + 1]
+            # one sample in: the first sample of a run carries its initial state, which need
+            # not be consistent (relaxed Maxwell elements of a linear start)
+            change = np.abs(values[:, :, first + record + 1] - values[:, :, first + 1])
+            scale = np.sqrt(2.0) * span.std(axis=-1)
+            ratio = np.divide(change, scale, out=np.zeros_like(change), where=scale > 0)
+            worst[runs] = np.maximum(worst[runs], ratio.max(axis=1))
     return worst
+
+
+def _continue_until_settled(system, signals, response, *, first: int, analysed: int, record: int, step: int,
+                            rate: float, settle_until: float, max_extra_records: int, workers, executor):
+    """Continue, record by record from their states, the runs of ``response`` whose settling
+    error (:func:`_settling_error` at ``first``) is above ``settle_until``; at most
+    ``max_extra_records`` records each.
+
+    The drive is periodic with one record's period, so a run continued by ``k`` records is
+    analysed ``k`` records later at the same phase of the drive (the input window is the
+    same). Returns the velocity and acceleration records (runs continued fewer times than the
+    longest carry NaN at the end), each run's analysed start, its extra records, flags and
+    reasons (a continuation may leave the valid range).
+    """
+    n_runs, n_samples = signals.shape
+    if record * step != n_samples:
+        raise SimulationError(f"settle_until: the record ({n_samples} samples at fs * oversample) must be a whole "
+                              f"number of oversample = {step} steps to be continued in phase; choose fs, "
+                              "oversample and freq_step accordingly")
+    velocity, acceleration = response.velocity, response.acceleration
+    flags = np.asarray(response.flags, dtype=np.int64).copy()
+    reasons = list(response.reasons)
+    starts = np.full(n_runs, first, dtype=np.int64)
+    extra = np.zeros(n_runs, dtype=np.int64)
+    state = {name: np.array(getattr(response.final_state, name)) for name in
+             ("displacement", "velocity", "jenkin_force", "maxwell_elongation", "boucwen_z")}
+    ok = flags == 0
+    errors = np.full(n_runs, np.inf)
+    errors[ok] = _settling_error(velocity[ok], acceleration[ok], first, record)
+    cut = (first + analysed) * step  # drive sample at the end of the first run
+    grid = np.arange(record * step + 1) / rate
+    for round_ in range(1, int(max_extra_records) + 1):
+        pending = np.flatnonzero((flags == 0) & (errors > settle_until))
+        if pending.size == 0:
+            break
+        offset = (cut + (round_ - 1) * record * step) % n_samples
+        segment = np.roll(signals[pending], -offset, axis=1)
+        drive = np.concatenate([segment, segment[:, :1]], axis=1)  # one record and its closing sample
+        continued = simulate(system, grid, base_acceleration=drive, record_every=step, workers=workers,
+                             executor=executor, initial_state=TimeState(**{name: values[pending] for name, values
+                                                                           in state.items()}))
+        length = velocity.shape[2]
+        velocity = np.concatenate([velocity, np.full(velocity.shape[:2] + (record,), np.nan)], axis=2)
+        acceleration = np.concatenate([acceleration, np.full(acceleration.shape[:2] + (record,), np.nan)], axis=2)
+        velocity[pending, :, length:] = continued.velocity[:, :, 1:]
+        acceleration[pending, :, length:] = continued.acceleration[:, :, 1:]
+        for name in state:
+            state[name][pending] = getattr(continued.final_state, name)
+        starts[pending] += record
+        extra[pending] += 1
+        for index, run in enumerate(pending):
+            flags[run] = continued.flags[index]
+            reasons[run] = continued.reasons[index]
+        still = pending[continued.flags == 0]
+        errors[pending] = np.inf
+        errors[still] = _settling_error(velocity[still], acceleration[still], starts[still], record)
+    return velocity, acceleration, starts, extra, flags, tuple(reasons)
 
 
 #: largest relative nonlinearity of a polynomial spring, ``(|g2| x + |g3| x^2) / g1`` at the
@@ -472,6 +538,7 @@ def _linear_start(system, signals: NDArray[np.float64], rate: float) -> dict[str
 def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, fs: float = 800.0,
                     freq_step: float = 0.05, oversample: int = 4, settle_records: float = 1.0,
                     nperseg: int | None = None, method: str = "time", start: str = "rest",
+                    settle_until: float | None = None, max_extra_records: int = 8,
                     workers: int | None = None, executor=None) -> RandomResponse:
     """Simulate the top-mass response to random floor acceleration (module docstring).
 
@@ -522,6 +589,14 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         ``settle_records=0`` suffices; where they slip the stuck state can be a worse
         guess than rest (the transport study's wire rope at 1e-6 (m/s^2)^2/Hz: settling
         error 6 against 0.2 from rest after one record): check :attr:`RandomResponse.settling_error`.
+    settle_until : float, optional
+        Continue every run whose settling error (:attr:`RandomResponse.settling_error`) is
+        above this after ``settle_records``, one record at a time from its own state
+        (:class:`idkit.simulate.TimeState`), until it is at or below it or has run
+        ``max_extra_records`` more records; each run is then analysed on its last record
+        (:attr:`RandomResponse.extra_records`). Default: no continuation.
+    max_extra_records : int, default 8
+        Cap of the continuation, records per run.
     workers, executor : see :func:`idkit.simulate.harmonic_response`.
 
     Returns
@@ -542,6 +617,10 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         raise SimulationError(f"oversample: found {oversample!r}, expected an integer >= 1")
     if not (np.isfinite(settle_records) and settle_records >= 0):
         raise SimulationError(f"settle_records: found {settle_records!r}, expected a number of records >= 0")
+    if settle_until is not None and not (np.isfinite(settle_until) and settle_until > 0):
+        raise SimulationError(f"settle_until: found {settle_until!r}, expected a settling error > 0")
+    if int(max_extra_records) != max_extra_records or max_extra_records < 0:
+        raise SimulationError(f"max_extra_records: found {max_extra_records!r}, expected an integer >= 0")
     if start not in ("rest", "linear"):
         raise SimulationError(f"start: found {start!r}, expected 'rest' or 'linear'")
     if method not in ("time", "frequency", "auto"):
@@ -590,11 +669,21 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
     initial = {} if start == "rest" else _linear_start(system, signals, rate)
     response = simulate(system, time, base_acceleration=drive, record_every=step, workers=workers,
                         executor=executor, **initial)
-    ok = response.flags == 0
+    velocity, acceleration, flags, reasons = response.velocity, response.acceleration, response.flags, response.reasons
+    starts = np.full(signals.shape[0], first, dtype=np.int64)
+    extra = np.zeros(signals.shape[0], dtype=np.int64)
+    if settle_until is not None:
+        velocity, acceleration, starts, extra, flags, reasons = _continue_until_settled(
+            system, signals, response, first=first, analysed=analysed, record=record, step=step, rate=rate,
+            settle_until=float(settle_until), max_extra_records=int(max_extra_records), workers=workers,
+            executor=executor)
+    ok = flags == 0
     if not ok.any():
-        raise SimulationError(f"random_response: every realization was flagged ({response.reasons[0]})")
-    settling = _settling_error(response.velocity[ok], response.acceleration[ok], first, record)
-    top = response.acceleration[ok, 0, first:first + analysed]
+        raise SimulationError(f"random_response: every realization was flagged ({reasons[0]})")
+    settling = _settling_error(velocity[ok], acceleration[ok], starts[ok], record)
+    top = np.stack([acceleration[run, 0, start_at:start_at + analysed]
+                    for run, start_at in zip(np.flatnonzero(ok), starts[ok])])
+    # the drive repeats every record: a run analysed k records later sees the same input window
     base = drive[ok][:, first * step:(first + analysed) * step:step]
     input_estimate: PsdEstimate = welch_psd(base, fs=float(fs), nperseg=segment, overlap=WELCH_OVERLAP)
     output_estimate = welch_psd(top, fs=float(fs), nperseg=segment, overlap=WELCH_OVERLAP)
@@ -607,6 +696,6 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         input_rms=rms_from_psd(freq, input_level), output_rms=rms_from_psd(freq, output_level),
         n_realizations=int(ok.sum()), seed=int(seed), fs=float(fs), freq_step=float(freq_step),
         oversample=int(oversample), nperseg=input_estimate.nperseg, noverlap=input_estimate.noverlap, settle_records=float(settle_records),
-        flags=np.asarray(response.flags, dtype=np.int64), reasons=tuple(response.reasons),
-        settling_error=settling,
+        flags=np.asarray(flags, dtype=np.int64), reasons=tuple(reasons),
+        settling_error=settling, extra_records=extra[ok],
     )

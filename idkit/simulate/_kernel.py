@@ -418,7 +418,10 @@ def _time_kernel(structure):
         Returns
         -------
         q, v, a, force : (batch, ndof, n_records) absolute records and isolator forces;
-        flags, flag_step : (batch,)
+        flags, flag_step : (batch,);
+        end_q, end_v : (batch, ndof) absolute displacement (m) and velocity (m/s) after the last
+        step, end_jforce (batch, ndof, nj), end_mstate (batch, ndof, nm), end_bwz (batch, ndof):
+        the internal states there, in the layout of the inputs (NaN for a flagged run)
         """
         batch = q0.shape[0]
         ndof = masses.shape[0]
@@ -432,6 +435,11 @@ def _time_kernel(structure):
         rec_f = np.full((batch, ndof, n_records), np.nan)
         flags = np.zeros(batch, dtype=np.int64)
         flag_step = np.full(batch, -1, dtype=np.int64)
+        end_q = np.full((batch, ndof), np.nan)
+        end_v = np.full((batch, ndof), np.nan)
+        end_jforce = np.full((batch, ndof, jforce0.shape[2]), np.nan)
+        end_mstate = np.full((batch, ndof, mstate0.shape[2]), np.nan)
+        end_bwz = np.full((batch, ndof), np.nan)
         P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
         frc = np.zeros(2)
         for b in range(batch):
@@ -463,7 +471,16 @@ def _time_kernel(structure):
                         rec_v[b, d, r] = state[2 + d]
                         rec_a[b, d, r] = state[4 + d]
                         rec_f[b, d, r] = frc[d]
-        return rec_q, rec_v, rec_a, rec_f, flags, flag_step
+            if flags[b] == FLAG_OK:
+                for d in range(ndof):
+                    end_q[b, d] = state[d]
+                    end_v[b, d] = state[2 + d]
+                    for i in range(jforce0.shape[2]):
+                        end_jforce[b, d, i] = S[d, 0, i]
+                    for i in range(mstate0.shape[2]):
+                        end_mstate[b, d, i] = S[d, 1, i]
+                    end_bwz[b, d] = S[d, 2, 0]
+        return rec_q, rec_v, rec_a, rec_f, flags, flag_step, end_q, end_v, end_jforce, end_mstate, end_bwz
 
     return run_time_batch
 

@@ -17,7 +17,41 @@ from idkit.simulate._parallel import run_chunked
 from idkit.simulate._structured import structure_of
 from idkit.simulate.base_motion import BaseMotion, integrate_acceleration
 
-__all__ = ["TimeResponse", "simulate", "free_fall", "static_deflection", "initial_states", "relaxation_deflection"]
+__all__ = ["TimeResponse", "TimeState", "simulate", "free_fall", "static_deflection", "initial_states", "relaxation_deflection"]
+
+
+@dataclass(frozen=True)
+class TimeState:
+    """The complete state of a batch of runs at one instant, to continue them later.
+
+    Positions and velocities are relative to the base: the equations of motion only see
+    deflections and deflection rates (and a constant gravity), so a run continued from this
+    state by :func:`simulate` with a base that starts at rest again is the same physical run
+    (the base's own displacement and velocity at the cut drop out), equal to an uninterrupted
+    run up to round-off.
+
+    Attributes
+    ----------
+    displacement, velocity : (batch, ndof) mass displacement (m) and velocity (m/s) relative
+        to the base, top first
+    jenkin_force : (batch, ndof, n_j) N; maxwell_elongation : (batch, ndof, n_m) m;
+    boucwen_z : (batch, ndof) N. Rows of an isolator without such parts are zero; a run that
+        was flagged carries NaN.
+    """
+
+    displacement: np.ndarray
+    velocity: np.ndarray
+    jenkin_force: np.ndarray
+    maxwell_elongation: np.ndarray
+    boucwen_z: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.displacement.shape[0])
+
+    def take(self, runs) -> "TimeState":
+        """The state of some runs (an index array or a boolean mask over the batch)."""
+        return TimeState(*(np.asarray(values)[runs] for values in (
+            self.displacement, self.velocity, self.jenkin_force, self.maxwell_elongation, self.boucwen_z)))
 
 
 @dataclass(frozen=True)
@@ -36,6 +70,9 @@ class TimeResponse:
     isolator_force : (batch, n_isolators, n_records) isolator forces, N (positive = tension)
     flags : (batch,) 0 if the run finished, else a code; ``reasons`` gives the text
     flag_time : (batch,) s, time of the step that failed (NaN when ok)
+    final_state : TimeState or None
+        Every run's state after the last step (``simulate(..., initial_state=...)`` continues
+        from it); None where the response was not computed by :func:`simulate`.
     """
 
     time: np.ndarray
@@ -47,6 +84,7 @@ class TimeResponse:
     flags: np.ndarray
     flag_time: np.ndarray
     reasons: tuple[str, ...] = field(default=())
+    final_state: TimeState | None = field(default=None, repr=False)
 
     @property
     def ok(self) -> np.ndarray:
@@ -135,8 +173,9 @@ def initial_states(system, deflections):
 
 
 def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=None,
-             initial_velocity=None, initial_deflection=None, gravity: bool | float = False,
-             record_every: int = 1, workers: int | None = None, executor=None) -> TimeResponse:
+             initial_velocity=None, initial_deflection=None, initial_state: TimeState | None = None,
+             gravity: bool | float = False, record_every: int = 1, workers: int | None = None,
+             executor=None) -> TimeResponse:
     """Simulate a batch of runs of ``system`` on a uniform time grid.
 
     Parameters
@@ -156,6 +195,10 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     initial_deflection : array_like, shape (batch, n_isolators) or (n_isolators,), optional
         Initial isolator deflections in m (positive = tension); internal states follow
         :func:`initial_states`. Default: unloaded.
+    initial_state : TimeState, optional
+        Continue runs from a state (``final_state`` of an earlier response of the same system):
+        relative displacements, velocities and every internal state. Excludes
+        ``initial_velocity`` and ``initial_deflection``.
     gravity : bool or float
         Include gravity (True: 9.80665 m/s^2, or a value in m/s^2) acting downward.
     record_every : int
@@ -189,6 +232,12 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     else:
         base_disp, base_vel = (values[None, :] for values in (base or BaseMotion.at_rest()).on_grid(t))
     batch_sizes = {base_disp.shape[0]}
+    if initial_state is not None:
+        if initial_velocity is not None or initial_deflection is not None:
+            raise SimulationError("simulate: found initial_state with initial_velocity or initial_deflection, "
+                                  "expected initial_state alone (it holds both)")
+        _check_state(initial_state, arrays)
+        batch_sizes.add(len(initial_state))
     v_abs = np.zeros((1, ndof)) if initial_velocity is None else np.atleast_2d(np.asarray(initial_velocity, float))
     y0 = np.zeros((1, ndof)) if initial_deflection is None else np.atleast_2d(np.asarray(initial_deflection, float))
     for name, values in (("initial_velocity", v_abs), ("initial_deflection", y0)):
@@ -209,8 +258,15 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     jforce0 = np.empty((batch, ndof, arrays.jk.shape[1]))
     mstate0 = np.empty((batch, ndof, arrays.mk.shape[1]))
     bwz0 = np.empty((batch, ndof))
-    for b in range(batch):
-        jforce0[b], mstate0[b], bwz0[b] = initial_states(system, y0[b])
+    if initial_state is None:
+        for b in range(batch):
+            jforce0[b], mstate0[b], bwz0[b] = initial_states(system, y0[b])
+    else:
+        q0 = x_base0 + initial_state.displacement
+        v_abs = kernel_array(initial_state.velocity + base_vel[:, :1])
+        jforce0[:] = initial_state.jenkin_force
+        mstate0[:] = initial_state.maxwell_elongation
+        bwz0[:] = initial_state.boucwen_z
     g = STANDARD_GRAVITY if gravity is True else float(gravity or 0.0)
     if int(record_every) < 1:
         raise SimulationError(f"record_every: found {record_every!r}, expected a positive integer")
@@ -229,7 +285,8 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
             mstate0[part], bwz0[part], int(record_every), scale,
         )
 
-    rec_q, rec_v, rec_a, rec_f, flags, flag_step = run_chunked(task, batch, workers=workers, executor=executor)
+    (rec_q, rec_v, rec_a, rec_f, flags, flag_step, end_q, end_v, end_jforce, end_mstate,
+     end_bwz) = run_chunked(task, batch, workers=workers, executor=executor)
     n_records = rec_q.shape[2]
     record_time = t[:: int(record_every)][:n_records]
     base_x = base_disp[:, :: int(record_every)][:, :n_records]
@@ -241,11 +298,34 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     else:
         deflection = np.stack([displacement[:, 0] - displacement[:, 1], displacement[:, 1]], axis=1)
     flag_time = np.where(flag_step >= 0, t[0] + flag_step * h, np.nan)
+    final_state = TimeState(displacement=end_q - base_disp[:, -1:], velocity=end_v - base_vel[:, -1:],
+                            jenkin_force=end_jforce, maxwell_elongation=end_mstate, boucwen_z=end_bwz)
     return TimeResponse(
         time=record_time, displacement=displacement, velocity=velocity, acceleration=rec_a,
         deflection=deflection, isolator_force=rec_f, flags=flags, flag_time=flag_time,
-        reasons=tuple(FLAG_REASONS[int(f)] for f in flags),
+        reasons=tuple(FLAG_REASONS[int(f)] for f in flags), final_state=final_state,
     )
+
+
+def _check_state(state: TimeState, arrays) -> None:
+    """``state`` fits the system (``arrays``): shapes, one batch size, finite values."""
+    if not isinstance(state, TimeState):
+        raise SimulationError(f"initial_state: found {type(state).__name__}, expected a TimeState "
+                              "(the final_state of an earlier response)")
+    ndof = arrays.ndof
+    batch = len(state)
+    expected = {"displacement": (batch, ndof), "velocity": (batch, ndof),
+                "jenkin_force": (batch, ndof, arrays.jk.shape[1]),
+                "maxwell_elongation": (batch, ndof, arrays.mk.shape[1]), "boucwen_z": (batch, ndof)}
+    for name, shape in expected.items():
+        values = np.asarray(getattr(state, name))
+        if values.shape != shape:
+            raise SimulationError(f"initial_state.{name}: found shape {values.shape}, expected {shape} "
+                                  "(a state of this system)")
+        if not np.all(np.isfinite(values)):
+            run = int(np.argwhere(~np.isfinite(values))[0][0])
+            raise SimulationError(f"initial_state.{name}: found a non-finite value in run {run} "
+                                  "(a flagged run cannot be continued)")
 
 
 def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float, time_step: float,

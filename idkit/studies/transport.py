@@ -9,10 +9,12 @@ the wire rope and seven hybrids, all tuned to a 5 Hz small-amplitude resonance
   linear reference and elastomer systems in the frequency domain, ``method="auto"``:
   the same estimate without simulating, and so are the nonlinear ones at levels where no
   Jenkin element would slip (:func:`~idkit.responses.random_vibration.stays_stuck`); the others settle for five small-amplitude time
-  constants, at most one record, :func:`~idkit.responses.random_vibration.settle_records_for`,
-  and a level whose runs are still not periodic (settling error above
-  :data:`SETTLING_LIMIT`) is repeated from the small-amplitude steady state, the better
-  settled kept; what is still not settled is listed by :meth:`TransportStudy.unsettled`),
+  constants, at most one record, :func:`~idkit.responses.random_vibration.settle_records_for`;
+  a realization still not periodic then (settling error above :data:`SETTLING_LIMIT`) is
+  continued from its own state, record by record, up to :data:`SETTLE_EXTRA_RECORDS`
+  (``random_response(settle_until=...)``), and a level with a run still not settled is
+  repeated from the small-amplitude steady state, the better settled kept; what is still
+  not settled is listed by :meth:`TransportStudy.unsettled`),
 * the rest shock level versus impact velocity and drop height
   (:func:`idkit.responses.shock.shock_sweep`, conditioned free fall).
 
@@ -48,6 +50,7 @@ from idkit.signal.psd import PsdProfile
 
 __all__ = [
     "RK_VALUES",
+    "SETTLE_EXTRA_RECORDS",
     "SETTLING_LIMIT",
     "OutputPsd",
     "TransportStudy",
@@ -63,6 +66,11 @@ RK_VALUES = (0.1, 0.2, 0.4, 0.6, 0.8, 1.0, 1.25)
 #: settling error above which a random run's PSD is reported as not settled (a change of
 #: 5 % of the signal over one periodic record)
 SETTLING_LIMIT = 0.05
+
+#: records a realization that has not settled is continued by, at most (20 s each at the
+#: default 0.05 Hz line spacing): 160 s, about 8 time constants of a 0.25 %-damped 5 Hz
+#: system; on the bundled parts one extra record settled every run
+SETTLE_EXTRA_RECORDS = 8
 
 
 @dataclass(frozen=True)
@@ -312,12 +320,15 @@ def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVEL
             settle = settle_of[item.name]
             # linear systems in the frequency domain (the expected Welch estimate, nothing
             # simulated); nonlinear ones start at rest and settle five small-amplitude time
-            # constants, at most one record; a run still not periodic then (the nearly stuck
+            # constants, at most one record; a realization still not periodic then is
+            # continued from its own state, record by record, until it settles (at most
+            # SETTLE_EXTRA_RECORDS); a run that still has one that did not (the nearly stuck
             # wire rope rings for minutes) is repeated from its small-amplitude steady state,
             # and the better settled of the two is kept
             try:
                 result = random_response(item.system, profile, seed=seed, n_realizations=n_realizations,
-                                         method="auto", settle_records=settle, workers=workers)
+                                         method="auto", settle_records=settle, settle_until=SETTLING_LIMIT,
+                                         max_extra_records=SETTLE_EXTRA_RECORDS, workers=workers)
             except SimulationError as problem:  # every realization left the model's valid range
                 flagged += int(n_realizations)
                 failures.append(f"{item.name} at {level:g} (m/s^2)^2/Hz: {problem}")
@@ -330,7 +341,9 @@ def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVEL
             if _worst_settling(result) > SETTLING_LIMIT:
                 try:
                     linear = random_response(item.system, profile, seed=seed, n_realizations=n_realizations,
-                                             method="auto", settle_records=settle, start="linear", workers=workers)
+                                             method="auto", settle_records=settle, start="linear",
+                                             settle_until=SETTLING_LIMIT, max_extra_records=SETTLE_EXTRA_RECORDS,
+                                             workers=workers)
                 except SimulationError:  # every run left the valid range from the stuck state
                     linear = None
                 if linear is not None and _worst_settling(linear) < _worst_settling(result) \
