@@ -56,6 +56,8 @@ def _cmd_report(args) -> int:
                          start_state=args.start_state, drop_model=args.drop_model, pdf=args.pdf)
     for name, verdict in summary.validation_verdicts.items():
         print(f"{verdict:12s}  {name}")
+    for name in summary.flagged_fits:
+        print(f"{'FLAGGED':12s}  {name} fit: " + "; ".join(summary.fit_reasons[name]))
     if summary.quick:
         print(f"({QUICK_NOTE})")
     print(f"report written to {summary.html}", file=sys.stderr)
@@ -64,7 +66,12 @@ def _cmd_report(args) -> int:
 
 def register(commands) -> None:
     """Add ``idkit report``."""
-    parser = commands.add_parser("report", help="fit, validate and study a data set; write an HTML report")
+    from idkit.exit_status import REPORT_EXIT_STATUSES
+
+    parser = commands.add_parser(
+        "report", help="fit, validate and study a data set; write an HTML report",
+        epilog="exit status (the report is written in every case): "
+               + "; ".join(f"{code} {meaning}" for code, meaning in REPORT_EXIT_STATUSES.items()))
     parser.add_argument("data_dir", nargs="?", default=None,
                         help="folder of measurement sets (default: ./data, the bundled synthetic data), or one "
                              "data file (a DMA table or a loop record is fitted; other records are inspected)")

@@ -15,7 +15,7 @@ import math
 import json
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -46,9 +46,11 @@ from idkit.report.conclusions import fit_sentence, parameters_sentence, transpor
 from idkit.report.html import HtmlReport, file_stem
 from idkit.report.study_files import write_transport_files
 from idkit.studies.equivalent import complex_stiffness_comparison, drop_shock_spectra, equivalent_linearization
+from idkit.exit_status import REPORT_EXIT_STATUSES
 from idkit.studies.pipeline import QUICK_NOTE, ReportData, ValidationEntry, compute_report_data
 
-__all__ = ["QUICK_NOTE", "REPORT_SECTIONS", "ReportSummary", "run_report", "write_report"]
+__all__ = ["EXIT_STATUSES", "PREDICTING_FITS", "QUICK_NOTE", "REPORT_SECTIONS", "ReportSummary", "run_report",
+           "write_report"]
 
 REPORT_SECTIONS = (
     "Summary", "Data", "Wire rope fit", "Elastomer fit", "Validation: wire rope", "Validation: elastomer",
@@ -84,6 +86,9 @@ class ReportSummary:
     validation_verdicts : dict of str to str
         ``"PASS"``, ``"INCONCLUSIVE"`` or ``"FAIL"`` per validation.
     quick : bool
+    fit_reasons : dict of str to tuple of str
+        Per identified model the report predicts with (:data:`PREDICTING_FITS`): why its fit is
+        not a success (empty when it is).
     """
 
     out_dir: Path
@@ -93,12 +98,32 @@ class ReportSummary:
     timings_s: dict
     validation_verdicts: dict
     quick: bool = False
+    fit_reasons: dict = field(default_factory=dict)
+
+    @property
+    def flagged_fits(self) -> tuple[str, ...]:
+        """The predicting models whose fit is not a success."""
+        return tuple(name for name, reasons in self.fit_reasons.items() if reasons)
 
     @property
     def exit_status(self) -> int:
-        """0 when every validation passed, 1 when one failed, 3 when none failed but one is inconclusive."""
+        """0 when everything passed: 1 when a validation failed, 3 when none failed but one is
+        inconclusive, 4 when every validation passed but a fit the report predicts with is not a
+        success (:data:`EXIT_STATUSES`)."""
         verdicts = set(self.validation_verdicts.values())
-        return 1 if "FAIL" in verdicts else 3 if "INCONCLUSIVE" in verdicts else 0
+        if "FAIL" in verdicts:
+            return 1
+        if "INCONCLUSIVE" in verdicts:
+            return 3
+        return 4 if self.flagged_fits else 0
+
+
+#: exit statuses of ``idkit report`` (:mod:`idkit.exit_status`)
+EXIT_STATUSES = REPORT_EXIT_STATUSES
+
+#: the fits whose models the report validates and predicts with (the Bouc-Wen fit is a
+#: comparison of model forms on the loops and does not enter the exit status)
+PREDICTING_FITS = ("wire rope (Iwan)", "elastomer (generalized Maxwell)")
 
 
 def _metrics_frame(result) -> pd.DataFrame:
@@ -499,7 +524,14 @@ def _write_report(data: ReportData, report: HtmlReport, folder: Path, started: f
     verdicts = data.verdicts
     return ReportSummary(out_dir=folder, html=html_path, sections=tuple(report.section_titles),
                          validation_passed={entry.key: entry.result.passed for entry in data.validations},
-                         timings_s=timings, validation_verdicts=verdicts, quick=data.quick)
+                         timings_s=timings, validation_verdicts=verdicts, quick=data.quick,
+                         fit_reasons=_fit_reasons(data))
+
+
+def _fit_reasons(data: ReportData) -> dict[str, tuple[str, ...]]:
+    """:attr:`ReportSummary.fit_reasons` of the fits in :data:`PREDICTING_FITS`."""
+    fits = dict(zip(PREDICTING_FITS, (data.iwan, data.maxwell)))
+    return {name: tuple(fit.reasons) for name, fit in fits.items()}
 
 
 def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, quick: bool = False,
@@ -545,4 +577,5 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
     out_dir = Path(out_dir)
     return ReportSummary(out_dir=out_dir, html=out_dir / "report.html", sections=summary.sections,
                          validation_passed=summary.validation_passed, timings_s=summary.timings_s,
-                         validation_verdicts=summary.validation_verdicts, quick=summary.quick)
+                         validation_verdicts=summary.validation_verdicts, quick=summary.quick,
+                         fit_reasons=summary.fit_reasons)

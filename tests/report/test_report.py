@@ -29,16 +29,36 @@ def quick_report(tmp_path_factory):
 
 @pytest.mark.slow
 def test_exit_status_follows_the_verdicts(quick_report):
-    """0 only when every validation passes; 1 when one fails; 3 when none fails but one is inconclusive."""
+    """0 only when everything passes; 1 when a validation fails; 3 when none fails but one is
+    inconclusive; 4 when every validation passes but the Iwan or Maxwell fit (the models the
+    report predicts with) is not a success, as its model file records."""
     html = (quick_report / "report.html").read_text(encoding="utf-8")
     # the validations' verdicts (the conclusions also mark each fit: "the fit succeeded" or
-    # "the fit is not a success", which the exit status does not follow)
+    # "the fit is not a success")
     entries = re.findall(r'<li><span class="(pass|fail|inconclusive)">[^<]*</span>([^<]*)</li>', html)
     verdicts = [css for css, text in entries if "the fit " not in text]
     failed, inconclusive = "fail" in verdicts, "inconclusive" in verdicts
+    flagged = [name for name in ("wire_rope_iwan.json", "elastomer_maxwell.json")
+               if not json.loads((quick_report / "models" / name).read_text())["provenance"]["success"]]
     assert len(verdicts) >= 1
-    assert STATUS["report"] == (1 if failed else 3 if inconclusive else 0)
+    assert STATUS["report"] == (1 if failed else 3 if inconclusive else 4 if flagged else 0)
     assert "quick run: at most 8 held-out records" in html  # a quick verdict says so
+
+
+def test_exit_status_rules():
+    from idkit.report.main_report import EXIT_STATUSES, ReportSummary
+
+    def status(verdicts, reasons):
+        return ReportSummary(out_dir=Path("."), html=Path("r.html"), sections=(), validation_passed={}, timings_s={},
+                             validation_verdicts=verdicts, fit_reasons=reasons).exit_status
+
+    fine = {"wire rope (Iwan)": (), "elastomer (generalized Maxwell)": ()}
+    flagged = {"wire rope (Iwan)": ("small-loop error far above the noise floor",), "elastomer (generalized Maxwell)": ()}
+    assert status({"a": "PASS", "b": "PASS"}, fine) == 0
+    assert status({"a": "PASS", "b": "PASS"}, flagged) == 4
+    assert status({"a": "PASS", "b": "INCONCLUSIVE"}, flagged) == 3
+    assert status({"a": "FAIL", "b": "INCONCLUSIVE"}, fine) == 1
+    assert set(EXIT_STATUSES) == {0, 1, 3, 4}
 
 
 @pytest.mark.slow
