@@ -543,6 +543,16 @@ def _harmonic_kernel(structure):
                     angle = 2.0 * math.pi * m * n / window
                     cos_t[m, n] = math.cos(angle)
                     sin_t[m, n] = math.sin(angle)
+            # the base motion over one period (omega h = 2 pi / n_per): a table instead of two
+            # sines and a cosine per step, and exact phases (omega * step * h loses ~1e-12 rad
+            # after 4000 periods)
+            base_sin = np.empty(n_per)
+            base_cos = np.empty(n_per)
+            for n in range(n_per):
+                angle = 2.0 * math.pi * n / n_per
+                base_sin[n] = math.sin(angle)
+                base_cos[n] = math.cos(angle)
+            at = 0  # step % n_per
             previous = np.zeros(n_coeff, dtype=np.complex128)
             current = np.zeros(n_coeff, dtype=np.complex128)
             dcurrent = np.zeros(n_coeff, dtype=np.complex128)
@@ -558,7 +568,7 @@ def _harmonic_kernel(structure):
                 apeak = 0.0
                 for n in range(window):
                     # sample at the start of the step (t = step * h), then advance
-                    base = amp * math.sin(omega * step * h)
+                    base = amp * base_sin[at]
                     top = state[0]
                     for m in range(n_coeff):
                         twiddle = complex(cos_t[m, n], -sin_t[m, n])
@@ -568,9 +578,9 @@ def _harmonic_kernel(structure):
                     hi = max(hi, top)
                     apeak = max(apeak, abs(state[4]))
                     step += 1
-                    phase = omega * step * h
-                    flag = _step_by(structure, ndof, m0, m1, state, h, 0.0, base, amp * math.sin(phase), amp * omega * math.cos(phase),
-                                 P, S, force_scale)
+                    at = at + 1 if at + 1 < n_per else 0
+                    flag = _step_by(structure, ndof, m0, m1, state, h, 0.0, base, amp * base_sin[at],
+                                    amp * omega * base_cos[at], P, S, force_scale)
                     if flag != FLAG_OK:
                         break
                 if flag != FLAG_OK:
