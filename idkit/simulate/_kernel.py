@@ -41,6 +41,7 @@ from idkit.simulate._structured import (
     SDOF_IWAN,
     SDOF_IWAN_MODULATED,
     SDOF_MAXWELL,
+    jenkin_elements,
     step_hybrid,
     step_sdof,
 )
@@ -147,27 +148,9 @@ def _isolator_force(j, y, dy, vrel, h, P, S, commit):
     g3 = P[j, 0, 2]
     force = y * (g1 + y * (g2 + y * g3)) + P[j, 0, 3] * vrel
     tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
-    # slip scale s(y) = 1 - a tanh(y / y_ref) and its slope; exactly 1 and 0 without modulation
-    scale = 1.0
-    slope = 0.0
-    if P[j, 0, _SM] != 0.0:
-        th = math.tanh(y / P[j, 0, _SM + 1])
-        scale = 1.0 - P[j, 0, _SM] * th
-        slope = -P[j, 0, _SM] * (1.0 - th * th) / P[j, 0, _SM + 1]
-    for i in range(int(P[j, 0, _NJ])):
-        trial = S[j, 0, i] + P[j, 1, i] * dy
-        limit = P[j, 2, i] * scale
-        if trial > limit:
-            trial = limit
-            tangent += P[j, 2, i] * slope
-        elif trial < -limit:
-            trial = -limit
-            tangent -= P[j, 2, i] * slope
-        else:
-            tangent += P[j, 1, i]
-        force += trial
-        if commit:
-            S[j, 0, i] = trial
+    # the Jenkin elements: slip forces scaled by s(y) when the isolator's slip is modulated
+    # (without modulation the plain stop operator: the same numbers as s = 1, slope 0)
+    force, tangent = jenkin_elements(3 if P[j, 0, _SM] != 0.0 else 1, j, y, dy, P, S, force, tangent, commit)
     # Maxwell elements are affine in dy within a step: sum k_i u_i = mbase + mgsum dy
     # with mbase = sum k_i e_i u_i (start of step) and mgsum = sum k_i g_i.
     force += S[j, 2, 1] + P[j, 0, _MGSUM] * dy

@@ -77,36 +77,20 @@ def structure_of(arrays) -> int:
 
 
 @numba.njit(cache=True, inline="always")
-def _part_force(kind, j, y, dy, vrel, h, P, S, commit):
-    """Force (N) and tangent (N/m) of isolator ``j`` made of the parts ``kind`` only; the same
-    operations as the generic ``_isolator_force`` (a constant ``kind``: the other branch is
-    pruned)."""
-    g1 = P[j, 0, 0]
-    g2 = P[j, 0, 1]
-    g3 = P[j, 0, 2]
-    force = y * (g1 + y * (g2 + y * g3)) + P[j, 0, 3] * vrel
-    tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
-    if kind == 1:  # _IWAN (a literal: numba prunes the other branches)
-        for i in range(int(P[j, 0, _NJ])):
-            trial = S[j, 0, i] + P[j, 1, i] * dy
-            limit = P[j, 2, i]
-            if trial > limit:
-                trial = limit
-            elif trial < -limit:
-                trial = -limit
-            else:
-                tangent += P[j, 1, i]
-            force += trial
-            if commit:
-                S[j, 0, i] = trial
-    elif kind == 3:  # _IWAN_MODULATED
-        # slip scale s(y) = 1 - a tanh(y / y_ref) and its slope; exactly 1 and 0 without modulation
-        slip_scale = 1.0
-        slip_slope = 0.0
-        if P[j, 0, _SM] != 0.0:
-            th = math.tanh(y / P[j, 0, _SM + 1])
-            slip_scale = 1.0 - P[j, 0, _SM] * th
-            slip_slope = -P[j, 0, _SM] * (1.0 - th * th) / P[j, 0, _SM + 1]
+def jenkin_elements(kind, j, y, dy, P, S, force, tangent, commit):
+    """Add the Jenkin elements of isolator ``j`` to its ``force`` (N) and ``tangent`` (N/m);
+    the one copy of the stop operator every step uses (the specialised steps with a constant
+    ``kind``, the generic step with ``kind`` read off the isolator's slip modulation).
+
+    ``kind`` 1: constant slip forces; 3 (:data:`_IWAN_MODULATED`): slip forces ``s(y) fc`` with
+    ``s(y) = 1 - a tanh(y / y_ref)`` at the end-of-step deflection, an element force above the
+    shrunken limit clipped to it, and the limit's slope in the tangent of a slipping element.
+    If ``commit`` the element forces are stored.
+    """
+    if kind == 3:
+        th = math.tanh(y / P[j, 0, _SM + 1])
+        slip_scale = 1.0 - P[j, 0, _SM] * th
+        slip_slope = -P[j, 0, _SM] * (1.0 - th * th) / P[j, 0, _SM + 1]
         for i in range(int(P[j, 0, _NJ])):
             trial = S[j, 0, i] + P[j, 1, i] * dy
             limit = P[j, 2, i] * slip_scale
@@ -121,6 +105,34 @@ def _part_force(kind, j, y, dy, vrel, h, P, S, commit):
             force += trial
             if commit:
                 S[j, 0, i] = trial
+    else:
+        for i in range(int(P[j, 0, _NJ])):
+            trial = S[j, 0, i] + P[j, 1, i] * dy
+            limit = P[j, 2, i]
+            if trial > limit:
+                trial = limit
+            elif trial < -limit:
+                trial = -limit
+            else:
+                tangent += P[j, 1, i]
+            force += trial
+            if commit:
+                S[j, 0, i] = trial
+    return force, tangent
+
+
+@numba.njit(cache=True, inline="always")
+def _part_force(kind, j, y, dy, vrel, h, P, S, commit):
+    """Force (N) and tangent (N/m) of isolator ``j`` made of the parts ``kind`` only; the same
+    operations as the generic ``_isolator_force`` (a constant ``kind``: the other branch is
+    pruned)."""
+    g1 = P[j, 0, 0]
+    g2 = P[j, 0, 1]
+    g3 = P[j, 0, 2]
+    force = y * (g1 + y * (g2 + y * g3)) + P[j, 0, 3] * vrel
+    tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
+    if kind == 1 or kind == 3:  # _IWAN, _IWAN_MODULATED (literals: numba prunes the other branches)
+        force, tangent = jenkin_elements(kind, j, y, dy, P, S, force, tangent, commit)
     else:
         force += S[j, 2, 1] + P[j, 0, _MGSUM] * dy
         tangent += P[j, 0, _MGSUM]
