@@ -540,7 +540,6 @@ def _harmonic_kernel(structure):
             current = np.zeros(n_coeff, dtype=np.complex128)
             dcurrent = np.zeros(n_coeff, dtype=np.complex128)
             last_change = np.inf
-            step = 0
             flag = FLAG_OK
             for w in range(max_windows):
                 for m in range(n_coeff):
@@ -560,7 +559,6 @@ def _harmonic_kernel(structure):
                     lo = min(lo, top)
                     hi = max(hi, top)
                     apeak = max(apeak, abs(state[4]))
-                    step += 1
                     at = at + 1 if at + 1 < n_per else 0
                     flag = _step_by(structure, ndof, m0, m1, state, h, 0.0, base, amp * base_sin[at],
                                     amp * omega * base_cos[at], P, S, force_scale)
