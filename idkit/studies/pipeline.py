@@ -332,6 +332,10 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
     Returns
     -------
     ReportData
+        Its transport study may still be running in a child process: read
+        :attr:`ReportData.transport` (waits for it) or call :meth:`ReportData.abandon_transport`
+        when it will not be used (:func:`idkit.report.main_report.write_report` does one or
+        the other), so that no child outlives its use.
     """
     stages = _Stages(progress or (lambda message: None))
     data_dir = Path(data_dir) if data_dir is not None else default_data_dir()
