@@ -123,21 +123,29 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitud
         if with_tangent:
             tangent_start(ndof, masses, P, state, tangents[b], nj, nm)
         flag = FLAG_OK
+        # the base motion over one period, as the map's kernel reads it (omega h = 2 pi / n_per)
+        base_sin = np.empty(n_per)
+        base_cos = np.empty(n_per)
+        for k in range(n_per):
+            angle = 2.0 * math.pi * k / n_per
+            base_sin[k] = math.sin(angle)
+            base_cos[k] = math.cos(angle)
+        at = 0  # n % n_per
         for n in range(n_per * n_periods):
             if n < n_record:
                 for d in range(ndof):
                     rec_q[b, d, n] = state[d]
                 rec_a[b, n] = state[4]
-            base = amp * math.sin(omega * n * h)
-            phase = omega * (n + 1) * h
-            base_new = amp * math.sin(phase)
+            base = amp * base_sin[at]
+            at = at + 1 if at + 1 < n_per else 0
+            base_new = amp * base_sin[at]
             if with_tangent:
                 old_q[0] = state[0]
                 old_q[1] = state[1]
                 for d in range(ndof):
                     for i in range(nj):
                         old_force[d, i] = S[d, 0, i]
-            flag = _step(ndof, m0, m1, state, h, 0.0, base, base_new, amp * omega * math.cos(phase), P, S, scale[b])
+            flag = _step(ndof, m0, m1, state, h, 0.0, base, base_new, amp * omega * base_cos[at], P, S, scale[b])
             if flag != FLAG_OK:
                 break
             if with_tangent:
