@@ -64,6 +64,7 @@ from idkit.simulate._kernel import (
     _pack,
     _pack_states,
     _step,
+    base_motion_table,
 )
 from idkit.simulate.harmonic import linear_initial_state
 
@@ -123,13 +124,7 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitud
         if with_tangent:
             tangent_start(ndof, masses, P, state, tangents[b], nj, nm)
         flag = FLAG_OK
-        # the base motion over one period, as the map's kernel reads it (omega h = 2 pi / n_per)
-        base_sin = np.empty(n_per)
-        base_cos = np.empty(n_per)
-        for k in range(n_per):
-            angle = 2.0 * math.pi * k / n_per
-            base_sin[k] = math.sin(angle)
-            base_cos[k] = math.cos(angle)
+        base_sin, base_cos = base_motion_table(n_per)  # as the map's kernel reads it
         at = 0  # n % n_per
         for n in range(n_per * n_periods):
             if n < n_record:

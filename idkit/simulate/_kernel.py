@@ -468,6 +468,21 @@ def _time_kernel(structure):
     return run_time_batch
 
 
+@numba.njit(cache=True)
+def base_motion_table(n_per):
+    """``sin`` and ``cos`` of the phases ``2 pi k / n_per`` of one excitation period of ``n_per``
+    steps (``omega h = 2 pi / n_per``): the harmonic base motion read from a table instead of
+    two sines and a cosine per step, with exact phases (``omega * step * h`` loses ~1e-12 rad
+    after 4000 periods). Shared by the map's kernel and the period map's."""
+    base_sin = np.empty(n_per)
+    base_cos = np.empty(n_per)
+    for k in range(n_per):
+        angle = 2.0 * math.pi * k / n_per
+        base_sin[k] = math.sin(angle)
+        base_cos[k] = math.cos(angle)
+    return base_sin, base_cos
+
+
 def _harmonic_kernel(structure):
     """The compiled :func:`run_harmonic_batch` of one structure (:mod:`idkit.simulate._structured`)."""
 
@@ -526,15 +541,7 @@ def _harmonic_kernel(structure):
                     angle = 2.0 * math.pi * m * n / window
                     cos_t[m, n] = math.cos(angle)
                     sin_t[m, n] = math.sin(angle)
-            # the base motion over one period (omega h = 2 pi / n_per): a table instead of two
-            # sines and a cosine per step, and exact phases (omega * step * h loses ~1e-12 rad
-            # after 4000 periods)
-            base_sin = np.empty(n_per)
-            base_cos = np.empty(n_per)
-            for n in range(n_per):
-                angle = 2.0 * math.pi * n / n_per
-                base_sin[n] = math.sin(angle)
-                base_cos[n] = math.cos(angle)
+            base_sin, base_cos = base_motion_table(n_per)
             at = 0  # step % n_per
             previous = np.zeros(n_coeff, dtype=np.complex128)
             current = np.zeros(n_coeff, dtype=np.complex128)
