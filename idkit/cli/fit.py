@@ -81,18 +81,22 @@ def _cmd_iwan(args) -> int:
         opt.check_valid_range("--valid-range", args.valid_range)
     _check_outputs("iwan", args.output, args.plots, args.dataset)
     options = {"valid_range": tuple(args.valid_range)} if args.valid_range else {}
+    if args.no_valid_range:
+        options = {"valid_range": None}
     fit = fit_iwan_measurements(_load(args.dataset, args), order=args.order, small_threshold=args.small_threshold,
                                 isolator=args.isolator, split=_split(args.split), backend=args.backend,
                                 seed=args.seed, initial_state=args.start_state, remove_offsets=args.remove_offsets,
-                                **options)
+                                family=args.family, **options)
     if args.order_table or fit.order_table is not None:
         from idkit.fit import iwan_order_table
 
         table = fit.order_table
         if table is None:
             table = iwan_order_table(list(fit.data.small), list(fit.data.large), backend=args.backend, seed=args.seed,
-                                     initial_state=args.start_state, **options)
-        print("[[Iwan order table (rule: lowest order within 10 % of the best mean error)]]")
+                                     initial_state=args.start_state,
+                                     **{k: v for k, v in options.items() if v is not None})
+        print("[[Iwan order table (rule: lowest order within 10 % of the best mean error; modulated rows: lowest "
+              "order within 2 points of the noise floor)]]")
         print(table.to_string(index=False))
     return _finish(fit, args)
 
@@ -250,8 +254,18 @@ def register(subparsers) -> None:
                            "1-6, print their table and keep the one the order rule recommends (docs/fitting.md)")
     iwan.add_argument("--order-table", action="store_true",
                       help="also fit orders 1-6 and print errors, stuck stiffness and the recommended order")
-    iwan.add_argument("--valid-range", type=opt.real(unit="m"), nargs=2, metavar=("X_MIN", "X_MAX"),
-                      help="deflections in m (X_MIN < 0 < X_MAX) over which the spring must stay non-negative-stiff")
+    ranges = iwan.add_mutually_exclusive_group()
+    ranges.add_argument("--valid-range", type=opt.real(unit="m"), nargs=2, metavar=("X_MIN", "X_MAX"),
+                        help="deflections in m (X_MIN < 0 < X_MAX) over which the spring must stay non-negative-stiff "
+                             "(default: 1.25 x the deflections of every record of the isolator, drops included)")
+    ranges.add_argument("--no-valid-range", action="store_true",
+                        help="fit the loops without the valid-range barrier (the fit is still not a success when "
+                             "the spring turns negative-stiff inside the data set's deflections)")
+    iwan.add_argument("--family", choices=("auto", "plain", "modulated"), default="auto",
+                      help="model family: the plain Iwan model, the slip-modulated one (two parameters more: slip "
+                           "forces s(y) fc_i, s = 1 - a tanh(y / y_ref)), or 'auto' (default): the modulated model "
+                           "only when the plain one misses the loops by more than 2 points above their noise floor "
+                           "and the modulated one does better by the order rule's factor (docs/fitting.md)")
     iwan.set_defaults(handler=_cmd_iwan)
 
     maxwell = kinds.add_parser("maxwell", help="generalized Maxwell fit: k0 from the loops, the rest from the FRFs; "

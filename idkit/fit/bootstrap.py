@@ -209,7 +209,8 @@ def bootstrap_measurements(fit, *, method: str = "repetition", n_resamples: int 
 
     Loop fits are refitted per repetition (``info.repetition`` of the records) or on
     resampled sets, with the fit's order, backend, start state and (Iwan) valid range, each
-    Iwan refit started at the full data's optimum; Maxwell fits likewise over the
+    Iwan refit started at the full data's optimum (a slip-modulated fit, ``settings.family ==
+    "modulated"``: its modulation stage from the full data's modulated model); Maxwell fits likewise over the
     transmissibility sets, with ``k0`` held at the value of the original fit. ``seed`` defaults to the fit's seed.
     """
     from idkit.fit.boucwen import fit_boucwen
@@ -220,7 +221,16 @@ def bootstrap_measurements(fit, *, method: str = "repetition", n_resamples: int 
     seed = settings.seed if seed is None else int(seed)
     if fit.kind in ("iwan", "boucwen"):
         data = fit.data
-        if fit.kind == "iwan":
+        if fit.kind == "iwan" and getattr(settings, "family", "plain") == "modulated":
+            from idkit.fit.iwan_modulated import fit_iwan_modulated
+
+            start = fit.result.model
+
+            def fitter(small, large, seed, **options):  # the modulation stage from the full data's optimum
+                return fit_iwan_modulated(small, large, plain=start, **options).to_iwan_result(settings)
+
+            options = {"initial_state": settings.initial_state, "valid_range": settings.valid_range}
+        elif fit.kind == "iwan":
             fitter = fit_iwan
             # every refit starts at the full data's optimum (the usual bootstrap start): from the
             # loops' own start estimate one repetition of an order-3 rope found either of two

@@ -124,7 +124,7 @@ def iwan_order_fits(small, large, *, orders: Sequence[int] = (1, 2, 3, 4, 5, 6),
                      "stuck_stiffness [N/m]": float(result.model.stuck_stiffness),
                      "smallest_loop_secant [N/m]": secant,
                      "spring_negative_below [m]": below, "spring_negative_above [m]": above,
-                     "success": result.success, "reasons": "; ".join(result.reasons)})
+                     "success": result.success, "reasons": "; ".join(result.reasons), "family": "plain"})
     table = pd.DataFrame(rows)
     table["recommended"] = table["order"] == _rule(table, 0.5 * (table["error_small_percent"]
                                                                   + table["error_large_percent"]))

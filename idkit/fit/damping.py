@@ -88,7 +88,7 @@ class ViscousDamping:
 
     def model(self, fitted: IwanModel) -> IwanModel:
         """``fitted`` with this viscous damping."""
-        return IwanModel.from_params({**fitted.params(), "c_visc": self.c_visc})
+        return type(fitted).from_params({**fitted.params(), "c_visc": self.c_visc})
 
 
 def _first_harmonics(measurements):
@@ -177,7 +177,7 @@ def _match_level(model, level, rows, tolerance, workers) -> ViscousDamping:
     f_peak, peak_measured = resonance_peak(freq, measured)
 
     def simulated_peak(c_visc: float) -> float:
-        trial = IwanModel.from_params({**model.params(), "c_visc": c_visc})
+        trial = type(model).from_params({**model.params(), "c_visc": c_visc})
         response = harmonic_response(SDOFSystem(mass, trial), freq, base_amplitude, n_harmonics=1,
                                      tolerance=tolerance, start="linear", workers=workers)
         return resonance_peak(freq, np.abs(response.hosidf(1)))[1]

@@ -35,6 +35,7 @@ same sets and tabulates them with :func:`idkit.fit.compare.compare_loop_models`.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Sequence
@@ -47,8 +48,9 @@ import scipy.optimize
 
 from idkit.errors import FitError
 from idkit.fit.compare import LoopModelComparison, compare_loop_models
+from idkit.fit._params import Transform, jacobian_statistics, to_lmfit, to_physical_statistics
 from idkit.fit.iwan import LoopSet, fit_iwan, prepare_loops
-from idkit.fit.result import IwanFitResult
+from idkit.fit.result import IwanFitResult, IwanFitSettings, StageResult
 from idkit.models import IwanModel, ModulatedIwanModel
 
 __all__ = [
@@ -96,6 +98,126 @@ def _set_forces(x, g1, g2, g3, k, fc, a, length, cycled, out):
                     state[i] = trial
                 total += state[i]
             out[s] = total
+
+
+@numba.njit(cache=True)
+def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycled, grid, want_jacobian,
+                     residual, jacobian):
+    """Residuals of the modulation stage at internal coordinates ``u`` and, on request, their
+    exact Jacobian (forward sensitivities of the stop operator), for all sets in one call.
+
+    ``u = [log g1, g2 x_ref / g1_ref, g3 x_ref^2 / g1_ref, log k_i, log fc_i, a, log y_ref]``.
+    The sets are concatenated in ``x_all``, ``f_all`` (``offsets[s]:offsets[s + 1]``); row ``j``
+    of a set is ``(F_model - F_meas) / ||F_meas||``, followed by one valid-range barrier row
+    per ``grid`` point, ``10 max(0, 0.01 - (g1 + 2 g2 y + 3 g3 y^2) / g1_ref)``. An element
+    force on its limit depends on ``fc_i``, ``a`` and ``y_ref`` through the limit only; a
+    sticking one on ``k_i`` through every step since it last left the limit.
+    """
+    g1 = math.exp(u[0])
+    g2 = u[1] * g1_ref / x_ref
+    g3 = u[2] * g1_ref / (x_ref * x_ref)
+    k = np.exp(u[3:3 + n])
+    fc = np.exp(u[3 + n:3 + 2 * n])
+    a = u[3 + 2 * n]
+    length = math.exp(u[4 + 2 * n])
+    state = np.empty(n)
+    d_k = np.empty(n)
+    d_fc = np.empty(n)
+    d_a = np.empty(n)
+    d_length = np.empty(n)
+    for s in range(offsets.shape[0] - 1):
+        start, stop = offsets[s], offsets[s + 1]
+        weight = inv_norms[s]
+        x0 = x_all[start]
+        t0 = math.tanh(x0 / length)
+        scale0 = 1.0 - a * t0
+        scale0_a = -t0
+        scale0_length = a * (1.0 - t0 * t0) * x0 / length
+        for i in range(n):  # monotone loading from the unloaded state to the first point
+            trial = k[i] * x0
+            limit = scale0 * fc[i]
+            if trial > limit or trial < -limit:
+                sign = 1.0 if trial > limit else -1.0
+                state[i] = sign * limit
+                d_k[i] = 0.0
+                d_fc[i] = sign * limit
+                d_a[i] = sign * scale0_a * fc[i]
+                d_length[i] = sign * scale0_length * fc[i]
+            else:
+                state[i] = trial
+                d_k[i] = trial
+                d_fc[i] = 0.0
+                d_a[i] = 0.0
+                d_length[i] = 0.0
+        passes = 2 if cycled[s] else 1
+        for p in range(passes):
+            scoring = p == passes - 1
+            if p == 1:  # back from the last point to the first (one linear step)
+                step = x0 - x_all[stop - 1]
+                for i in range(n):
+                    trial = state[i] + k[i] * step
+                    limit = scale0 * fc[i]
+                    if trial > limit or trial < -limit:
+                        sign = 1.0 if trial > limit else -1.0
+                        state[i] = sign * limit
+                        d_k[i] = 0.0
+                        d_fc[i] = sign * limit
+                        d_a[i] = sign * scale0_a * fc[i]
+                        d_length[i] = sign * scale0_length * fc[i]
+                    else:
+                        state[i] = trial
+                        d_k[i] += k[i] * step
+            for j in range(start, stop):
+                y = x_all[j]
+                t = math.tanh(y / length)
+                scale = 1.0 - a * t
+                scale_a = -t
+                scale_length = a * (1.0 - t * t) * y / length
+                total = y * (g1 + y * (g2 + y * g3))
+                sum_a = 0.0
+                sum_length = 0.0
+                for i in range(n):
+                    if j > start:
+                        step = y - x_all[j - 1]
+                        trial = state[i] + k[i] * step
+                        limit = scale * fc[i]
+                        if trial > limit or trial < -limit:
+                            sign = 1.0 if trial > limit else -1.0
+                            state[i] = sign * limit
+                            d_k[i] = 0.0
+                            d_fc[i] = sign * limit
+                            d_a[i] = sign * scale_a * fc[i]
+                            d_length[i] = sign * scale_length * fc[i]
+                        else:
+                            state[i] = trial
+                            d_k[i] += k[i] * step
+                    total += state[i]
+                    if scoring and want_jacobian:
+                        jacobian[j, 3 + i] = weight * d_k[i]
+                        jacobian[j, 3 + n + i] = weight * d_fc[i]
+                        sum_a += d_a[i]
+                        sum_length += d_length[i]
+                if scoring:
+                    residual[j] = weight * (total - f_all[j])
+                    if want_jacobian:
+                        jacobian[j, 0] = weight * g1 * y
+                        jacobian[j, 1] = weight * y * y * g1_ref / x_ref
+                        jacobian[j, 2] = weight * y * y * y * g1_ref / (x_ref * x_ref)
+                        jacobian[j, 3 + 2 * n] = weight * sum_a
+                        jacobian[j, 4 + 2 * n] = weight * sum_length
+    rows = x_all.shape[0]
+    for q in range(grid.shape[0]):
+        y = grid[q]
+        shortfall = _STIFFNESS_MARGIN - (g1 + 2.0 * g2 * y + 3.0 * g3 * y * y) / g1_ref
+        active = shortfall > 0.0
+        residual[rows + q] = 10.0 * shortfall if active else 0.0
+        if want_jacobian:
+            for c in range(jacobian.shape[1]):
+                jacobian[rows + q, c] = 0.0
+            if active:
+                jacobian[rows + q, 0] = -10.0 * g1 / g1_ref
+                jacobian[rows + q, 1] = -20.0 * y / x_ref
+                jacobian[rows + q, 2] = -30.0 * y * y / (x_ref * x_ref)
 
 
 def _model_forces(model: ModulatedIwanModel, sets: Sequence[LoopSet], cycled: Sequence[bool]) -> list[np.ndarray]:
@@ -169,11 +291,52 @@ class ModulatedIwanFitResult:
     elapsed_s: float = 0.0
     evaluations: int = 0
     reasons: tuple[str, ...] = ()
+    lmfit_parameters: object = field(default=None, repr=False)
+    statistics: object = field(default=None, repr=False)
+    start_states: dict = field(default_factory=dict)
+    starts: tuple[float, ...] = ()
+    message: str = ""
+    status: str = "converged"
+    initial_state: str = "auto"
+    valid_range: tuple[float, float] | None = None
 
     @property
     def success(self) -> bool:
         """True unless :attr:`reasons` names a problem."""
         return not self.reasons
+
+    def to_iwan_result(self, settings: IwanFitSettings | None = None) -> IwanFitResult:
+        """This fit as an :class:`~idkit.fit.IwanFitResult` (``settings.family = "modulated"``).
+
+        The stages are the plain fit's three followed by ``"modulation"`` (all parameters free,
+        least squares); ``parameters`` and ``statistics`` are the modulation stage's (lmfit, with
+        standard errors from the residual Jacobian at its optimum). ``settings`` default to the
+        plain fit's; they are required when the stage started from a model instead of a fit.
+        """
+        if settings is None:
+            if self.plain is None:
+                raise FitError("settings: found None, expected the IwanFitSettings to record (the modulation "
+                               "stage started from a model, not from a plain fit)")
+            settings = self.plain.settings
+        settings = dataclasses.replace(settings, family="modulated", order=self.model.order,
+                                       initial_state=self.initial_state, valid_range=self.valid_range)
+        names = self.small_names + self.large_names
+        errors = np.concatenate([self.small_errors, self.large_errors])
+        plain_errors = np.concatenate([self.plain_small_errors, self.plain_large_errors])
+        stage = StageResult(
+            name="modulation", data="small+large", free=tuple(self.parameters["name"]),
+            start={**self.plain_model.params(), "slip_modulation": list(self.starts)},
+            params=self.model.params(), set_names=names, set_errors=errors, mean_error=float(np.mean(errors)),
+            start_error=float(np.mean(plain_errors)), evaluations=self.evaluations, restarts=max(len(self.starts) - 1, 0),
+            message=self.message, elapsed_s=self.elapsed_s, status=self.status)
+        stages = (tuple(self.plain.stages) if self.plain is not None else ()) + (stage,)
+        start = self.plain.start if self.plain is not None else None
+        elapsed = self.elapsed_s + (self.plain.elapsed_s if self.plain is not None else 0.0)
+        return IwanFitResult(model=self.model, stages=stages, small_errors=self.small_errors,
+                             large_errors=self.large_errors, small_names=self.small_names,
+                             large_names=self.large_names, start=start, settings=settings,
+                             parameters=self.lmfit_parameters, elapsed_s=elapsed, reasons=self.reasons,
+                             start_states=dict(self.start_states), statistics=self.statistics)
 
     @property
     def n_params(self) -> int:
@@ -273,15 +436,18 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
     starts = [float(a) for a in modulation_starts]
     if not starts or any(not -_A_BOUND < a < _A_BOUND for a in starts):
         raise FitError(f"modulation_starts: found {starts}, expected values in (-{_A_BOUND}, {_A_BOUND})")
-    plain_result = None
+    plain_result, modulated_start = None, None
     if plain is None:
         plain_result = fit_iwan(small_sets, large_sets, order=order, points_per_set=None,
                                 initial_state=initial_state, **plain_options)
         plain_model = plain_result.model
     elif isinstance(plain, IwanFitResult):
         plain_result, plain_model = plain, plain.model
+    elif isinstance(plain, ModulatedIwanModel):  # a modulated start (e.g. a refit per repetition)
+        plain_model, modulated_start = plain.plain(), plain
+        starts = [float(np.clip(plain.slip_modulation, -_A_BOUND + 1e-6, _A_BOUND - 1e-6))]
     elif isinstance(plain, IwanModel):
-        plain_model = plain.plain() if isinstance(plain, ModulatedIwanModel) else plain
+        plain_model = plain
     else:
         raise FitError(f"plain: found {type(plain).__name__}, expected an IwanFitResult or an IwanModel")
     sets = small_sets + large_sets
@@ -304,14 +470,36 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
     else:
         grid = np.zeros(0)
 
-    def residuals(u) -> np.ndarray:
-        model = unpack(u)
-        forces = _model_forces(model, sets, cycled)
-        barrier = 10.0 * np.maximum(_STIFFNESS_MARGIN - model.spring_stiffness(grid) / g1_ref, 0.0)
-        return np.concatenate([*((f - s.force) / norm for f, s, norm in zip(forces, sets, norms)), barrier])
+    x_all = np.ascontiguousarray(np.concatenate([s.deflection for s in sets]), dtype=float)
+    f_all = np.ascontiguousarray(np.concatenate([s.force for s in sets]), dtype=float)
+    offsets = np.concatenate([[0], np.cumsum([s.deflection.size for s in sets])]).astype(np.int64)
+    inv_norms = 1.0 / np.asarray(norms, dtype=float)
+    cycled_flags = np.asarray(cycled, dtype=np.bool_)
+    width = 5 + 2 * n
+    cache: dict = {}
 
+    def evaluate(u, want_jacobian: bool):
+        key = np.asarray(u, dtype=float).tobytes()
+        if cache.get("key") != key or (want_jacobian and "jacobian" not in cache):
+            residual = np.empty(x_all.size + grid.size)
+            jacobian = np.empty((x_all.size + grid.size, width)) if want_jacobian else np.empty((0, width))
+            _stage_residuals(np.ascontiguousarray(u, dtype=float), n, g1_ref, x_ref, x_all, f_all, offsets,
+                             inv_norms, cycled_flags, grid, want_jacobian, residual, jacobian)
+            cache.clear()
+            cache.update(key=key, residual=residual)
+            if want_jacobian:
+                cache["jacobian"] = jacobian
+        return cache
+
+    def residuals(u) -> np.ndarray:
+        return evaluate(u, True)["residual"]
+
+    def jacobian(u) -> np.ndarray:
+        return evaluate(u, True)["jacobian"]
+
+    length0 = modulated_start.slip_length if modulated_start is not None else 0.5 * x_ref
     base = np.concatenate([[math.log(g1_ref), plain_model.g2 * x_ref / g1_ref, plain_model.g3 * x_ref**2 / g1_ref],
-                           np.log(plain_model.k), np.log(plain_model.fc), [0.0, math.log(0.5 * x_ref)]])
+                           np.log(plain_model.k), np.log(plain_model.fc), [0.0, math.log(length0)]])
     lower = np.concatenate([[base[0] - _LOG_BOX, -20.0, -20.0], base[3:3 + 2 * n] - _LOG_BOX,
                             [-_A_BOUND, math.log(x_ref / 50.0)]])
     upper = np.concatenate([[base[0] + _LOG_BOX, 20.0, 20.0], base[3:3 + 2 * n] + _LOG_BOX,
@@ -322,33 +510,41 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
         u0 = base.copy()
         u0[-2] = a
         u0 = np.clip(u0, lower + 1e-9, upper - 1e-9)
-        solution = scipy.optimize.least_squares(residuals, u0, bounds=(lower, upper), method="trf",
+        solution = scipy.optimize.least_squares(residuals, u0, jac=jacobian, bounds=(lower, upper), method="trf",
                                                 x_scale="jac", max_nfev=max_nfev, xtol=1e-12, ftol=1e-12)
-        evaluations += int(solution.nfev) + int(getattr(solution, "njev", 0) or 0) * u0.size
+        evaluations += int(solution.nfev)
         if best is None or solution.cost < best.cost:
             best = solution
     elapsed = time.perf_counter() - begin
     model = unpack(best.x)
     units = {spec.name: spec.unit for spec in model.param_specs()}
     physical = model.params()
-    # covariance in internal coordinates, chain rule to physical ones
-    jac = best.jac
-    dof = max(jac.shape[0] - jac.shape[1], 1)
-    redchi = 2.0 * best.cost / dof
-    try:
-        covariance = redchi * np.linalg.inv(jac.T @ jac)
-        internal_err = np.sqrt(np.clip(np.diag(covariance), 0.0, np.inf))
-    except np.linalg.LinAlgError:
-        internal_err = np.full(best.x.size, np.inf)
-    derivative = np.concatenate([[physical["g1"], g1_ref / x_ref, g1_ref / x_ref**2], model.k, model.fc,
-                                 [1.0, model.slip_length]])
     order_names = ["g1", "g2", "g3", *(f"k_{i}" for i in range(1, n + 1)), *(f"fc_{i}" for i in range(1, n + 1)),
                    "slip_modulation", "slip_length"]
+    kinds = ["log", "scaled", "scaled", *["log"] * (2 * n), "scaled", "log"]
+    scales = [1.0, g1_ref / x_ref, g1_ref / x_ref**2, *[1.0] * (2 * n), 1.0, 1.0]
+    transforms = [Transform(name, units[name], kind, float(np.exp(low) if kind == "log" else low * scale),
+                            float(np.exp(high) if kind == "log" else high * scale), scale)
+                  for name, kind, scale, low, high in zip(order_names, kinds, scales, lower, upper)]
+    # least-squares statistics at the solution (internal coordinates, then the chain rule):
+    # the residuals are the stage's own, so these describe the data's noise, not the model error
+    internal = jacobian_statistics(lambda u: evaluate(u, True)["residual"].copy(), best.x, order_names,
+                                   jacobian=lambda u: evaluate(u, True)["jacobian"].copy(),
+                                   method="Jacobian of the per-point residuals at the least-squares optimum")
+    specs = {spec.name: spec for spec in model.param_specs()}
+    lmfit_parameters = to_lmfit(
+        order_names + ["c_visc"], [physical[name] for name in order_names] + [0.0],
+        units=[units[name] for name in order_names] + [specs["c_visc"].unit],
+        lower=[t.lower for t in transforms] + [specs["c_visc"].lower],
+        upper=[t.upper for t in transforms] + [specs["c_visc"].upper],
+        vary=[True] * len(order_names) + [False])
+    statistics = to_physical_statistics(internal, transforms, lmfit_parameters)
+    stderr = [lmfit_parameters[name].stderr for name in order_names]
     span = upper - lower
     at_bound = (best.x - lower < _BOUND_MARGIN * span) | (upper - best.x < _BOUND_MARGIN * span)
     table = pd.DataFrame({"name": order_names, "value": [physical[name] for name in order_names],
-                          "stderr": internal_err * np.abs(derivative), "unit": [units[name] for name in order_names],
-                          "at_bound": at_bound})
+                          "stderr": [math.nan if e is None else float(e) for e in stderr],
+                          "unit": [units[name] for name in order_names], "at_bound": at_bound})
     reasons = []
     for row in table.itertuples():
         if row.at_bound:
@@ -358,17 +554,24 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
     a_err = float(table.loc[table["name"] == "slip_modulation", "stderr"].iloc[0])
     if not abs(model.slip_modulation) > 2.0 * a_err:
         reasons.append(f"modulation not resolved: slip_modulation = {model.slip_modulation:.3g} +/- {a_err:.2g} "
-                       "(within two standard errors of 0: the plain Iwan model explains the loops as well, "
-                       "slip_length is undetermined)")
+                       "(within two standard errors of 0, or no standard error: the plain Iwan model explains the "
+                       "loops as well, slip_length is undetermined)")
     largest_travel = max(float(np.ptp(s.deflection)) for s in sets)
     for i, (k, fc) in enumerate(zip(model.k, model.fc), start=1):
         if 2.0 * fc * (1.0 + abs(model.slip_modulation)) / k > largest_travel:
             reasons.append(f"element {i} never slips within the data (slip travel {2e3 * fc / k:.3g} mm): "
                            f"fc_{i} undetermined")
     if grid.size and np.any(model.spring_stiffness(grid) < 0.0):
-        lower, upper = model.valid_deflection_range()
-        reasons.append(f"the fitted spring turns negative-stiff at {1e3 * lower:.4g} / {1e3 * upper:.4g} mm, inside "
-                       f"valid_range {1e3 * grid[0]:.4g} to {1e3 * grid[-1]:.4g} mm")
+        negative_low, negative_high = model.valid_deflection_range()
+        reasons.append(f"the fitted spring turns negative-stiff at {1e3 * negative_low:.4g} / "
+                       f"{1e3 * negative_high:.4g} mm, inside valid_range {1e3 * grid[0]:.4g} to {1e3 * grid[-1]:.4g} mm")
+    low = min(float(np.min(s.deflection)) for s in sets)
+    high = max(float(np.max(s.deflection)) for s in sets)
+    negative_low, negative_high = model.valid_deflection_range()
+    if not (negative_low <= low and high <= negative_high):
+        reasons.append(f"the fitted spring turns negative-stiff at {1e3 * negative_low:.4g} / "
+                       f"{1e3 * negative_high:.4g} mm, inside the loops' own deflections ({1e3 * low:.4g} to "
+                       f"{1e3 * high:.4g} mm)")
     ns = len(small_sets)
     errors = _errors(model, sets, cycled)
     plain_errors = _errors(ModulatedIwanModel.from_iwan(plain_model), sets, cycled)
@@ -376,7 +579,11 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
         model=model, plain_model=plain_model, plain=plain_result, small_errors=errors[:ns], large_errors=errors[ns:],
         plain_small_errors=plain_errors[:ns], plain_large_errors=plain_errors[ns:],
         small_names=tuple(s.name for s in small_sets), large_names=tuple(s.name for s in large_sets),
-        parameters=table, elapsed_s=elapsed, evaluations=evaluations, reasons=tuple(reasons),
+        parameters=table, elapsed_s=elapsed, evaluations=evaluations, reasons=tuple(dict.fromkeys(reasons)),
+        lmfit_parameters=lmfit_parameters, statistics=statistics,
+        start_states={s.name: "cycled" if c else "virgin" for s, c in zip(sets, cycled)},
+        starts=tuple(starts), message=str(best.message), status="converged" if best.status > 0 else "max_evals",
+        initial_state=initial_state, valid_range=None if valid_range is None else (float(grid[0]), float(grid[-1])),
     )
 
 

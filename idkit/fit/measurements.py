@@ -34,6 +34,7 @@ from idkit.fit.boucwen import fit_boucwen
 from idkit.fit.compare import iwan_order_fits
 from idkit.fit.damping import ViscousDamping, fit_viscous_damping
 from idkit.fit.iwan import fit_iwan
+from idkit.fit.iwan_start import smallest_branch_secant
 from idkit.fit.maxwell import fit_maxwell
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
@@ -97,6 +98,10 @@ class MeasurementFit:
         standard errors of ``result.params`` (the spread within one data set).
     spread_note : str
         Why :attr:`spread` is None after :meth:`with_repetition_spread` (e.g. one repetition).
+    family_fits : dict
+        Iwan fits: ``"plain"`` -> the plain fit and, when the modulation stage ran (family
+        rule), ``"modulated"`` -> the modulated fit of the modulated order rule, whichever of
+        the two ``result`` is (both without the viscous damping; :meth:`with_damping` adds it).
     """
 
     kind: str
@@ -112,6 +117,11 @@ class MeasurementFit:
     order_table: pd.DataFrame | None = field(default=None, repr=False)
     spread: object | None = None
     spread_note: str = ""
+    family_fits: dict = field(default_factory=dict, repr=False)
+
+    def with_damping(self, model):
+        """``model`` with this fit's identified viscous damping (unchanged without one)."""
+        return self.damping.model(model) if self.damping is not None else model
 
     def with_repetition_spread(self, *, method: str = "repetition", n_resamples: int = 20,
                                seed: int | None = None) -> "MeasurementFit":
@@ -300,6 +310,7 @@ def fit_iwan_measurements(
     seed: int = 0,
     damping_level="largest",
     remove_offsets: bool = False,
+    family: str = "auto",
     **options,
 ) -> MeasurementFit:
     """Three-stage Iwan fit (:func:`idkit.fit.fit_iwan`) on the quasi-static records of a set.
@@ -335,8 +346,18 @@ def fit_iwan_measurements(
         Remove each record's loop-centre drift and force offset before fitting
         (:func:`idkit.observe.quasi_static.remove_loop_offsets`); what was subtracted goes
         to ``options["offset_corrections"]`` and the model file's provenance.
+    family : {"auto", "plain", "modulated"}, default "auto"
+        Model family. ``"plain"``: the three-stage fit's :class:`~idkit.models.IwanModel`.
+        ``"modulated"``: the slip-modulation stage (:func:`idkit.fit.fit_iwan_modulated`) on top
+        of it, a :class:`~idkit.models.ModulatedIwanModel`. ``"auto"`` (the family rule,
+        :func:`choose_iwan_family`): the plain model unless its loop error is more than
+        :data:`FLOOR_MARGIN` above the records' noise floor and the modulated model succeeds
+        with a mean error lower by the order rule's factor.
     **options
-        Passed to :func:`idkit.fit.fit_iwan`.
+        Passed to :func:`idkit.fit.fit_iwan`. ``valid_range`` defaults to ``"data"``:
+        :func:`data_valid_range` of the isolator's records (loops, sweeps and drops, every
+        split), so that the spring stays stiff wherever the data set will be simulated; pass
+        ``valid_range=None`` for the loops' own optimum without the barrier, or ``(x_min, x_max)``.
 
     Returns
     -------
@@ -358,6 +379,13 @@ def fit_iwan_measurements(
     >>> fit = fit_iwan_measurements(load_measurement_set("data/wire_rope"))  # doctest: +SKIP
     >>> fit.save("wire_rope.json")                         # doctest: +SKIP
     """
+    valid_range = options.pop("valid_range", "data")
+    if isinstance(valid_range, str):
+        if valid_range != "data":
+            raise FitError(f"valid_range: found {valid_range!r}, expected 'data', None or (x_min, x_max) in m")
+        valid_range = data_valid_range(measurements, isolator=isolator)
+    if valid_range is not None:
+        options["valid_range"] = tuple(float(v) for v in valid_range)
     data = loop_sets(measurements, small_threshold=small_threshold, isolator=isolator, split=split,
                      points_per_set=points_per_set, remove_offsets=remove_offsets)
     order_table = None
@@ -390,6 +418,28 @@ def fit_iwan_measurements(
         else:
             result = fit_iwan(list(data.small), list(data.large), backend=backend, seed=seed, start=result.model,
                               **options)
+    if family not in IWAN_FAMILIES:
+        raise FitError(f"family: found {family!r}, expected one of {IWAN_FAMILIES}")
+    family_fits = {"plain": result}
+    if family != "plain":
+        plain_fits = {order: result} if order_table is None else {
+            o: (result if o == order else fit) for o, fit in order_fits.items() if o >= order}
+        plain_result = result
+        result, family_rows, modulated_result = choose_iwan_family(
+            list(data.small), list(data.large), plain_fits, family=family, valid_range=options.get("valid_range"),
+            initial_state=options.get("initial_state", "auto"),
+            floor_check=lambda fit: _above_the_noise_floor(fit, measurements, isolator, split))
+        if family_rows is not None:
+            secant = (order_table["smallest_loop_secant [N/m]"].iloc[0] if order_table is not None else
+                      smallest_branch_secant(list(data.small) + list(data.large)))
+            family_rows["smallest_loop_secant [N/m]"] = secant
+            base = order_table if order_table is not None else pd.DataFrame(
+                [_order_row(order, plain_fits[order], secant) | {"family": "plain"}])
+            order_table = pd.concat([base.assign(recommended=False), family_rows], ignore_index=True)
+            chosen = (order_table["family"] == result.settings.family) & (order_table["order"] == result.model.order)
+            order_table["recommended"] = chosen
+        order = result.model.order
+        family_fits = {"plain": plain_result, **({"modulated": modulated_result} if modulated_result else {})}
     damping, damping_note = None, ""
     if damping_level is not None:
         try:
@@ -403,16 +453,137 @@ def fit_iwan_measurements(
                 damping_note = f"c_visc = 0: not identified from the stepped-sine data ({problem})"
     return MeasurementFit(kind="iwan", result=result, data=data, provenance=data.provenance,
                           options={"small_threshold": small_threshold, "points_per_set": points_per_set,
-                                   "order": order, "backend": backend, "damping_level": damping_level,
+                                   "order": order, "family": result.settings.family,
+                                   "family_rule": family, "backend": backend, "damping_level": damping_level,
                                    "remove_offsets": remove_offsets, "single_amplitude": data.single_amplitude,
                                    "offset_corrections": [c.to_dict() for c in data.offset_corrections], **options},
                           damping=damping, damping_note=damping_note, order_table=order_table,
+                          family_fits=family_fits,
                           checks=_valid_over_the_data(result.model, measurements, isolator)
                           + _survives_the_largest_drops(damping.model(result.model) if damping else result.model,
                                                         measurements, isolator)
                           + _survives_the_largest_sweep_level(damping.model(result.model) if damping
                                                               else result.model, measurements, isolator)
                           + _above_the_noise_floor(result, measurements, isolator, split))
+
+
+#: The default valid range of an Iwan fit reaches this far beyond the data set's deflections.
+VALID_RANGE_MARGIN = 1.25
+
+
+def data_valid_range(measurements, *, isolator: str | None = None,
+                     margin: float = VALID_RANGE_MARGIN) -> tuple[float, float]:
+    """``margin`` times the lowest and highest deflection (m) of every record of the isolator.
+
+    Loops, sweeps and drops of every split count: drops compress far beyond the quasi-static
+    loops, and an identified spring must stay valid wherever the data set will be simulated.
+    The range always straddles zero (a side the data do not reach is ``-1e-3`` times the
+    other side's reach). NaN deflections are ignored.
+
+    Raises
+    ------
+    DataError
+        No record of the isolator has a finite deflection.
+    """
+    records = getattr(measurements, "measurements", measurements)
+    seen = [np.asarray(m.deflection, dtype=float) for m in records
+            if getattr(m, "deflection", None) is not None
+            and (isolator is None or getattr(getattr(m, "info", None), "isolator", None) == isolator)]
+    seen = [d[np.isfinite(d)] for d in seen]
+    seen = [d for d in seen if d.size]
+    if not seen:
+        raise DataError(f"valid range: found no record of isolator {isolator!r} with a finite deflection, "
+                        "expected at least one (pass valid_range=None or (x_min, x_max))")
+    low = margin * min(0.0, min(float(d.min()) for d in seen))
+    high = margin * max(0.0, max(float(d.max()) for d in seen))
+    if low == 0.0:
+        low = -1e-3 * high
+    if high == 0.0:
+        high = -1e-3 * low
+    return low, high
+
+
+#: Model families of :func:`fit_iwan_measurements` (``family=``).
+IWAN_FAMILIES = ("auto", "plain", "modulated")
+
+
+def _order_row(order: int, result, secant: float) -> dict:
+    below, above = result.model.valid_deflection_range()
+    return {"order": int(order), "n_params": int(sum(1 for p in result.parameters.values() if p.vary)),
+            "error_small_percent": 100 * result.error_small, "error_large_percent": 100 * result.error_large,
+            "stuck_stiffness [N/m]": float(result.model.stuck_stiffness), "smallest_loop_secant [N/m]": secant,
+            "spring_negative_below [m]": below, "spring_negative_above [m]": above,
+            "success": result.success, "reasons": "; ".join(result.reasons)}
+
+
+def choose_iwan_family(small, large, plain_fits: dict, *, family: str = "auto", valid_range=None,
+                       initial_state: str = "auto", floor_check=lambda fit: ()):
+    """The family rule: plain or slip-modulated Iwan model (docs/fitting.md, "Model family").
+
+    Parameters
+    ----------
+    small, large : sequence of LoopSet
+        The loop sets the plain fits saw.
+    plain_fits : dict
+        Order -> plain :class:`~idkit.fit.IwanFitResult`, the lowest order first being the one the
+        plain order rule chose (``order="auto"``: that order and every higher order of the
+        table; a given order: that order alone).
+    family : {"auto", "modulated"}
+    valid_range : (float, float), optional
+        Passed to the modulation stage (its valid-range barrier).
+    initial_state : {"auto", "cycled", "virgin"}
+    floor_check : callable
+        ``floor_check(fit) -> tuple of str``: why a fit's loop errors are more than
+        :data:`FLOOR_MARGIN` above the records' noise floor (empty when they are not).
+
+    Returns
+    -------
+    (IwanFitResult, pandas.DataFrame or None, IwanFitResult or None)
+        The chosen fit (``settings.family`` says which), one order-table row per modulated fit
+        (``family="modulated"``) and the modulated fit of the modulated order rule (both None
+        when the modulation stage did not run).
+
+    Notes
+    -----
+    With ``"auto"`` a plain fit that passes ``floor_check`` is kept as it is: the plain model
+    explains the loops down to the noise margin and the modulation could only fit noise. Else
+    the modulation stage (:func:`idkit.fit.fit_iwan_modulated`, two parameters more) runs on each
+    plain fit given, and the modulated order is the lowest successful one that passes
+    ``floor_check`` (elements are added until the model explains the loops to within the
+    margin, and no further); when none does, the order rule of the table
+    (:data:`~idkit.fit.compare.ORDER_RULE_FACTOR`: the lowest successful order within 1.1 x the
+    best mean of small and large error). ``"auto"`` keeps the modulated fit when it succeeds
+    and its mean error is below the plain fit's divided by that factor (the two modulation
+    parameters must earn their place as an element's two do); ``"modulated"`` keeps it in any
+    case, its reasons saying what is wrong.
+    """
+    from idkit.fit.iwan_modulated import fit_iwan_modulated
+
+    orders = sorted(plain_fits)
+    plain = plain_fits[orders[0]]
+    if family == "auto" and not floor_check(plain):
+        return plain, None, None
+    fits = {}
+    for order in orders:
+        modulated = fit_iwan_modulated(list(small), list(large), plain=plain_fits[order],
+                                       valid_range=valid_range, initial_state=initial_state)
+        fits[order] = modulated.to_iwan_result()
+    rows = pd.DataFrame([_order_row(order, fit, math.nan) | {"family": "modulated"} for order, fit in fits.items()])
+    within = [order for order, fit in fits.items() if fit.success and not floor_check(fit)]
+    chosen = fits[min(within) if within else _order_rule(rows)]
+    mean = 0.5 * (chosen.error_small + chosen.error_large)
+    plain_mean = 0.5 * (plain.error_small + plain.error_large)
+    from idkit.fit.compare import ORDER_RULE_FACTOR
+
+    if family == "modulated" or (chosen.success and mean * ORDER_RULE_FACTOR <= plain_mean):
+        return chosen, rows, chosen
+    return plain, rows, chosen
+
+
+def _order_rule(table: pd.DataFrame) -> int:
+    from idkit.fit.compare import _rule
+
+    return _rule(table, 0.5 * (table["error_small_percent"] + table["error_large_percent"]))
 
 
 def _survives_the_largest_drops(model, measurements, isolator) -> tuple[str, ...]:

@@ -58,6 +58,9 @@ class IwanFitSettings:
     seed: int
     valid_range: tuple[float, float] | None = None
     stage2_starts: int = 1
+    #: ``"plain"`` (three stages) or ``"modulated"`` (the slip-modulation stage of
+    #: :func:`idkit.fit.fit_iwan_modulated` on top of them)
+    family: str = "plain"
 
 
 @dataclass(frozen=True)
@@ -259,8 +262,11 @@ class IwanFitResult(_LoopFitResult):
     small_errors, large_errors : ndarray
         Per-set errors (fractions) of the final model on the small and large sets.
     small_names, large_names : tuple of str
-    start : IwanStart
+    start : IwanStart or None
+        The start estimate from the loops (None for a slip-modulated refit started from a model).
     settings : IwanFitSettings
+        ``settings.family`` is ``"modulated"`` when ``model`` is a
+        :class:`~idkit.models.ModulatedIwanModel` (:meth:`ModulatedIwanFitResult.to_iwan_result`).
     parameters : lmfit.Parameters
         Values, bounds and standard errors (see :func:`idkit.fit.fit_iwan`).
     elapsed_s : float
@@ -286,7 +292,7 @@ class IwanFitResult(_LoopFitResult):
     large_errors: np.ndarray
     small_names: tuple[str, ...]
     large_names: tuple[str, ...]
-    start: IwanStart
+    start: IwanStart | None
     settings: IwanFitSettings
     parameters: lmfit.Parameters = field(repr=False)
     elapsed_s: float
@@ -297,16 +303,19 @@ class IwanFitResult(_LoopFitResult):
     def report(self) -> str:
         """Readable summary: parameters with units and stderr, errors per stage and set."""
         s = self.settings
+        title = ("Iwan fit, order {}, three stages" if s.family == "plain" else
+                 "Slip-modulated Iwan fit, order {}, three stages and the modulation stage").format(s.order)
         lines = [
-            f"[[Iwan fit, order {s.order}, three stages, Nelder-Mead ({s.backend}), initial state "
+            f"[[{title}, Nelder-Mead ({s.backend}), initial state "
             f"'{s.initial_state}']]",
             *self._summary_lines(),
             *(["    start state per set: " + ", ".join(f"{n}: {v}" for n, v in self.start_states.items())]
               if self.start_states else []),
-            "[[Start (from the loops)]]",
-            f"    stuck stiffness {self.start.stuck_stiffness:.4g} N/m, half loop height "
-            f"{self.start.half_height:.4g} N, g1 {self.start.g1:.4g} N/m, slip travel "
-            f"{1e3 * self.start.slip_onset:.3g}-{1e3 * self.start.slip_full:.3g} mm",
+            *(["[[Start (from the loops)]]",
+               f"    stuck stiffness {self.start.stuck_stiffness:.4g} N/m, half loop height "
+               f"{self.start.half_height:.4g} N, g1 {self.start.g1:.4g} N/m, slip travel "
+               f"{1e3 * self.start.slip_onset:.3g}-{1e3 * self.start.slip_full:.3g} mm"] if self.start is not None
+              else ["[[Start]] a given model (no start estimate from the loops)"]),
             "[[Stages]]",
         ]
         for stage in self.stages:

@@ -124,22 +124,24 @@ def compare_drop_models(measurements, models: dict, *, drop_models=DROP_MODELS, 
     return DropModelComparison(table=pd.DataFrame(rows), results=results)
 
 
-def wire_rope_drop_models(drops, plain_fit, *, valid_range=None, workers=None) -> DropModelComparison:
+def wire_rope_drop_models(drops, fit, *, valid_range=None, workers=None) -> DropModelComparison:
     """Plain vs slip-modulated Iwan, conditioned fall vs drop rig, on a wire rope's held-out drops.
 
-    The modulated model is fitted here on the plain fit's own loop sets
-    (:func:`idkit.fit.iwan_modulated.fit_iwan_modulated`, a stage on top of ``plain_fit``);
-    a modulated fit that is not a success is left out of the table, with its reasons in
-    :attr:`DropModelComparison.notes`.
+    Both families come from ``fit.family_fits`` (the family rule of
+    :func:`idkit.fit.fit_iwan_measurements` fits both when the plain model misses the loops);
+    when the modulation stage did not run there, it is fitted here on the fit's own loop sets
+    on top of the plain fit (:func:`idkit.fit.iwan_modulated.fit_iwan_modulated`). Both models
+    carry the fit's identified viscous damping. A modulated fit that is not a success is left
+    out of the table, with its reasons in :attr:`DropModelComparison.notes`.
 
     Parameters
     ----------
     drops : sequence of DropMeasurement
         Held-out wire-rope drops.
-    plain_fit : MeasurementFit
-        The plain Iwan fit (:func:`idkit.fit.fit_iwan_measurements`), its ``data`` the loop sets.
+    fit : MeasurementFit
+        The Iwan fit (:func:`idkit.fit.fit_iwan_measurements`), its ``data`` the loop sets.
     valid_range : (float, float), optional
-        Deflections over which the modulated fit keeps the spring stiff (m).
+        Deflections over which a modulated fit made here keeps the spring stiff (m).
     workers : int, optional
 
     Returns
@@ -148,17 +150,16 @@ def wire_rope_drop_models(drops, plain_fit, *, valid_range=None, workers=None) -
     """
     from idkit.fit.iwan_modulated import fit_iwan_modulated
 
-    plain = plain_fit.model
-    models = {"plain Iwan": {"isolator": plain}}
-    loop_errors = {"plain Iwan": (float(plain_fit.result.error_small), float(plain_fit.result.error_large))}
+    plain_result = fit.family_fits.get("plain", fit.result)
+    modulated = fit.family_fits.get("modulated")
+    if modulated is None:
+        modulated = fit_iwan_modulated(list(fit.data.small), list(fit.data.large), plain=plain_result,
+                                       valid_range=valid_range).to_iwan_result()
+    models = {"plain Iwan": {"isolator": fit.with_damping(plain_result.model)}}
+    loop_errors = {"plain Iwan": (float(plain_result.error_small), float(plain_result.error_large))}
     notes = []
-    modulated = fit_iwan_modulated(list(plain_fit.data.small), list(plain_fit.data.large), plain=plain_fit.result,
-                                   valid_range=valid_range)
     if modulated.success:
-        model = modulated.model
-        if plain.c_visc and not model.c_visc:  # the drops see the same identified viscous term
-            model = type(model).from_params({**model.params(), "c_visc": plain.c_visc})
-        models["slip-modulated Iwan"] = {"isolator": model}
+        models["slip-modulated Iwan"] = {"isolator": fit.with_damping(modulated.model)}
         loop_errors["slip-modulated Iwan"] = (float(modulated.error_small), float(modulated.error_large))
     else:
         notes.append("slip-modulated Iwan left out: " + "; ".join(modulated.reasons))

@@ -38,7 +38,9 @@ import pandas as pd
 from idkit.fit import maxwell_order_table
 from idkit.forked import Forked, fork_call
 from idkit.fit.measurements import (
+    VALID_RANGE_MARGIN,
     MeasurementFit,
+    data_valid_range,
     fit_boucwen_measurements,
     fit_iwan_measurements,
     fit_maxwell_measurements,
@@ -76,9 +78,6 @@ STAGES = (
     "validating on held-out data",
     "transport-tool study",
 )
-
-#: margin on the data set's deflections over which the identified spring must stay valid
-VALID_RANGE_MARGIN = 1.25
 
 
 @dataclass(frozen=True)
@@ -205,13 +204,9 @@ class ReportData:
 
 
 def valid_range_of(measurement_set, margin: float = VALID_RANGE_MARGIN) -> tuple[float, float]:
-    """``margin`` times the lowest and highest deflection (m) of every record of the set that has one.
-
-    The identified spring must stay valid over every deflection the data set shows (drops
-    compress far beyond the quasi-static loops).
-    """
-    seen = [m.deflection for m in measurement_set.measurements if getattr(m, "deflection", None) is not None]
-    return margin * min(float(d.min()) for d in seen), margin * max(float(d.max()) for d in seen)
+    """``margin`` times the lowest and highest deflection (m) of every record of the set that has one
+    (:func:`idkit.fit.measurements.data_valid_range` over every isolator of the set)."""
+    return data_valid_range(measurement_set, isolator=None, margin=margin)
 
 
 class _Stages:

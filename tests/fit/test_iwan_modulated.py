@@ -92,3 +92,65 @@ def test_valid_range_keeps_the_spring_stiffness_non_negative_beyond_the_loops():
     assert lower <= -0.03 * (1 - 1e-6) and upper >= 0.03 * (1 - 1e-6)
     with pytest.raises(FitError, match="valid_range"):
         fit_iwan_modulated(small, large, plain=truth.plain(), valid_range=(0.01, 0.03))
+
+
+@pytest.mark.parametrize("cycled", [False, True])
+def test_stage_jacobian_equals_central_differences(cycled):
+    """The forward sensitivities of the stop operator against central differences of the
+    residuals. Away from a clipping switch the residuals are smooth in every coordinate, so the
+    difference quotient with step h agrees to O(h^2) (h = 1e-6: ~1e-10 of a column's scale);
+    a step that moves an element across its limit at some point gives a kink, which the
+    random start avoids with probability ~1 (2500 points, 1e-6 relative steps). Tolerance
+    1e-6 of the column's largest entry."""
+    from idkit.fit.iwan_modulated import _stage_residuals
+
+    small, large = _sets(TRUE, 5)
+    sets = small + large
+    x_all = np.concatenate([s.deflection for s in sets])
+    f_all = np.concatenate([s.force for s in sets])
+    offsets = np.concatenate([[0], np.cumsum([s.deflection.size for s in sets])]).astype(np.int64)
+    inv_norms = np.array([1.0 / np.linalg.norm(s.force) for s in sets])
+    flags = np.full(len(sets), cycled)
+    grid = np.linspace(-0.03, 0.03, 61)  # wide enough that the barrier is active at its ends
+    n, g1_ref, x_ref = 2, 1.84e4, 15e-3
+    u = np.array([np.log(1.7e4), 0.2, -5.0, np.log(1.5e5), np.log(8e3), np.log(14.0), np.log(9.0), 0.3,
+                  np.log(5e-3)])
+    rows = x_all.size + grid.size
+
+    def run(v, want=True):
+        residual, jacobian = np.empty(rows), np.empty((rows, u.size))
+        _stage_residuals(v, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, flags, grid, want, residual, jacobian)
+        return residual, jacobian
+
+    residual, jacobian = run(u)
+    assert np.any(residual[x_all.size:] > 0)  # the barrier's rows are exercised
+    step = 1e-6
+    for column in range(u.size):
+        up, down = u.copy(), u.copy()
+        up[column] += step
+        down[column] -= step
+        numeric = (run(up)[0] - run(down)[0]) / (2 * step)
+        scale = np.max(np.abs(jacobian[:, column]))
+        assert scale > 0
+        np.testing.assert_allclose(jacobian[:, column], numeric, rtol=0, atol=1e-6 * scale)
+    # the residuals do not depend on whether the Jacobian was asked for
+    np.testing.assert_array_equal(run(u, False)[0], residual)
+
+
+def test_as_iwan_result_keeps_the_modulated_model_and_the_stage_history():
+    small, large = _sets(TRUE, 6)
+    result = fit_iwan_modulated(small, large, order=2)
+    converted = result.to_iwan_result()
+    assert converted.model is result.model and converted.settings.family == "modulated"
+    assert [stage.name for stage in converted.stages] == ["stage 1", "stage 2", "stage 3", "modulation"]
+    assert converted.success == result.success
+    for name in ("slip_modulation", "slip_length", "k_1", "fc_2"):
+        assert converted.params[name].stderr == pytest.approx(result.stderr(name), rel=1e-12)
+    assert converted.params["c_visc"].vary is False
+    assert "Slip-modulated Iwan fit, order 2" in converted.report()
+    # a refit started from the modulated model (one start, its own a) stays at that optimum
+    again = fit_iwan_modulated(small, large, plain=result.model)
+    assert again.starts == (pytest.approx(result.model.slip_modulation),)
+    assert again.error_small == pytest.approx(result.error_small, rel=1e-6)
+    with pytest.raises(FitError, match="settings"):
+        again.to_iwan_result()
