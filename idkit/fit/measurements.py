@@ -548,9 +548,10 @@ def choose_iwan_family(small, large, plain_fits: dict, *, family: str = "auto", 
     With ``"auto"`` a plain fit that passes ``floor_check`` is kept as it is: the plain model
     explains the loops down to the noise margin and the modulation could only fit noise. Else
     the modulation stage (:func:`idkit.fit.fit_iwan_modulated`, two parameters more) runs on each
-    plain fit given, and the modulated order is the lowest successful one that passes
-    ``floor_check`` (elements are added until the model explains the loops to within the
-    margin, and no further); when none does, the order rule of the table
+    plain fit given, lowest order first, and the modulated order is the lowest successful one
+    that passes ``floor_check`` (elements are added until the model explains the loops to
+    within the margin, and no further: the higher orders are not fitted, so the table's
+    modulated rows stop there); when none does, the order rule of the table
     (:data:`~idkit.fit.compare.ORDER_RULE_FACTOR`: the lowest successful order within 1.1 x the
     best mean of small and large error). ``"auto"`` keeps the modulated fit when it succeeds
     and its mean error is below the plain fit's divided by that factor (the two modulation
@@ -563,14 +564,16 @@ def choose_iwan_family(small, large, plain_fits: dict, *, family: str = "auto", 
     plain = plain_fits[orders[0]]
     if family == "auto" and not floor_check(plain):
         return plain, None, None
-    fits = {}
-    for order in orders:
+    fits, within = {}, []
+    for order in orders:  # upwards, stopping at the first order that reaches the floor margin
         modulated = fit_iwan_modulated(list(small), list(large), plain=plain_fits[order],
                                        valid_range=valid_range, initial_state=initial_state)
         fits[order] = modulated.to_iwan_result()
+        if fits[order].success and not floor_check(fits[order]):
+            within.append(order)
+            break
     rows = pd.DataFrame([_order_row(order, fit, math.nan) | {"family": "modulated"} for order, fit in fits.items()])
-    within = [order for order, fit in fits.items() if fit.success and not floor_check(fit)]
-    chosen = fits[min(within) if within else _order_rule(rows)]
+    chosen = fits[within[0] if within else _order_rule(rows)]
     mean = 0.5 * (chosen.error_small + chosen.error_large)
     plain_mean = 0.5 * (plain.error_small + plain.error_large)
     from idkit.fit.compare import ORDER_RULE_FACTOR

@@ -225,7 +225,10 @@ def _summary_section(report: HtmlReport, data: ReportData) -> str:
     iwan, boucwen, maxwell = data.iwan, data.boucwen, data.maxwell
 
     report.heading("Wire rope")
-    items = [f"Identified: Iwan model of order {iwan.model.order}, "
+    family = "slip-modulated Iwan" if iwan.result.settings.family == "modulated" else "Iwan"
+    items = [f"Identified: {family} model of order {iwan.model.order}"
+             + (" (the plain Iwan model missed the loops' noise floor: family rule, docs/fitting.md)"
+                if family != "Iwan" else "") + ", "
              + parameters_sentence(iwan.parameters_table()) + ".",
              f"The identified Iwan model is {_valid_range_words(data)}.",
              fit_sentence(f"Iwan fit (loop error small {100 * iwan.result.error_small:.2f} %, large "
