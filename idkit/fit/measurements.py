@@ -379,6 +379,8 @@ def fit_iwan_measurements(
     >>> fit = fit_iwan_measurements(load_measurement_set("data/wire_rope"))  # doctest: +SKIP
     >>> fit.save("wire_rope.json")                         # doctest: +SKIP
     """
+    if family not in IWAN_FAMILIES:
+        raise FitError(f"family: found {family!r}, expected one of {IWAN_FAMILIES}")
     valid_range = options.pop("valid_range", "data")
     if isinstance(valid_range, str):
         if valid_range != "data":
@@ -418,8 +420,6 @@ def fit_iwan_measurements(
         else:
             result = fit_iwan(list(data.small), list(data.large), backend=backend, seed=seed, start=result.model,
                               **options)
-    if family not in IWAN_FAMILIES:
-        raise FitError(f"family: found {family!r}, expected one of {IWAN_FAMILIES}")
     family_fits = {"plain": result}
     if family != "plain":
         plain_fits = {order: result} if order_table is None else {

@@ -374,3 +374,22 @@ def test_report_on_truth_b_passes_every_validation_and_flags_only_the_unresolved
                             "elastomer drops", "hybrid sweeps", "hybrid drops"}, printed
     assert set(printed.values()) == {"PASS"}, printed
     assert status == 4
+
+
+@pytest.mark.slow
+def test_rope_verdict_and_loop_errors_hold_when_the_forces_move_by_one_ulp(data_b, rope_fit):
+    """One ulp on every force sample must not change the verdict, the family, the order or the
+    loop errors (by more than 0.1 point, a tenth of the fit's 1.5-1.8 %). It did: stage 2 of
+    the order-6 fit stopped at its evaluation limit, the order rule fell to order 5 and the
+    fit was flagged; a stage at its limit now continues once from its best point. The
+    parameters themselves do not agree to 1e-3 (issue 10's target): g1 and the sixth element,
+    which slips only at the tips of the largest loops, trade stiffness (g1 12.6e3 vs 19.6e3
+    N/m with k_6 14.0e3 vs 7.0e3 N/m on this data) - not determined by these loops."""
+    records = [dataclasses.replace(m, force=np.nextafter(m.force, np.inf)) if m.kind == "quasi_static" else m
+               for m in data_b["wire_rope"].measurements]
+    again = fit_iwan_measurements(records)
+    assert again.success == rope_fit.success
+    assert again.result.settings.family == rope_fit.result.settings.family
+    assert again.model.order == rope_fit.model.order
+    for group in ("error_small", "error_large"):
+        assert abs(getattr(again.result, group) - getattr(rope_fit.result, group)) < 1e-3, group
