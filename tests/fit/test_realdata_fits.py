@@ -76,3 +76,21 @@ def test_iwan_and_bouc_wen_on_measured_mr_damper_cycles():
     assert not iwan.success and iwan.reasons
     single = fit_iwan(cycles[:1], cycles[:1], order=2)
     assert not single.success and any("negative-stiff" in r or "bound" in r for r in single.reasons)
+
+
+def test_slip_modulated_iwan_on_mr_damper_cycles_is_honest():
+    # the modulation stage on a rate-dependent damper (no slip law fits it): finite errors, a
+    # result that is not a success and says why (a bound, an unresolved modulation, or a spring
+    # that turns negative-stiff inside the loops), never a crash or a warning
+    from idkit.fit.iwan_modulated import fit_iwan_modulated
+
+    record = read_mr_damper(_need("mr_damper_labcontrol") / "data" / "ensaio.A.1.mat")
+    x, f = record.deflection, record.force
+    split = split_cycles(x, min_excursion=0.1 * np.ptp(x))
+    cycles = [prepare_loops(x[max(a - (b - a) // 4, 0):min(b + (b - a) // 4, x.size)],
+                            f[max(a - (b - a) // 4, 0):min(b + (b - a) // 4, x.size)], points_per_set=80,
+                            name=f"cycle {i + 1}") for i, (a, b) in enumerate(zip(split.cycle_start, split.cycle_stop))]
+    result = fit_iwan_modulated(cycles[:5], cycles[5:], order=2)
+    assert np.all(np.isfinite(result.small_errors)) and np.all(np.isfinite(result.large_errors))
+    assert not result.success and result.reasons
+    assert not result.to_iwan_result().success
