@@ -395,7 +395,8 @@ def _prepare(sets, group, points_per_set):
 def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None = None, order: int = 2,
                        points_per_set: int | None = 200, initial_state: str = "auto",
                        modulation_starts: Sequence[float] = MODULATION_STARTS, max_nfev: int = 2000,
-                       valid_range: tuple[float, float] | None = None, **plain_options) -> ModulatedIwanFitResult:
+                       valid_range: tuple[float, float] | None = None, jacobian: str = "exact",
+                       **plain_options) -> ModulatedIwanFitResult:
     """Identify a :class:`~idkit.models.ModulatedIwanModel` on quasi-static loops (module docstring).
 
     Parameters
@@ -422,6 +423,10 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
         residuals ``10 max(0, 0.01 - stiffness / g1_ref)`` on a grid over the range join the data's
         (the 1 % margin keeps the hinge's solution off zero stiffness). A
         final model that still turns negative-stiff there is not a success. Default: none.
+    jacobian : {"exact", "2-point"}, default "exact"
+        The stage's Jacobian: the forward sensitivities of the stop operator, or scipy's
+        forward differences (the former method, kept for ``bench/bench_modulated_fit.py`` and
+        cross-checks). The standard errors use the exact one in both cases.
     **plain_options
         Passed to :func:`idkit.fit.fit_iwan` when it runs.
 
@@ -433,6 +438,8 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
     large_sets = _prepare(large, "large", points_per_set)
     if not small_sets or not large_sets:
         raise FitError(f"found {len(small_sets)} small and {len(large_sets)} large sets, expected at least one of each")
+    if jacobian not in ("exact", "2-point"):
+        raise FitError(f"jacobian: found {jacobian!r}, expected 'exact' or '2-point'")
     starts = [float(a) for a in modulation_starts]
     if not starts or any(not -_A_BOUND < a < _A_BOUND for a in starts):
         raise FitError(f"modulation_starts: found {starts}, expected values in (-{_A_BOUND}, {_A_BOUND})")
@@ -491,10 +498,10 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
                 cache["jacobian"] = jacobian
         return cache
 
-    def residuals(u) -> np.ndarray:
-        return evaluate(u, True)["residual"]
+    def residuals(u) -> np.ndarray:  # with the Jacobian when it will be asked for at the same point
+        return evaluate(u, jacobian == "exact")["residual"]
 
-    def jacobian(u) -> np.ndarray:
+    def stage_jacobian(u) -> np.ndarray:
         return evaluate(u, True)["jacobian"]
 
     length0 = modulated_start.slip_length if modulated_start is not None else 0.5 * x_ref
@@ -510,7 +517,8 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
         u0 = base.copy()
         u0[-2] = a
         u0 = np.clip(u0, lower + 1e-9, upper - 1e-9)
-        solution = scipy.optimize.least_squares(residuals, u0, jac=jacobian, bounds=(lower, upper), method="trf",
+        solution = scipy.optimize.least_squares(residuals, u0, jac=stage_jacobian if jacobian == "exact" else "2-point",
+                                                bounds=(lower, upper), method="trf",
                                                 x_scale="jac", max_nfev=max_nfev, xtol=1e-12, ftol=1e-12)
         evaluations += int(solution.nfev)
         if best is None or solution.cost < best.cost:

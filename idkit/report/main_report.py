@@ -322,7 +322,11 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
     if data.iwan.order_table is not None:
         report.table(data.iwan.order_table,
                      caption=f"Iwan order table: the order rule (lowest successful order within "
-                             f"{ORDER_RULE_FACTOR:g} x the best mean loop error) chose order {data.iwan.model.order}; "
+                             f"{ORDER_RULE_FACTOR:g} x the best mean loop error) among the plain rows; when the plain "
+                             "model misses the loops' noise floor by more than 2 points, the family rule adds "
+                             "slip-modulated rows (lowest order within 2 points of the floor) and keeps one if it is "
+                             f"better by the same factor (docs/fitting.md); the recommended row, "
+                             f"{data.iwan.result.settings.family} order {data.iwan.model.order}, is the model used; "
                              "stuck stiffness g1 + sum k_i beside the secant of the shortest measured branch",
                      name="wire rope iwan order table")
     _spread_figure(report, data.iwan, "wire rope", "Iwan")
