@@ -35,6 +35,7 @@ from idkit.fit.compare import iwan_order_fits
 from idkit.fit.damping import ViscousDamping, fit_viscous_damping
 from idkit.fit.iwan import fit_iwan
 from idkit.fit.iwan_start import smallest_branch_secant
+from idkit.fit.static_stiffness import K0_METHODS, k0_with_relaxation
 from idkit.fit.maxwell import fit_maxwell
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
@@ -212,7 +213,9 @@ class MeasurementFit:
                 + ")" for c in self.data.offset_corrections))
         if self.k0 is not None:
             k = self.k0
-            lines.append(f"    k0 = {k.k0:.5g} +- {k.stderr:.2g} N/m from the quasi-static loops (|deflection| <= "
+            how = (f"relaxation of the loops fitted, secant slope {k.secant_k0:.5g} N/m; " if k.method == "relaxation"
+                   else "secant slope; ")
+            lines.append(f"    k0 = {k.k0:.5g} +- {k.stderr:.2g} N/m from the quasi-static loops ({how}|deflection| <= "
                          f"{1e3 * k.window:g} mm; per record "
                          + ", ".join(f"{name}: {value:.5g}" for name, value in k.per_record.items()) + ")")
         if self.damping is not None:
@@ -266,7 +269,9 @@ class MeasurementFit:
             record["error_percent"] = 100 * float(self.result.error)
         if self.k0 is not None:
             record["k0"] = {"value_N_per_m": self.k0.k0, "stderr_N_per_m": self.k0.stderr,
-                            "window_m": self.k0.window, "per_record_N_per_m": dict(self.k0.per_record)}
+                            "window_m": self.k0.window, "per_record_N_per_m": _jsonable(dict(self.k0.per_record)),
+                            "method": self.k0.method, "secant_N_per_m": self.k0.secant_k0,
+                            "relaxation_N_per_m_by_rate_per_s": _jsonable(self.k0.relaxation)}
         points = getattr(self.data, "operating_points", None)
         if points:  # each top mass was fitted about its preload: k0 -> this tangent stiffness
             record["operating_points"] = {f"{mass:g} kg": None if point is None else
@@ -838,6 +843,7 @@ def elastomer_data(
     split: str | None = "fit",
     band=(1.0, 100.0),
     resolution_hz: float = FRF_RESOLUTION_HZ,
+    k0_method: str = "relaxation",
 ) -> ElastomerData:
     """Select the elastomer's records once and turn them into the Maxwell fit's observables.
 
@@ -850,6 +856,11 @@ def elastomer_data(
         (:func:`~idkit.observe.quasi_static.k0_from_records`, window ``k0_window``).
     k0_window : float, default 1e-3
         Half-width (m) of the deflection window of the k0 estimate.
+    k0_method : {"relaxation", "secant"}, default "relaxation"
+        ``"relaxation"``: the loops' time history fitted with the relaxation of elements that
+        have not relaxed at the zero crossings (:func:`idkit.fit.static_stiffness.k0_with_relaxation`);
+        ``"secant"``: the slope of the loops around zero
+        (:func:`~idkit.observe.quasi_static.k0_from_records`), biased high by such elements.
     isolator : str or None, default "elastomer"
     split : {"fit", "validation", "all", None}, default "fit"
     band : (float, float), default (1, 100)
@@ -877,7 +888,10 @@ def elastomer_data(
     if k0 is None:
         loops, loops_provenance = select_measurements(measurements, kind="quasi_static", isolator=isolator,
                                                       split=split)
-        estimate = k0_from_records(loops, window=k0_window)
+        if k0_method not in K0_METHODS:
+            raise FitError(f"k0_method: found {k0_method!r}, expected one of {K0_METHODS}")
+        estimate = (k0_with_relaxation(loops, window=k0_window) if k0_method == "relaxation"
+                    else k0_from_records(loops, window=k0_window))
         k0, stderr = estimate.k0, estimate.stderr
         provenance = loops_provenance.merged(provenance, kind="quasi_static (k0) + white_noise")
     # each top mass's weight preloads the isolator: small-amplitude motion about that preload
@@ -931,6 +945,7 @@ def fit_maxwell_measurements(
     backend: str = "nlopt",
     cross_check: bool = False,
     seed: int = 0,
+    k0_method: str = "relaxation",
     **options,
 ) -> MeasurementFit:
     """Generalized Maxwell fit: k0 from the quasi-static loops, the rest from all white-noise FRFs.
@@ -949,6 +964,8 @@ def fit_maxwell_measurements(
     k0 : float, optional
         Static stiffness in N/m; default from the loops (window ``k0_window``, m).
     k0_window : float, default 1e-3
+    k0_method : {"relaxation", "secant"}, default "relaxation"
+        How k0 is read off the loops (:func:`elastomer_data`).
     isolator, split : as :func:`elastomer_data` (default ``"elastomer"``, ``"fit"``)
     band : (float, float), default (1, 100) Hz
     resolution_hz : float, default 0.5
@@ -963,7 +980,7 @@ def fit_maxwell_measurements(
         :class:`~idkit.observe.quasi_static.K0FromLoops` (None when ``k0`` was given).
     """
     data = elastomer_data(measurements, k0=k0, k0_window=k0_window, isolator=isolator, split=split, band=band,
-                          resolution_hz=resolution_hz)
+                          resolution_hz=resolution_hz, k0_method=k0_method)
     order_table = None
     if order == "auto":
         from idkit.fit.compare import maxwell_order_table
@@ -978,6 +995,7 @@ def fit_maxwell_measurements(
     return MeasurementFit(kind="maxwell", result=result, data=data, provenance=data.provenance, k0=data.k0_estimate,
                           checks=_resolution_checks(data.frfs),
                           options={"order": int(order), "order_rule": order_table is not None, "k0_window": k0_window,
+                                   "k0_method": k0_method if k0 is None else "given",
                                    "resolution_hz": resolution_hz, "band": list(band), "backend": backend,
                                    "cross_check": cross_check, **options},
                           repetitions=data.repetitions, order_table=order_table)

@@ -577,6 +577,14 @@ class K0FromLoops:
         Measurement id -> slope (N/m).
     window : float
         Half-width of the deflection window, m.
+    method : {"secant", "relaxation"}
+        ``"secant"``: the slope above; ``"relaxation"``: the loops' time history fitted with
+        the relaxation of unrelaxed elements (:func:`idkit.fit.static_stiffness.k0_with_relaxation`,
+        which sets ``k0``, ``stderr`` and ``per_record``).
+    secant_k0 : float or None
+        ``"relaxation"``: the secant slope of the same points, N/m.
+    relaxation : dict or None
+        ``"relaxation"``: basis stiffness (N/m) per relaxation rate (1/s).
     """
 
     k0: float
@@ -584,6 +592,9 @@ class K0FromLoops:
     pooled: K0Estimate
     per_record: dict
     window: float
+    method: str = "secant"
+    secant_k0: float | None = None
+    relaxation: dict | None = None
 
 
 def k0_from_measurements(

@@ -14,7 +14,8 @@ Tolerances (issue 10 "Targets"), each a physical statement:
   more than 2 pp is model error;
 * stuck stiffness within 20 % of ``g1 + sum k_i``; the fitted spring's tangent stiffness
   positive over every deflection of the set (loops, sweeps and drops);
-* elastomer ``k0`` within 1 %, ``|k*|`` at 5, 20, 50 Hz within 5 %, loss factor within 15 %,
+* elastomer ``k0`` within 1 % (fitted with the loops' relaxation; the secant slope is biased
+  high by the unrelaxed slow element), ``|k*|`` at 5, 20, 50 Hz within 5 %, loss factor within 15 %,
   small-amplitude resonance per white-noise top mass within 2 % (top mass + moving mass
   with the complex stiffness, both for the truth and the fitted model);
 * validations PASS, and a model whose stiffness is doubled FAILs each of them.
@@ -234,20 +235,14 @@ def test_rope_tangent_stiffness_at_large_amplitude_within_10_percent(rope_fit, s
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "k0 from the loops 9137 N/m vs 9000 N/m (+1.5 %, target 1 %): the slowest Maxwell element "
-    "(900 N/m, rate 2 1/s) has not relaxed at the zero crossings 1-4 s after a reversal at "
-    "~1 mm/s, expected bias up to 900 exp(-2) = 120 N/m (1.3 %): the loops are not "
-    "quasi-static for a 0.5 s relaxation time"))
-def test_elastomer_k0_within_1_percent(body_fit_quick):
-    assert body_fit_quick.model.params()["k0"] == pytest.approx(BODY.k0, rel=0.01)
-
-
-@pytest.mark.slow
-def test_elastomer_k0_within_the_unrelaxed_bound(body_fit_quick, body_fit):
-    # the bound of the xfail above, as a guard: k0 within k0 + 900 exp(-2) N/m + 1 %
+def test_elastomer_k0_within_1_percent(body_fit_quick, body_fit):
+    # the loops' secant slope reads the slowest Maxwell element (900 N/m, rate 2 1/s), not yet
+    # relaxed at the zero crossings 1-4 s after a reversal: +1.0 % (full records) and +1.5 %
+    # (quick); the default k0 fits the loops' relaxation (idkit.fit.static_stiffness)
     for fit in (body_fit_quick, body_fit):
-        assert BODY.k0 * 0.99 <= fit.model.params()["k0"] <= BODY.k0 * 1.01 + 900 * np.exp(-2)
+        assert fit.k0.method == "relaxation"
+        assert fit.model.params()["k0"] == pytest.approx(BODY.k0, rel=0.01)
+        assert fit.k0.secant_k0 > 1.005 * BODY.k0  # the bias the fit removes
 
 
 @pytest.mark.slow
