@@ -189,7 +189,7 @@ def _cmd_maxwell(args) -> int:
     data = _load(args.dataset, args)
     fit = fit_maxwell_measurements(data, order=args.order, k0=args.k0, isolator=args.isolator,
                                    split=_split(args.split), band=tuple(args.band), backend=args.backend,
-                                   cross_check=args.cross_check, seed=args.seed)
+                                   cross_check=args.cross_check, seed=args.seed, k0_method=args.k0_method)
     if args.order_table or fit.order_table is not None:
         table = fit.order_table
         if table is None:
@@ -285,6 +285,10 @@ def register(subparsers) -> None:
     maxwell.add_argument("--use-given-shift-factors", action="store_true",
                          help="build the master curve from --shift-factors instead of the estimated ones")
     maxwell.add_argument("--k0", type=opt.real(above=0, unit="N/m"), help="static stiffness in N/m (default: from the quasi-static loops)")
+    maxwell.add_argument("--k0-method", choices=("relaxation", "secant"), default="relaxation",
+                         help="how k0 is read off the loops: with the relaxation of elements not yet relaxed at the "
+                              "zero crossings fitted (default), or the loops' secant slope around zero (biased high "
+                              "by such elements; docs/fitting.md)")
     maxwell.add_argument("--band", type=opt.real(above=0, unit="Hz"), nargs=2, default=[1.0, 100.0], metavar=("F_LOW", "F_HIGH"),
                          help="frequency band in Hz (default 1 100)")
     maxwell.add_argument("--cross-check", action="store_true", help="run the seeded global cross-check")

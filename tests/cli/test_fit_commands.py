@@ -125,3 +125,23 @@ def test_cli_fit_iwan_order_auto_picks_the_generating_order(dataset, tmp_path, c
     assert [row["order"] for row in table if row["recommended"]] == [2]
 
 
+
+
+def test_cli_fit_maxwell_k0_method_is_recorded(dataset, tmp_path, capsys):
+    # the small set's elastomer loops are a pure spring plus noise: both methods read its k0,
+    # and the model file says which one was used and what the secant read
+    documents = {}
+    for method in ("relaxation", "secant"):
+        output = tmp_path / f"el_{method}.json"
+        assert main(["fit", "maxwell", str(dataset), "--order", "1", "--k0-method", method, "-o", str(output)]) in (0, 1)
+        documents[method] = json.loads(output.read_text())
+        k0 = documents[method]["provenance"]["k0"]
+        assert k0["method"] == method and documents[method]["provenance"]["options"]["k0_method"] == method
+    printed = capsys.readouterr().out
+    assert "relaxation of the loops fitted" in printed and "secant slope;" in printed
+    relaxed, secant = (documents[m]["provenance"]["k0"]["value_N_per_m"] for m in ("relaxation", "secant"))
+    assert relaxed == pytest.approx(secant, rel=2e-3)
+    assert documents["relaxation"]["provenance"]["k0"]["secant_N_per_m"] == pytest.approx(secant)
+    with pytest.raises(SystemExit) as stopped:  # argparse names the option and the choices
+        main(["fit", "maxwell", str(dataset), "--k0-method", "tangent", "-o", str(tmp_path / "x.json")])
+    assert stopped.value.code == 2 and "--k0-method" in capsys.readouterr().err
