@@ -653,6 +653,10 @@ def _above_the_noise_floor(result, measurements, isolator, split) -> tuple[str, 
     except DataError:
         return ()
     floors = loop_noise_floor(records)
+    family = getattr(getattr(result, "settings", None), "family", None)
+    remedy = {"plain": "a higher order, --order-table, or the slip-modulated Iwan: --family, docs/fitting.md",
+              "modulated": "a higher order: --order auto, --order-table, docs/fitting.md"}.get(
+        family, "another model form, docs/fitting.md")
     reasons = []
     for group, names, errors in (("small", result.small_names, result.small_errors),
                                  ("large", result.large_names, result.large_errors)):
@@ -663,9 +667,8 @@ def _above_the_noise_floor(result, measurements, isolator, split) -> tuple[str, 
         if error - floor > FLOOR_MARGIN:
             reasons.append(f"{group}-loop error {100 * error:.3g} % is {100 * (error - floor):.3g} points above the "
                            f"noise floor {100 * floor:.2g} % of its {len(known)} record(s) (limit "
-                           f"{100 * FLOOR_MARGIN:g} points): the model form misses the loops (a higher order, "
-                           "--order-table, or the slip-modulated Iwan, docs/fitting.md), or the records carry a "
-                           "force offset the floor does not count (--remove-offsets)")
+                           f"{100 * FLOOR_MARGIN:g} points): the model form misses the loops ({remedy}), or the "
+                           "records carry a force offset the floor does not count (--remove-offsets)")
     return tuple(reasons)
 
 
