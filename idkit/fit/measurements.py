@@ -258,6 +258,7 @@ class MeasurementFit:
             record["start_states"] = dict(self.result.start_states)
         record["success"] = self.success
         record["reasons"] = list(self.reasons)
+        record["determined_only_in_combination"] = [list(found) for found in getattr(self.result, "undetermined", ())]
         if self.kind in ("iwan", "boucwen"):
             record["errors_percent"] = {
                 "small": {n: 100 * float(e) for n, e in zip(self.result.small_names, self.result.small_errors)},

@@ -26,7 +26,42 @@ __all__ = [
     "MaxwellFitResult",
     "BoucWenFitSettings",
     "BoucWenFitResult",
+    "UNDETERMINED_CORRELATION",
+    "undetermined_groups",
 ]
+
+
+#: |correlation| at or above which two fitted parameters are reported as determined only in
+#: combination (:attr:`_LmfitStatistics.undetermined`): their standard errors then describe
+#: the combination's flat direction, and each value alone is not a property of the data.
+UNDETERMINED_CORRELATION = 0.999
+
+
+def undetermined_groups(parameters: lmfit.Parameters, threshold: float = UNDETERMINED_CORRELATION
+                        ) -> tuple[tuple[str, ...], ...]:
+    """Groups of varied parameters linked by ``|correl| >= threshold`` (in parameter order)."""
+    names = [name for name, par in parameters.items() if par.vary]
+    group = {name: name for name in names}
+
+    def root(name):
+        while group[name] != name:
+            group[name] = group[group[name]]
+            name = group[name]
+        return name
+
+    for name in names:
+        for other, value in (parameters[name].correl or {}).items():
+            if other in group and value is not None and abs(value) >= threshold:
+                group[root(other)] = root(name)
+    members: dict[str, list[str]] = {}
+    for name in names:
+        members.setdefault(root(name), []).append(name)
+    return tuple(tuple(found) for found in members.values() if len(found) > 1)
+
+
+def _undetermined_lines(groups) -> list[str]:
+    return [f"    determined only in combination: {', '.join(found)} (|correlation| >= {UNDETERMINED_CORRELATION:g}; "
+            "each value alone is not fixed by the data)" for found in groups]
 
 
 def _parameter_lines(parameters: lmfit.Parameters) -> list[str]:
@@ -160,6 +195,19 @@ class _LmfitStatistics:
         """Why a fitted parameter has no standard error (empty when every one has)."""
         return tuple(getattr(self.statistics, "stderr_notes", ()) or ())
 
+    @property
+    def undetermined(self) -> tuple[tuple[str, ...], ...]:
+        """Groups of fitted parameters the data determine only in combination.
+
+        Two parameters belong to one group when the correlation of their estimates is at least
+        :data:`UNDETERMINED_CORRELATION` in magnitude (connected groups are merged): the
+        residuals change along a combination of them and hardly along the others, so each value
+        alone can move far (a data perturbation of one ulp moved such a pair by 50 %) while the
+        fit quality does not. Empty when every correlation is below the threshold or none was
+        estimated.
+        """
+        return undetermined_groups(self.parameters)
+
     def fit_report(self, **options) -> str:
         """:func:`lmfit.fit_report` of the statistics (fit statistics, variables, correlations),
         followed by the reasons for any missing standard error; ``options`` go to lmfit."""
@@ -245,7 +293,8 @@ class _LoopFitResult(_LmfitStatistics):
     def _variables_lines(self, title: str) -> list[str]:
         """``[[Variables]]`` with units and stderr, the missing-stderr notes and the statistics."""
         return [f"[[Variables]] {title}", *_parameter_lines(self.parameters),
-                *(f"    no stderr: {note}" for note in self.stderr_notes), *_statistics_lines(self.statistics)]
+                *(f"    no stderr: {note}" for note in self.stderr_notes), *_undetermined_lines(self.undetermined),
+                *_statistics_lines(self.statistics)]
 
 
 @dataclass(frozen=True)
@@ -525,6 +574,7 @@ class MaxwellFitResult(_LmfitStatistics):
         lines.append("[[Variables]] (stderr from the analytic residual Jacobian at the optimum)")
         lines.extend(_parameter_lines(self.parameters))
         lines.extend(f"    no stderr: {note}" for note in self.stderr_notes)
+        lines.extend(_undetermined_lines(self.undetermined))
         lines.extend(_statistics_lines(self.statistics))
         return "\n".join(lines)
 

@@ -275,3 +275,24 @@ def test_maxwell_parameter_at_a_bound_has_no_stderr_and_a_note():
     inside = [name for name in MAXWELL_NAMES if name not in result.at_bound]
     assert inside and all(result.params[name].stderr is not None for name in inside)
     assert result.statistics.nvarys == len(inside)
+
+
+def test_undetermined_groups_merge_pairs_correlated_beyond_the_threshold():
+    import lmfit
+
+    from idkit.fit.result import UNDETERMINED_CORRELATION, undetermined_groups
+
+    parameters = lmfit.Parameters()
+    for name in ("g1", "k_1", "k_2", "fc_2", "c_visc"):
+        parameters.add(name, value=1.0, vary=name != "c_visc")
+    correl = {("g1", "k_2"): -0.9995, ("k_2", "fc_2"): 0.9993, ("g1", "k_1"): 0.99, ("k_1", "c_visc"): 1.0}
+    for (a, b), value in correl.items():
+        parameters[a].correl = {**(parameters[a].correl or {}), b: value}
+        parameters[b].correl = {**(parameters[b].correl or {}), a: value}
+    # g1-k_2 and k_2-fc_2 link into one group; 0.99 is below the threshold; a fixed one never counts
+    assert undetermined_groups(parameters) == (("g1", "k_2", "fc_2"),)
+    assert undetermined_groups(parameters, threshold=0.98) == (("g1", "k_1", "k_2", "fc_2"),)
+    assert UNDETERMINED_CORRELATION == 0.999
+    for name in parameters:
+        parameters[name].correl = None
+    assert undetermined_groups(parameters) == ()
