@@ -100,6 +100,25 @@ def _set_forces(x, g1, g2, g3, k, fc, a, length, cycled, out):
             out[s] = total
 
 
+@numba.njit(cache=True, inline="always")
+def _sensitive_stop(i, step, scale, scale_a, scale_length, k, fc, state, d_k, d_fc, d_a, d_length):
+    """One stop-operator update of element ``i`` over a deflection ``step`` (m) with the limit
+    ``scale fc_i``, carrying the force's derivatives in ``log k_i``, ``log fc_i``, ``a`` and
+    ``log y_ref`` (``scale_a``, ``scale_length``: the limit scale's)."""
+    trial = state[i] + k[i] * step
+    limit = scale * fc[i]
+    if trial > limit or trial < -limit:
+        sign = 1.0 if trial > limit else -1.0
+        state[i] = sign * limit
+        d_k[i] = 0.0
+        d_fc[i] = sign * limit
+        d_a[i] = sign * scale_a * fc[i]
+        d_length[i] = sign * scale_length * fc[i]
+    else:
+        state[i] = trial
+        d_k[i] += k[i] * step
+
+
 @numba.njit(cache=True)
 def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycled, grid, want_jacobian,
                      residual, jacobian):
@@ -134,39 +153,19 @@ def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycl
         scale0_a = -t0
         scale0_length = a * (1.0 - t0 * t0) * x0 / length
         for i in range(n):  # monotone loading from the unloaded state to the first point
-            trial = k[i] * x0
-            limit = scale0 * fc[i]
-            if trial > limit or trial < -limit:
-                sign = 1.0 if trial > limit else -1.0
-                state[i] = sign * limit
-                d_k[i] = 0.0
-                d_fc[i] = sign * limit
-                d_a[i] = sign * scale0_a * fc[i]
-                d_length[i] = sign * scale0_length * fc[i]
-            else:
-                state[i] = trial
-                d_k[i] = trial
-                d_fc[i] = 0.0
-                d_a[i] = 0.0
-                d_length[i] = 0.0
+            state[i] = 0.0
+            d_k[i] = 0.0
+            d_fc[i] = 0.0
+            d_a[i] = 0.0
+            d_length[i] = 0.0
+            _sensitive_stop(i, x0, scale0, scale0_a, scale0_length, k, fc, state, d_k, d_fc, d_a, d_length)
         passes = 2 if cycled[s] else 1
         for p in range(passes):
             scoring = p == passes - 1
             if p == 1:  # back from the last point to the first (one linear step)
                 step = x0 - x_all[stop - 1]
                 for i in range(n):
-                    trial = state[i] + k[i] * step
-                    limit = scale0 * fc[i]
-                    if trial > limit or trial < -limit:
-                        sign = 1.0 if trial > limit else -1.0
-                        state[i] = sign * limit
-                        d_k[i] = 0.0
-                        d_fc[i] = sign * limit
-                        d_a[i] = sign * scale0_a * fc[i]
-                        d_length[i] = sign * scale0_length * fc[i]
-                    else:
-                        state[i] = trial
-                        d_k[i] += k[i] * step
+                    _sensitive_stop(i, step, scale0, scale0_a, scale0_length, k, fc, state, d_k, d_fc, d_a, d_length)
             for j in range(start, stop):
                 y = x_all[j]
                 t = math.tanh(y / length)
@@ -178,19 +177,8 @@ def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycl
                 sum_length = 0.0
                 for i in range(n):
                     if j > start:
-                        step = y - x_all[j - 1]
-                        trial = state[i] + k[i] * step
-                        limit = scale * fc[i]
-                        if trial > limit or trial < -limit:
-                            sign = 1.0 if trial > limit else -1.0
-                            state[i] = sign * limit
-                            d_k[i] = 0.0
-                            d_fc[i] = sign * limit
-                            d_a[i] = sign * scale_a * fc[i]
-                            d_length[i] = sign * scale_length * fc[i]
-                        else:
-                            state[i] = trial
-                            d_k[i] += k[i] * step
+                        _sensitive_stop(i, y - x_all[j - 1], scale, scale_a, scale_length, k, fc, state, d_k, d_fc,
+                                        d_a, d_length)
                     total += state[i]
                     if scoring and want_jacobian:
                         jacobian[j, 3 + i] = weight * d_k[i]
