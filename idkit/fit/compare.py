@@ -118,17 +118,23 @@ def iwan_order_fits(small, large, *, orders: Sequence[int] = (1, 2, 3, 4, 5, 6),
     for order in orders:
         result = fit_iwan(small_sets, large_sets, order=int(order), **options)
         results[int(order)] = result
-        below, above = result.model.valid_deflection_range()
-        rows.append({"order": int(order), "n_params": 3 + 2 * int(order),
-                     "error_small_percent": 100 * result.error_small, "error_large_percent": 100 * result.error_large,
-                     "stuck_stiffness [N/m]": float(result.model.stuck_stiffness),
-                     "smallest_loop_secant [N/m]": secant,
-                     "spring_negative_below [m]": below, "spring_negative_above [m]": above,
-                     "success": result.success, "reasons": "; ".join(result.reasons), "family": "plain"})
+        rows.append(iwan_order_row(result, secant))
     table = pd.DataFrame(rows)
     table["recommended"] = table["order"] == _rule(table, 0.5 * (table["error_small_percent"]
                                                                   + table["error_large_percent"]))
     return table, results
+
+
+def iwan_order_row(result, secant: float) -> dict:
+    """One row of the Iwan order table for a fit (plain or slip-modulated: ``family`` from its
+    settings, ``n_params`` its varied parameters); ``secant`` the smallest loop's secant, N/m."""
+    below, above = result.model.valid_deflection_range()
+    return {"order": int(result.model.order), "n_params": int(sum(1 for p in result.parameters.values() if p.vary)),
+            "error_small_percent": 100 * result.error_small, "error_large_percent": 100 * result.error_large,
+            "stuck_stiffness [N/m]": float(result.model.stuck_stiffness), "smallest_loop_secant [N/m]": secant,
+            "spring_negative_below [m]": below, "spring_negative_above [m]": above,
+            "success": result.success, "reasons": "; ".join(result.reasons),
+            "family": getattr(result.settings, "family", "plain")}
 
 
 def _rule(table: pd.DataFrame, error: pd.Series) -> int:

@@ -31,7 +31,7 @@ import pandas as pd
 
 from idkit.errors import DataError, FitError
 from idkit.fit.boucwen import fit_boucwen
-from idkit.fit.compare import iwan_order_fits
+from idkit.fit.compare import iwan_order_fits, iwan_order_row
 from idkit.fit.damping import ViscousDamping, fit_viscous_damping
 from idkit.fit.iwan import fit_iwan
 from idkit.fit.iwan_start import smallest_branch_secant
@@ -440,7 +440,7 @@ def fit_iwan_measurements(
                       smallest_branch_secant(list(data.small) + list(data.large)))
             family_rows["smallest_loop_secant [N/m]"] = secant
             base = order_table if order_table is not None else pd.DataFrame(
-                [_order_row(order, plain_fits[order], secant) | {"family": "plain"}])
+                [iwan_order_row(plain_fits[order], secant)])
             order_table = pd.concat([base.assign(recommended=False), family_rows], ignore_index=True)
             chosen = (order_table["family"] == result.settings.family) & (order_table["order"] == result.model.order)
             order_table["recommended"] = chosen
@@ -477,6 +477,20 @@ def fit_iwan_measurements(
 VALID_RANGE_MARGIN = 1.25
 
 
+def _deflection_extent(measurements, isolator: str | None) -> tuple[float, float] | None:
+    """Lowest and highest finite deflection (m) of every record of ``isolator`` (None: every
+    record), or None when no record has one."""
+    records = getattr(measurements, "measurements", measurements)
+    seen = [np.asarray(m.deflection, dtype=float) for m in records
+            if getattr(m, "deflection", None) is not None
+            and (isolator is None or getattr(getattr(m, "info", None), "isolator", None) == isolator)]
+    seen = [d[np.isfinite(d)] for d in seen]
+    seen = [d for d in seen if d.size]
+    if not seen:
+        return None
+    return min(float(d.min()) for d in seen), max(float(d.max()) for d in seen)
+
+
 def data_valid_range(measurements, *, isolator: str | None = None,
                      margin: float = VALID_RANGE_MARGIN) -> tuple[float, float]:
     """``margin`` times the lowest and highest deflection (m) of every record of the isolator.
@@ -491,17 +505,12 @@ def data_valid_range(measurements, *, isolator: str | None = None,
     DataError
         No record of the isolator has a finite deflection.
     """
-    records = getattr(measurements, "measurements", measurements)
-    seen = [np.asarray(m.deflection, dtype=float) for m in records
-            if getattr(m, "deflection", None) is not None
-            and (isolator is None or getattr(getattr(m, "info", None), "isolator", None) == isolator)]
-    seen = [d[np.isfinite(d)] for d in seen]
-    seen = [d for d in seen if d.size]
-    if not seen:
+    extent = _deflection_extent(measurements, isolator)
+    if extent is None:
         raise DataError(f"valid range: found no record of isolator {isolator!r} with a finite deflection, "
                         "expected at least one (pass valid_range=None or (x_min, x_max))")
-    low = margin * min(0.0, min(float(d.min()) for d in seen))
-    high = margin * max(0.0, max(float(d.max()) for d in seen))
+    low = margin * min(0.0, extent[0])
+    high = margin * max(0.0, extent[1])
     if low == 0.0:
         low = -1e-3 * high
     if high == 0.0:
@@ -511,15 +520,6 @@ def data_valid_range(measurements, *, isolator: str | None = None,
 
 #: Model families of :func:`fit_iwan_measurements` (``family=``).
 IWAN_FAMILIES = ("auto", "plain", "modulated")
-
-
-def _order_row(order: int, result, secant: float) -> dict:
-    below, above = result.model.valid_deflection_range()
-    return {"order": int(order), "n_params": int(sum(1 for p in result.parameters.values() if p.vary)),
-            "error_small_percent": 100 * result.error_small, "error_large_percent": 100 * result.error_large,
-            "stuck_stiffness [N/m]": float(result.model.stuck_stiffness), "smallest_loop_secant [N/m]": secant,
-            "spring_negative_below [m]": below, "spring_negative_above [m]": above,
-            "success": result.success, "reasons": "; ".join(result.reasons)}
 
 
 def choose_iwan_family(small, large, plain_fits: dict, *, family: str = "auto", valid_range=None,
@@ -578,7 +578,7 @@ def choose_iwan_family(small, large, plain_fits: dict, *, family: str = "auto", 
         if fits[order].success and not floor_check(fits[order]):
             within.append(order)
             break
-    rows = pd.DataFrame([_order_row(order, fit, math.nan) | {"family": "modulated"} for order, fit in fits.items()])
+    rows = pd.DataFrame([iwan_order_row(fit, math.nan) for fit in fits.values()])
     chosen = fits[within[0] if within else _order_rule(rows)]
     mean = 0.5 * (chosen.error_small + chosen.error_large)
     plain_mean = 0.5 * (plain.error_small + plain.error_large)
@@ -721,14 +721,10 @@ def _valid_over_the_data(model, measurements, isolator) -> tuple[str, ...]:
     Every record of the isolator counts (loops, sweeps and drops, either split): a model
     that cannot be simulated over its own data's range is not a successful identification.
     """
-    records = getattr(measurements, "measurements", measurements)
-    deflections = [np.asarray(m.deflection, dtype=float) for m in records
-                   if getattr(m, "deflection", None) is not None
-                   and (isolator is None or getattr(m.info, "isolator", None) == isolator)]
-    if not deflections:
+    extent = _deflection_extent(measurements, isolator)
+    if extent is None:
         return ()
-    low = min(float(np.nanmin(d)) for d in deflections)
-    high = max(float(np.nanmax(d)) for d in deflections)
+    low, high = extent
     lower, upper = model.valid_deflection_range()
     if lower <= low and high <= upper:
         return ()
