@@ -1,22 +1,26 @@
 """Identification of the Iwan model with deflection-dependent slip forces from quasi-static loops.
 
 The model (:class:`idkit.models.ModulatedIwanModel`) is the modified Iwan model whose slip
-forces are ``s(y) fc_i`` with ``s(y) = 1 - a tanh(y / y_ref)``. It is identified by **its own
-stage on top of a plain Iwan fit**:
+forces are ``s(y) fc_i`` with ``s(y) = 1 - a t + b t^2``, ``t = tanh(y / y_ref)``. It is
+identified by **its own stage on top of a plain Iwan fit**:
 
 1. the plain three-stage fit (:func:`idkit.fit.fit_iwan`), unless a plain result or model is
    given;
-2. the modulation stage: every parameter free (``g1, g2, g3, k_i, fc_i, a, y_ref``), started
-   from the plain model with ``a`` at each of :data:`MODULATION_STARTS` (``y_ref`` at half the
-   largest deflection), solved by bounded least squares (``scipy.optimize.least_squares``,
-   trust-region reflective) on the per-point residuals ``(F_model - F_meas) / ||F_meas||`` of
-   every small and large set: the sum of squares is the sum over sets of the squared error
-   (7.1) the plain fit scores. The start with the lowest sum wins.
+2. the modulation stage: every parameter free (``g1, g2, g3, k_i, fc_i, a, b, y_ref``),
+   started from the plain model with ``(a, b)`` at each pair of :data:`MODULATION_STARTS` x
+   :data:`GROWTH_STARTS` (``y_ref`` at half the largest deflection), solved by bounded least
+   squares (``scipy.optimize.least_squares``, trust-region reflective) on the per-point
+   residuals ``(F_model - F_meas) / ||F_meas||`` of every small and large set: the sum of
+   squares is the sum over sets of the squared error (7.1) the plain fit scores. The start
+   with the lowest sum wins.
 
 Internal coordinates as in the plain fit: ``log g1``, ``log k_i``, ``log fc_i`` (positive
 whatever the solver does), ``g2 x_ref / g1_ref`` and ``g3 x_ref^2 / g1_ref`` (share of the
-linear force at the largest deflection ``x_ref``), ``a`` itself in ``[-0.95, 0.95]`` and
-``log y_ref`` in ``[x_ref / 50, 20 x_ref]``.
+linear force at the largest deflection ``x_ref``), ``a`` itself in ``[-0.95, 0.95]``, ``b``
+itself in ``[-0.95, 10]`` and ``log y_ref`` in ``[x_ref / 50, 20 x_ref]``. The slip scale must
+stay positive: a barrier row ``10 max(0, 0.05 - (1 - |a| + min(b, 0)))`` keeps its lowest value
+(at ``t = +-1`` when ``b <= 0``; ``b > 0`` with ``|a| < 1`` keeps it positive everywhere) above
+0.05.
 
 **Uncertainty.** Standard errors from the covariance ``redchi (J^T J)^-1`` of the residuals
 at the solution (internal coordinates, mapped to physical ones by the chain rule), as the
@@ -54,27 +58,56 @@ from idkit.fit.result import IwanFitResult, IwanFitSettings, StageResult
 from idkit.models import IwanModel, ModulatedIwanModel
 
 __all__ = [
+    "GROWTH_STARTS",
     "MODULATION_STARTS",
+    "SPLIT_RATIO",
     "ModulatedIwanFitResult",
     "fit_iwan_modulated",
+    "fit_modulated_orders",
+    "split_element",
     "loop_model_table",
     "modulated_set_errors",
+    "modulated_set_forces",
 ]
 
-#: Starting values of the modulation depth ``a`` of the modulation stage.
+#: Starting values of the asymmetric modulation ``a`` of the modulation stage.
 MODULATION_STARTS = (-0.3, 0.0, 0.3)
+#: Starting values of the symmetric modulation ``b`` (each paired with every ``a`` start).
+GROWTH_STARTS = (0.0, 0.3)
 _A_BOUND = 0.95
+_B_BOUNDS = (-0.95, 10.0)
+_SCALE_MARGIN = 0.05  # the lowest slip scale the stage's barrier keeps
+#: The modulation is resolved when ``(a, b)`` differs from ``(0, 0)`` by at least this
+#: ``chi2 = [a b] C^-1 [a b]`` (``C`` their covariance): 2 degrees of freedom, p = 6.3e-5, the
+#: probability of a normal variable beyond 4 standard errors. Loops without modulation pass
+#: for a modulation with that probability only; a real one (the truths' a = 0.35, b = 0.4)
+#: scores chi2 in the thousands.
+RESOLVED_CHI2 = -2.0 * math.log(math.erfc(4.0 / math.sqrt(2.0)))
+
+
+def _modulation_chi2(parameters) -> float:
+    """``[a b] C^-1 [a b]`` from the lmfit parameters' standard errors and correlation (nan
+    without standard errors)."""
+    a, b = parameters["slip_modulation"], parameters["slip_growth"]
+    if not (a.stderr and b.stderr and math.isfinite(a.stderr) and math.isfinite(b.stderr)):
+        return math.nan
+    rho = (a.correl or {}).get("slip_growth", 0.0)
+    if not abs(rho) < 1.0:
+        return math.nan
+    za, zb = a.value / a.stderr, b.value / b.stderr
+    return (za * za - 2.0 * rho * za * zb + zb * zb) / (1.0 - rho * rho)
 _LOG_BOX = math.log(1e3)  # k_i, fc_i, g1 searched within x/1000 .. x*1000 of the plain fit
 _STIFFNESS_MARGIN = 0.01  # share of g1 the valid-range barrier keeps the local stiffness above
 _BOUND_MARGIN = 1e-3  # of the internal range: a value closer than this to a bound is "on" it
 
 
 @numba.njit(cache=True)
-def _set_forces(x, g1, g2, g3, k, fc, a, length, cycled, out):
+def _set_forces(x, g1, g2, g3, k, fc, a, b, length, cycled, out):
     """Force (N) along one set ``x`` (m) from the virgin or the cycled start state."""
     n = k.shape[0]
     state = np.empty(n)
-    scale0 = 1.0 - a * math.tanh(x[0] / length) if a != 0.0 else 1.0
+    t0 = math.tanh(x[0] / length)
+    scale0 = 1.0 - a * t0 + b * t0 * t0
     for i in range(n):  # monotone loading from the unloaded state to the first point
         state[i] = min(max(k[i] * x[0], -scale0 * fc[i]), scale0 * fc[i])
     passes = 2 if cycled else 1
@@ -85,7 +118,8 @@ def _set_forces(x, g1, g2, g3, k, fc, a, length, cycled, out):
                 state[i] = min(max(state[i] + k[i] * step, -scale0 * fc[i]), scale0 * fc[i])
         for s in range(x.shape[0]):
             y = x[s]
-            scale = 1.0 - a * math.tanh(y / length) if a != 0.0 else 1.0
+            t = math.tanh(y / length)
+            scale = 1.0 - a * t + b * t * t
             total = y * (g1 + y * (g2 + y * g3))
             for i in range(n):
                 if s > 0:
@@ -101,10 +135,10 @@ def _set_forces(x, g1, g2, g3, k, fc, a, length, cycled, out):
 
 
 @numba.njit(cache=True, inline="always")
-def _sensitive_stop(i, step, scale, scale_a, scale_length, k, fc, state, d_k, d_fc, d_a, d_length):
+def _sensitive_stop(i, step, scale, scale_a, scale_b, scale_length, k, fc, state, d_k, d_fc, d_a, d_b, d_length):
     """One stop-operator update of element ``i`` over a deflection ``step`` (m) with the limit
-    ``scale fc_i``, carrying the force's derivatives in ``log k_i``, ``log fc_i``, ``a`` and
-    ``log y_ref`` (``scale_a``, ``scale_length``: the limit scale's)."""
+    ``scale fc_i``, carrying the force's derivatives in ``log k_i``, ``log fc_i``, ``a``, ``b``
+    and ``log y_ref`` (``scale_a``, ``scale_b``, ``scale_length``: the limit scale's)."""
     trial = state[i] + k[i] * step
     limit = scale * fc[i]
     if trial > limit or trial < -limit:
@@ -113,6 +147,7 @@ def _sensitive_stop(i, step, scale, scale_a, scale_length, k, fc, state, d_k, d_
         d_k[i] = 0.0
         d_fc[i] = sign * limit
         d_a[i] = sign * scale_a * fc[i]
+        d_b[i] = sign * scale_b * fc[i]
         d_length[i] = sign * scale_length * fc[i]
     else:
         state[i] = trial
@@ -125,10 +160,11 @@ def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycl
     """Residuals of the modulation stage at internal coordinates ``u`` and, on request, their
     exact Jacobian (forward sensitivities of the stop operator), for all sets in one call.
 
-    ``u = [log g1, g2 x_ref / g1_ref, g3 x_ref^2 / g1_ref, log k_i, log fc_i, a, log y_ref]``.
+    ``u = [log g1, g2 x_ref / g1_ref, g3 x_ref^2 / g1_ref, log k_i, log fc_i, a, b, log y_ref]``.
     The sets are concatenated in ``x_all``, ``f_all`` (``offsets[s]:offsets[s + 1]``); row ``j``
     of a set is ``(F_model - F_meas) / ||F_meas||``, followed by one valid-range barrier row
-    per ``grid`` point, ``10 max(0, 0.01 - (g1 + 2 g2 y + 3 g3 y^2) / g1_ref)``. An element
+    per ``grid`` point, ``10 max(0, 0.01 - (g1 + 2 g2 y + 3 g3 y^2) / g1_ref)``, and the slip
+    scale's barrier ``10 max(0, 0.05 - (1 - |a| + min(b, 0)))`` as the last row. An element
     force on its limit depends on ``fc_i``, ``a`` and ``y_ref`` through the limit only; a
     sticking one on ``k_i`` through every step since it last left the limit.
     """
@@ -138,52 +174,61 @@ def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycl
     k = np.exp(u[3:3 + n])
     fc = np.exp(u[3 + n:3 + 2 * n])
     a = u[3 + 2 * n]
-    length = math.exp(u[4 + 2 * n])
+    b = u[4 + 2 * n]
+    length = math.exp(u[5 + 2 * n])
     state = np.empty(n)
     d_k = np.empty(n)
     d_fc = np.empty(n)
     d_a = np.empty(n)
+    d_b = np.empty(n)
     d_length = np.empty(n)
     for s in range(offsets.shape[0] - 1):
         start, stop = offsets[s], offsets[s + 1]
         weight = inv_norms[s]
         x0 = x_all[start]
         t0 = math.tanh(x0 / length)
-        scale0 = 1.0 - a * t0
+        scale0 = 1.0 - a * t0 + b * t0 * t0
         scale0_a = -t0
-        scale0_length = a * (1.0 - t0 * t0) * x0 / length
+        scale0_b = t0 * t0
+        scale0_length = (a - 2.0 * b * t0) * (1.0 - t0 * t0) * x0 / length
         for i in range(n):  # monotone loading from the unloaded state to the first point
             state[i] = 0.0
             d_k[i] = 0.0
             d_fc[i] = 0.0
             d_a[i] = 0.0
+            d_b[i] = 0.0
             d_length[i] = 0.0
-            _sensitive_stop(i, x0, scale0, scale0_a, scale0_length, k, fc, state, d_k, d_fc, d_a, d_length)
+            _sensitive_stop(i, x0, scale0, scale0_a, scale0_b, scale0_length, k, fc, state, d_k, d_fc, d_a, d_b,
+                            d_length)
         passes = 2 if cycled[s] else 1
         for p in range(passes):
             scoring = p == passes - 1
             if p == 1:  # back from the last point to the first (one linear step)
                 step = x0 - x_all[stop - 1]
                 for i in range(n):
-                    _sensitive_stop(i, step, scale0, scale0_a, scale0_length, k, fc, state, d_k, d_fc, d_a, d_length)
+                    _sensitive_stop(i, step, scale0, scale0_a, scale0_b, scale0_length, k, fc, state, d_k, d_fc, d_a,
+                                    d_b, d_length)
             for j in range(start, stop):
                 y = x_all[j]
                 t = math.tanh(y / length)
-                scale = 1.0 - a * t
+                scale = 1.0 - a * t + b * t * t
                 scale_a = -t
-                scale_length = a * (1.0 - t * t) * y / length
+                scale_b = t * t
+                scale_length = (a - 2.0 * b * t) * (1.0 - t * t) * y / length
                 total = y * (g1 + y * (g2 + y * g3))
                 sum_a = 0.0
+                sum_b = 0.0
                 sum_length = 0.0
                 for i in range(n):
                     if j > start:
-                        _sensitive_stop(i, y - x_all[j - 1], scale, scale_a, scale_length, k, fc, state, d_k, d_fc,
-                                        d_a, d_length)
+                        _sensitive_stop(i, y - x_all[j - 1], scale, scale_a, scale_b, scale_length, k, fc, state,
+                                        d_k, d_fc, d_a, d_b, d_length)
                     total += state[i]
                     if scoring and want_jacobian:
                         jacobian[j, 3 + i] = weight * d_k[i]
                         jacobian[j, 3 + n + i] = weight * d_fc[i]
                         sum_a += d_a[i]
+                        sum_b += d_b[i]
                         sum_length += d_length[i]
                 if scoring:
                     residual[j] = weight * (total - f_all[j])
@@ -192,7 +237,8 @@ def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycl
                         jacobian[j, 1] = weight * y * y * g1_ref / x_ref
                         jacobian[j, 2] = weight * y * y * y * g1_ref / (x_ref * x_ref)
                         jacobian[j, 3 + 2 * n] = weight * sum_a
-                        jacobian[j, 4 + 2 * n] = weight * sum_length
+                        jacobian[j, 4 + 2 * n] = weight * sum_b
+                        jacobian[j, 5 + 2 * n] = weight * sum_length
     rows = x_all.shape[0]
     for q in range(grid.shape[0]):
         y = grid[q]
@@ -206,6 +252,15 @@ def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycl
                 jacobian[rows + q, 0] = -10.0 * g1 / g1_ref
                 jacobian[rows + q, 1] = -20.0 * y / x_ref
                 jacobian[rows + q, 2] = -30.0 * y * y / (x_ref * x_ref)
+    last = rows + grid.shape[0]  # the slip scale's lowest value 1 - |a| + min(b, 0) above the margin
+    shortfall = _SCALE_MARGIN - (1.0 - abs(a) + min(b, 0.0))
+    residual[last] = 10.0 * shortfall if shortfall > 0.0 else 0.0
+    if want_jacobian:
+        for c in range(jacobian.shape[1]):
+            jacobian[last, c] = 0.0
+        if shortfall > 0.0:
+            jacobian[last, 3 + 2 * n] = 10.0 if a > 0.0 else -10.0
+            jacobian[last, 4 + 2 * n] = -10.0 if b < 0.0 else 0.0
 
 
 def _model_forces(model: ModulatedIwanModel, sets: Sequence[LoopSet], cycled: Sequence[bool]) -> list[np.ndarray]:
@@ -213,8 +268,8 @@ def _model_forces(model: ModulatedIwanModel, sets: Sequence[LoopSet], cycled: Se
     for loop_set, is_cycled in zip(sets, cycled):
         out = np.empty(loop_set.deflection.size)
         _set_forces(loop_set.deflection, model.g1, model.g2, model.g3, np.ascontiguousarray(model.k, float),
-                    np.ascontiguousarray(model.fc, float), model.slip_modulation, model.slip_length,
-                    bool(is_cycled), out)
+                    np.ascontiguousarray(model.fc, float), model.slip_modulation, model.slip_growth,
+                    model.slip_length, bool(is_cycled), out)
         forces.append(out)
     return forces
 
@@ -229,6 +284,14 @@ def modulated_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_s
     if not isinstance(model, ModulatedIwanModel):
         model = ModulatedIwanModel.from_iwan(model)
     return _errors(model, sets, _cycled_flags(sets, initial_state))
+
+
+def modulated_set_forces(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> list[np.ndarray]:
+    """Force (N) of ``model`` (plain or modulated Iwan) along each prepared set, from the start
+    state the fit uses."""
+    if not isinstance(model, ModulatedIwanModel):
+        model = ModulatedIwanModel.from_iwan(model)
+    return _model_forces(model, sets, _cycled_flags(sets, initial_state))
 
 
 def _cycled_flags(sets, initial_state: str) -> list[bool]:
@@ -282,7 +345,7 @@ class ModulatedIwanFitResult:
     lmfit_parameters: object = field(default=None, repr=False)
     statistics: object = field(default=None, repr=False)
     start_states: dict = field(default_factory=dict)
-    starts: tuple[float, ...] = ()
+    starts: tuple[tuple[float, float], ...] = ()
     message: str = ""
     status: str = "converged"
     initial_state: str = "auto"
@@ -313,7 +376,8 @@ class ModulatedIwanFitResult:
         plain_errors = np.concatenate([self.plain_small_errors, self.plain_large_errors])
         stage = StageResult(
             name="modulation", data="small+large", free=tuple(self.parameters["name"]),
-            start={**self.plain_model.params(), "slip_modulation": list(self.starts)},
+            start={**self.plain_model.params(), "slip_modulation": [a for a, _ in self.starts],
+                   "slip_growth": [b for _, b in self.starts]},
             params=self.model.params(), set_names=names, set_errors=errors, mean_error=float(np.mean(errors)),
             start_error=float(np.mean(plain_errors)), evaluations=self.evaluations, restarts=max(len(self.starts) - 1, 0),
             message=self.message, elapsed_s=self.elapsed_s, status=self.status)
@@ -382,7 +446,8 @@ def _prepare(sets, group, points_per_set):
 
 def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None = None, order: int = 2,
                        points_per_set: int | None = 200, initial_state: str = "auto",
-                       modulation_starts: Sequence[float] = MODULATION_STARTS, max_nfev: int = 2000,
+                       modulation_starts: Sequence[float] = MODULATION_STARTS,
+                       growth_starts: Sequence[float] = GROWTH_STARTS, max_nfev: int = 2000,
                        valid_range: tuple[float, float] | None = None, jacobian: str = "exact",
                        **plain_options) -> ModulatedIwanFitResult:
     """Identify a :class:`~idkit.models.ModulatedIwanModel` on quasi-static loops (module docstring).
@@ -402,6 +467,9 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
         Element forces at the first point of each set (module docstring).
     modulation_starts : sequence of float
         Starting values of ``a`` in (-0.95, 0.95).
+    growth_starts : sequence of float
+        Starting values of ``b`` in (-0.95, 10); the stage starts from every pair ``(a, b)``
+        with ``1 - |a| + min(b, 0) > 0.05``.
     max_nfev : int, default 2000
         Residual evaluations per start.
     valid_range : (float, float), optional
@@ -428,9 +496,16 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
         raise FitError(f"found {len(small_sets)} small and {len(large_sets)} large sets, expected at least one of each")
     if jacobian not in ("exact", "2-point"):
         raise FitError(f"jacobian: found {jacobian!r}, expected 'exact' or '2-point'")
-    starts = [float(a) for a in modulation_starts]
-    if not starts or any(not -_A_BOUND < a < _A_BOUND for a in starts):
-        raise FitError(f"modulation_starts: found {starts}, expected values in (-{_A_BOUND}, {_A_BOUND})")
+    a_starts = [float(a) for a in modulation_starts]
+    if not a_starts or any(not -_A_BOUND < a < _A_BOUND for a in a_starts):
+        raise FitError(f"modulation_starts: found {a_starts}, expected values in (-{_A_BOUND}, {_A_BOUND})")
+    b_starts = [float(b) for b in growth_starts]
+    if not b_starts or any(not _B_BOUNDS[0] < b < _B_BOUNDS[1] for b in b_starts):
+        raise FitError(f"growth_starts: found {b_starts}, expected values in ({_B_BOUNDS[0]}, {_B_BOUNDS[1]})")
+    starts = [(a, b) for a in a_starts for b in b_starts if 1.0 - abs(a) + min(b, 0.0) > _SCALE_MARGIN]
+    if not starts:
+        raise FitError(f"modulation_starts {a_starts} with growth_starts {b_starts}: found no pair with a slip "
+                       f"scale above {_SCALE_MARGIN} (1 - |a| + min(b, 0)), expected at least one")
     plain_result, modulated_start = None, None
     if plain is None:
         plain_result = fit_iwan(small_sets, large_sets, order=order, points_per_set=None,
@@ -440,7 +515,8 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
         plain_result, plain_model = plain, plain.model
     elif isinstance(plain, ModulatedIwanModel):  # a modulated start (e.g. a refit per repetition)
         plain_model, modulated_start = plain.plain(), plain
-        starts = [float(np.clip(plain.slip_modulation, -_A_BOUND + 1e-6, _A_BOUND - 1e-6))]
+        starts = [(float(np.clip(plain.slip_modulation, -_A_BOUND + 1e-6, _A_BOUND - 1e-6)),
+                   float(np.clip(plain.slip_growth, _B_BOUNDS[0] + 1e-6, _B_BOUNDS[1] - 1e-6)))]
     elif isinstance(plain, IwanModel):
         plain_model = plain
     else:
@@ -454,8 +530,8 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
 
     def unpack(u) -> ModulatedIwanModel:
         return ModulatedIwanModel(g1=math.exp(u[0]), g2=u[1] * g1_ref / x_ref, g3=u[2] * g1_ref / x_ref**2,
-                                  k=np.exp(u[3:3 + n]), fc=np.exp(u[3 + n:3 + 2 * n]), slip_modulation=u[-2],
-                                  slip_length=math.exp(u[-1]))
+                                  k=np.exp(u[3:3 + n]), fc=np.exp(u[3 + n:3 + 2 * n]), slip_modulation=u[-3],
+                                  slip_growth=u[-2], slip_length=math.exp(u[-1]))
 
     if valid_range is not None:
         low, high = (float(v) for v in valid_range)
@@ -470,14 +546,15 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
     offsets = np.concatenate([[0], np.cumsum([s.deflection.size for s in sets])]).astype(np.int64)
     inv_norms = 1.0 / np.asarray(norms, dtype=float)
     cycled_flags = np.asarray(cycled, dtype=np.bool_)
-    width = 5 + 2 * n
+    width = 6 + 2 * n
+    rows = x_all.size + grid.size + 1  # data, spring barrier, slip-scale barrier
     cache: dict = {}
 
     def evaluate(u, want_jacobian: bool):
         key = np.asarray(u, dtype=float).tobytes()
         if cache.get("key") != key or (want_jacobian and "jacobian" not in cache):
-            residual = np.empty(x_all.size + grid.size)
-            jacobian = np.empty((x_all.size + grid.size, width)) if want_jacobian else np.empty((0, width))
+            residual = np.empty(rows)
+            jacobian = np.empty((rows, width)) if want_jacobian else np.empty((0, width))
             _stage_residuals(np.ascontiguousarray(u, dtype=float), n, g1_ref, x_ref, x_all, f_all, offsets,
                              inv_norms, cycled_flags, grid, want_jacobian, residual, jacobian)
             cache.clear()
@@ -494,16 +571,16 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
 
     length0 = modulated_start.slip_length if modulated_start is not None else 0.5 * x_ref
     base = np.concatenate([[math.log(g1_ref), plain_model.g2 * x_ref / g1_ref, plain_model.g3 * x_ref**2 / g1_ref],
-                           np.log(plain_model.k), np.log(plain_model.fc), [0.0, math.log(length0)]])
+                           np.log(plain_model.k), np.log(plain_model.fc), [0.0, 0.0, math.log(length0)]])
     lower = np.concatenate([[base[0] - _LOG_BOX, -20.0, -20.0], base[3:3 + 2 * n] - _LOG_BOX,
-                            [-_A_BOUND, math.log(x_ref / 50.0)]])
+                            [-_A_BOUND, _B_BOUNDS[0], math.log(x_ref / 50.0)]])
     upper = np.concatenate([[base[0] + _LOG_BOX, 20.0, 20.0], base[3:3 + 2 * n] + _LOG_BOX,
-                            [_A_BOUND, math.log(20.0 * x_ref)]])
+                            [_A_BOUND, _B_BOUNDS[1], math.log(20.0 * x_ref)]])
     begin = time.perf_counter()
     best, evaluations = None, 0
-    for a in starts:
+    for a, b in starts:
         u0 = base.copy()
-        u0[-2] = a
+        u0[-3], u0[-2] = a, b
         u0 = np.clip(u0, lower + 1e-9, upper - 1e-9)
         solution = scipy.optimize.least_squares(residuals, u0, jac=stage_jacobian if jacobian == "exact" else "2-point",
                                                 bounds=(lower, upper), method="trf",
@@ -516,9 +593,9 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
     units = {spec.name: spec.unit for spec in model.param_specs()}
     physical = model.params()
     order_names = ["g1", "g2", "g3", *(f"k_{i}" for i in range(1, n + 1)), *(f"fc_{i}" for i in range(1, n + 1)),
-                   "slip_modulation", "slip_length"]
-    kinds = ["log", "scaled", "scaled", *["log"] * (2 * n), "scaled", "log"]
-    scales = [1.0, g1_ref / x_ref, g1_ref / x_ref**2, *[1.0] * (2 * n), 1.0, 1.0]
+                   "slip_modulation", "slip_growth", "slip_length"]
+    kinds = ["log", "scaled", "scaled", *["log"] * (2 * n), "scaled", "scaled", "log"]
+    scales = [1.0, g1_ref / x_ref, g1_ref / x_ref**2, *[1.0] * (2 * n), 1.0, 1.0, 1.0]
     transforms = [Transform(name, units[name], kind, float(np.exp(low) if kind == "log" else low * scale),
                             float(np.exp(high) if kind == "log" else high * scale), scale)
                   for name, kind, scale, low, high in zip(order_names, kinds, scales, lower, upper)]
@@ -547,14 +624,18 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
             reasons.append(f"parameter {row.name} = {row.value:.6g} {row.unit} is on its search bound")
     if best.status <= 0:
         reasons.append(f"least squares stopped without converging: {best.message}")
-    a_err = float(table.loc[table["name"] == "slip_modulation", "stderr"].iloc[0])
-    if not abs(model.slip_modulation) > 2.0 * a_err:
-        reasons.append(f"modulation not resolved: slip_modulation = {model.slip_modulation:.3g} +/- {a_err:.2g} "
-                       "(within two standard errors of 0, or no standard error: the plain Iwan model explains the "
-                       "loops as well, slip_length is undetermined)")
+    chi2 = _modulation_chi2(lmfit_parameters)
+    if not chi2 >= RESOLVED_CHI2:
+        a_err = lmfit_parameters["slip_modulation"].stderr
+        b_err = lmfit_parameters["slip_growth"].stderr
+        reasons.append(f"modulation not resolved: slip_modulation = {model.slip_modulation:.3g} +/- {a_err or math.nan:.2g} "
+                       f"and slip_growth = {model.slip_growth:.3g} +/- {b_err or math.nan:.2g} differ from (0, 0) by "
+                       f"chi2 = {chi2:.3g} < {RESOLVED_CHI2:.3g} (4 standard errors; no standard errors: nan): the "
+                       "plain Iwan model explains the loops as well, slip_length is undetermined")
     largest_travel = max(float(np.ptp(s.deflection)) for s in sets)
+    widest = 1.0 + abs(model.slip_modulation) + max(model.slip_growth, 0.0)  # the largest slip scale, bound
     for i, (k, fc) in enumerate(zip(model.k, model.fc), start=1):
-        if 2.0 * fc * (1.0 + abs(model.slip_modulation)) / k > largest_travel:
+        if 2.0 * fc * widest / k > largest_travel:
             reasons.append(f"element {i} never slips within the data (slip travel {2e3 * fc / k:.3g} mm): "
                            f"fc_{i} undetermined")
     if grid.size and np.any(model.spring_stiffness(grid) < 0.0):
@@ -581,6 +662,72 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
         starts=tuple(starts), message=str(best.message), status="converged" if best.status > 0 else "max_evals",
         initial_state=initial_state, valid_range=None if valid_range is None else (float(grid[0]), float(grid[-1])),
     )
+
+
+#: Slip-displacement ratio of the continuation's element split: element ``(k, fc)`` becomes two
+#: of stiffness ``k / 2`` slipping at ``fc / k`` divided and multiplied by this.
+SPLIT_RATIO = 1.5
+
+
+def split_element(model: ModulatedIwanModel, index: int, ratio: float = SPLIT_RATIO) -> ModulatedIwanModel:
+    """``model`` with Jenkin element ``index`` (0-based) split into two: stiffness ``k / 2``
+    each, slip displacements ``fc / k / ratio`` and ``fc / k * ratio``; one order more.
+
+    Examples
+    --------
+    >>> rope = ModulatedIwanModel(g1=1e4, k=[2e4], fc=[10.0], slip_growth=0.4, slip_length=5e-3)
+    >>> two = split_element(rope, 0, ratio=2.0)
+    >>> two.k.tolist(), two.fc.tolist(), two.slip_growth
+    ([10000.0, 10000.0], [2.5, 10.0], 0.4)
+    """
+    if not 0 <= index < model.order:
+        raise FitError(f"index: found {index!r}, expected 0 <= index < {model.order} (the model's elements)")
+    if not ratio > 1.0:
+        raise FitError(f"ratio: found {ratio!r}, expected > 1 (the two halves must slip at different displacements)")
+    k, fc = list(model.k), list(model.fc)
+    half, travel = 0.5 * k[index], fc[index] / k[index]
+    k[index:index + 1] = [half, half]
+    fc[index:index + 1] = [half * travel / ratio, half * travel * ratio]
+    return ModulatedIwanModel(g1=model.g1, g2=model.g2, g3=model.g3, k=k, fc=fc, c_visc=model.c_visc,
+                              slip_modulation=model.slip_modulation, slip_growth=model.slip_growth,
+                              slip_length=model.slip_length)
+
+
+def fit_modulated_orders(small, large, first: IwanFitResult | IwanModel, *, max_order: int,
+                         points_per_set: int | None = 200, initial_state: str = "auto",
+                         valid_range: tuple[float, float] | None = None,
+                         accept=lambda fit: False) -> dict[int, ModulatedIwanFitResult]:
+    """Modulated fits of increasing order by **continuation in the order**.
+
+    The lowest order is :func:`fit_iwan_modulated` from ``first`` (a plain fit or model);
+    order ``n + 1`` starts from the modulated fit of order ``n`` with each of its elements in
+    turn split in two (:func:`split_element`), and keeps the start whose optimum has the
+    lowest sum of squared set errors (within a relative 1e-9 of it, the lowest element index:
+    equal minima reached from two splits are one model with its elements renumbered). The
+    chain stops after ``max_order`` or at the first fit ``accept(fit)`` is true for.
+
+    Why a chain and not a start from the plain fit of each order: the plain fits of the
+    higher orders carry elements that slip only at the tips of the largest loops, traded
+    against ``g1`` (:attr:`~idkit.fit.IwanFitResult.undetermined`); one ulp on the forces moves
+    them to another local minimum, and a modulation stage started there follows (truth "b":
+    1.94 / 0.79 % at order 4, or 2.08 / 1.05 % with ``g1`` and ``k_4`` undetermined, one ulp
+    apart). Each link of the chain starts from a fit that is itself a smooth function of the
+    data, so the whole chain is (both truths: every order within 1e-9 under one ulp), and it
+    reaches as low or lower errors (truth "b" order 4: 1.30 / 1.25 %; truth "a": 1.80 / 0.80 %
+    as before).
+    """
+    small_sets = _prepare(small, "small", points_per_set)
+    large_sets = _prepare(large, "large", points_per_set)
+    options = dict(points_per_set=None, initial_state=initial_state, valid_range=valid_range)
+    current = fit_iwan_modulated(small_sets, large_sets, plain=first, **options)
+    fits = {current.model.order: current}
+    while current.model.order < max_order and not accept(current):
+        candidates = [fit_iwan_modulated(small_sets, large_sets, plain=split_element(current.model, index), **options)
+                      for index in range(current.model.order)]
+        costs = np.array([np.sum(c.small_errors**2) + np.sum(c.large_errors**2) for c in candidates])
+        current = candidates[int(np.flatnonzero(costs <= costs.min() * (1.0 + 1e-9))[0])]
+        fits[current.model.order] = current
+    return fits
 
 
 def loop_model_table(small, large, *, order: int = 2, points_per_set: int | None = 200, boucwen: bool = True,

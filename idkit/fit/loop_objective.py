@@ -28,7 +28,7 @@ import numba
 import numpy as np
 
 from idkit.errors import FitError
-from idkit.models import BoucWenModel, IwanModel
+from idkit.models import BoucWenModel, IwanModel, ModulatedIwanModel
 from idkit.models.laws import boucwen_z_step, jenkin_step, polynomial_spring_force
 from idkit.observe.quasi_static import LoopSet
 
@@ -194,7 +194,14 @@ def iwan_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_state:
     -------
     ndarray
         One error per set.
+
+    A :class:`~idkit.models.ModulatedIwanModel` is scored with its slip modulation
+    (:func:`idkit.fit.iwan_modulated.modulated_set_errors`), never as the plain model.
     """
+    if isinstance(model, ModulatedIwanModel):
+        from idkit.fit.iwan_modulated import modulated_set_errors
+
+        return modulated_set_errors(model, sets, initial_state=initial_state)
     return IwanLoops(list(sets), check_state(initial_state)).set_errors(*_iwan_args(model))
 
 
@@ -210,8 +217,12 @@ def iwan_set_forces(model: IwanModel, sets: Sequence[LoopSet], *, initial_state:
     Returns
     -------
     list of ndarray
-        One force array per set.
+        One force array per set (a modulated model with its slip modulation).
     """
+    if isinstance(model, ModulatedIwanModel):
+        from idkit.fit.iwan_modulated import modulated_set_forces
+
+        return modulated_set_forces(model, sets, initial_state=initial_state)
     packed = IwanLoops(list(sets), check_state(initial_state))
     return packed.split(packed.forces(*_iwan_args(model)))
 

@@ -429,10 +429,11 @@ def fit_iwan_measurements(
     family_fits = {"plain": result}
     if family != "plain":
         plain_fits = {order: result} if order_table is None else {
-            o: (result if o == order else fit) for o, fit in order_fits.items() if o >= order}
+            o: (result if o == order else fit) for o, fit in order_fits.items()}
         plain_result = result
         result, family_rows, modulated_result = choose_iwan_family(
-            list(data.small), list(data.large), plain_fits, family=family, valid_range=options.get("valid_range"),
+            list(data.small), list(data.large), plain_fits, plain_order=order, family=family,
+            valid_range=options.get("valid_range"),
             initial_state=options.get("initial_state", "auto"),
             floor_check=lambda fit: _above_the_noise_floor(fit, measurements, isolator, split))
         if family_rows is not None:
@@ -522,8 +523,8 @@ def data_valid_range(measurements, *, isolator: str | None = None,
 IWAN_FAMILIES = ("auto", "plain", "modulated")
 
 
-def choose_iwan_family(small, large, plain_fits: dict, *, family: str = "auto", valid_range=None,
-                       initial_state: str = "auto", floor_check=lambda fit: ()):
+def choose_iwan_family(small, large, plain_fits: dict, *, plain_order: int | None = None, family: str = "auto",
+                       valid_range=None, initial_state: str = "auto", floor_check=lambda fit: ()):
     """The family rule: plain or slip-modulated Iwan model (docs/fitting.md, "Model family").
 
     Parameters
@@ -531,9 +532,10 @@ def choose_iwan_family(small, large, plain_fits: dict, *, family: str = "auto", 
     small, large : sequence of LoopSet
         The loop sets the plain fits saw.
     plain_fits : dict
-        Order -> plain :class:`~idkit.fit.IwanFitResult`, the lowest order first being the one the
-        plain order rule chose (``order="auto"``: that order and every higher order of the
+        Order -> plain :class:`~idkit.fit.IwanFitResult` (``order="auto"``: every order of the
         table; a given order: that order alone).
+    plain_order : int, optional
+        The order the plain order rule chose (default: the lowest in ``plain_fits``).
     family : {"auto", "modulated"}
     valid_range : (float, float), optional
         Passed to the modulation stage (its valid-range barrier).
@@ -551,40 +553,57 @@ def choose_iwan_family(small, large, plain_fits: dict, *, family: str = "auto", 
 
     Notes
     -----
-    With ``"auto"`` a plain fit that passes ``floor_check`` is kept as it is: the plain model
-    explains the loops down to the noise margin and the modulation could only fit noise. Else
-    the modulation stage (:func:`idkit.fit.fit_iwan_modulated`, two parameters more) runs on each
-    plain fit given, lowest order first, and the modulated order is the lowest successful one
-    that passes ``floor_check`` (elements are added until the model explains the loops to
-    within the margin, and no further: the higher orders are not fitted, so the table's
-    modulated rows stop there); when none does, the order rule of the table
-    (:data:`~idkit.fit.compare.ORDER_RULE_FACTOR`: the lowest successful order within 1.1 x the
-    best mean of small and large error). ``"auto"`` keeps the modulated fit when it succeeds
-    and its mean error is below the plain fit's divided by that factor (the two modulation
-    parameters must earn their place as an element's two do); ``"modulated"`` keeps it in any
-    case, its reasons saying what is wrong.
+    With ``"auto"`` a plain fit that passes ``floor_check`` and whose parameters the data
+    determine (no group in :attr:`~idkit.fit.IwanFitResult.undetermined`) is kept as it is: the
+    plain model explains the loops down to the noise margin and the modulation could only fit
+    noise. Else the modulation stage (:func:`idkit.fit.fit_iwan_modulated`, three parameters
+    more) runs from the lowest plain fit given and adds elements by continuation in the order
+    (:func:`idkit.fit.iwan_modulated.fit_modulated_orders`: each order starts from the one below
+    with an element split in two), and the modulated order is the lowest successful one that
+    passes ``floor_check`` with every parameter determined
+    (elements are added until the model explains the loops to within the margin, and no
+    further: the higher orders are not fitted, so the table's modulated rows stop there); when
+    none does, the order rule of the table (:data:`~idkit.fit.compare.ORDER_RULE_FACTOR`: the
+    lowest successful order within 1.1 x the best mean of small and large error). ``"auto"``
+    keeps the modulated fit when it succeeds and either its mean error is below the plain
+    fit's divided by that factor (the modulation parameters must earn their place as an
+    element's two do), or the plain fit leaves a combination of parameters undetermined while
+    the modulated one, within the floor margin, determines every parameter (a plain fit that
+    trades g1 against an element slipping only at the tips of the largest loops moves by tens
+    of percent when the data move by one ulp); ``"modulated"`` keeps it in any case, its
+    reasons saying what is wrong.
     """
-    from idkit.fit.iwan_modulated import fit_iwan_modulated
+    from idkit.fit.iwan_modulated import fit_modulated_orders
 
     orders = sorted(plain_fits)
-    plain = plain_fits[orders[0]]
-    if family == "auto" and not floor_check(plain):
+    plain = plain_fits[orders[0] if plain_order is None else plain_order]
+    plain_undetermined = bool(plain.undetermined)
+    if family == "auto" and not floor_check(plain) and not plain_undetermined:
         return plain, None, None
-    fits, within = {}, []
-    for order in orders:  # upwards, stopping at the first order that reaches the floor margin
-        modulated = fit_iwan_modulated(list(small), list(large), plain=plain_fits[order],
-                                       valid_range=valid_range, initial_state=initial_state)
-        fits[order] = modulated.to_iwan_result()
-        if fits[order].success and not floor_check(fits[order]):
-            within.append(order)
-            break
+
+    def as_result(modulated):
+        settings = plain_fits.get(modulated.model.order, plain).settings
+        return modulated.to_iwan_result(settings if modulated.plain is None else None)
+
+    def accept(modulated) -> bool:  # a determined, successful fit within the floor margin
+        fit = as_result(modulated)
+        return fit.success and not floor_check(fit) and not fit.undetermined
+
+    # upwards by continuation in the order (fit_modulated_orders), from the lowest plain fit,
+    # stopping at the first determined order that reaches the floor margin
+    chain = fit_modulated_orders(list(small), list(large), plain_fits[orders[0]], max_order=orders[-1],
+                                 points_per_set=None, valid_range=valid_range, initial_state=initial_state,
+                                 accept=accept)
+    fits = {order: as_result(modulated) for order, modulated in chain.items()}
+    within = [order for order, modulated in chain.items() if accept(modulated)][:1]
     rows = pd.DataFrame([iwan_order_row(fit, math.nan) for fit in fits.values()])
     chosen = fits[within[0] if within else _order_rule(rows)]
     mean = 0.5 * (chosen.error_small + chosen.error_large)
     plain_mean = 0.5 * (plain.error_small + plain.error_large)
     from idkit.fit.compare import ORDER_RULE_FACTOR
 
-    if family == "modulated" or (chosen.success and mean * ORDER_RULE_FACTOR <= plain_mean):
+    determines_more = plain_undetermined and bool(within)
+    if family == "modulated" or (chosen.success and (mean * ORDER_RULE_FACTOR <= plain_mean or determines_more)):
         return chosen, rows, chosen
     return plain, rows, chosen
 

@@ -34,8 +34,9 @@ class IsolatorArrays:
     The force of any supported isolator is
     ``P(x) + sum Jenkin + sum k_i u_i + c_visc * xdot + BoucWen(x, z)`` where every
     part may be empty. ``boucwen`` is ``[active, k1, k2, k3, alpha, beta, gamma, n, b, c]``.
-    ``slip_modulation`` is ``[a, y_ref]``: the Jenkin slip forces are scaled by
-    ``1 - a tanh(x / y_ref)`` (:mod:`idkit.models.iwan_modulated`; ``a = 0``: constant).
+    ``slip_modulation`` is ``[a, y_ref, b]``: the Jenkin slip forces are scaled by
+    ``1 - a t + b t^2``, ``t = tanh(x / y_ref)`` (:mod:`idkit.models.iwan_modulated`; ``a = b =
+    0``: constant).
     """
 
     poly: np.ndarray  # (3,) g1 [N/m], g2 [N/m^2], g3 [N/m^3]
@@ -45,7 +46,7 @@ class IsolatorArrays:
     maxwell_stiffness: np.ndarray  # (n_m,) N/m
     maxwell_rate: np.ndarray  # (n_m,) 1/s
     boucwen: np.ndarray  # (10,)
-    slip_modulation: np.ndarray = field(default_factory=lambda: np.zeros(2))  # (2,) a [-], y_ref [m]
+    slip_modulation: np.ndarray = field(default_factory=lambda: np.zeros(3))  # (3,) a [-], y_ref [m], b [-]
 
 
 class IsolatorModel(ABC):

@@ -199,7 +199,7 @@ class PeriodMap:
         if jacobian == "exact" and self.boucwen.size:
             raise SimulationError("jacobian: found 'exact' for a system with Bouc-Wen elements, expected "
                                   "'finite differences' (z is not differentiated through its sub-steps)")
-        modulated = bool(np.any(arrays.sm[:, 0] != 0.0))  # slip limits that follow the deflection
+        modulated = bool(np.any(arrays.sm[:, 0] != 0.0) or np.any(arrays.sm[:, 2] != 0.0))  # slip limits that follow the deflection
         if jacobian == "exact" and modulated:
             raise SimulationError("jacobian: found 'exact' for a system with modulated slip forces, expected "
                                   "'finite differences' (the exact sensitivities assume constant slip limits)")

@@ -51,6 +51,7 @@ from numpy.typing import ArrayLike, NDArray
 from idkit.errors import SimulationError
 from idkit.models import HybridSystem, SDOFSystem
 from idkit.models.laws import hybrid_displacements, sdof_transmissibility
+from idkit.models.iwan_modulated import lowest_slip_scale
 from idkit.signal.psd import (
     PsdEstimate,
     PsdProfile,
@@ -500,9 +501,9 @@ def stays_stuck(system, signals: NDArray[np.float64], rate: float) -> tuple[bool
             return False, (f"isolator {index + 1}: the spring is nonlinear by more than {LINEARITY_TOLERANCE:g} at "
                            f"{peak:.3g} m")
         friction = np.asarray(arrays.jenkin_friction, dtype=float)
-        a, y_ref = (float(v) for v in arrays.slip_modulation)
-        if a and y_ref > 0:
-            friction = friction * (1.0 - abs(a) * np.tanh(peak / y_ref))
+        a, y_ref, b = (float(v) for v in arrays.slip_modulation)
+        if (a or b) and y_ref > 0:  # the lowest slip forces over +-peak
+            friction = friction * lowest_slip_scale(a, b, np.tanh(peak / y_ref))
         force = np.asarray(arrays.jenkin_stiffness, dtype=float) * peak
         if np.any(force >= friction):
             element = int(np.argmax(force / np.maximum(friction, np.finfo(float).tiny)))

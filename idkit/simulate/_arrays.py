@@ -22,7 +22,7 @@ class SystemArrays:
     mk: np.ndarray  # (ndof, nm)
     mrate: np.ndarray
     bw: np.ndarray  # (ndof, 10)
-    sm: np.ndarray  # (ndof, 2) slip modulation a [-], y_ref [m]
+    sm: np.ndarray  # (ndof, 3) slip modulation a [-], y_ref [m], b [-]
 
     @property
     def ndof(self) -> int:
@@ -66,7 +66,7 @@ def system_arrays(system) -> SystemArrays:
         cvisc=np.array([p.c_visc for p in parts], dtype=float),
         jk=jk, jfc=jfc, mk=mk, mrate=mrate,
         bw=np.array([p.boucwen for p in parts], dtype=float),
-        sm=np.array([p.slip_modulation for p in parts], dtype=float).reshape(ndof, 2),
+        sm=np.array([p.slip_modulation for p in parts], dtype=float).reshape(ndof, 3),
     )
 
 

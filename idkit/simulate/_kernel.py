@@ -64,7 +64,7 @@ _BW_SUBSTEPS = 4
 
 # Packed layout. Parameters P[j, row, i] of isolator j (0 below the top mass):
 #   row 0: g1, g2, g3, c_visc, mgsum, n_jenkin, n_maxwell, Bouc-Wen[10] (columns 0..16),
-#          slip modulation a, y_ref, 1 / y_ref (columns 17, 18, 19)
+#          slip modulation a, y_ref, 1 / y_ref, b (columns 17, 18, 19, 20)
 #   row 1: Jenkin stiffness, row 2: Jenkin slip force,
 #   row 3: Maxwell stiffness, row 4: exp(-rate h), row 5: (1 - exp(-rate h)) / (rate h)
 # States S[j, row, i]: row 0 Jenkin forces, row 1 Maxwell elongations,
@@ -75,7 +75,7 @@ _BW_SUBSTEPS = 4
 #   (``_nrt=False``: an array argument otherwise costs an atomic increment and decrement per
 #   call) and with NumPy's error model (a division by zero gives inf/NaN, caught as a failed
 #   Newton iteration or a non-finite state, instead of raising).
-_P_WIDTH = 20
+_P_WIDTH = 21
 _MGSUM, _NJ, _NM, _BW, _SM = 4, 5, 6, 7, 17
 
 
@@ -116,6 +116,7 @@ def _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h):
         packed[j, 0, _SM] = sm[j, 0]
         packed[j, 0, _SM + 1] = sm[j, 1]
         packed[j, 0, _SM + 2] = 1.0 / sm[j, 1] if sm[j, 1] > 0.0 else 0.0  # the steps multiply by 1 / y_ref
+        packed[j, 0, _SM + 3] = sm[j, 2]
     return packed
 
 
@@ -151,7 +152,7 @@ def _isolator_force(j, y, dy, vrel, h, P, S, commit):
     tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
     # the Jenkin elements: slip forces scaled by s(y) when the isolator's slip is modulated
     # (without modulation the plain stop operator: the same numbers as s = 1, slope 0)
-    force, tangent = jenkin_elements(3 if P[j, 0, _SM] != 0.0 else 1, j, y, dy, P, S, force, tangent, commit)
+    force, tangent = jenkin_elements(3 if P[j, 0, _SM] != 0.0 or P[j, 0, _SM + 3] != 0.0 else 1, j, y, dy, P, S, force, tangent, commit)
     # Maxwell elements are affine in dy within a step: sum k_i u_i = mbase + mgsum dy
     # with mbase = sum k_i e_i u_i (start of step) and mgsum = sum k_i g_i.
     force += S[j, 2, 1] + P[j, 0, _MGSUM] * dy

@@ -63,7 +63,7 @@ def structure_of(arrays) -> int:
     for j in range(arrays.ndof):
         jenkin = bool(np.any(arrays.jk[j] > 0.0))
         maxwell = bool(np.any(arrays.mk[j] > 0.0))
-        modulated = arrays.sm[j, 0] != 0.0
+        modulated = arrays.sm[j, 0] != 0.0 or arrays.sm[j, 2] != 0.0
         if arrays.bw[j, 0] != 0.0 or (jenkin and maxwell) or (modulated and maxwell):
             return GENERIC
         kinds.append(_MAXWELL if maxwell else _IWAN_MODULATED if modulated else _IWAN)
@@ -83,7 +83,7 @@ def jenkin_elements(kind, j, y, dy, P, S, force, tangent, commit):
     ``kind``, the generic step with ``kind`` read off the isolator's slip modulation).
 
     ``kind`` 1: constant slip forces; 3 (:data:`_IWAN_MODULATED`): slip forces ``s(y) fc`` with
-    ``s(y) = 1 - a tanh(y / y_ref)`` at the end-of-step deflection, an element force above the
+    ``s(y) = 1 - a t + b t^2``, ``t = tanh(y / y_ref)``, at the end-of-step deflection, an element force above the
     shrunken limit clipped to it, and the limit's slope in the tangent of a slipping element.
     If ``commit`` the element forces are stored.
     """
@@ -96,8 +96,9 @@ def jenkin_elements(kind, j, y, dy, P, S, force, tangent, commit):
         th = (1.0 - e) / (1.0 + e)
         if x < 0.0:
             th = -th
-        slip_scale = 1.0 - P[j, 0, _SM] * th
-        slip_slope = -P[j, 0, _SM] * (1.0 - th * th) * inverse_length
+        growth = P[j, 0, _SM + 3]
+        slip_scale = 1.0 + th * (growth * th - P[j, 0, _SM])
+        slip_slope = (2.0 * growth * th - P[j, 0, _SM]) * (1.0 - th * th) * inverse_length
         for i in range(int(P[j, 0, _NJ])):
             trial = S[j, 0, i] + P[j, 1, i] * dy
             limit = P[j, 2, i] * slip_scale

@@ -362,7 +362,7 @@ def _layout(system) -> _Layout:
         )
     parts = [isolator.kernel_arrays() for isolator in system.isolators]
     for part in parts:
-        if part.slip_modulation[0] != 0.0:
+        if part.slip_modulation[0] != 0.0 or part.slip_modulation[2] != 0.0:
             raise SimulationError("system: found an isolator with modulated slip forces, which the smoothed "
                                   "reference does not model; expected constant slip forces (use simulate())")
     j_owner, j_k, j_fc, m_owner, m_k, m_rate, b_owner, b_par, b_zy = ([] for _ in range(9))

@@ -160,8 +160,9 @@ def initial_states(system, deflections):
     arrays = system_arrays(system)
     deflections = np.broadcast_to(np.asarray(deflections, dtype=float), (arrays.ndof,))
     scale = np.ones(arrays.ndof)
-    modulated = arrays.sm[:, 0] != 0.0
-    scale[modulated] = 1.0 - arrays.sm[modulated, 0] * np.tanh(deflections[modulated] / arrays.sm[modulated, 1])
+    modulated = (arrays.sm[:, 0] != 0.0) | (arrays.sm[:, 2] != 0.0)
+    t = np.tanh(deflections[modulated] / arrays.sm[modulated, 1])
+    scale[modulated] = 1.0 - arrays.sm[modulated, 0] * t + arrays.sm[modulated, 2] * t * t
     limit = arrays.jfc * scale[:, None]
     jforce = np.clip(arrays.jk * deflections[:, None], -limit, limit)
     mstate = np.zeros_like(arrays.mk)

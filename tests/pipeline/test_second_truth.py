@@ -18,7 +18,8 @@ Tolerances (issue 10 "Targets"), each a physical statement:
   high by the unrelaxed slow element), ``|k*|`` at 5, 20, 50 Hz within 5 %, loss factor within 15 %,
   small-amplitude resonance per white-noise top mass within 2 % (top mass + moving mass
   with the complex stiffness, both for the truth and the fitted model);
-* validations PASS, and a model whose stiffness is doubled FAILs each of them.
+* validations PASS, and a model whose stiffness is doubled FAILs each of them;
+* one ulp on every force moves no rope parameter by 1e-3 (relative).
 
 Where the defaults miss a target the test is a strict xfail whose reason states the
 numbers measured on this data (seed 2026); a strict xfail turns red when the target is met.
@@ -193,12 +194,21 @@ def test_rope_fit_is_valid_over_the_data_and_its_damping_is_identified(data_b, r
 
 
 @pytest.mark.slow
-def test_rope_order_rule_picks_enough_elements_for_slip_spread_over_the_loops(rope_fit):
+def test_rope_family_rule_picks_a_model_whose_parameters_the_loops_determine(rope_fit):
     # order 2 (the thesis's) scored 5.6 % / 3.4 %: two elements cannot hold slip spread over
-    # 20 um - 7.5 mm; the rule keeps adding elements while each cuts the error by a tenth
+    # 20 um - 7.5 mm. The plain rule reaches 1.5 / 1.8 % at order 6, but orders 5 and 6 carry
+    # an element slipping only at the tips of the largest loops, traded against g1
+    # (correlation 1.000): the family rule then tries the slip-modulated model, whose
+    # symmetric term follows the truth's loop width growing alike in tension and compression
     table = rope_fit.order_table
-    assert table is not None and rope_fit.model.order >= 5
-    assert bool(table.loc[table["order"] == rope_fit.model.order, "success"].iloc[0])
+    plain = table[table["family"] == "plain"]
+    assert rope_fit.family_fits["plain"].undetermined  # what sent the rule to the modulation
+    assert rope_fit.result.settings.family == "modulated" and not rope_fit.result.undetermined
+    assert rope_fit.model.slip_growth > 0.2  # the loops widen at both ends (truth: 0.4 tanh^2)
+    chosen = table[table["recommended"]]
+    assert len(chosen) == 1 and bool(chosen["success"].iloc[0])
+    mean = 0.5 * (chosen["error_small_percent"] + chosen["error_large_percent"]).iloc[0]
+    assert mean < (0.5 * (plain["error_small_percent"] + plain["error_large_percent"])).min()
 
 
 @pytest.mark.slow
@@ -372,24 +382,24 @@ def test_report_on_truth_b_passes_every_validation_and_flags_only_the_unresolved
 
 
 @pytest.mark.slow
-def test_rope_verdict_and_loop_errors_hold_when_the_forces_move_by_one_ulp(data_b, rope_fit):
-    """One ulp on every force sample must not change the verdict, the family, the order or the
-    loop errors (by more than 0.1 point, a tenth of the fit's 1.5-1.8 %). It did: stage 2 of
-    the order-6 fit stopped at its evaluation limit, the order rule fell to order 5 and the
-    fit was flagged; a stage at its limit now continues once from its best point. The
-    parameters themselves do not agree to 1e-3 (issue 10's target): g1 and the sixth element,
-    which slips only at the tips of the largest loops, trade stiffness (g1 12.6e3 vs 19.6e3
-    N/m with k_6 14.0e3 vs 7.0e3 N/m on this data) - not determined by these loops."""
-    records = [dataclasses.replace(m, force=np.nextafter(m.force, np.inf)) if m.kind == "quasi_static" else m
+@pytest.mark.parametrize("direction", [np.inf, -np.inf])
+def test_rope_parameters_agree_to_1e3_when_the_forces_move_by_one_ulp(data_b, rope_fit, direction):
+    """Issue 10's target: one ulp on every force sample moves every parameter by less than
+    1e-3 (relative), and the verdict, family and order not at all. It did not hold: the plain
+    fits of orders 5 and 6 trade g1 against a tip element (g1 12.6e3 or 19.6e3 N/m one ulp
+    apart), and a modulation stage started from the plain fit of each order followed them
+    into other local minima. The chosen fit now determines every parameter and the modulated
+    orders are built by continuation (each from the one below, fit_modulated_orders): the
+    parameters agree to ~1e-13 on both CPU paths (measured). 1e-3 is the target; a
+    determined optimum (largest |correlation| well below 1) moves by about the perturbation's
+    own size over the conditioning, orders of magnitude below it."""
+    records = [dataclasses.replace(m, force=np.nextafter(m.force, direction)) if m.kind == "quasi_static" else m
                for m in data_b["wire_rope"].measurements]
     again = fit_iwan_measurements(records)
     assert again.success == rope_fit.success
     assert again.result.settings.family == rope_fit.result.settings.family
     assert again.model.order == rope_fit.model.order
-    for group in ("error_small", "error_large"):
-        assert abs(getattr(again.result, group) - getattr(rope_fit.result, group)) < 1e-3, group
-    # what moves a lot is what the fit itself reports as determined only in combination
-    grouped = {name for found in rope_fit.result.undetermined for name in found}
     first, second = rope_fit.model.params(), again.model.params()
-    moved = {name for name in first if first[name] and abs(second[name] / first[name] - 1) > 0.3}
-    assert moved <= grouped, (sorted(moved), rope_fit.result.undetermined)
+    assert first.keys() == second.keys()
+    moved = {name: second[name] / first[name] - 1 for name in first if first[name]}
+    assert max(abs(v) for v in moved.values()) < 1e-3, moved
