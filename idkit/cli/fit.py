@@ -96,7 +96,7 @@ def _cmd_iwan(args) -> int:
                                      initial_state=args.start_state,
                                      **{k: v for k, v in options.items() if v is not None})
         print("[[Iwan order table (rule: lowest order within 10 % of the best mean error; modulated rows: lowest "
-              "order within 2 points of the noise floor)]]")
+              "order within 2 points of the noise floor with every parameter determined)]]")
         print(table.to_string(index=False))
     return _finish(fit, args)
 
@@ -262,10 +262,11 @@ def register(subparsers) -> None:
                         help="fit the loops without the valid-range barrier (the fit is still not a success when "
                              "the spring turns negative-stiff inside the data set's deflections)")
     iwan.add_argument("--family", choices=("auto", "plain", "modulated"), default="auto",
-                      help="model family: the plain Iwan model, the slip-modulated one (two parameters more: slip "
-                           "forces s(y) fc_i, s = 1 - a tanh(y / y_ref)), or 'auto' (default): the modulated model "
-                           "only when the plain one misses the loops by more than 2 points above their noise floor "
-                           "and the modulated one does better by the order rule's factor (docs/fitting.md)")
+                      help="model family: the plain Iwan model, the slip-modulated one (three parameters more: "
+                           "slip forces s(y) fc_i, s = 1 - a t + b t^2, t = tanh(y / y_ref)), or 'auto' (default): "
+                           "the modulated model only when the plain one misses the loops by more than 2 points above "
+                           "their noise floor or leaves parameters undetermined, and the modulated one does better "
+                           "by the order rule's factor or determines them (docs/fitting.md)")
     iwan.set_defaults(handler=_cmd_iwan)
 
     maxwell = kinds.add_parser("maxwell", help="generalized Maxwell fit: k0 from the loops, the rest from the FRFs; "

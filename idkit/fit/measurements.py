@@ -357,8 +357,10 @@ def fit_iwan_measurements(
         ``"modulated"``: the slip-modulation stage (:func:`idkit.fit.fit_iwan_modulated`) on top
         of it, a :class:`~idkit.models.ModulatedIwanModel`. ``"auto"`` (the family rule,
         :func:`choose_iwan_family`): the plain model unless its loop error is more than
-        :data:`FLOOR_MARGIN` above the records' noise floor and the modulated model succeeds
-        with a mean error lower by the order rule's factor.
+        :data:`FLOOR_MARGIN` above the records' noise floor or it leaves a combination of
+        parameters undetermined, and the modulated model (orders by continuation,
+        :func:`idkit.fit.iwan_modulated.fit_modulated_orders`) succeeds with a mean error lower
+        by the order rule's factor or determines what the plain one left undetermined.
     **options
         Passed to :func:`idkit.fit.fit_iwan`. ``valid_range`` defaults to ``"data"``:
         :func:`data_valid_range` of the isolator's records (loops, sweeps and drops, every

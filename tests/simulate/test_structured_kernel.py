@@ -39,13 +39,15 @@ SYSTEMS = {
     "sdof_modulated_iwan": (lambda: SDOFSystem(1.0, _modulated_rope()), SDOF_IWAN_MODULATED),
     "hybrid_modulated_iwan": (lambda: HybridSystem(1.0, library.get("table_7_3_elastomer"), 0.2,
                                                    _modulated_rope()), HYBRID_MODULATED),
+    # the symmetric term alone (a = 0) is a modulation too: not the plain step
+    "sdof_symmetric_modulation": (lambda: SDOFSystem(1.0, _modulated_rope(a=0.0, b=0.5)), SDOF_IWAN_MODULATED),
     "sdof_modulated_maxwell_part": (lambda: SDOFSystem(1.0, _modulated_with_maxwell()), GENERIC),
 }
 
 
-def _modulated_rope():
+def _modulated_rope(a=0.35, b=0.25):
     return ModulatedIwanModel(g1=1.84e4, g2=2.45e5, g3=-4.57e5, k=[1.88e5, 9.09e3], fc=[15.5, 10.3],
-                              slip_modulation=0.35, slip_length=6e-3)
+                              slip_modulation=a, slip_growth=b, slip_length=6e-3)
 
 
 def _modulated_with_maxwell():
