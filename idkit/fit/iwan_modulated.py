@@ -51,7 +51,7 @@ import pandas as pd
 import scipy.optimize
 
 from idkit.errors import FitError
-from idkit.fit.compare import LoopModelComparison, compare_loop_models
+from idkit.fit.compare import ORDER_RULE_FACTOR, LoopModelComparison, compare_loop_models
 from idkit.fit._params import Transform, jacobian_statistics, to_lmfit, to_physical_statistics
 from idkit.fit.iwan import LoopSet, fit_iwan, prepare_loops
 from idkit.fit.result import IwanFitResult, IwanFitSettings, StageResult
@@ -696,7 +696,7 @@ def split_element(model: ModulatedIwanModel, index: int, ratio: float = SPLIT_RA
 def fit_modulated_orders(small, large, first: IwanFitResult | IwanModel, *, max_order: int,
                          points_per_set: int | None = 200, initial_state: str = "auto",
                          valid_range: tuple[float, float] | None = None,
-                         accept=lambda fit: False) -> dict[int, ModulatedIwanFitResult]:
+                         accept=lambda fit: False, patience: int | None = 2) -> dict[int, ModulatedIwanFitResult]:
     """Modulated fits of increasing order by **continuation in the order**.
 
     The lowest order is :func:`fit_iwan_modulated` from ``first`` (a plain fit or model);
@@ -704,7 +704,12 @@ def fit_modulated_orders(small, large, first: IwanFitResult | IwanModel, *, max_
     turn split in two (:func:`split_element`), and keeps the start whose optimum has the
     lowest sum of squared set errors (within a relative 1e-9 of it, the lowest element index:
     equal minima reached from two splits are one model with its elements renumbered). The
-    chain stops after ``max_order`` or at the first fit ``accept(fit)`` is true for.
+    chain stops after ``max_order``, at the first fit ``accept(fit)`` is true for, or when
+    ``patience`` orders in a row have not lowered the best mean of small and large error by
+    the order rule's factor (:data:`~idkit.fit.compare.ORDER_RULE_FACTOR`): the order rule
+    would not pick them, and elements that do not help leave the loops as they are (the
+    real MR-damper cycles: 10.87, 10.83, 10.91 % at orders 1-3; the chain to order 6 took
+    31 s, stopping after order 3 takes 9 s). ``patience=None`` never stops early.
 
     Why a chain and not a start from the plain fit of each order: the plain fits of the
     higher orders carry elements that slip only at the tips of the largest loops, traded
@@ -719,14 +724,20 @@ def fit_modulated_orders(small, large, first: IwanFitResult | IwanModel, *, max_
     small_sets = _prepare(small, "small", points_per_set)
     large_sets = _prepare(large, "large", points_per_set)
     options = dict(points_per_set=None, initial_state=initial_state, valid_range=valid_range)
+    if patience is not None and (isinstance(patience, bool) or int(patience) != patience or patience < 1):
+        raise FitError(f"patience: found {patience!r}, expected an integer >= 1 or None")
     current = fit_iwan_modulated(small_sets, large_sets, plain=first, **options)
     fits = {current.model.order: current}
-    while current.model.order < max_order and not accept(current):
+    best_mean, stalled = 0.5 * (current.error_small + current.error_large), 0
+    while current.model.order < max_order and not accept(current) and (patience is None or stalled < patience):
         candidates = [fit_iwan_modulated(small_sets, large_sets, plain=split_element(current.model, index), **options)
                       for index in range(current.model.order)]
         costs = np.array([np.sum(c.small_errors**2) + np.sum(c.large_errors**2) for c in candidates])
         current = candidates[int(np.flatnonzero(costs <= costs.min() * (1.0 + 1e-9))[0])]
         fits[current.model.order] = current
+        mean = 0.5 * (current.error_small + current.error_large)
+        stalled = 0 if mean * ORDER_RULE_FACTOR <= best_mean else stalled + 1
+        best_mean = min(best_mean, mean)
     return fits
 
 

@@ -10,7 +10,7 @@ Scheme (documented in ``docs/simulator.md``):
   small intermediate mass of the hybrid does not force small steps.
 * Constitutive updates, exact for deflection linear over a step: the Jenkin
   stop operator ``F <- clip(F + k dy, -Fc, Fc)`` (with a slip modulation, ``Fc`` is
-  ``s(y) Fc`` at the end-of-step deflection, ``s(y) = 1 - a tanh(y / y_ref)``, an element
+  ``s(y) Fc`` at the end-of-step deflection, ``s(y) = 1 - a t + b t^2``, ``t = tanh(y / y_ref)``, an element
   force above a shrunken limit is clipped to it: :mod:`idkit.models.iwan_modulated`) and the
   Maxwell exponential
   update ``u <- e u + g dy`` with ``e = exp(-rate h)``, ``g = (1 - e) / (rate h)``.

@@ -210,3 +210,17 @@ def test_continuation_in_the_order_reaches_the_noise_at_the_truths_order(seed):
     for name in ("slip_modulation", "slip_growth"):
         value, stderr = second.parameters.set_index("name").loc[name, ["value", "stderr"]]
         assert abs(value - truth.params()[name]) < 4.0 * stderr, second.report()
+
+
+def test_continuation_stops_when_elements_stop_helping():
+    # loops of an order-2 truth: order 2 explains them, order 3 and 4 cannot cut the error by
+    # the order rule's tenth; patience=1 stops after the first such order, None goes on
+    from idkit.fit.iwan_modulated import fit_modulated_orders
+
+    small, large = _sets(TRUE, 11)
+    start = IwanModel(g1=2e4, k=[1.9e5], fc=[20.0])
+    patient = fit_modulated_orders(small, large, start, max_order=4, points_per_set=None, patience=1)
+    assert sorted(patient) == [1, 2, 3]
+    assert sorted(fit_modulated_orders(small, large, start, max_order=4, points_per_set=None, patience=None)) == [1, 2, 3, 4]
+    with pytest.raises(FitError, match="patience"):
+        fit_modulated_orders(small, large, start, max_order=4, points_per_set=None, patience=0)
