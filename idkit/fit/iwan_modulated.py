@@ -350,19 +350,41 @@ class ModulatedIwanFitResult:
     status: str = "converged"
     initial_state: str = "auto"
     valid_range: tuple[float, float] | None = None
+    start_errors: np.ndarray | None = field(default=None, repr=False)
+    stage_name: str = "modulation"
+    history: tuple = field(default=(), repr=False)
+    history_start: object = field(default=None, repr=False)
 
     @property
     def success(self) -> bool:
         """True unless :attr:`reasons` names a problem."""
         return not self.reasons
 
+    def stage_result(self) -> StageResult:
+        """The modulation stage as a :class:`~idkit.fit.StageResult` (its start error is the
+        model it started from: the plain fit, or a modulated model)."""
+        names = self.small_names + self.large_names
+        errors = np.concatenate([self.small_errors, self.large_errors])
+        start_errors = (self.start_errors if self.start_errors is not None else
+                        np.concatenate([self.plain_small_errors, self.plain_large_errors]))
+        return StageResult(
+            name=self.stage_name, data="small+large", free=tuple(self.parameters["name"]),
+            start={**self.plain_model.params(), "slip_modulation": [a for a, _ in self.starts],
+                   "slip_growth": [b for _, b in self.starts]},
+            params=self.model.params(), set_names=names, set_errors=errors, mean_error=float(np.mean(errors)),
+            start_error=float(np.mean(start_errors)), evaluations=self.evaluations,
+            restarts=max(len(self.starts) - 1, 0), message=self.message, elapsed_s=self.elapsed_s, status=self.status)
+
     def to_iwan_result(self, settings: IwanFitSettings | None = None) -> IwanFitResult:
         """This fit as an :class:`~idkit.fit.IwanFitResult` (``settings.family = "modulated"``).
 
         The stages are the plain fit's three followed by ``"modulation"`` (all parameters free,
-        least squares); ``parameters`` and ``statistics`` are the modulation stage's (lmfit, with
-        standard errors from the residual Jacobian at its optimum). ``settings`` default to the
-        plain fit's; they are required when the stage started from a model instead of a fit.
+        least squares), or, for an order reached by continuation
+        (:func:`fit_modulated_orders`), the stages of the whole chain: the plain fit of its
+        lowest order and one modulation stage per order; ``parameters`` and ``statistics`` are
+        the last modulation stage's (lmfit, with standard errors from the residual Jacobian at
+        its optimum). ``settings`` default to the plain fit's; they are required when the stage
+        started from a model instead of a fit.
         """
         if settings is None:
             if self.plain is None:
@@ -371,19 +393,10 @@ class ModulatedIwanFitResult:
             settings = self.plain.settings
         settings = dataclasses.replace(settings, family="modulated", order=self.model.order,
                                        initial_state=self.initial_state, valid_range=self.valid_range)
-        names = self.small_names + self.large_names
-        errors = np.concatenate([self.small_errors, self.large_errors])
-        plain_errors = np.concatenate([self.plain_small_errors, self.plain_large_errors])
-        stage = StageResult(
-            name="modulation", data="small+large", free=tuple(self.parameters["name"]),
-            start={**self.plain_model.params(), "slip_modulation": [a for a, _ in self.starts],
-                   "slip_growth": [b for _, b in self.starts]},
-            params=self.model.params(), set_names=names, set_errors=errors, mean_error=float(np.mean(errors)),
-            start_error=float(np.mean(plain_errors)), evaluations=self.evaluations, restarts=max(len(self.starts) - 1, 0),
-            message=self.message, elapsed_s=self.elapsed_s, status=self.status)
-        stages = (tuple(self.plain.stages) if self.plain is not None else ()) + (stage,)
-        start = self.plain.start if self.plain is not None else None
-        elapsed = self.elapsed_s + (self.plain.elapsed_s if self.plain is not None else 0.0)
+        earlier = tuple(self.plain.stages) if self.plain is not None else tuple(self.history)
+        stages = earlier + (self.stage_result(),)
+        start = self.plain.start if self.plain is not None else self.history_start
+        elapsed = sum(stage.elapsed_s for stage in stages)
         return IwanFitResult(model=self.model, stages=stages, small_errors=self.small_errors,
                              large_errors=self.large_errors, small_names=self.small_names,
                              large_names=self.large_names, start=start, settings=settings,
@@ -652,6 +665,7 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
     ns = len(small_sets)
     errors = _errors(model, sets, cycled)
     plain_errors = _errors(ModulatedIwanModel.from_iwan(plain_model), sets, cycled)
+    start_errors = _errors(modulated_start, sets, cycled) if modulated_start is not None else plain_errors
     return ModulatedIwanFitResult(
         model=model, plain_model=plain_model, plain=plain_result, small_errors=errors[:ns], large_errors=errors[ns:],
         plain_small_errors=plain_errors[:ns], plain_large_errors=plain_errors[ns:],
@@ -661,6 +675,7 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
         start_states={s.name: "cycled" if c else "virgin" for s, c in zip(sets, cycled)},
         starts=tuple(starts), message=str(best.message), status="converged" if best.status > 0 else "max_evals",
         initial_state=initial_state, valid_range=None if valid_range is None else (float(grid[0]), float(grid[-1])),
+        start_errors=start_errors,
     )
 
 
@@ -728,12 +743,19 @@ def fit_modulated_orders(small, large, first: IwanFitResult | IwanModel, *, max_
         raise FitError(f"patience: found {patience!r}, expected an integer >= 1 or None")
     current = fit_iwan_modulated(small_sets, large_sets, plain=first, **options)
     fits = {current.model.order: current}
+    history = tuple(current.plain.stages) if current.plain is not None else ()
+    history_start = current.plain.start if current.plain is not None else None
     best_mean, stalled = 0.5 * (current.error_small + current.error_large), 0
     while current.model.order < max_order and not accept(current) and (patience is None or stalled < patience):
         candidates = [fit_iwan_modulated(small_sets, large_sets, plain=split_element(current.model, index), **options)
                       for index in range(current.model.order)]
         costs = np.array([np.sum(c.small_errors**2) + np.sum(c.large_errors**2) for c in candidates])
-        current = candidates[int(np.flatnonzero(costs <= costs.min() * (1.0 + 1e-9))[0])]
+        index = int(np.flatnonzero(costs <= costs.min() * (1.0 + 1e-9))[0])
+        history = history + (current.stage_result(),)  # the chain so far, for the result's stages
+        current = dataclasses.replace(
+            candidates[index], history=history, history_start=history_start,
+            stage_name=f"modulation, order {current.model.order + 1} (order {current.model.order} with element "
+                       f"{index + 1} split)")
         fits[current.model.order] = current
         mean = 0.5 * (current.error_small + current.error_large)
         stalled = 0 if mean * ORDER_RULE_FACTOR <= best_mean else stalled + 1

@@ -353,7 +353,7 @@ class IwanFitResult(_LoopFitResult):
         """Readable summary: parameters with units and stderr, errors per stage and set."""
         s = self.settings
         title = ("Iwan fit, order {}, three stages" if s.family == "plain" else
-                 "Slip-modulated Iwan fit, order {}, three stages and the modulation stage").format(s.order)
+                 "Slip-modulated Iwan fit, order {}, the plain fit's stages and the modulation stage(s)").format(s.order)
         lines = [
             f"[[{title}, Nelder-Mead ({s.backend}), initial state "
             f"'{s.initial_state}']]",

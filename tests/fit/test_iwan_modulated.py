@@ -195,7 +195,7 @@ def test_continuation_in_the_order_reaches_the_noise_at_the_truths_order(seed):
     # a slip-modulated order-2 truth with both terms: the chain from a plain order-1 fit adds
     # one element (a split of the first) and stops where accept() says; order 2 reaches the
     # noise (0.05 N on loops of 10-300 N: error (7.1) ~0.1 %, the truth itself scores that)
-    from idkit.fit.iwan_modulated import fit_modulated_orders
+    from idkit.fit.iwan_modulated import fit_modulated_orders, split_element
 
     truth = ModulatedIwanModel.from_iwan(TRUE.plain(), slip_modulation=0.3, slip_growth=0.4, slip_length=6e-3)
     small, large = _sets(truth, seed)
@@ -204,6 +204,11 @@ def test_continuation_in_the_order_reaches_the_noise_at_the_truths_order(seed):
                                 points_per_set=None, accept=lambda fit: fit.model.order == 2)
     assert sorted(fits) == [1, 2]  # stopped at the accepted order
     second = fits[2]
+    # its history is the chain's: the order-1 stage, then its own, started from the split model
+    assert [stage.name for stage in second.history] == ["modulation"]
+    assert second.stage_name == "modulation, order 2 (order 1 with element 1 split)"
+    assert second.stage_result().start_error == pytest.approx(
+        float(np.mean(modulated_set_errors(split_element(fits[1].model, 0), small + large))), rel=1e-12)
     assert second.success, second.report()
     errors = np.concatenate([second.small_errors, second.large_errors])
     assert np.all(errors < floor + 0.002), (errors, floor)  # within 0.2 point of the truth's own score
