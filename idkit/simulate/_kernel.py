@@ -522,6 +522,15 @@ def _harmonic_kernel(structure):
         change = np.full(batch, np.nan)
         converged = np.zeros(batch, dtype=np.bool_)
         flags = np.zeros(batch, dtype=np.int64)
+        # the window's twiddle factors and the base motion's table depend on the steps per
+        # period only: built once for a run of points with the same n_per (a map's points mostly
+        # share it), from one table of cos / sin(2 pi k / window) indexed by m n mod window
+        # (n_coeff x window trigonometric calls per point were about 30 us of a one-point call)
+        table_n = -1
+        cos_t = np.empty((n_coeff, 0))
+        sin_t = np.empty((n_coeff, 0))
+        base_sin = np.empty(0)
+        base_cos = np.empty(0)
         for b in range(batch):
             omega = 2.0 * math.pi * freq[b]
             n_per = steps_per_period[b]
@@ -535,25 +544,32 @@ def _harmonic_kernel(structure):
             S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
             _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
             window = 2 * n_per
-            # twiddle factors for the window
-            cos_t = np.empty((n_coeff, window))
-            sin_t = np.empty((n_coeff, window))
-            for m in range(n_coeff):
-                for n in range(window):
-                    angle = 2.0 * math.pi * m * n / window
-                    cos_t[m, n] = math.cos(angle)
-                    sin_t[m, n] = math.sin(angle)
-            base_sin, base_cos = base_motion_table(n_per)
+            if n_per != table_n:
+                one_cos, one_sin = np.empty(window), np.empty(window)
+                for k in range(window):
+                    angle = 2.0 * math.pi * k / window
+                    one_cos[k] = math.cos(angle)
+                    one_sin[k] = math.sin(angle)
+                cos_t = np.empty((n_coeff, window))
+                sin_t = np.empty((n_coeff, window))
+                for m in range(n_coeff):
+                    for n in range(window):
+                        k = (m * n) % window
+                        cos_t[m, n] = one_cos[k]
+                        sin_t[m, n] = one_sin[k]
+                base_sin, base_cos = base_motion_table(n_per)
+                table_n = n_per
             at = 0  # step % n_per
             previous = np.zeros(n_coeff, dtype=np.complex128)
             current = np.zeros(n_coeff, dtype=np.complex128)
             dcurrent = np.zeros(n_coeff, dtype=np.complex128)
             last_change = np.inf
             flag = FLAG_OK
+            # the window's samples, transformed when it is complete (a tight loop per
+            # coefficient instead of n_coeff complex updates between two steps)
+            tops = np.empty(window)
+            deflections = np.empty(window)
             for w in range(max_windows):
-                for m in range(n_coeff):
-                    current[m] = 0.0
-                    dcurrent[m] = 0.0
                 lo = np.inf
                 hi = -np.inf
                 apeak = 0.0
@@ -561,10 +577,8 @@ def _harmonic_kernel(structure):
                     # sample at the start of the step (t = step * h), then advance
                     base = amp * base_sin[at]
                     top = state[0]
-                    for m in range(n_coeff):
-                        twiddle = complex(cos_t[m, n], -sin_t[m, n])
-                        current[m] += top * twiddle
-                        dcurrent[m] += (top - base) * twiddle
+                    tops[n] = top
+                    deflections[n] = top - base
                     lo = min(lo, top)
                     hi = max(hi, top)
                     apeak = max(apeak, abs(state[4]))
@@ -575,6 +589,15 @@ def _harmonic_kernel(structure):
                         break
                 if flag != FLAG_OK:
                     break
+                for m in range(n_coeff):
+                    re, im, dre, dim = 0.0, 0.0, 0.0, 0.0
+                    for n in range(window):
+                        re += tops[n] * cos_t[m, n]
+                        im -= tops[n] * sin_t[m, n]
+                        dre += deflections[n] * cos_t[m, n]
+                        dim -= deflections[n] * sin_t[m, n]
+                    current[m] = complex(re, im)
+                    dcurrent[m] = complex(dre, dim)
                 for m in range(n_coeff):
                     scale = 1.0 / window if m == 0 else 2.0 / window
                     current[m] *= scale

@@ -109,10 +109,13 @@ _RESONANCES: dict[bytes, float] = {}
 _RESONANCES_KEPT = 256
 
 
-def small_amplitude_resonance(system) -> float:
-    """Frequency (Hz) of the peak of the small-amplitude transmissibility (0.1 Hz - 5 kHz)."""
+def small_amplitude_resonance(system, *, arrays=None) -> float:
+    """Frequency (Hz) of the peak of the small-amplitude transmissibility (0.1 Hz - 5 kHz).
+
+    ``arrays``: the system's :func:`~idkit.simulate._arrays.system_arrays`, when the caller
+    has them (they key the cache of searched resonances)."""
     system = resolve_system(system)
-    arrays = system_arrays(system)
+    arrays = system_arrays(system) if arrays is None else arrays
     key = b"".join(np.asarray(values, dtype=float).tobytes() + repr(np.shape(values)).encode()
                    for values in arrays.as_tuple())
     found = _RESONANCES.get(key)
@@ -163,10 +166,12 @@ def linear_initial_state(system, freq, amplitude):
     return q0, v0, jforce0, mstate0, bwz0
 
 
-def default_steps_per_period(system, freq, *, per_period: int = 128, per_resonance: int = 48) -> np.ndarray:
+def default_steps_per_period(system, freq, *, per_period: int = 128, per_resonance: int = 48,
+                             arrays=None) -> np.ndarray:
     """Steps per excitation period: at least ``per_period``, and at least ``per_resonance``
-    per period of the small-amplitude resonance, rounded up to an even number."""
-    resonance = small_amplitude_resonance(system)
+    per period of the small-amplitude resonance, rounded up to an even number (``arrays``:
+    as for :func:`small_amplitude_resonance`)."""
+    resonance = small_amplitude_resonance(system, arrays=arrays)
     freq = np.asarray(freq, dtype=float)
     steps = np.maximum(per_period, np.ceil(per_resonance * resonance / freq))
     return (2 * np.ceil(steps / 2)).astype(np.int64)
@@ -235,14 +240,17 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
     freq, amplitude = np.broadcast_arrays(np.asarray(freq, dtype=float), np.asarray(amplitude, dtype=float))
     freq = np.ascontiguousarray(freq.ravel())
     amplitude = np.ascontiguousarray(amplitude.ravel())
-    if np.any(~np.isfinite(freq)) or np.any(freq <= 0):
-        raise SimulationError(f"freq: found {freq[~(freq > 0)][:1]}, expected positive frequencies in Hz")
-    if np.any(~np.isfinite(amplitude)) or np.any(amplitude <= 0):
-        raise SimulationError(f"amplitude: found {amplitude[~(amplitude > 0)][:1]}, expected positive m")
+    # ndarray methods, not np.any / np.all: a one-point call spends microseconds on each wrapper
+    if not ((freq > 0).all() and np.isfinite(freq).all()):
+        bad = freq[~((freq > 0) & np.isfinite(freq))][:1]
+        raise SimulationError(f"freq: found {bad}, expected positive finite frequencies in Hz")
+    if not ((amplitude > 0).all() and np.isfinite(amplitude).all()):
+        bad = amplitude[~((amplitude > 0) & np.isfinite(amplitude))][:1]
+        raise SimulationError(f"amplitude: found {bad}, expected positive finite amplitudes in m")
     if int(n_harmonics) < 1:
         raise SimulationError(f"n_harmonics: found {n_harmonics!r}, expected >= 1")
     if steps_per_period is None:
-        steps = default_steps_per_period(system, freq)
+        steps = default_steps_per_period(system, freq, arrays=arrays)
     else:
         steps = np.broadcast_to(np.asarray(steps_per_period, dtype=np.int64), freq.shape).copy()
         if np.any(steps < 8) or np.any(steps % 2):
@@ -266,10 +274,16 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
         raise SimulationError(f"start: found {start!r}, expected 'rest' or 'linear'")
     # Deal the points out like cards so that every chunk mixes cheap and costly ones
     # (a grid in order would hand one worker all the high frequencies).
-    order = np.argsort(np.arange(freq.size) % max(1, min(freq.size, 64)), kind="stable")
-    dealt_freq, dealt_amplitude = freq[order], amplitude[order]
-    dealt_steps = np.ascontiguousarray(steps[order])
-    dealt_states = tuple(np.ascontiguousarray(values[order]) for values in (q0, v0, jforce0, mstate0, bwz0))
+    # (one point: nothing to deal, and no copies)
+    order = (np.zeros(1, dtype=np.int64) if freq.size == 1 else
+             np.argsort(np.arange(freq.size) % max(1, min(freq.size, 64)), kind="stable"))
+    if freq.size == 1:
+        dealt_freq, dealt_amplitude, dealt_steps = freq, amplitude, np.ascontiguousarray(steps)
+        dealt_states = tuple(np.ascontiguousarray(values) for values in (q0, v0, jforce0, mstate0, bwz0))
+    else:
+        dealt_freq, dealt_amplitude = freq[order], amplitude[order]
+        dealt_steps = np.ascontiguousarray(steps[order])
+        dealt_states = tuple(np.ascontiguousarray(values[order]) for values in (q0, v0, jforce0, mstate0, bwz0))
 
     def task(part: slice):
         return run_harmonic_batch(
@@ -279,8 +293,11 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
 
     dealt = run_chunked(task, freq.size, workers=workers, chunk_size=chunk_size, progress=progress,
                         executor=executor)
-    restore = np.argsort(order, kind="stable")
-    coeff, half_range, peak, dcoeff, windows, change, converged, flags = (field[restore] for field in dealt)
+    if freq.size == 1:
+        coeff, half_range, peak, dcoeff, windows, change, converged, flags = dealt
+    else:
+        restore = np.argsort(order, kind="stable")
+        coeff, half_range, peak, dcoeff, windows, change, converged, flags = (field[restore] for field in dealt)
     return HarmonicResponse(
         freq=freq, amplitude=amplitude, coefficients=coeff, deflection_coefficients=dcoeff,
         half_range=half_range, peak_acceleration=peak, periods=2 * windows, change=change,
