@@ -28,7 +28,6 @@ from __future__ import annotations
 import math
 
 import numba
-import numpy as np
 
 GENERIC = 0
 SDOF_IWAN = 1
