@@ -135,6 +135,14 @@ def _set_forces(x, g1, g2, g3, k, fc, a, b, length, cycled, out):
 
 
 @numba.njit(cache=True, inline="always")
+def _scale_with_derivatives(y, a, b, length):
+    """Slip scale ``s = 1 - a t + b t^2`` (``t = tanh(y / y_ref)``) at deflection ``y`` and its
+    derivatives in ``a``, ``b`` and ``log y_ref``."""
+    t = math.tanh(y / length)
+    return 1.0 - a * t + b * t * t, -t, t * t, (a - 2.0 * b * t) * (1.0 - t * t) * y / length
+
+
+@numba.njit(cache=True, inline="always")
 def _sensitive_stop(i, step, scale, scale_a, scale_b, scale_length, k, fc, state, d_k, d_fc, d_a, d_b, d_length):
     """One stop-operator update of element ``i`` over a deflection ``step`` (m) with the limit
     ``scale fc_i``, carrying the force's derivatives in ``log k_i``, ``log fc_i``, ``a``, ``b``
@@ -186,11 +194,7 @@ def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycl
         start, stop = offsets[s], offsets[s + 1]
         weight = inv_norms[s]
         x0 = x_all[start]
-        t0 = math.tanh(x0 / length)
-        scale0 = 1.0 - a * t0 + b * t0 * t0
-        scale0_a = -t0
-        scale0_b = t0 * t0
-        scale0_length = (a - 2.0 * b * t0) * (1.0 - t0 * t0) * x0 / length
+        scale0, scale0_a, scale0_b, scale0_length = _scale_with_derivatives(x0, a, b, length)
         for i in range(n):  # monotone loading from the unloaded state to the first point
             state[i] = 0.0
             d_k[i] = 0.0
@@ -210,11 +214,7 @@ def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycl
                                     d_b, d_length)
             for j in range(start, stop):
                 y = x_all[j]
-                t = math.tanh(y / length)
-                scale = 1.0 - a * t + b * t * t
-                scale_a = -t
-                scale_b = t * t
-                scale_length = (a - 2.0 * b * t) * (1.0 - t * t) * y / length
+                scale, scale_a, scale_b, scale_length = _scale_with_derivatives(y, a, b, length)
                 total = y * (g1 + y * (g2 + y * g3))
                 sum_a = 0.0
                 sum_b = 0.0

@@ -583,21 +583,23 @@ def choose_iwan_family(small, large, plain_fits: dict, *, plain_order: int | Non
     if family == "auto" and not floor_check(plain) and not plain_undetermined:
         return plain, None, None
 
-    def as_result(modulated):
-        settings = plain_fits.get(modulated.model.order, plain).settings
-        return modulated.to_iwan_result(settings if modulated.plain is None else None)
+    judged: dict = {}  # order -> (IwanFitResult, accepted), each link judged once
 
     def accept(modulated) -> bool:  # a determined, successful fit within the floor margin
-        fit = as_result(modulated)
-        return fit.success and not floor_check(fit) and not fit.undetermined
+        order = modulated.model.order
+        if order not in judged:
+            settings = plain_fits.get(order, plain).settings
+            fit = modulated.to_iwan_result(settings if modulated.plain is None else None)
+            judged[order] = (fit, fit.success and not floor_check(fit) and not fit.undetermined)
+        return judged[order][1]
 
     # upwards by continuation in the order (fit_modulated_orders), from the lowest plain fit,
     # stopping at the first determined order that reaches the floor margin
     chain = fit_modulated_orders(list(small), list(large), plain_fits[orders[0]], max_order=orders[-1],
                                  points_per_set=None, valid_range=valid_range, initial_state=initial_state,
                                  accept=accept)
-    fits = {order: as_result(modulated) for order, modulated in chain.items()}
-    within = [order for order, modulated in chain.items() if accept(modulated)][:1]
+    within = [order for order, modulated in chain.items() if accept(modulated)][:1]  # judges the last link too
+    fits = {order: judged[order][0] for order in chain}
     rows = pd.DataFrame([iwan_order_row(fit, math.nan) for fit in fits.values()])
     chosen = fits[within[0] if within else _order_rule(rows)]
     mean = 0.5 * (chosen.error_small + chosen.error_large)
