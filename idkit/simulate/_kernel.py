@@ -68,8 +68,9 @@ _BW_SUBSTEPS = 4
 #   row 1: Jenkin stiffness, row 2: Jenkin slip force,
 #   row 3: Maxwell stiffness, row 4: exp(-rate h), row 5: (1 - exp(-rate h)) / (rate h)
 # States S[j, row, i]: row 0 Jenkin forces, row 1 Maxwell elongations,
-#   row 2: [Bouc-Wen z, mbase]. Packing keeps the number of arrays handed between the
-#   functions small. The steps and the isolator force are compiled once each and called by
+#   row 2: [Bouc-Wen z, mbase], row 3: the Jenkin forces of the last trial (the specialised
+#   steps commit them by a copy, idkit.simulate._structured). Packing keeps the number of
+#   arrays handed between the functions small. The steps and the isolator force are compiled once each and called by
 #   every driver (numba's IR inlining re-types a body at each call site: minutes of compile
 #   time); they allocate nothing, so they are compiled without reference counting
 #   (``_nrt=False``: an array argument otherwise costs an atomic increment and decrement per
@@ -125,7 +126,7 @@ def _pack_states(packed, jforce, mstate, bwz):
     """State block from Jenkin forces (N), Maxwell elongations (m) and Bouc-Wen z (N)."""
     ndof = packed.shape[0]
     width = max(2, jforce.shape[1], mstate.shape[1])
-    states = np.zeros((ndof, 3, width))
+    states = np.zeros((ndof, 4, width))
     for j in range(ndof):
         for i in range(jforce.shape[1]):
             states[j, 0, i] = jforce[j, i]
@@ -152,7 +153,8 @@ def _isolator_force(j, y, dy, vrel, h, P, S, commit):
     tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
     # the Jenkin elements: slip forces scaled by s(y) when the isolator's slip is modulated
     # (without modulation the plain stop operator: the same numbers as s = 1, slope 0)
-    force, tangent = jenkin_elements(3 if P[j, 0, _SM] != 0.0 or P[j, 0, _SM + 3] != 0.0 else 1, j, y, dy, P, S, force, tangent, commit)
+    kind = 3 if P[j, 0, _SM] != 0.0 or P[j, 0, _SM + 3] != 0.0 else 1
+    force, tangent = jenkin_elements(kind, j, y, dy, P, S, force, tangent, 0 if commit else 3)
     # Maxwell elements are affine in dy within a step: sum k_i u_i = mbase + mgsum dy
     # with mbase = sum k_i e_i u_i (start of step) and mgsum = sum k_i g_i.
     force += S[j, 2, 1] + P[j, 0, _MGSUM] * dy

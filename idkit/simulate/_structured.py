@@ -51,6 +51,9 @@ _MGSUM, _NJ, _NM, _BW, _SM = 4, 5, 6, 7, 17
 _IWAN = 1
 _MAXWELL = 2
 _IWAN_MODULATED = 3
+# rows of the state block S[j, row, i] (idkit.simulate._kernel._pack_states) holding Jenkin forces
+_COMMITTED = 0
+_TRIAL = 3
 
 
 def structure_of(arrays) -> int:
@@ -76,7 +79,7 @@ def structure_of(arrays) -> int:
 
 
 @numba.njit(cache=True, inline="always")
-def jenkin_elements(kind, j, y, dy, P, S, force, tangent, commit):
+def jenkin_elements(kind, j, y, dy, P, S, force, tangent, row):
     """Add the Jenkin elements of isolator ``j`` to its ``force`` (N) and ``tangent`` (N/m);
     the one copy of the stop operator every step uses (the specialised steps with a constant
     ``kind``, the generic step with ``kind`` read off the isolator's slip modulation).
@@ -84,7 +87,9 @@ def jenkin_elements(kind, j, y, dy, P, S, force, tangent, commit):
     ``kind`` 1: constant slip forces; 3 (:data:`_IWAN_MODULATED`): slip forces ``s(y) fc`` with
     ``s(y) = 1 - a t + b t^2``, ``t = tanh(y / y_ref)``, at the end-of-step deflection, an element force above the
     shrunken limit clipped to it, and the limit's slope in the tangent of a slipping element.
-    If ``commit`` the element forces are stored.
+    The element forces are stored in ``S[j, row]``: row 0 (:data:`_COMMITTED`) commits them,
+    row 3 (:data:`_TRIAL`) keeps the trial's, which a specialised step commits by a copy
+    once it has converged (its last evaluation is at the converged point).
     """
     if kind == 3:
         # tanh(x) = (1 - e) / (1 + e) with e = exp(-2 |x|): within 2.3e-16 of libm's tanh, at a
@@ -110,8 +115,7 @@ def jenkin_elements(kind, j, y, dy, P, S, force, tangent, commit):
             else:
                 tangent += P[j, 1, i]
             force += trial
-            if commit:
-                S[j, 0, i] = trial
+            S[j, row, i] = trial
     else:
         for i in range(int(P[j, 0, _NJ])):
             trial = S[j, 0, i] + P[j, 1, i] * dy
@@ -123,34 +127,43 @@ def jenkin_elements(kind, j, y, dy, P, S, force, tangent, commit):
             else:
                 tangent += P[j, 1, i]
             force += trial
-            if commit:
-                S[j, 0, i] = trial
+            S[j, row, i] = trial
     return force, tangent
 
 
 @numba.njit(cache=True, inline="always")
-def _part_force(kind, j, y, dy, vrel, h, P, S, commit):
-    """Force (N) and tangent (N/m) of isolator ``j`` made of the parts ``kind`` only; the same
-    operations as the generic ``_isolator_force`` (a constant ``kind``: the other branch is
-    pruned)."""
+def _part_force(kind, j, y, dy, vrel, h, P, S):
+    """Force (N) and tangent (N/m) of isolator ``j`` made of the parts ``kind`` only at a trial
+    deflection; the same operations as the generic ``_isolator_force`` (a constant ``kind``: the
+    other branch is pruned). Jenkin element forces go to the trial row; nothing is committed."""
     g1 = P[j, 0, 0]
     g2 = P[j, 0, 1]
     g3 = P[j, 0, 2]
     force = y * (g1 + y * (g2 + y * g3)) + P[j, 0, 3] * vrel
     tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
     if kind == 1 or kind == 3:  # _IWAN, _IWAN_MODULATED (literals: numba prunes the other branches)
-        force, tangent = jenkin_elements(kind, j, y, dy, P, S, force, tangent, commit)
+        force, tangent = jenkin_elements(kind, j, y, dy, P, S, force, tangent, _TRIAL)
     else:
         force += S[j, 2, 1] + P[j, 0, _MGSUM] * dy
         tangent += P[j, 0, _MGSUM]
-        if commit:
-            base = 0.0
-            for i in range(int(P[j, 0, _NM])):
-                u = P[j, 4, i] * S[j, 1, i] + P[j, 5, i] * dy
-                S[j, 1, i] = u
-                base += P[j, 3, i] * P[j, 4, i] * u
-            S[j, 2, 1] = base
     return force, tangent
+
+
+@numba.njit(cache=True, inline="always")
+def _commit_part(kind, j, dy, P, S):
+    """Commit isolator ``j``'s internal states at the converged point: the Jenkin forces of the
+    step's last evaluation (which was there), or the Maxwell elongations after the increment
+    ``dy`` (the generic step's update, the same operations)."""
+    if kind == 1 or kind == 3:
+        for i in range(int(P[j, 0, _NJ])):
+            S[j, _COMMITTED, i] = S[j, _TRIAL, i]
+    else:
+        base = 0.0
+        for i in range(int(P[j, 0, _NM])):
+            u = P[j, 4, i] * S[j, 1, i] + P[j, 5, i] * dy
+            S[j, 1, i] = u
+            base += P[j, 3, i] * P[j, 4, i] * u
+        S[j, 2, 1] = base
 
 
 @numba.njit(cache=True, inline="always")
@@ -159,10 +172,19 @@ def _residual_sdof(kind, m0, qn0, vn0, an0, q0, h, c2, c4, load, xb_old, xb_new,
     v0 = c2 * (q0 - qn0) - vn0
     a0 = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
     y = q0 - xb_new
-    f0, t0 = _part_force(kind, 0, y, y - (qn0 - xb_old), v0 - vb_new, h, P, S, False)
+    f0, t0 = _part_force(kind, 0, y, y - (qn0 - xb_old), v0 - vb_new, h, P, S)
     r0 = m0 * (a0 + load) + f0
     magnitude = m0 * (abs(a0) + abs(load) + c4 * (abs(q0) + abs(qn0))) + abs(f0)
     return r0, t0, magnitude
+
+
+# The specialised steps run the generic step's damped Newton iteration (the same operations in
+# the same order) written with one evaluation of the residual: the constant-acceleration
+# predictor is evaluated, then each Newton direction is tried at full length and halved up to
+# 40 times until the residual's norm drops; 60 accepted trials at most. One call site keeps
+# the compiled step half the size (numba copies an inlined body at every site), and the last
+# evaluation is always at the point the step ends on, so its Jenkin forces are committed by a
+# copy instead of a second evaluation.
 
 
 @numba.njit(cache=True, error_model="numpy", _nrt=False)
@@ -174,37 +196,53 @@ def step_sdof(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scal
     c2 = 2.0 / h
     c4 = c2 * c2
     q0 = qn0 + h * vn0 + 0.5 * h * h * an0
-    r0, t0, magnitude = _residual_sdof(kind, m0, qn0, vn0, an0, q0, h, c2, c4, load, xb_old, xb_new, vb_new, P, S)
-    rnorm = math.sqrt(r0 * r0)
+    trial0 = q0
+    dq0 = 0.0
+    scale = 1.0
+    rnorm = 0.0
+    accepted_trials = -1  # -1 while the predictor is evaluated
+    halvings = 0
     converged = False
-    for _iteration in range(_NEWTON_MAX_ITER):
+    while True:
+        r0, t0, magnitude = _residual_sdof(kind, m0, qn0, vn0, an0, trial0, h, c2, c4, load, xb_old, xb_new,
+                                           vb_new, P, S)
+        new_norm = math.sqrt(r0 * r0)
+        floor = _RES_TOL * (magnitude + force_scale)
+        if accepted_trials >= 0:
+            if new_norm < rnorm or new_norm <= floor:
+                q0 = trial0
+                rnorm = new_norm
+                if rnorm <= floor:
+                    converged = True
+                    break
+                if abs(scale * dq0) <= 1e-15 * (abs(q0) + abs(qn0)):
+                    converged = rnorm <= 1e3 * floor
+                    break
+                accepted_trials += 1
+                if accepted_trials == _NEWTON_MAX_ITER:
+                    break
+            else:
+                scale *= 0.5
+                halvings += 1
+                if halvings < 40:
+                    trial0 = q0 + scale * dq0
+                    continue
+                q0 = trial0  # no decrease along the direction: stop where the search ended
+                rnorm = new_norm
+                converged = rnorm <= 1e3 * floor
+                break
+        else:
+            rnorm = new_norm
+            accepted_trials = 0
         dq0 = -r0 / (c4 * m0 + t0)
         scale = 1.0
-        accepted = False
-        trial0 = q0
-        new_norm = rnorm
-        for _ in range(40):
-            trial0 = q0 + scale * dq0
-            r0, t0, magnitude = _residual_sdof(kind, m0, qn0, vn0, an0, trial0, h, c2, c4, load, xb_old, xb_new,
-                                               vb_new, P, S)
-            new_norm = math.sqrt(r0 * r0)
-            if new_norm < rnorm or new_norm <= _RES_TOL * (magnitude + force_scale):
-                accepted = True
-                break
-            scale *= 0.5
-        q0 = trial0
-        rnorm = new_norm
-        if rnorm <= _RES_TOL * (magnitude + force_scale):
-            converged = True
-            break
-        if not accepted or abs(scale * dq0) <= 1e-15 * (abs(q0) + abs(qn0)):
-            converged = rnorm <= 1e3 * _RES_TOL * (magnitude + force_scale)
-            break
+        halvings = 0
+        trial0 = q0 + dq0
     if not converged:
         return _FLAG_NO_CONVERGENCE
     v0 = c2 * (q0 - qn0) - vn0
     y = q0 - xb_new
-    _part_force(kind, 0, y, y - (qn0 - xb_old), v0 - vb_new, h, P, S, True)
+    _commit_part(kind, 0, y - (qn0 - xb_old), P, S)
     state[0] = q0
     state[2] = v0
     state[4] = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
@@ -224,9 +262,9 @@ def _residual_hybrid(lower, m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, c2,
     v1 = c2 * (q1 - qn1) - vn1
     a1 = c4 * (q1 - qn1) - 2.0 * c2 * vn1 - an1
     y_up = q0 - q1
-    f0, t0 = _part_force(2, 0, y_up, y_up - (qn0 - qn1), v0 - v1, h, P, S, False)
+    f0, t0 = _part_force(2, 0, y_up, y_up - (qn0 - qn1), v0 - v1, h, P, S)
     y_low = q1 - xb_new
-    f1, t1 = _part_force(lower, 1, y_low, y_low - (qn1 - xb_old), v1 - vb_new, h, P, S, False)
+    f1, t1 = _part_force(lower, 1, y_low, y_low - (qn1 - xb_old), v1 - vb_new, h, P, S)
     r0 = m0 * (a0 + load) + f0
     magnitude = m0 * (abs(a0) + abs(load) + c4 * (abs(q0) + abs(qn0))) + abs(f0)
     r1 = m1 * (a1 + load) - f0 + f1
@@ -248,11 +286,49 @@ def step_hybrid(lower, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, for
     c4 = c2 * c2
     q0 = qn0 + h * vn0 + 0.5 * h * h * an0
     q1 = qn1 + h * vn1 + 0.5 * h * h * an1
-    r0, r1, t0, t1, magnitude = _residual_hybrid(lower, m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, c2, c4,
-                                                 load,                                                 xb_old, xb_new, vb_new, P, S)
-    rnorm = math.sqrt(r0 * r0 + r1 * r1)
+    trial0 = q0
+    trial1 = q1
+    dq0 = 0.0
+    dq1 = 0.0
+    scale = 1.0
+    rnorm = 0.0
+    accepted_trials = -1  # -1 while the predictor is evaluated
+    halvings = 0
     converged = False
-    for _iteration in range(_NEWTON_MAX_ITER):
+    while True:
+        r0, r1, t0, t1, magnitude = _residual_hybrid(lower, m0, m1, qn0, qn1, vn0, vn1, an0, an1, trial0, trial1, h,
+                                                     c2, c4, load, xb_old, xb_new, vb_new, P, S)
+        new_norm = math.sqrt(r0 * r0 + r1 * r1)
+        floor = _RES_TOL * (magnitude + force_scale)
+        if accepted_trials >= 0:
+            if new_norm < rnorm or new_norm <= floor:
+                q0 = trial0
+                q1 = trial1
+                rnorm = new_norm
+                if rnorm <= floor:
+                    converged = True
+                    break
+                if abs(scale * dq0) + abs(scale * dq1) <= 1e-15 * (abs(q0) + abs(q1) + abs(qn0)):
+                    converged = rnorm <= 1e3 * floor
+                    break
+                accepted_trials += 1
+                if accepted_trials == _NEWTON_MAX_ITER:
+                    break
+            else:
+                scale *= 0.5
+                halvings += 1
+                if halvings < 40:
+                    trial0 = q0 + scale * dq0
+                    trial1 = q1 + scale * dq1
+                    continue
+                q0 = trial0  # no decrease along the direction: stop where the search ended
+                q1 = trial1
+                rnorm = new_norm
+                converged = rnorm <= 1e3 * floor
+                break
+        else:
+            rnorm = new_norm
+            accepted_trials = 0
         j00 = c4 * m0 + t0
         j01 = -t0
         j11 = c4 * m1 + t0 + t1
@@ -260,37 +336,17 @@ def step_hybrid(lower, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, for
         dq0 = -(j11 * r0 - j01 * r1) / det
         dq1 = -(j00 * r1 - j01 * r0) / det
         scale = 1.0
-        accepted = False
-        trial0 = q0
-        trial1 = q1
-        new_norm = rnorm
-        for _ in range(40):
-            trial0 = q0 + scale * dq0
-            trial1 = q1 + scale * dq1
-            r0, r1, t0, t1, magnitude = _residual_hybrid(lower, m0, m1, qn0, qn1, vn0, vn1, an0, an1, trial0, trial1, h,
-                                                         c2, c4, load, xb_old, xb_new, vb_new, P, S)
-            new_norm = math.sqrt(r0 * r0 + r1 * r1)
-            if new_norm < rnorm or new_norm <= _RES_TOL * (magnitude + force_scale):
-                accepted = True
-                break
-            scale *= 0.5
-        q0 = trial0
-        q1 = trial1
-        rnorm = new_norm
-        if rnorm <= _RES_TOL * (magnitude + force_scale):
-            converged = True
-            break
-        if not accepted or abs(scale * dq0) + abs(scale * dq1) <= 1e-15 * (abs(q0) + abs(q1) + abs(qn0)):
-            converged = rnorm <= 1e3 * _RES_TOL * (magnitude + force_scale)
-            break
+        halvings = 0
+        trial0 = q0 + dq0
+        trial1 = q1 + dq1
     if not converged:
         return _FLAG_NO_CONVERGENCE
     v0 = c2 * (q0 - qn0) - vn0
     v1 = c2 * (q1 - qn1) - vn1
     y_up = q0 - q1
-    _part_force(2, 0, y_up, y_up - (qn0 - qn1), v0 - v1, h, P, S, True)
+    _commit_part(2, 0, y_up - (qn0 - qn1), P, S)
     y_low = q1 - xb_new
-    _part_force(lower, 1, y_low, y_low - (qn1 - xb_old), v1 - vb_new, h, P, S, True)
+    _commit_part(lower, 1, y_low - (qn1 - xb_old), P, S)
     state[0] = q0
     state[2] = v0
     state[4] = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
