@@ -41,6 +41,8 @@ from idkit.simulate._structured import (
     SDOF_IWAN,
     SDOF_IWAN_MODULATED,
     SDOF_MAXWELL,
+    _COMMITTED,
+    _TRIAL,
     jenkin_elements,
     step_hybrid,
     step_sdof,
@@ -68,11 +70,11 @@ _BW_SUBSTEPS = 4
 #   row 1: Jenkin stiffness, row 2: Jenkin slip force,
 #   row 3: Maxwell stiffness, row 4: exp(-rate h), row 5: (1 - exp(-rate h)) / (rate h)
 # States S[j, row, i]: row 0 Jenkin forces, row 1 Maxwell elongations,
-#   row 2: [Bouc-Wen z, mbase], row 3: the Jenkin forces of the last trial (the specialised
-#   steps commit them by a copy, idkit.simulate._structured). Packing keeps the number of
-#   arrays handed between the functions small. The steps and the isolator force are compiled once each and called by
-#   every driver (numba's IR inlining re-types a body at each call site: minutes of compile
-#   time); they allocate nothing, so they are compiled without reference counting
+#   row 2: [Bouc-Wen z, mbase, z of the last trial], row 3: the Jenkin forces of the last
+#   trial (a step's last evaluation is at its end point: it commits them by a copy). Packing
+#   keeps the number of arrays handed between the functions small. The steps and the isolator
+#   force are compiled once each and called by every driver (numba's IR inlining re-types a
+#   body at each call site: minutes of compile time); they allocate nothing, so they are compiled without reference counting
 #   (``_nrt=False``: an array argument otherwise costs an atomic increment and decrement per
 #   call) and with NumPy's error model (a division by zero gives inf/NaN, caught as a failed
 #   Newton iteration or a non-finite state, instead of raising).
@@ -125,7 +127,7 @@ def _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h):
 def _pack_states(packed, jforce, mstate, bwz):
     """State block from Jenkin forces (N), Maxwell elongations (m) and Bouc-Wen z (N)."""
     ndof = packed.shape[0]
-    width = max(2, jforce.shape[1], mstate.shape[1])
+    width = max(3, jforce.shape[1], mstate.shape[1])
     states = np.zeros((ndof, 4, width))
     for j in range(ndof):
         for i in range(jforce.shape[1]):
@@ -140,11 +142,12 @@ def _pack_states(packed, jforce, mstate, bwz):
 
 
 @numba.njit(cache=True, error_model="numpy", _nrt=False)
-def _isolator_force(j, y, dy, vrel, h, P, S, commit):
-    """Force (N) and tangent (N/m, including 2 c / h) of isolator ``j`` at deflection ``y``.
+def _isolator_force(j, y, dy, vrel, h, P, S):
+    """Force (N) and tangent (N/m, including 2 c / h) of isolator ``j`` at a trial deflection ``y``.
 
-    ``dy`` is the deflection increment over the step, ``vrel`` the end-of-step
-    deflection rate. If ``commit`` the internal states are updated.
+    ``dy`` is the deflection increment over the step, ``vrel`` the end-of-step deflection rate.
+    The trial's Jenkin forces (``S[j, 3]``) and Bouc-Wen ``z`` (``S[j, 2, 2]``) are kept for
+    :func:`_commit_isolator`; the committed states are not touched.
     """
     g1 = P[j, 0, 0]
     g2 = P[j, 0, 1]
@@ -154,18 +157,11 @@ def _isolator_force(j, y, dy, vrel, h, P, S, commit):
     # the Jenkin elements: slip forces scaled by s(y) when the isolator's slip is modulated
     # (without modulation the plain stop operator: the same numbers as s = 1, slope 0)
     kind = 3 if P[j, 0, _SM] != 0.0 or P[j, 0, _SM + 3] != 0.0 else 1
-    force, tangent = jenkin_elements(kind, j, y, dy, P, S, force, tangent, 0 if commit else 3)
+    force, tangent = jenkin_elements(kind, j, y, dy, P, S, force, tangent, _TRIAL)
     # Maxwell elements are affine in dy within a step: sum k_i u_i = mbase + mgsum dy
     # with mbase = sum k_i e_i u_i (start of step) and mgsum = sum k_i g_i.
     force += S[j, 2, 1] + P[j, 0, _MGSUM] * dy
     tangent += P[j, 0, _MGSUM]
-    if commit:
-        base = 0.0
-        for i in range(int(P[j, 0, _NM])):
-            u = P[j, 4, i] * S[j, 1, i] + P[j, 5, i] * dy
-            S[j, 1, i] = u
-            base += P[j, 3, i] * P[j, 4, i] * u
-        S[j, 2, 1] = base
     if P[j, 0, _BW] != 0.0:
         b_base = P[j, 0, _BW + 8]
         b_exp = P[j, 0, _BW + 9]
@@ -179,13 +175,31 @@ def _isolator_force(j, y, dy, vrel, h, P, S, commit):
         bw_force = factor * (y * (k1 + k2 * abs(y) + k3 * y * y) + z)
         force += bw_force
         tangent += math.log(b_base) * b_exp * bw_force + factor * (k1 + 2.0 * k2 * abs(y) + 3.0 * k3 * y * y + dz)
-        if commit:
-            S[j, 2, 0] = z
+        S[j, 2, 2] = z
     return force, tangent
 
 
+@numba.njit(cache=True, error_model="numpy", _nrt=False)
+def _commit_isolator(j, dy, P, S):
+    """Commit isolator ``j``'s internal states at the end of a converged step whose last
+    evaluation of :func:`_isolator_force` was at the step's end point (increment ``dy``): its
+    Jenkin forces and Bouc-Wen ``z`` are copied, the Maxwell elongations updated. One compiled
+    function with no constant flag: a literal ``commit`` argument had numba compile the
+    isolator force and the rig's residual twice each."""
+    for i in range(int(P[j, 0, _NJ])):
+        S[j, _COMMITTED, i] = S[j, _TRIAL, i]
+    base = 0.0
+    for i in range(int(P[j, 0, _NM])):
+        u = P[j, 4, i] * S[j, 1, i] + P[j, 5, i] * dy
+        S[j, 1, i] = u
+        base += P[j, 3, i] * P[j, 4, i] * u
+    S[j, 2, 1] = base
+    if P[j, 0, _BW] != 0.0:
+        S[j, 2, 0] = S[j, 2, 2]
+
+
 @numba.njit(cache=True, inline="always")
-def _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, P, S, commit):
+def _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, P, S):
     """Forces and tangents ``(f0, t0, f1, t1)`` of the isolators for a trial state.
 
     Absolute coordinates: isolator 0 sits below mass 0, the last stands on the base. One call
@@ -205,7 +219,7 @@ def _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, P, S, com
             y = q1 - xb_new
             dy = y - (qn1 - xb_old)
             vrel = v1 - vb_new
-        f, t = _isolator_force(j, y, dy, vrel, h, P, S, commit)
+        f, t = _isolator_force(j, y, dy, vrel, h, P, S)
         if j == 0:
             f0 = f
             t0 = t
@@ -232,7 +246,7 @@ def _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, load, xb_ol
     if ndof == 2:
         v1 = c2 * (q1 - qn1) - vn1
         a1 = c4 * (q1 - qn1) - 2.0 * c2 * vn1 - an1
-    f0, t0, f1, t1 = _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, P, S, False)
+    f0, t0, f1, t1 = _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, P, S)
     r0 = m0 * (a0 + load) + f0
     magnitude = m0 * (abs(a0) + abs(load) + c4 * (abs(q0) + abs(qn0))) + abs(f0)
     r1 = 0.0
@@ -304,8 +318,15 @@ def _step(ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scal
         return FLAG_NO_CONVERGENCE
     v0 = c2 * (q0 - qn0) - vn0
     v1 = c2 * (q1 - qn1) - vn1 if ndof == 2 else 0.0
-    # commit the internal states at the converged point
-    _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, P, S, True)
+    # commit the internal states at the converged point (the last evaluation was there)
+    for j in range(ndof):  # a loop: j typed as a variable (a constant j compiles a copy per value)
+        if ndof == 2 and j == 0:
+            dy = (q0 - q1) - (qn0 - qn1)
+        elif ndof == 1:
+            dy = (q0 - xb_new) - (qn0 - xb_old)
+        else:
+            dy = (q1 - xb_new) - (qn1 - xb_old)
+        _commit_isolator(j, dy, P, S)
     state[0] = q0
     state[2] = v0
     state[4] = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
@@ -678,7 +699,7 @@ def harmonic_kernel(structure: int):
 
 
 @numba.njit(cache=True, error_model="numpy", _nrt=False)
-def _rig_residual(n, masses, qn, vn, an, q, h, load, P, S, k_c, c_c, r, diag, upper, commit, forces):
+def _rig_residual(n, masses, qn, vn, an, q, h, load, P, S, k_c, c_c, r, diag, upper, forces):
     """Residuals ``r`` (N) of the rig's step at trial positions ``q`` and the tridiagonal Jacobian.
 
     Isolator ``j`` connects mass ``j`` (above) with mass ``j + 1``; the last mass meets the floor
@@ -699,7 +720,7 @@ def _rig_residual(n, masses, qn, vn, an, q, h, load, P, S, k_c, c_c, r, diag, up
         y = q[j] - q[j + 1]
         dy = y - (qn[j] - qn[j + 1])
         vrel = (c2 * (q[j] - qn[j]) - vn[j]) - (c2 * (q[j + 1] - qn[j + 1]) - vn[j + 1])
-        f, t = _isolator_force(j, y, dy, vrel, h, P, S, commit)
+        f, t = _isolator_force(j, y, dy, vrel, h, P, S)
         r[j] += f
         r[j + 1] -= f
         diag[j] += t
@@ -735,7 +756,7 @@ def _rig_step(n, masses, q, v, a, h, load, P, S, k_c, c_c, force_scale, forces, 
     for d in range(n):
         qn[d] = q[d]
         trial[d] = q[d] + h * v[d] + 0.5 * h * h * a[d]
-    magnitude = _rig_residual(n, masses, qn, v, a, trial, h, load, P, S, k_c, c_c, r, diag, upper, False, forces)
+    magnitude = _rig_residual(n, masses, qn, v, a, trial, h, load, P, S, k_c, c_c, r, diag, upper, forces)
     rnorm = 0.0
     for d in range(n):
         rnorm += r[d] * r[d]
@@ -757,8 +778,7 @@ def _rig_step(n, masses, q, v, a, h, load, P, S, k_c, c_c, force_scale, forces, 
         for _ in range(40):
             for d in range(n):
                 q[d] = trial[d] + scale * dq[d]
-            magnitude = _rig_residual(n, masses, qn, v, a, q, h, load, P, S, k_c, c_c, r, diag, upper, False,
-                                      forces)
+            magnitude = _rig_residual(n, masses, qn, v, a, q, h, load, P, S, k_c, c_c, r, diag, upper, forces)
             new_norm = 0.0
             for d in range(n):
                 new_norm += r[d] * r[d]
@@ -782,7 +802,9 @@ def _rig_step(n, masses, q, v, a, h, load, P, S, k_c, c_c, force_scale, forces, 
             break
     if not converged:
         return FLAG_NO_CONVERGENCE
-    _rig_residual(n, masses, qn, v, a, trial, h, load, P, S, k_c, c_c, r, diag, upper, True, forces)
+    # commit the internal states at the converged point (the last evaluation was there)
+    for j in range(n - 1):
+        _commit_isolator(j, (trial[j] - trial[j + 1]) - (qn[j] - qn[j + 1]), P, S)
     c2 = 2.0 / h
     c4 = c2 * c2
     for d in range(n):
@@ -890,8 +912,7 @@ def run_drop_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, h, n_steps, 
         for d in range(n):
             q[d] = q0[b, d]
         # initial accelerations from the forces at rest (zero step: no increment, no rate)
-        _rig_residual(n, masses, q, v, a, q, 1.0, 0.0, P, S, k_contact, c_contact, work[2], work[3], work[4],
-                      False, forces)
+        _rig_residual(n, masses, q, v, a, q, 1.0, 0.0, P, S, k_contact, c_contact, work[2], work[3], work[4], forces)
         for d in range(n):
             a[d] = -work[2][d] / masses[d] - gravity
             rec_q[b, d, 0] = q[d]
