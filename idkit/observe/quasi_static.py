@@ -241,6 +241,13 @@ class LoopSet:
         """Half the peak-to-peak deflection, m."""
         return 0.5 * float(np.ptp(self.deflection))
 
+    @property
+    def branch_amplitudes(self) -> np.ndarray:
+        """Half the deflection travelled by each branch between two reversals, m (the last,
+        partial branch to the end of the record is left out)."""
+        at_reversals = self.deflection[np.asarray(self.reversals[:-1], dtype=int)]
+        return 0.5 * np.abs(np.diff(at_reversals))
+
 
 def _as_pair(item, index: int, group: str):
     if isinstance(item, LoopSet):
@@ -397,6 +404,16 @@ class LoopData:
     provenance: DataProvenance
     offset_corrections: tuple = ()
     single_amplitude: bool = False
+
+    def amplitude_range(self) -> tuple[float, float]:
+        """Smallest and largest loop amplitude (m) over every set: half the deflection travelled
+        between two reversals. A model identified on these loops is extrapolated at
+        deflection amplitudes outside this range."""
+        amplitudes = np.concatenate([loop.branch_amplitudes for loop in self.small + self.large] + [np.zeros(0)])
+        amplitudes = amplitudes[amplitudes > 0.0]
+        if amplitudes.size == 0:
+            return float("nan"), float("nan")
+        return float(amplitudes.min()), float(amplitudes.max())
 
 
 def loop_sets(

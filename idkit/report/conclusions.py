@@ -87,7 +87,10 @@ def validation_sentence(key: str, result, *, quick_note: str = "") -> tuple[str,
         text = f"{key} ({points}): predicts well: " + "; ".join(good)
     if result.cannot_see:
         text += "; this check cannot tell these wrong components apart: " + "; ".join(result.cannot_see)
-    return result.verdict, text + (f" ({quick_note})" if quick_note else "") + "."
+    text += (f" ({quick_note})" if quick_note else "") + "."
+    for note in result.notes:
+        text += f" Note: {note}."
+    return result.verdict, text
 
 
 def _ranking_sentence(values: pd.Series, what: str, unit: str) -> str:

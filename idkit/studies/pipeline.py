@@ -28,6 +28,7 @@ records per check and shrinks the transport study and the global searches.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -230,7 +231,7 @@ class _Stages:
 
 
 def _validations(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell,
-                 limit: int | None, drop_model: str = "auto", static_stiffness=None
+                 limit: int | None, drop_model: str = "auto", static_stiffness=None, wire_loop_range=None
                  ) -> tuple[tuple[ValidationEntry, ...], HybridSystem | None, str | None]:
     def held_out(measurement_set, kind, split="validation"):
         chosen = list(measurement_set.select(kind=kind, split=split))
@@ -239,7 +240,7 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
     wire_rope, elastomer = sets["wire_rope"], sets["elastomer"]
     entries = [
         ValidationEntry("wire rope sweeps", "wire rope", "sweeps", validate_harmonic(
-            held_out(wire_rope, "stepped_sine"), isolator=wire_model,
+            held_out(wire_rope, "stepped_sine"), isolator=wire_model, identified_range=wire_loop_range,
             name="wire rope: harmonic sweeps (validation split)")),
         ValidationEntry("wire rope drops", "wire rope", "drops", validate_drops(
             held_out(wire_rope, "drop"), isolator=wire_model, drop_model=drop_model,
@@ -274,6 +275,16 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
     sweep = next(iter(hybrid_set.select(kind="stepped_sine")))
     hybrid = HybridSystem(sweep.info.top_mass_kg, elastomer_model, sweep.info.intermediate_mass_kg, wire_model)
     return tuple(entries), hybrid, sweep.info.id
+
+
+def _loop_range(data):
+    """Smallest and largest loop amplitude (m) of the rope's fit data, or None when they are not
+    loop sets or give no amplitude (the sweep validation then names no level as extrapolated)."""
+    amplitude_range = getattr(data, "amplitude_range", None)
+    if amplitude_range is None:
+        return None
+    smallest, largest = amplitude_range()
+    return (smallest, largest) if math.isfinite(smallest) and math.isfinite(largest) and smallest > 0 else None
 
 
 def _figures_data(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell
@@ -374,7 +385,8 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
         stages.start(STAGES[3])
         validations, hybrid, masses_from = _validations(sets, iwan.model, maxwell.model,
                                                         QUICK_HELD_OUT if quick else None, drop_model,
-                                                        static_stiffness=maxwell.data.static_stiffness)
+                                                        static_stiffness=maxwell.data.static_stiffness,
+                                                        wire_loop_range=_loop_range(iwan.data))
         rope_drops = list(wire_rope.select(kind="drop", split="validation"))
         drop_models = wire_rope_drop_models(rope_drops[:QUICK_HELD_OUT] if quick else rope_drops,
                                             iwan,

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pandas as pd
 
@@ -31,7 +33,7 @@ HARMONIC_THRESHOLDS = {
 
 def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, lower=None, n_harmonics: int = 3,
                       thresholds: dict | None = None, tolerance: float = 1e-3, max_periods: int = 4000, workers=None,
-                      name: str = "harmonic sweep") -> ValidationResult:
+                      name: str = "harmonic sweep", identified_range=None) -> ValidationResult:
     """Compare the simulated and measured first-order HOSIDF over the measured grid.
 
     Each measured point is reduced to the first harmonic of the base velocity
@@ -56,8 +58,16 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
         Overrides of :data:`HARMONIC_THRESHOLDS`.
     tolerance, max_periods :
         Steady-state criterion and period limit of :func:`idkit.simulate.harmonic_response`.
+    identified_range : (float, float), optional
+        Smallest and largest deflection amplitude (m) of the loops the isolator model was
+        identified on (:meth:`idkit.observe.quasi_static.LoopData.amplitude_range`); only with
+        ``isolator=`` (the deflection is then the isolator's). An amplitude level whose
+        largest measured deflection amplitude ``|H1 - 1| x base amplitude`` lies below it
+        (or whose smallest lies above it) is named in :attr:`ValidationResult.notes` with its
+        resonance error: the model is extrapolated there, which the verdict alone does not say.
     """
     limits = check_thresholds(HARMONIC_THRESHOLDS, thresholds)
+    identified_range = _checked_range(identified_range, isolator)
     measurements = list(measurements)
     if not measurements:
         raise ValidationError(f"{name}: no stepped-sine measurements given")
@@ -103,6 +113,9 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
     table["|H1| simulated [-]"] = np.abs(simulated)
     table["magnitude error [dB]"] = 20 * np.log10(table["|H1| simulated [-]"] / table["|H1| measured [-]"])
     table["phase error [deg]"] = np.degrees(np.angle(simulated / table["H1 measured"].to_numpy(complex)))
+    # the isolator's deflection as measured (first harmonic of top minus base): what the level probes
+    table["deflection amplitude measured [m]"] = (np.abs(table["H1 measured"].to_numpy(complex) - 1.0)
+                                                  * table["base amplitude [m]"].to_numpy(float))
     table["converged"] = converged
     table["status"] = status
     if table["level"].isna().all():
@@ -140,5 +153,58 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
         inconclusive = (f"{unsettled} of {len(table)} simulated points did not reach a valid steady state "
                         f"(limit {MAX_UNSETTLED_FRACTION:.0%}; {'; '.join(causes)}); they are left out of "
                         "every metric",)
+    notes = () if identified_range is None else _outside_notes(table, resonance, identified_range)
     return ValidationResult(name=name, metrics=table, summary=summary, thresholds=limits,
-                            details={"resonance": resonance}, inconclusive=inconclusive)
+                            details={"resonance": resonance}, inconclusive=inconclusive, notes=notes)
+
+
+def _checked_range(identified_range, isolator):
+    """``identified_range`` as two floats ``0 < smallest <= largest``, or None."""
+    if identified_range is None:
+        return None
+    if isolator is None:
+        raise ValidationError("identified_range: given without isolator=; expected it only for one isolator "
+                              "(the deflection of a hybrid or a whole system is not one isolator's)")
+    try:
+        smallest, largest = (float(value) for value in identified_range)
+    except (TypeError, ValueError):
+        raise ValidationError(f"identified_range: found {identified_range!r}, expected (smallest, largest) "
+                              "deflection amplitudes in m") from None
+    if not (math.isfinite(smallest) and math.isfinite(largest) and 0.0 < smallest <= largest):
+        raise ValidationError(f"identified_range: found ({smallest!r}, {largest!r}), expected finite "
+                              "0 < smallest <= largest (m)")
+    return smallest, largest
+
+
+def _outside_notes(table: pd.DataFrame, resonance: pd.DataFrame, identified_range) -> tuple[str, ...]:
+    """One note for the levels below and one for those above the identified deflection range."""
+    smallest, largest = identified_range
+    errors = dict(zip(resonance["level"], resonance["resonance error [-]"])) if len(resonance) else {}
+    below, above, inside = [], [], []
+    for level, group in table.groupby("level"):
+        amplitudes = group["deflection amplitude measured [m]"].to_numpy(float)
+        amplitudes = amplitudes[np.isfinite(amplitudes)]
+        if amplitudes.size == 0:
+            continue
+        # the largest deflection of a level is at its resonance, which the level's metrics judge
+        entry = (level, amplitudes.max(), errors.get(level, np.nan))
+        (below if entry[1] < smallest else above if entry[1] > largest else inside).append(entry)
+
+    def listed(entries):
+        words = [f"{level:g} (largest deflection amplitude {1e3 * largest_here:.3g} mm"
+                 + (f", resonance error {100 * error:+.1f} %)" if np.isfinite(error) else ")")
+                 for level, largest_here, error in entries]
+        return "level" + ("s " if len(entries) > 1 else " ") + ", ".join(words)
+
+    finite = [abs(error) for *_, error in inside if np.isfinite(error)]
+    inside_words = (f"; at the levels inside the identified range the largest resonance error is "
+                    f"{100 * max(finite):.1f} %" if finite else "")
+    notes = []
+    if below:
+        notes.append(f"{listed(below)} lie below the smallest loop amplitude the model was identified on "
+                     f"({1e3 * smallest:.3g} mm): there the model is extrapolated, and loops at these amplitudes "
+                     f"would identify it{inside_words}")
+    if above:
+        notes.append(f"{listed(above)} lie above the largest loop amplitude the model was identified on "
+                     f"({1e3 * largest:.3g} mm): there the model is extrapolated{inside_words}")
+    return tuple(notes)

@@ -50,6 +50,9 @@ class ValidationResult:
     cannot_see : tuple of str
         Deliberately wrong components that pass this validation too
         (:func:`idkit.validate.blind_spots.blind_spots`): the verdict does not vouch for them.
+    notes : tuple of str
+        Findings that explain the verdict without changing it (e.g. amplitude levels that lie
+        outside the range the model was identified on, where the model is extrapolated).
     """
 
     name: str
@@ -59,6 +62,7 @@ class ValidationResult:
     details: dict = field(default_factory=dict)
     inconclusive: tuple[str, ...] = ()
     cannot_see: tuple[str, ...] = ()
+    notes: tuple[str, ...] = ()
 
     @property
     def checks(self) -> dict[str, bool]:
@@ -92,6 +96,7 @@ class ValidationResult:
         lines.extend(f"  inconclusive: {key} could not be computed" for key in self.unmeasured)
         if self.cannot_see:
             lines.append("  cannot see (these wrong components pass too): " + "; ".join(self.cannot_see))
+        lines.extend(f"  note: {note}" for note in self.notes)
         for key, value in self.summary.items():
             if key in self.thresholds:
                 verdict = "ok" if self.checks[key] else "n/a" if key in self.unmeasured else "FAIL"

@@ -36,6 +36,14 @@ def test_a_passing_validation_says_what_it_predicts_well_and_what_it_cannot_see(
     assert "cannot tell these wrong components apart: upper x2" in text and text.endswith("(quick).")
 
 
+def test_notes_follow_the_verdict_without_changing_it():
+    notes = ("level 0.002 (largest deflection amplitude 0.007 mm) lies below the loops",)
+    verdict, text = validation_sentence("rope sweeps", _result({"a": 0.3}, {"a": 0.1}, notes=notes))
+    assert verdict == "FAIL"
+    assert text.endswith("fails on a 0.3 > 0.1. Note: level 0.002 (largest deflection amplitude 0.007 mm) lies "
+                         "below the loops.")
+
+
 def _study(rms, heights, shock_height, speeds, shock_velocity):
     return TransportStudy(tuning=pd.DataFrame(), rms=rms, psd=(), seed=0, n_realizations=1, flagged_runs=0,
                           shock_height=pd.DataFrame(shock_height, index=pd.Index(heights)),

@@ -1,6 +1,8 @@
 """Validators: a model checked against data simulated from itself passes at the noise
 floor; the same model with its stiffness doubled fails the default thresholds."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -70,6 +72,48 @@ def test_harmonic_validation_passes_on_own_data_and_fails_when_stiffness_doubles
     assert not wrong.passed
     assert wrong.summary["max_resonance_frequency_error"] > 0.2  # sqrt(2) - 1 = 0.41 in the linear range
     assert "FAIL" in wrong.report()
+
+
+def test_levels_outside_the_identified_loop_range_are_named(stepped_sine_points):
+    """``identified_range``: a level whose largest measured deflection amplitude (its resonance)
+    lies below the smallest fitted loop, or above the largest, is named with its resonance error;
+    the verdict itself does not change. The column is |H1 - 1| x base amplitude by definition."""
+    plain = validate_harmonic(stepped_sine_points, isolator=wire_rope())
+    table = plain.metrics
+    expected = np.abs(table["H1 measured"].to_numpy(complex) - 1.0) * table["base amplitude [m]"].to_numpy(float)
+    np.testing.assert_array_equal(table["deflection amplitude measured [m]"].to_numpy(float), expected)
+    largest = table.groupby("level")["deflection amplitude measured [m]"].max()
+    low, high = float(largest[2e-3]), float(largest[2e-2])
+    assert plain.notes == () and low < high
+    between = np.sqrt(low * high)
+    # range covering both levels: nothing to say
+    covering = validate_harmonic(stepped_sine_points, isolator=wire_rope(), identified_range=(0.5 * low, 2 * high))
+    assert covering.notes == () and covering.verdict == plain.verdict
+    # loops only above the small level's largest deflection: that level is extrapolated
+    above_small = validate_harmonic(stepped_sine_points, isolator=wire_rope(), identified_range=(between, 2 * high))
+    assert len(above_small.notes) == 1 and above_small.verdict == plain.verdict
+    note = above_small.notes[0]
+    assert note.startswith(f"level 0.002 (largest deflection amplitude {1e3 * low:.3g} mm, resonance error ")
+    assert f"below the smallest loop amplitude the model was identified on ({1e3 * between:.3g} mm)" in note
+    assert "note: level 0.002" in above_small.report()
+    # loops only below the large level's resonance deflection: that level is named above
+    below_large = validate_harmonic(stepped_sine_points, isolator=wire_rope(), identified_range=(0.5 * low, between))
+    assert len(below_large.notes) == 1 and below_large.notes[0].startswith("level 0.02 (")
+    assert "above the largest loop amplitude" in below_large.notes[0]
+
+
+@pytest.mark.parametrize("given, words", [((0.0, 1e-3), "0 < smallest <= largest"),
+                                          ((2e-3, 1e-3), "0 < smallest <= largest"),
+                                          ((np.nan, 1e-3), "0 < smallest <= largest"),
+                                          (1e-3, "expected (smallest, largest)"),
+                                          (("a", 1e-3), "expected (smallest, largest)")])
+def test_identified_range_is_checked(stepped_sine_points, given, words):
+    from idkit.errors import ValidationError
+
+    with pytest.raises(ValidationError, match=r"identified_range: found .*" + re.escape(words)):
+        validate_harmonic(stepped_sine_points[:3], isolator=wire_rope(), identified_range=given)
+    with pytest.raises(ValidationError, match="identified_range: given without isolator="):
+        validate_harmonic(stepped_sine_points[:3], system=SDOFSystem(8.0, wire_rope()), identified_range=(1e-4, 1e-3))
 
 
 @pytest.fixture(scope="module")
