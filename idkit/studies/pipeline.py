@@ -243,7 +243,7 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
             held_out(wire_rope, "stepped_sine"), isolator=wire_model, identified_range=wire_loop_range,
             name="wire rope: harmonic sweeps (validation split)")),
         ValidationEntry("wire rope drops", "wire rope", "drops", validate_drops(
-            held_out(wire_rope, "drop"), isolator=wire_model, drop_model=drop_model,
+            held_out(wire_rope, "drop"), isolator=wire_model, drop_model=drop_model, identified_range=wire_loop_range,
             name="wire rope: drops (validation split)")),
         ValidationEntry("elastomer FRF", "elastomer", "FRF", validate_frf(
             held_out(elastomer, "white_noise"), isolator=elastomer_model, static_stiffness=static_stiffness,

@@ -11,7 +11,7 @@ from idkit.errors import ValidationError
 from idkit.responses.shock import shock_sweep
 from idkit.signal.drop import process_drop
 from idkit.simulate import DEFAULT_CONTACT, ContactModel, contact_from_velocity_step
-from idkit.validate.result import ValidationResult, check_thresholds
+from idkit.validate.result import ValidationResult, check_thresholds, checked_identified_range
 from idkit.validate.systems import system_for
 
 __all__ = ["DROP_MODELS", "DROP_THRESHOLDS", "validate_drops"]
@@ -41,7 +41,7 @@ class _Simulated:
 def validate_drops(measurements, *, system=None, isolator=None, upper=None, lower=None, relaxation: bool = False,
                    impact_velocity: str = "height", duration: float | None = None, thresholds: dict | None = None,
                    name: str = "drop tests", workers=None, drop_model: str = "auto",
-                   contact: ContactModel | str = "measured") -> ValidationResult:
+                   contact: ContactModel | str = "measured", identified_range=None) -> ValidationResult:
     """Compare peak accelerations (compression, tension) and peak compression per drop.
 
     ``drop_model="rig"`` drops the model as the rig does (:func:`idkit.simulate.drop_rig`):
@@ -80,6 +80,12 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
     isolators, which is what the rig measures).
 
     Drops of the same system (same masses) are simulated in one batch.
+
+    ``identified_range`` (smallest and largest loop amplitude the isolator model was identified
+    on, m; only with ``isolator=``): the drops whose measured peak compression lies outside it
+    are counted in :attr:`ValidationResult.notes` with their median peak acceleration error
+    against the drops inside: the model is extrapolated there, which the verdict alone does
+    not say.
     """
     if impact_velocity == "velocity_step":
         impact_velocity = "measured"
@@ -97,6 +103,7 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
     if not (contact == "measured" or isinstance(contact, ContactModel)):
         raise ValidationError(f"contact: found {contact!r}, expected 'measured' or a ContactModel")
     limits = check_thresholds(DROP_THRESHOLDS, thresholds)
+    identified_range = checked_identified_range(identified_range, isolator)
     measurements = list(measurements)
     if not measurements:
         raise ValidationError(f"{name}: no drop measurements given")
@@ -205,5 +212,32 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
         summary[f"max_peak_acceleration_{label}_error"] = float(np.max(finite)) if finite.size else np.nan
     by_height = table.groupby(["top mass [kg]", "drop height [m]"])[
         ["peak acceleration error [-]", "peak compression error [-]"]].mean().reset_index()
+    notes = () if identified_range is None else _outside_notes(table, identified_range)
     return ValidationResult(name=name, metrics=table, summary=summary, thresholds=limits,
-                            details={"by_height": by_height})
+                            details={"by_height": by_height}, notes=notes)
+
+
+def _outside_notes(table: pd.DataFrame, identified_range) -> tuple[str, ...]:
+    """The drops whose measured peak compression lies outside the identified loop amplitudes, with
+    their median peak acceleration error against the drops inside."""
+    smallest, largest = identified_range
+    compression = table["peak compression measured [m]"].to_numpy(float)
+    error = np.abs(table["peak acceleration error [-]"].to_numpy(float))
+    inside = (compression >= smallest) & (compression <= largest)
+
+    def median_words(mask):
+        values = error[mask & np.isfinite(error)]
+        return f"{np.median(values):.3f}" if values.size else "not computed"
+
+    notes = []
+    for mask, where, bound, extreme in (
+            (compression > largest, "beyond the largest", largest, "up to"),
+            (compression < smallest, "less than the smallest", smallest, "down to")):
+        if not mask.any():
+            continue
+        reached = compression[mask].max() if extreme == "up to" else compression[mask].min()
+        notes.append(f"{int(mask.sum())} of {len(table)} drops compress the isolator {where} loop amplitude the "
+                     f"model was identified on ({1e3 * bound:.3g} mm; measured peak compression {extreme} "
+                     f"{1e3 * reached:.3g} mm): there the model is extrapolated; their median peak acceleration "
+                     f"error is {median_words(mask)}, that of the drops inside the range {median_words(inside)}")
+    return tuple(notes)

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pandas as pd
 
@@ -11,7 +9,7 @@ from idkit.errors import DataError, ValidationError
 from idkit.observe.stepped_sine import hosidf_from_stepped_sine
 from idkit.signal.harmonics import resonance_peak
 from idkit.simulate import harmonic_response
-from idkit.validate.result import ValidationResult, check_thresholds
+from idkit.validate.result import ValidationResult, check_thresholds, checked_identified_range
 from idkit.validate.systems import system_for
 
 __all__ = ["validate_harmonic", "HARMONIC_THRESHOLDS", "MAX_UNSETTLED_FRACTION"]
@@ -67,7 +65,7 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
         resonance error: the model is extrapolated there, which the verdict alone does not say.
     """
     limits = check_thresholds(HARMONIC_THRESHOLDS, thresholds)
-    identified_range = _checked_range(identified_range, isolator)
+    identified_range = checked_identified_range(identified_range, isolator)
     measurements = list(measurements)
     if not measurements:
         raise ValidationError(f"{name}: no stepped-sine measurements given")
@@ -156,24 +154,6 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
     notes = () if identified_range is None else _outside_notes(table, resonance, identified_range)
     return ValidationResult(name=name, metrics=table, summary=summary, thresholds=limits,
                             details={"resonance": resonance}, inconclusive=inconclusive, notes=notes)
-
-
-def _checked_range(identified_range, isolator):
-    """``identified_range`` as two floats ``0 < smallest <= largest``, or None."""
-    if identified_range is None:
-        return None
-    if isolator is None:
-        raise ValidationError("identified_range: given without isolator=; expected it only for one isolator "
-                              "(the deflection of a hybrid or a whole system is not one isolator's)")
-    try:
-        smallest, largest = (float(value) for value in identified_range)
-    except (TypeError, ValueError):
-        raise ValidationError(f"identified_range: found {identified_range!r}, expected (smallest, largest) "
-                              "deflection amplitudes in m") from None
-    if not (math.isfinite(smallest) and math.isfinite(largest) and 0.0 < smallest <= largest):
-        raise ValidationError(f"identified_range: found ({smallest!r}, {largest!r}), expected finite "
-                              "0 < smallest <= largest (m)")
-    return smallest, largest
 
 
 def _outside_notes(table: pd.DataFrame, resonance: pd.DataFrame, identified_range) -> tuple[str, ...]:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -25,6 +26,25 @@ def check_thresholds(defaults: dict[str, float], thresholds: dict[str, float] | 
             raise ValidationError(f"thresholds[{name!r}]: found {value!r}, expected a finite number >= 0")
         merged[name] = float(value)
     return merged
+
+
+def checked_identified_range(identified_range, isolator) -> tuple[float, float] | None:
+    """``identified_range`` (smallest and largest loop amplitude the isolator model was identified
+    on, m) as two floats ``0 < smallest <= largest``, or None; only for one isolator."""
+    if identified_range is None:
+        return None
+    if isolator is None:
+        raise ValidationError("identified_range: given without isolator=; expected it only for one isolator "
+                              "(the deflection of a hybrid or a whole system is not one isolator's)")
+    try:
+        smallest, largest = (float(value) for value in identified_range)
+    except (TypeError, ValueError):
+        raise ValidationError(f"identified_range: found {identified_range!r}, expected (smallest, largest) "
+                              "deflection amplitudes in m") from None
+    if not (math.isfinite(smallest) and math.isfinite(largest) and 0.0 < smallest <= largest):
+        raise ValidationError(f"identified_range: found ({smallest!r}, {largest!r}), expected finite "
+                              "0 < smallest <= largest (m)")
+    return smallest, largest
 
 
 @dataclass(frozen=True)

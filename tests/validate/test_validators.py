@@ -194,6 +194,29 @@ def drops():
     return records
 
 
+def test_drops_outside_the_identified_loop_range_are_counted(drops):
+    """``identified_range`` splits the drops by their measured peak compression: those beyond the
+    largest (or short of the smallest) loop amplitude are counted with their median error."""
+    plain = validate_drops(drops, isolator=wire_rope())
+    compression = np.sort(plain.metrics["peak compression measured [m]"].to_numpy(float))
+    assert plain.notes == () and compression.size == 4 and np.all(np.diff(compression) > 0)
+    middle = float(np.sqrt(compression[1] * compression[2]))
+    split = validate_drops(drops, isolator=wire_rope(), identified_range=(0.5 * compression[0], middle))
+    assert split.verdict == plain.verdict and len(split.notes) == 1
+    errors = np.abs(split.metrics["peak acceleration error [-]"].to_numpy(float))
+    beyond = split.metrics["peak compression measured [m]"].to_numpy(float) > middle
+    assert split.notes[0].startswith(f"2 of 4 drops compress the isolator beyond the largest loop amplitude the model "
+                                     f"was identified on ({1e3 * middle:.3g} mm; measured peak compression up to "
+                                     f"{1e3 * compression[3]:.3g} mm)")
+    assert split.notes[0].endswith(f"their median peak acceleration error is {np.median(errors[beyond]):.3f}, that "
+                                   f"of the drops inside the range {np.median(errors[~beyond]):.3f}")
+    short = validate_drops(drops, isolator=wire_rope(), identified_range=(middle, 2 * compression[3]))
+    assert len(short.notes) == 1 and short.notes[0].startswith("2 of 4 drops compress the isolator less than the "
+                                                               "smallest loop amplitude")
+    covering = validate_drops(drops, isolator=wire_rope(), identified_range=(0.5 * compression[0], 2 * compression[3]))
+    assert covering.notes == ()
+
+
 def test_drop_validation_passes_on_own_data_and_fails_when_stiffness_doubles(drops):
     own = validate_drops(drops, isolator=wire_rope())
     # the 5-sample zero-phase filter lowers sharp peaks by a few % at 2 kHz
