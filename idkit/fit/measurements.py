@@ -206,6 +206,11 @@ class MeasurementFit:
             large = ", ".join(s.name for s in self.data.large)
             lines.append(f"    small loops (amplitude <= {1e3 * self.data.threshold:g} mm): {small}")
             lines.append(f"    large loops: {large}")
+        if isinstance(self.data, LoopData):
+            smallest, largest = self.data.amplitude_range()
+            if np.isfinite(smallest):
+                lines.append(f"    loop amplitudes {1e3 * smallest:.3g} to {1e3 * largest:.3g} mm (half the travel "
+                             "between reversals): the model is extrapolated outside this range")
         if isinstance(self.data, LoopData) and self.data.offset_corrections:
             lines.append("    offsets removed before fitting: " + ", ".join(
                 f"{c.measurement_id} (force {c.force_offset:+.4g} N"
@@ -259,6 +264,10 @@ class MeasurementFit:
         record["success"] = self.success
         record["reasons"] = list(self.reasons)
         record["determined_only_in_combination"] = [list(found) for found in getattr(self.result, "undetermined", ())]
+        if isinstance(self.data, LoopData):
+            smallest, largest = self.data.amplitude_range()
+            if np.isfinite(smallest):
+                record["loop_amplitude_range_m"] = [smallest, largest]
         if self.kind in ("iwan", "boucwen"):
             record["errors_percent"] = {
                 "small": {n: 100 * float(e) for n, e in zip(self.result.small_names, self.result.small_errors)},

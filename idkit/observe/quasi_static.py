@@ -243,9 +243,9 @@ class LoopSet:
 
     @property
     def branch_amplitudes(self) -> np.ndarray:
-        """Half the deflection travelled by each branch between two reversals, m (the last,
-        partial branch to the end of the record is left out)."""
-        at_reversals = self.deflection[np.asarray(self.reversals[:-1], dtype=int)]
+        """Half the deflection travelled by each branch between two reversals, m (a set made by
+        :func:`loop_set` is cut at its first and last reversal: every branch is complete)."""
+        at_reversals = self.deflection[np.asarray(self.reversals, dtype=int)]
         return 0.5 * np.abs(np.diff(at_reversals))
 
 

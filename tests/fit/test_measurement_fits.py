@@ -29,6 +29,11 @@ def test_measurement_level_results_on_the_small_set(dataset):
     for name in ("fc_1", "fc_2"):  # slip forces absorb the start-state mismatch
         assert fit.model.params()[name] == pytest.approx(TRUTH_IWAN.params()[name], rel=0.20)
     assert fit.result.error_large < 0.10
+    # the loops span 0.3 to 12 mm (one sine cycle per amplitude): where the model is identified
+    smallest, largest = fit.data.amplitude_range()
+    assert smallest == pytest.approx(0.3e-3, rel=0.02) and largest == pytest.approx(12e-3, rel=0.02)
+    assert fit.provenance_dict()["loop_amplitude_range_m"] == [smallest, largest]
+    assert f"loop amplitudes {1e3 * smallest:.3g} to {1e3 * largest:.3g} mm" in fit.report()
     maxwell = fit_maxwell_measurements(data)
     assert maxwell.k0.k0 == pytest.approx(ELASTOMER.k0, rel=1e-3)
     assert maxwell.result.error < 0.02

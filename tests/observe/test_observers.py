@@ -205,8 +205,9 @@ def test_mr_damper_cycle_count_matches_the_documented_excitation():
 
 
 def test_loop_amplitude_range_is_half_the_travel_between_reversals():
-    """Branch amplitudes of a path through known reversals: half the travel between consecutive
-    reversals, the last partial branch left out; the range spans every set."""
+    """Branch amplitudes of a path through known reversals (cut at its first and last reversal,
+    as loop_set cuts a record): half the travel between consecutive reversals; the range spans
+    every set."""
     from idkit.observe.quasi_static import LoopData, LoopSet
 
     def loop(turns, name):
@@ -215,9 +216,10 @@ def test_loop_amplitude_range_is_half_the_travel_between_reversals():
         reversals = np.append(np.arange(len(turns) - 1) * 20, path.size - 1)
         return LoopSet(deflection=path, force=3e3 * path, reversals=reversals, name=name)
 
-    small = loop([5e-5, -5e-5, 1e-4, -1e-4, 0.0], "small")  # branches 5e-5, 7.5e-5, 1e-4 (and a partial one)
-    large = loop([2e-3, -2e-3, 1.5e-3], "large")  # 2e-3 (partial to 1.5e-3 left out)
+    small = loop([5e-5, -5e-5, 1e-4, -1e-4], "small")  # branches 5e-5, 7.5e-5, 1e-4
+    large = loop([2e-3, -2e-3, 1.5e-3], "large")  # 2e-3, 1.75e-3
     np.testing.assert_allclose(small.branch_amplitudes, [5e-5, 7.5e-5, 1e-4], rtol=1e-12)
+    np.testing.assert_allclose(large.branch_amplitudes, [2e-3, 1.75e-3], rtol=1e-12)
     data = LoopData(small=(small,), large=(large,), small_repetitions=(1,), large_repetitions=(1,), amplitudes={},
                     threshold=8e-3, provenance=None)
     assert data.amplitude_range() == pytest.approx((5e-5, 2e-3), rel=1e-12)
