@@ -121,8 +121,11 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitud
             state[2 + d] = v0[b, d]
         S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
         _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
+        # the member's tangent block, bound once: a view made inside the step loop costs numba a
+        # reference-count increment and decrement (atomic) per step
+        tangent = tangents[b]
         if with_tangent:
-            tangent_start(ndof, masses, P, state, tangents[b], nj, nm)
+            tangent_start(ndof, masses, P, state, tangent, nj, nm)
         flag = FLAG_OK
         base_sin, base_cos = base_motion_table(n_per)  # as the map's kernel reads it
         at = 0  # n % n_per
@@ -144,7 +147,7 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitud
             if flag != FLAG_OK:
                 break
             if with_tangent:
-                tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangents[b], nj, nm)
+                tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangent, nj, nm)
         flags[b] = flag
         if flag == FLAG_OK:
             for d in range(ndof):

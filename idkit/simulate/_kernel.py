@@ -30,8 +30,6 @@ import threading
 
 import numba
 import numpy as np
-from numba import types
-from numba.extending import overload
 
 from idkit.models.laws import boucwen_z_step
 from idkit.simulate._structured import (
@@ -344,38 +342,6 @@ def _step(ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scal
     return FLAG_OK
 
 
-def _step_by(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
-    """The step of ``structure`` (:mod:`idkit.simulate._structured`), the generic :func:`_step`
-    for :data:`GENERIC`; compiled code only (the overload below)."""
-    raise NotImplementedError("_step_by runs in compiled drivers only")
-
-
-@overload(_step_by, inline="always", prefer_literal=True)
-def _step_by_overload(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
-    # ``structure`` is a constant of the driver (typed as a literal): only the chosen step is
-    # typed and compiled into the driver
-    chosen = structure.literal_value if isinstance(structure, types.IntegerLiteral) else GENERIC
-    if chosen == SDOF_IWAN:
-        def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
-            return step_sdof(1, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
-    elif chosen == SDOF_MAXWELL:
-        def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
-            return step_sdof(2, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
-    elif chosen == HYBRID:
-        def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
-            return step_hybrid(1, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
-    elif chosen == SDOF_IWAN_MODULATED:
-        def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
-            return step_sdof(3, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
-    elif chosen == HYBRID_MODULATED:
-        def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
-            return step_hybrid(3, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
-    else:
-        def step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
-            return _step(ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
-    return step
-
-
 @numba.njit(cache=True)
 def _isolator_forces_now(ndof, state, xb, vb, P, S, out):
     """Isolator forces (N) of the current ``state = [q0, q1, v0, v1, a0, a1]``."""
@@ -464,15 +430,33 @@ def _time_kernel(structure):
                 rec_v[b, d, 0] = state[2 + d]
                 rec_a[b, d, 0] = state[4 + d]
                 rec_f[b, d, 0] = frc[d]
+            until_record = record_every  # a countdown: an integer division per step cost ~15 ns
+            r = 0
             for n in range(1, n_steps + 1):
-                flag = _step_by(structure, ndof, m0, m1, state, h, gravity, base_disp[row, n - 1], base_disp[row, n],
-                             base_vel[row, n], P, S, force_scale)
+                xb_old = base_disp[row, n - 1]
+                xb_new = base_disp[row, n]
+                vb_new = base_vel[row, n]
+                # the step of the driver's structure, called directly (see "Step dispatch" above)
+                if structure == SDOF_IWAN:
+                    flag = step_sdof(1, m0, state, h, gravity, xb_old, xb_new, vb_new, P, S, force_scale)
+                elif structure == SDOF_MAXWELL:
+                    flag = step_sdof(2, m0, state, h, gravity, xb_old, xb_new, vb_new, P, S, force_scale)
+                elif structure == HYBRID:
+                    flag = step_hybrid(1, m0, m1, state, h, gravity, xb_old, xb_new, vb_new, P, S, force_scale)
+                elif structure == SDOF_IWAN_MODULATED:
+                    flag = step_sdof(3, m0, state, h, gravity, xb_old, xb_new, vb_new, P, S, force_scale)
+                elif structure == HYBRID_MODULATED:
+                    flag = step_hybrid(3, m0, m1, state, h, gravity, xb_old, xb_new, vb_new, P, S, force_scale)
+                else:
+                    flag = _step(ndof, m0, m1, state, h, gravity, xb_old, xb_new, vb_new, P, S, force_scale)
                 if flag != FLAG_OK:
                     flags[b] = flag
                     flag_step[b] = n
                     break
-                if n % record_every == 0:
-                    r = n // record_every
+                until_record -= 1
+                if until_record == 0:
+                    until_record = record_every
+                    r += 1
                     _isolator_forces_now(ndof, state, base_disp[row, n], base_vel[row, n], P, S, frc)
                     for d in range(ndof):
                         rec_q[b, d, r] = state[d]
@@ -606,8 +590,21 @@ def _harmonic_kernel(structure):
                     hi = max(hi, top)
                     apeak = max(apeak, abs(state[4]))
                     at = at + 1 if at + 1 < n_per else 0
-                    flag = _step_by(structure, ndof, m0, m1, state, h, 0.0, base, amp * base_sin[at],
-                                    amp * omega * base_cos[at], P, S, force_scale)
+                    xb_new = amp * base_sin[at]
+                    vb_new = amp * omega * base_cos[at]
+                    # the step of the driver's structure, called directly (see "Step dispatch" above)
+                    if structure == SDOF_IWAN:
+                        flag = step_sdof(1, m0, state, h, 0.0, base, xb_new, vb_new, P, S, force_scale)
+                    elif structure == SDOF_MAXWELL:
+                        flag = step_sdof(2, m0, state, h, 0.0, base, xb_new, vb_new, P, S, force_scale)
+                    elif structure == HYBRID:
+                        flag = step_hybrid(1, m0, m1, state, h, 0.0, base, xb_new, vb_new, P, S, force_scale)
+                    elif structure == SDOF_IWAN_MODULATED:
+                        flag = step_sdof(3, m0, state, h, 0.0, base, xb_new, vb_new, P, S, force_scale)
+                    elif structure == HYBRID_MODULATED:
+                        flag = step_hybrid(3, m0, m1, state, h, 0.0, base, xb_new, vb_new, P, S, force_scale)
+                    else:
+                        flag = _step(ndof, m0, m1, state, h, 0.0, base, xb_new, vb_new, P, S, force_scale)
                     if flag != FLAG_OK:
                         break
                 if flag != FLAG_OK:

@@ -26,6 +26,8 @@ from idkit.simulate._structured import (
     SDOF_IWAN,
     SDOF_IWAN_MODULATED,
     SDOF_MAXWELL,
+    step_hybrid,
+    step_sdof,
     structure_of,
 )
 
@@ -142,9 +144,26 @@ def test_constants_match_the_generic_step():
 
 
 @numba.njit
+def _sdof_step(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+    return step_sdof(numba.literally(kind), m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+
+
+@numba.njit
+def _hybrid_step(kind, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+    return step_hybrid(numba.literally(kind), m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+
+
+#: The step each specialised driver calls (its kind of Iwan or Maxwell part), as the drivers' dispatch.
+_STEPS = {SDOF_IWAN: (1, 1), SDOF_MAXWELL: (1, 2), HYBRID: (2, 1), SDOF_IWAN_MODULATED: (1, 3),
+          HYBRID_MODULATED: (2, 3)}
+
+
 def _specialised_step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
-    return _kernel._step_by(numba.literally(structure), ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S,
-                            force_scale)
+    masses, kind = _STEPS[structure]
+    assert masses == ndof
+    if ndof == 1:
+        return _sdof_step(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+    return _hybrid_step(kind, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
 
 
 def _random_step_inputs(arrays, rng):
@@ -194,3 +213,25 @@ def test_one_step_equals_the_generic_step(name, seed):
             np.testing.assert_array_equal(state, state_g)
             np.testing.assert_array_equal(S[:, :3], S_g[:, :3])  # row 3: scratch of the last trial
     assert _kernel.FLAG_OK in flags
+
+
+def test_a_driver_compiles_only_its_own_step(tmp_path):
+    """The drivers choose their step by an if-chain on the structure, a constant of the closure:
+    numba prunes the other branches before typing, so the hybrid's driver compiles the hybrid
+    step alone (were the branches typed, every step would compile with every driver). A fresh
+    process with an empty cache, so nothing is loaded instead of compiled."""
+    import os
+    import subprocess
+    import sys
+
+    code = (
+        "from idkit.models import library\n"
+        "from idkit.simulate import simulate, _kernel, _structured\n"
+        "import numpy as np\n"
+        "simulate(library.get('hybrid_asymmetric'), np.arange(11) * 1e-3, base_acceleration=np.zeros(11), workers=1)\n"
+        "print([str(s[0]) for s in _structured.step_hybrid.signatures], len(_structured.step_sdof.signatures), "
+        "len(_kernel._step.signatures))\n"
+    )
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), IDKIT_WORKERS="1")
+    result = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert result.stdout.strip().splitlines()[-1] == "['Literal[int](1)'] 0 0"
