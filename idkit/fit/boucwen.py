@@ -224,7 +224,9 @@ def fit_boucwen(
 
     def mean_error(u):
         q = space.physical(u)
-        return 0.5 * float(np.mean(small_packed.set_errors(q))) + 0.5 * float(np.mean(large_packed.set_errors(q)))
+        small, large = small_packed.set_errors(q), large_packed.set_errors(q)
+        # np.mean to the bit, without its ~4 us wrapper (this runs at every evaluation)
+        return 0.5 * float(np.add.reduce(small) / small.size) + 0.5 * float(np.add.reduce(large) / large.size)
 
     u_current = space.internal(values)
     stages, global_info = [], None

@@ -244,7 +244,8 @@ def fit_iwan(
         def objective(u, packed=packed, unpack=unpack):
             g1, g2, g3, k, fc = unpack(u)
             packed.evaluate(g1, g2, g3, k, fc)
-            error = packed.errors.mean()
+            errors = packed.errors
+            error = np.add.reduce(errors) / errors.size  # errors.mean() to the bit, without its ~4 us wrapper
             if valid_range is not None:
                 lowest = lowest_spring_stiffness(g1, g2, g3, x_min, x_max)
                 if lowest < 0.0:
