@@ -54,14 +54,23 @@ def _cmd_report(args) -> int:
     summary = run_report(args.data_dir, args.output, force=args.force, quick=args.quick, seed=args.seed,
                          workers=args.workers, progress=lambda message: say(message, enabled=not args.quiet),
                          start_state=args.start_state, drop_model=args.drop_model, pdf=args.pdf)
-    for name, verdict in summary.validation_verdicts.items():
-        print(f"{verdict:12s}  {name}")
-    for name in summary.flagged_fits:
-        print(f"{'FLAGGED':12s}  {name} fit: " + "; ".join(summary.fit_reasons[name]))
-    if summary.quick:
-        print(f"({QUICK_NOTE})")
+    print(verdict_lines(summary, QUICK_NOTE))
     print(f"report written to {summary.html}", file=sys.stderr)
     return summary.exit_status
+
+
+def verdict_lines(summary, quick_note: str) -> str:
+    """What ``idkit report`` prints: one line per validation verdict (with its notes indented
+    under it), one per flagged fit, and the quick note of a quick run."""
+    lines = []
+    for name, verdict in summary.validation_verdicts.items():
+        lines.append(f"{verdict:12s}  {name}")
+        lines.extend(f"{'':12s}    note: {note}" for note in summary.validation_notes.get(name, ()))
+    lines.extend(f"{'FLAGGED':12s}  {name} fit: " + "; ".join(summary.fit_reasons[name])
+                 for name in summary.flagged_fits)
+    if summary.quick:
+        lines.append(f"({quick_note})")
+    return "\n".join(lines)
 
 
 def register(commands) -> None:

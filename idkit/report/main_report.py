@@ -89,6 +89,10 @@ class ReportSummary:
     fit_reasons : dict of str to tuple of str
         Per identified model the report predicts with (:data:`PREDICTING_FITS`): why its fit is
         not a success (empty when it is).
+    validation_notes : dict of str to tuple of str
+        Per validation, the findings that explain its verdict without changing it
+        (:attr:`idkit.validate.ValidationResult.notes`, e.g. levels outside the loops the model
+        was identified on).
     """
 
     out_dir: Path
@@ -99,6 +103,7 @@ class ReportSummary:
     validation_verdicts: dict
     quick: bool = False
     fit_reasons: dict = field(default_factory=dict)
+    validation_notes: dict = field(default_factory=dict)
 
     @property
     def flagged_fits(self) -> tuple[str, ...]:
@@ -532,7 +537,8 @@ def _write_report(data: ReportData, report: HtmlReport, folder: Path, started: f
     return ReportSummary(out_dir=folder, html=html_path, sections=tuple(report.section_titles),
                          validation_passed={entry.key: entry.result.passed for entry in data.validations},
                          timings_s=timings, validation_verdicts=verdicts, quick=data.quick,
-                         fit_reasons=_fit_reasons(data))
+                         fit_reasons=_fit_reasons(data),
+                         validation_notes={entry.key: entry.result.notes for entry in data.validations})
 
 
 def _fit_reasons(data: ReportData) -> dict[str, tuple[str, ...]]:
@@ -585,4 +591,4 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
     return ReportSummary(out_dir=out_dir, html=out_dir / "report.html", sections=summary.sections,
                          validation_passed=summary.validation_passed, timings_s=summary.timings_s,
                          validation_verdicts=summary.validation_verdicts, quick=summary.quick,
-                         fit_reasons=summary.fit_reasons)
+                         fit_reasons=summary.fit_reasons, validation_notes=summary.validation_notes)

@@ -61,6 +61,23 @@ def test_exit_status_rules():
     assert set(EXIT_STATUSES) == {0, 1, 3, 4}
 
 
+def test_printed_verdicts_carry_their_notes_and_the_flagged_fits():
+    from idkit.cli.report import verdict_lines
+    from idkit.report.main_report import ReportSummary
+
+    summary = ReportSummary(out_dir=Path("."), html=Path("r.html"), sections=(), validation_passed={}, timings_s={},
+                            validation_verdicts={"wire rope sweeps": "FAIL", "wire rope drops": "PASS"},
+                            fit_reasons={"wire rope (Iwan)": ("hit a bound",)}, quick=True,
+                            validation_notes={"wire rope sweeps": ("level 0.002 lies below the loops",)})
+    assert verdict_lines(summary, "quick").splitlines() == [
+        "FAIL          wire rope sweeps",
+        "                note: level 0.002 lies below the loops",
+        "PASS          wire rope drops",
+        "FLAGGED       wire rope (Iwan) fit: hit a bound",
+        "(quick)",
+    ]
+
+
 @pytest.mark.slow
 def test_report_names_every_section_and_writes_models(quick_report):
     html = (quick_report / "report.html").read_text(encoding="utf-8")
