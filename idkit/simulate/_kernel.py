@@ -39,8 +39,9 @@ from idkit.simulate._structured import (
     SDOF_IWAN,
     SDOF_IWAN_MODULATED,
     SDOF_MAXWELL,
-    _COMMITTED,
     _TRIAL,
+    commit_jenkin,
+    commit_maxwell,
     jenkin_elements,
     step_hybrid,
     step_sdof,
@@ -184,14 +185,8 @@ def _commit_isolator(j, dy, P, S):
     Jenkin forces and Bouc-Wen ``z`` are copied, the Maxwell elongations updated. One compiled
     function with no constant flag: a literal ``commit`` argument had numba compile the
     isolator force and the rig's residual twice each."""
-    for i in range(int(P[j, 0, _NJ])):
-        S[j, _COMMITTED, i] = S[j, _TRIAL, i]
-    base = 0.0
-    for i in range(int(P[j, 0, _NM])):
-        u = P[j, 4, i] * S[j, 1, i] + P[j, 5, i] * dy
-        S[j, 1, i] = u
-        base += P[j, 3, i] * P[j, 4, i] * u
-    S[j, 2, 1] = base
+    commit_jenkin(j, P, S)
+    commit_maxwell(j, dy, P, S)
     if P[j, 0, _BW] != 0.0:
         S[j, 2, 0] = S[j, 2, 2]
 

@@ -150,20 +150,34 @@ def _part_force(kind, j, y, dy, vrel, h, P, S):
 
 
 @numba.njit(cache=True, inline="always")
+def commit_jenkin(j, P, S):
+    """Commit the Jenkin forces of isolator ``j``'s last evaluation (a step's last evaluation is
+    at the point it ends on); every step's commit (specialised, generic, drop rig)."""
+    for i in range(int(P[j, 0, _NJ])):
+        S[j, _COMMITTED, i] = S[j, _TRIAL, i]
+
+
+@numba.njit(cache=True, inline="always")
+def commit_maxwell(j, dy, P, S):
+    """Advance isolator ``j``'s Maxwell elongations over a converged step of increment ``dy``
+    (``u <- e u + g dy``) and keep ``sum k_i e_i u_i`` for the next step's force; every
+    step's commit."""
+    base = 0.0
+    for i in range(int(P[j, 0, _NM])):
+        u = P[j, 4, i] * S[j, 1, i] + P[j, 5, i] * dy
+        S[j, 1, i] = u
+        base += P[j, 3, i] * P[j, 4, i] * u
+    S[j, 2, 1] = base
+
+
+@numba.njit(cache=True, inline="always")
 def _commit_part(kind, j, dy, P, S):
-    """Commit isolator ``j``'s internal states at the converged point: the Jenkin forces of the
-    step's last evaluation (which was there), or the Maxwell elongations after the increment
-    ``dy`` (the generic step's update, the same operations)."""
+    """Commit isolator ``j``'s internal states at the converged point: its Jenkin forces, or
+    its Maxwell elongations after the increment ``dy``."""
     if kind == 1 or kind == 3:
-        for i in range(int(P[j, 0, _NJ])):
-            S[j, _COMMITTED, i] = S[j, _TRIAL, i]
+        commit_jenkin(j, P, S)
     else:
-        base = 0.0
-        for i in range(int(P[j, 0, _NM])):
-            u = P[j, 4, i] * S[j, 1, i] + P[j, 5, i] * dy
-            S[j, 1, i] = u
-            base += P[j, 3, i] * P[j, 4, i] * u
-        S[j, 2, 1] = base
+        commit_maxwell(j, dy, P, S)
 
 
 @numba.njit(cache=True, inline="always")
