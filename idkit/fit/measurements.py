@@ -192,6 +192,16 @@ class MeasurementFit:
             return self.damping.model(self.result.model)
         return self.result.model
 
+    @property
+    def loop_amplitude_range(self) -> tuple[float, float] | None:
+        """Smallest and largest loop amplitude (m) the model was identified on
+        (:meth:`idkit.observe.quasi_static.LoopData.amplitude_range`), or None for a fit not
+        made on loops; outside it the model is extrapolated."""
+        if not isinstance(self.data, LoopData):
+            return None
+        smallest, largest = self.data.amplitude_range()
+        return (smallest, largest) if np.isfinite(smallest) else None
+
     def report(self) -> str:
         """The fit's report preceded by the data it used."""
         p = self.provenance
@@ -206,11 +216,10 @@ class MeasurementFit:
             large = ", ".join(s.name for s in self.data.large)
             lines.append(f"    small loops (amplitude <= {1e3 * self.data.threshold:g} mm): {small}")
             lines.append(f"    large loops: {large}")
-        if isinstance(self.data, LoopData):
-            smallest, largest = self.data.amplitude_range()
-            if np.isfinite(smallest):
-                lines.append(f"    loop amplitudes {1e3 * smallest:.3g} to {1e3 * largest:.3g} mm (half the travel "
-                             "between reversals): the model is extrapolated outside this range")
+        if self.loop_amplitude_range is not None:
+            smallest, largest = self.loop_amplitude_range
+            lines.append(f"    loop amplitudes {1e3 * smallest:.3g} to {1e3 * largest:.3g} mm (half the travel "
+                         "between reversals): the model is extrapolated outside this range")
         if isinstance(self.data, LoopData) and self.data.offset_corrections:
             lines.append("    offsets removed before fitting: " + ", ".join(
                 f"{c.measurement_id} (force {c.force_offset:+.4g} N"
@@ -264,10 +273,8 @@ class MeasurementFit:
         record["success"] = self.success
         record["reasons"] = list(self.reasons)
         record["determined_only_in_combination"] = [list(found) for found in getattr(self.result, "undetermined", ())]
-        if isinstance(self.data, LoopData):
-            smallest, largest = self.data.amplitude_range()
-            if np.isfinite(smallest):
-                record["loop_amplitude_range_m"] = [smallest, largest]
+        if self.loop_amplitude_range is not None:
+            record["loop_amplitude_range_m"] = list(self.loop_amplitude_range)
         if self.kind in ("iwan", "boucwen"):
             record["errors_percent"] = {
                 "small": {n: 100 * float(e) for n, e in zip(self.result.small_names, self.result.small_errors)},

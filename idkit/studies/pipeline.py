@@ -28,7 +28,6 @@ records per check and shrinks the transport study and the global searches.
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -277,16 +276,6 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
     return tuple(entries), hybrid, sweep.info.id
 
 
-def _loop_range(data):
-    """Smallest and largest loop amplitude (m) of the rope's fit data, or None when they are not
-    loop sets or give no amplitude (the sweep validation then names no level as extrapolated)."""
-    amplitude_range = getattr(data, "amplitude_range", None)
-    if amplitude_range is None:
-        return None
-    smallest, largest = amplitude_range()
-    return (smallest, largest) if math.isfinite(smallest) and math.isfinite(largest) and smallest > 0 else None
-
-
 def _figures_data(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell
                   ) -> tuple[dict[str, SweepMaps], dict[str, DropHistories]]:
     """The HOSIDF maps of the nonlinear isolators and a few drop time histories per isolator."""
@@ -386,7 +375,7 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
         validations, hybrid, masses_from = _validations(sets, iwan.model, maxwell.model,
                                                         QUICK_HELD_OUT if quick else None, drop_model,
                                                         static_stiffness=maxwell.data.static_stiffness,
-                                                        wire_loop_range=_loop_range(iwan.data))
+                                                        wire_loop_range=iwan.loop_amplitude_range)
         rope_drops = list(wire_rope.select(kind="drop", split="validation"))
         drop_models = wire_rope_drop_models(rope_drops[:QUICK_HELD_OUT] if quick else rope_drops,
                                             iwan,

@@ -60,9 +60,10 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
         Smallest and largest deflection amplitude (m) of the loops the isolator model was
         identified on (:meth:`idkit.observe.quasi_static.LoopData.amplitude_range`); only with
         ``isolator=`` (the deflection is then the isolator's). An amplitude level whose
-        largest measured deflection amplitude ``|H1 - 1| x base amplitude`` lies below it
-        (or whose smallest lies above it) is named in :attr:`ValidationResult.notes` with its
-        resonance error: the model is extrapolated there, which the verdict alone does not say.
+        largest measured deflection amplitude ``|H1 - 1| x base amplitude`` (at its resonance,
+        which the level's metrics judge) lies outside it is named in
+        :attr:`ValidationResult.notes` with its resonance error: the model is extrapolated
+        there, which the verdict alone does not say.
     """
     limits = check_thresholds(HARMONIC_THRESHOLDS, thresholds)
     identified_range = checked_identified_range(identified_range, isolator)
@@ -174,17 +175,18 @@ def _outside_notes(table: pd.DataFrame, resonance: pd.DataFrame, identified_rang
         words = [f"{level:g} (largest deflection amplitude {1e3 * largest_here:.3g} mm"
                  + (f", resonance error {100 * error:+.1f} %)" if np.isfinite(error) else ")")
                  for level, largest_here, error in entries]
-        return "level" + ("s " if len(entries) > 1 else " ") + ", ".join(words)
+        return ("levels " if len(entries) > 1 else "level ") + ", ".join(words) + (" lie" if len(entries) > 1
+                                                                                   else " lies")
 
     finite = [abs(error) for *_, error in inside if np.isfinite(error)]
     inside_words = (f"; at the levels inside the identified range the largest resonance error is "
                     f"{100 * max(finite):.1f} %" if finite else "")
     notes = []
     if below:
-        notes.append(f"{listed(below)} lie below the smallest loop amplitude the model was identified on "
+        notes.append(f"{listed(below)} below the smallest loop amplitude the model was identified on "
                      f"({1e3 * smallest:.3g} mm): there the model is extrapolated, and loops at these amplitudes "
                      f"would identify it{inside_words}")
     if above:
-        notes.append(f"{listed(above)} lie above the largest loop amplitude the model was identified on "
+        notes.append(f"{listed(above)} above the largest loop amplitude the model was identified on "
                      f"({1e3 * largest:.3g} mm): there the model is extrapolated{inside_words}")
     return tuple(notes)

@@ -30,7 +30,8 @@ def test_measurement_level_results_on_the_small_set(dataset):
         assert fit.model.params()[name] == pytest.approx(TRUTH_IWAN.params()[name], rel=0.20)
     assert fit.result.error_large < 0.10
     # the loops span 0.3 to 12 mm (one sine cycle per amplitude): where the model is identified
-    smallest, largest = fit.data.amplitude_range()
+    smallest, largest = fit.loop_amplitude_range
+    assert (smallest, largest) == fit.data.amplitude_range()
     assert smallest == pytest.approx(0.3e-3, rel=0.02) and largest == pytest.approx(12e-3, rel=0.02)
     assert fit.provenance_dict()["loop_amplitude_range_m"] == [smallest, largest]
     assert f"loop amplitudes {1e3 * smallest:.3g} to {1e3 * largest:.3g} mm" in fit.report()

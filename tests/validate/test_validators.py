@@ -94,7 +94,7 @@ def test_levels_outside_the_identified_loop_range_are_named(stepped_sine_points)
     assert len(above_small.notes) == 1 and above_small.verdict == plain.verdict
     note = above_small.notes[0]
     assert note.startswith(f"level 0.002 (largest deflection amplitude {1e3 * low:.3g} mm, resonance error ")
-    assert f"below the smallest loop amplitude the model was identified on ({1e3 * between:.3g} mm)" in note
+    assert f" lies below the smallest loop amplitude the model was identified on ({1e3 * between:.3g} mm)" in note
     assert "note: level 0.002" in above_small.report()
     # loops only below the large level's resonance deflection: that level is named above
     below_large = validate_harmonic(stepped_sine_points, isolator=wire_rope(), identified_range=(0.5 * low, between))
