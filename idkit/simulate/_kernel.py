@@ -39,7 +39,6 @@ from idkit.simulate._structured import (
     SDOF_IWAN,
     SDOF_IWAN_MODULATED,
     SDOF_MAXWELL,
-    _TRIAL,
     commit_jenkin,
     commit_maxwell,
     jenkin_elements,
@@ -156,7 +155,7 @@ def _isolator_force(j, y, dy, vrel, h, P, S):
     # the Jenkin elements: slip forces scaled by s(y) when the isolator's slip is modulated
     # (without modulation the plain stop operator: the same numbers as s = 1, slope 0)
     kind = 3 if P[j, 0, _SM] != 0.0 or P[j, 0, _SM + 3] != 0.0 else 1
-    force, tangent = jenkin_elements(kind, j, y, dy, P, S, force, tangent, _TRIAL)
+    force, tangent = jenkin_elements(kind, j, y, dy, P, S, force, tangent)
     # Maxwell elements are affine in dy within a step: sum k_i u_i = mbase + mgsum dy
     # with mbase = sum k_i e_i u_i (start of step) and mgsum = sum k_i g_i.
     force += S[j, 2, 1] + P[j, 0, _MGSUM] * dy

@@ -79,7 +79,7 @@ def structure_of(arrays) -> int:
 
 
 @numba.njit(cache=True, inline="always")
-def jenkin_elements(kind, j, y, dy, P, S, force, tangent, row):
+def jenkin_elements(kind, j, y, dy, P, S, force, tangent):
     """Add the Jenkin elements of isolator ``j`` to its ``force`` (N) and ``tangent`` (N/m);
     the one copy of the stop operator every step uses (the specialised steps with a constant
     ``kind``, the generic step with ``kind`` read off the isolator's slip modulation).
@@ -87,9 +87,9 @@ def jenkin_elements(kind, j, y, dy, P, S, force, tangent, row):
     ``kind`` 1: constant slip forces; 3 (:data:`_IWAN_MODULATED`): slip forces ``s(y) fc`` with
     ``s(y) = 1 - a t + b t^2``, ``t = tanh(y / y_ref)``, at the end-of-step deflection, an element force above the
     shrunken limit clipped to it, and the limit's slope in the tangent of a slipping element.
-    The element forces are stored in ``S[j, row]``: row 0 (:data:`_COMMITTED`) commits them,
-    row 3 (:data:`_TRIAL`) keeps the trial's, which a specialised step commits by a copy
-    once it has converged (its last evaluation is at the converged point).
+    The trial's element forces are kept in ``S[j, 3]`` (:data:`_TRIAL`); a step commits them
+    by a copy once it has converged (:func:`commit_jenkin`: its last evaluation is at the
+    converged point).
     """
     if kind == 3:
         # tanh(x) = (1 - e) / (1 + e) with e = exp(-2 |x|): within 2.3e-16 of libm's tanh, at a
@@ -115,7 +115,7 @@ def jenkin_elements(kind, j, y, dy, P, S, force, tangent, row):
             else:
                 tangent += P[j, 1, i]
             force += trial
-            S[j, row, i] = trial
+            S[j, _TRIAL, i] = trial
     else:
         for i in range(int(P[j, 0, _NJ])):
             trial = S[j, 0, i] + P[j, 1, i] * dy
@@ -127,7 +127,7 @@ def jenkin_elements(kind, j, y, dy, P, S, force, tangent, row):
             else:
                 tangent += P[j, 1, i]
             force += trial
-            S[j, row, i] = trial
+            S[j, _TRIAL, i] = trial
     return force, tangent
 
 
@@ -142,7 +142,7 @@ def _part_force(kind, j, y, dy, vrel, h, P, S):
     force = y * (g1 + y * (g2 + y * g3)) + P[j, 0, 3] * vrel
     tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
     if kind == 1 or kind == 3:  # _IWAN, _IWAN_MODULATED (literals: numba prunes the other branches)
-        force, tangent = jenkin_elements(kind, j, y, dy, P, S, force, tangent, _TRIAL)
+        force, tangent = jenkin_elements(kind, j, y, dy, P, S, force, tangent)
     else:
         force += S[j, 2, 1] + P[j, 0, _MGSUM] * dy
         tangent += P[j, 0, _MGSUM]
