@@ -264,14 +264,54 @@ def _step(ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scal
     an1 = state[5]
     c2 = 2.0 / h
     c4 = c2 * c2
-    # constant-acceleration predictor, then at least one Newton correction
+    # constant-acceleration predictor, then at least one Newton correction, each direction
+    # tried at full length and halved up to 40 times; one evaluation site, the specialised
+    # steps' loop (idkit.simulate._structured), so the last evaluation is at the end point
     q0 = qn0 + h * vn0 + 0.5 * h * h * an0
     q1 = qn1 + h * vn1 + 0.5 * h * h * an1
-    r0, r1, t0, t1, magnitude = _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, load, xb_old,
-                                          xb_new, vb_new, P, S)
-    rnorm = math.sqrt(r0 * r0 + r1 * r1)
+    trial0 = q0
+    trial1 = q1
+    dq0 = 0.0
+    dq1 = 0.0
+    scale = 1.0
+    rnorm = 0.0
+    accepted_trials = -1  # -1 while the predictor is evaluated
+    halvings = 0
     converged = False
-    for _iteration in range(_NEWTON_MAX_ITER):
+    while True:
+        r0, r1, t0, t1, magnitude = _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, trial0, trial1, h, load,
+                                              xb_old, xb_new, vb_new, P, S)
+        new_norm = math.sqrt(r0 * r0 + r1 * r1)
+        floor = _RES_TOL * (magnitude + force_scale)
+        if accepted_trials >= 0:
+            if new_norm < rnorm or new_norm <= floor:
+                q0 = trial0
+                q1 = trial1
+                rnorm = new_norm
+                if rnorm <= floor:
+                    converged = True
+                    break
+                if abs(scale * dq0) + abs(scale * dq1) <= 1e-15 * (abs(q0) + abs(q1) + abs(qn0)):
+                    converged = rnorm <= 1e3 * floor
+                    break
+                accepted_trials += 1
+                if accepted_trials == _NEWTON_MAX_ITER:
+                    break
+            else:
+                scale *= 0.5
+                halvings += 1
+                if halvings < 40:
+                    trial0 = q0 + scale * dq0
+                    trial1 = q1 + scale * dq1
+                    continue
+                q0 = trial0  # no decrease along the direction: stop where the search ended
+                q1 = trial1
+                rnorm = new_norm
+                converged = rnorm <= 1e3 * floor
+                break
+        else:
+            rnorm = new_norm
+            accepted_trials = 0
         if ndof == 1:
             dq0 = -r0 / (c4 * m0 + t0)
             dq1 = 0.0
@@ -283,29 +323,9 @@ def _step(ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scal
             dq0 = -(j11 * r0 - j01 * r1) / det
             dq1 = -(j00 * r1 - j01 * r0) / det
         scale = 1.0
-        accepted = False
-        trial0 = q0
-        trial1 = q1
-        new_norm = rnorm
-        for _ in range(40):
-            trial0 = q0 + scale * dq0
-            trial1 = q1 + scale * dq1
-            r0, r1, t0, t1, magnitude = _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, trial0, trial1, h,
-                                                  load, xb_old, xb_new, vb_new, P, S)
-            new_norm = math.sqrt(r0 * r0 + r1 * r1)
-            if new_norm < rnorm or new_norm <= _RES_TOL * (magnitude + force_scale):
-                accepted = True
-                break
-            scale *= 0.5
-        q0 = trial0
-        q1 = trial1
-        rnorm = new_norm
-        if rnorm <= _RES_TOL * (magnitude + force_scale):
-            converged = True
-            break
-        if not accepted or abs(scale * dq0) + abs(scale * dq1) <= 1e-15 * (abs(q0) + abs(q1) + abs(qn0)):
-            converged = rnorm <= 1e3 * _RES_TOL * (magnitude + force_scale)
-            break
+        halvings = 0
+        trial0 = q0 + dq0
+        trial1 = q1 + dq1
     if not converged:
         return FLAG_NO_CONVERGENCE
     v0 = c2 * (q0 - qn0) - vn0
