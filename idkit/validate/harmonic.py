@@ -9,6 +9,7 @@ from idkit.errors import DataError, ValidationError
 from idkit.observe.stepped_sine import hosidf_from_stepped_sine
 from idkit.signal.harmonics import resonance_peak
 from idkit.simulate import harmonic_response
+from idkit.simulate._kernel import FLAG_OK
 from idkit.validate.result import ValidationResult, check_thresholds, checked_identified_range
 from idkit.validate.systems import system_for
 
@@ -21,11 +22,14 @@ __all__ = ["validate_harmonic", "HARMONIC_THRESHOLDS", "MAX_UNSETTLED_FRACTION"]
 MAX_UNSETTLED_FRACTION = 0.10
 
 #: Default limits: RMS of 20 log10(|H1 sim| / |H1 meas|) over the grid (dB), the largest
-#: relative error of the resonance frequency per amplitude level, and of the peak magnitude.
+#: relative error of the resonance frequency per amplitude level, and of the peak magnitude;
+#: and the fraction of points the simulator flagged (the model left its valid range at a
+#: measured point: it cannot be simulated where the data were taken), as for the drops.
 HARMONIC_THRESHOLDS = {
     "rms_log_magnitude_error_db": 2.0,
     "max_resonance_frequency_error": 0.10,
     "max_peak_magnitude_error_db": 3.0,
+    "invalid_run_fraction": 0.0,
 }
 
 
@@ -43,7 +47,9 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
     A simulated point that does not reach a valid steady state (its status is not
     ``"ok"``) is left out of every metric and counted in ``points_not_converged``;
     with more than :data:`MAX_UNSETTLED_FRACTION` of the points left out the verdict
-    is INCONCLUSIVE, never PASS.
+    is INCONCLUSIVE, never PASS. A point the simulator flagged (the model left its valid
+    range there) also counts in ``invalid_run_fraction``, limit 0: a model that cannot be
+    simulated at a measured point FAILs, as in :func:`~idkit.validate.validate_drops`.
 
     Parameters
     ----------
@@ -94,6 +100,7 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
     table = pd.DataFrame(rows)
     simulated = np.empty(len(table), dtype=complex)
     converged = np.zeros(len(table), dtype=bool)
+    flagged = np.zeros(len(table), dtype=bool)
     status = [""] * len(table)
     # one batch per distinct system (masses may differ between points)
     keys = [repr(item) for item in table["_system"]]
@@ -104,6 +111,7 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
                                      tolerance=tolerance, max_periods=max_periods, workers=workers)
         simulated[members] = response.hosidf(1)
         converged[members] = response.converged
+        flagged[members] = response.flags != FLAG_OK
         for member, reason in zip(members, response.reasons):
             status[member] = reason
     table = table.drop(columns="_system")
@@ -145,6 +153,7 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
         "rms_phase_error_deg": float(np.sqrt(np.mean(settled["phase error [deg]"] ** 2))) if len(settled) else np.nan,
         "max_input_distortion": float(table[["input distortion h2 [-]", "input distortion h3 [-]"]].to_numpy().max()),
         "points_not_converged": unsettled,
+        "invalid_run_fraction": float(flagged.mean()),
     }
     inconclusive = ()
     if unsettled > MAX_UNSETTLED_FRACTION * len(table):
