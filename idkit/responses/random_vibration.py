@@ -113,12 +113,14 @@ def linear_output_psd(system, input_psd, freq: ArrayLike) -> NDArray[np.float64]
     input_psd : callable
         ``S_xx(freq)`` in (m/s^2)^2/Hz, e.g. a :class:`PsdProfile`.
     freq : array_like
-        Hz (0 allowed: ``H(0) = 1``).
+        Hz (0 allowed: ``H(0) = 1``). At the resonance of an undamped system ``|H|`` is
+        infinite (NaN where ``S_xx`` is 0 there).
     """
     freq = np.asarray(freq, dtype=float)
     positive = np.where(freq > 0, freq, 1.0)
-    response = np.where(freq > 0, np.asarray(system.transmissibility(positive)), 1.0)
-    return np.abs(response) ** 2 * np.asarray(input_psd(freq), dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):  # an undamped resonance: see above
+        response = np.where(freq > 0, np.asarray(system.transmissibility(positive)), 1.0)
+        return np.abs(response) ** 2 * np.asarray(input_psd(freq), dtype=float)
 
 
 @dataclass(frozen=True)
@@ -316,7 +318,13 @@ def _expected_linear_response(system, input_psd, *, seed, fs, freq_step, oversam
     level[0] = 0.0  # the synthesized DC and Nyquist lines are zero
     if n_samples % 2 == 0:
         level[-1] = 0.0
-    gain = linear_output_psd(system, lambda f: np.ones_like(f), lines)
+    with np.errstate(divide="ignore", invalid="ignore"):  # an undamped resonance on a line: below
+        gain = linear_output_psd(system, lambda f: np.ones_like(f), lines)
+    unbounded = ~np.isfinite(gain) & (level > 0)
+    if unbounded.any():
+        raise SimulationError(f"the linear system's response is unbounded: it is undamped and resonates at "
+                              f"{lines[unbounded][0]:g} Hz, a line of the floor signal (freq_step {freq_step:g} Hz); "
+                              "give an isolator damping or simulate in time (method='time')")
     input_level = _hann_line_smoothing(_folded_lines(level, record), record)
     output_level = _hann_line_smoothing(_folded_lines(gain * level, record), record)
     freq = np.arange(record // 2 + 1) * (fs / record)
@@ -424,14 +432,28 @@ def _small_amplitude_lines(system, signals: NDArray[np.float64], rate: float):
     base = -lines / omega**2
     masses = system.masses
     stiffness = [isolator.small_amplitude_stiffness(freq) for isolator in system.isolators]
-    if len(stiffness) == 1:
-        positions = [sdof_transmissibility(stiffness[0], masses[0], omega) * base]
-        deflections = [positions[0] - base]
-    else:
-        top, middle = hybrid_displacements(stiffness[0], stiffness[1], masses[0], masses[1], omega)
-        positions = [top * base, middle * base]
-        deflections = [positions[0] - positions[1], positions[1] - base]
+    # an undamped system resonating exactly at a line has no bounded steady state: its lines
+    # come out infinite or NaN here, and the callers say so (_unbounded_line)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if len(stiffness) == 1:
+            positions = [sdof_transmissibility(stiffness[0], masses[0], omega) * base]
+            deflections = [positions[0] - base]
+        else:
+            top, middle = hybrid_displacements(stiffness[0], stiffness[1], masses[0], masses[1], omega)
+            positions = [top * base, middle * base]
+            deflections = [positions[0] - positions[1], positions[1] - base]
     return omega, base, positions, deflections
+
+
+def _unbounded_line(omega: NDArray[np.float64], deflections) -> str:
+    """Why the small-amplitude steady state does not exist ("" when it does): the first line
+    at which a deflection is not finite."""
+    for part in deflections:
+        bad = ~np.isfinite(part).all(axis=0)
+        if bad.any():
+            return (f"the small-amplitude (stuck) response is unbounded: the undamped stuck system resonates at "
+                    f"{omega[bad][0] / (2.0 * np.pi):g} Hz, a line of the floor signal")
+    return ""
 
 
 _LAST_SIGNALS: dict = {}
@@ -487,7 +509,10 @@ def stays_stuck(system, signals: NDArray[np.float64], rate: float) -> tuple[bool
     (bool, str)
         The verdict and, when False, why (the first element or spring that rules it out).
     """
-    _, _, _, deflections = _small_amplitude_lines(system, signals, rate)
+    omega, _, _, deflections = _small_amplitude_lines(system, signals, rate)
+    unbounded = _unbounded_line(omega, deflections)
+    if unbounded:
+        return False, unbounded
     n_samples = signals.shape[1]
     for index, (isolator, lines) in enumerate(zip(system.isolators, deflections)):
         arrays = isolator.kernel_arrays()
@@ -529,6 +554,9 @@ def _linear_start(system, signals: NDArray[np.float64], rate: float) -> dict[str
         (n_realizations, n_masses), m/s, top first.
     """
     omega, base, positions, deflections = _small_amplitude_lines(system, signals, rate)
+    unbounded = _unbounded_line(omega, deflections)
+    if unbounded:
+        raise SimulationError(f"start='linear': {unbounded}; start from rest (start='rest')")
     return {
         "initial_deflection": np.column_stack([part.real.sum(axis=1) for part in deflections]),
         "initial_velocity": np.column_stack([(1j * omega * (part - base)).real.sum(axis=1)

@@ -319,3 +319,46 @@ def test_floor_signals_are_reused_only_for_the_same_profile_seed_and_grid():
         assert _line_amplitudes(other) is not lines
     more = _synthesized(quiet, 5, 400.0, 0.5, 4)  # one more realization: a new set (its first three are these)
     assert more is not first and more.shape == (4, first.shape[1])
+
+
+def _tuned_on_a_line(stiffness, freq_hz=5.0, fs=800.0, oversample=4, freq_step=0.05):
+    """A mass whose undamped resonance with ``stiffness`` falls exactly (``k - m omega^2 == 0``
+    in floating point) on a line of the floor signal's grid."""
+    rate = fs * oversample
+    lines = np.fft.rfftfreq(round(rate / freq_step), d=1.0 / rate)
+    omega = 2.0 * np.pi * lines[np.argmin(np.abs(lines - freq_hz))]
+    mass = stiffness / omega**2
+    for _ in range(8):  # at most a few ulps from k / omega^2
+        if stiffness - mass * omega**2 == 0.0:
+            return mass
+        mass = np.nextafter(mass, np.inf if stiffness - mass * omega**2 > 0 else -np.inf)
+    raise AssertionError("no mass puts the resonance exactly on the line")
+
+
+def test_an_undamped_resonance_on_a_line_is_not_a_bounded_stuck_state():
+    """An undamped rope (c_visc = 0, as a fit that cannot see the damping leaves it) tuned to a
+    line of the floor signal (the transport study tunes to 5 Hz, on its 0.05 Hz grid) has no
+    small-amplitude steady state: its lines are infinite. It was taken for "stays stuck" (a NaN
+    peak compares false), and the frequency-domain answer then failed with "psd must be
+    finite". Now the run is simulated in time, and a linear start or a linear system's
+    frequency-domain answer says why it cannot be had. No RuntimeWarning on the way."""
+    import warnings
+
+    from idkit.models import IwanModel
+    from idkit.responses.random_vibration import stays_stuck
+
+    rope = IwanModel(g1=3e4, k=[3e4, 3e4], fc=[83.0, 146.0])
+    system = SDOFSystem(_tuned_on_a_line(rope.stuck_stiffness), rope)
+    floor = PsdProfile(np.array([1.0, 100.0]), np.array([1e-3, 1e-3]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        signals = np.fft.irfft(np.ones((1, 32001)) * 1e-3, n=64000)  # every line excited
+        stuck, reason = stays_stuck(system, signals, 3200.0)
+        assert not stuck and "unbounded" in reason and "at 5 Hz" in reason
+        response = random_response(system, floor, seed=3, n_realizations=2, method="auto", workers=1)
+        assert response.method == "time" and np.isfinite(response.output_psd).all()
+        with pytest.raises(SimulationError, match="start='linear'.*unbounded.*5 Hz"):
+            random_response(system, floor, seed=3, n_realizations=2, method="auto", start="linear", workers=1)
+        voigt = VoigtModel(k=1e4, damping=0.0)
+        with pytest.raises(SimulationError, match="unbounded.*undamped.*5 Hz.*method='time'"):
+            random_response(SDOFSystem(_tuned_on_a_line(1e4), voigt), floor, seed=3, method="frequency")
