@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from idkit.errors import ParameterError
+from idkit.errors import ParameterError, SimulationError
 from idkit.models.laws import boucwen_z_history, kernel_array
 from idkit.models.base import (
     C_VISC_SPEC,
@@ -202,10 +202,33 @@ class BoucWenModel(IsolatorModel):
         return cls(**{**defaults, **params})
 
     def hysteretic_force(self, deflection, initial_z: float = 0.0) -> np.ndarray:
-        """The internal variable ``z`` in N along a deflection history in m."""
+        """The internal variable ``z`` in N along a deflection history in m.
+
+        ``z`` is integrated over each deflection step with :data:`BOUCWEN_SUBSTEPS`
+        Runge-Kutta sub-steps. A step far longer than the model's yield travel
+        ``z_max / alpha`` (``z_max = (alpha / (beta + gamma))^(1/n)``) can make that update
+        diverge: a :class:`~idkit.errors.SimulationError` names the sample (resample finer)
+        instead of returning NaN.
+        """
         x = _as_deflection(deflection)
-        return boucwen_z_history(kernel_array(x), self.alpha, self.beta, self.gamma, self.n, float(initial_z),
-                                 BOUCWEN_SUBSTEPS)
+        z = boucwen_z_history(kernel_array(x), self.alpha, self.beta, self.gamma, self.n, float(initial_z),
+                              BOUCWEN_SUBSTEPS)
+        if not np.isfinite(z).all() and np.isfinite(x).all() and math.isfinite(initial_z):
+            first = int(np.argmin(np.isfinite(z)))
+            step = abs(float(x[first] - x[first - 1])) if first else 0.0
+            raise SimulationError(
+                f"{type(self).__name__}: the hysteretic force z diverged at deflection sample {first} (a step of "
+                f"{step:.3g} m, {BOUCWEN_SUBSTEPS} Runge-Kutta sub-steps): the step is too coarse for the model's "
+                f"yield travel z_max / alpha = {self.yield_travel:.3g} m; sample the deflection history finer")
+        return z
+
+    @property
+    def yield_travel(self) -> float:
+        """``z_max / alpha`` in m: the deflection over which ``z`` saturates from zero
+        (``z_max = (alpha / (beta + gamma))^(1/n)``; infinite when ``beta + gamma <= 0``)."""
+        if self.beta + self.gamma <= 0.0 or self.alpha <= 0.0:
+            return math.inf
+        return (self.alpha / (self.beta + self.gamma)) ** (1.0 / self.n) / self.alpha
 
     def force(self, deflection, time=None, initial_z: float = 0.0) -> np.ndarray:
         """Isolator force in N along a deflection history (m); viscous part if ``time`` is given."""

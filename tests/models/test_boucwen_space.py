@@ -65,3 +65,20 @@ def test_escape_deflection_is_the_integral_of_the_loading_law():
 def test_check_names_the_values():
     with pytest.raises(ParameterError, match="found beta \\+ gamma = -300"):
         check_boucwen_shape(-100.0, -200.0, 1.0, model="BoucWenModel")
+
+
+def test_a_diverging_z_update_is_an_error_naming_the_sample_not_nan():
+    """A yield travel z_max / alpha of 10 um sampled in 1.3 mm steps: four Runge-Kutta
+    sub-steps of 0.32 mm each are 32 yield travels, far past the explicit scheme's stability,
+    and z overflowed to NaN, returned as a force. Now an error names the sample and the
+    travel; 100x finer sampling (13 um steps, 0.3 yield travels a sub-step) is finite and
+    bounded by z_max."""
+    from idkit.errors import SimulationError
+
+    model = BoucWenModel(k1=3e4, k2=1e6, k3=0.0, alpha=1e5, beta=8e4, gamma=2e4, n=2)
+    assert model.yield_travel == pytest.approx(1e-5, rel=1e-12)
+    with pytest.raises(SimulationError, match=r"diverged at deflection sample 1 \(a step of 0\.00128 m.*1e-05 m"):
+        model.force(0.01 * np.sin(np.linspace(0.0, 2.0 * np.pi, 50)))
+    z = model.hysteretic_force(0.01 * np.sin(np.linspace(0.0, 2.0 * np.pi, 5000)))
+    z_max = (model.alpha / (model.beta + model.gamma)) ** (1.0 / model.n)
+    assert np.all(np.abs(z) <= z_max * (1.0 + 1e-9))
