@@ -15,7 +15,13 @@ from idkit.simulate._structured import structure_of
 from idkit.models.laws import hybrid_displacements, sdof_transmissibility
 
 __all__ = ["HarmonicResponse", "harmonic_response", "default_steps_per_period", "small_amplitude_resonance",
-           "linear_initial_state"]
+           "linear_initial_state", "MAX_PERIOD_TABLE"]
+
+#: Most entries ``(2 K + 1) x 2 n_per`` of a run's Fourier tables (one window of two periods of
+#: ``n_per`` steps, cosine and sine each): 2^25, 256 MiB a table. A frequency far below the
+#: system's resonance takes ``48 f_res / f`` steps a period; without this limit 1e-6 Hz asks
+#: for terabytes (and 1e-20 Hz overflows the step count).
+MAX_PERIOD_TABLE = 2**25
 
 
 @dataclass(frozen=True)
@@ -174,6 +180,10 @@ def default_steps_per_period(system, freq, *, per_period: int = 128, per_resonan
     resonance = small_amplitude_resonance(system, arrays=arrays)
     freq = np.asarray(freq, dtype=float)
     steps = np.maximum(per_period, np.ceil(per_resonance * resonance / freq))
+    if not (steps < 2.0**62).all():  # before the cast: 1e-20 Hz would wrap to a negative count
+        raise SimulationError(f"freq: found {np.min(freq):g} Hz, which takes {np.max(steps):.3g} steps per period "
+                              f"({per_resonance} per period of the {resonance:.4g} Hz small-amplitude "
+                              f"resonance); expected a frequency within a few decades of the resonance")
     return (2 * np.ceil(steps / 2)).astype(np.int64)
 
 
@@ -256,6 +266,13 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
         if np.any(steps < 8) or np.any(steps % 2):
             raise SimulationError("steps_per_period: expected even integers >= 8")
     n_coeff = 2 * int(n_harmonics) + 1
+    if not (steps <= MAX_PERIOD_TABLE // (2 * n_coeff)).all():  # before the kernel allocates them
+        worst = int(np.argmax(steps))
+        raise SimulationError(
+            f"freq: found {freq[worst]:g} Hz with {steps[worst]} steps per period; with n_harmonics="
+            f"{int(n_harmonics)} a period may take at most {MAX_PERIOD_TABLE // (2 * n_coeff)} steps (its Fourier "
+            f"tables would not fit in memory): expected a higher frequency, fewer steps per period or "
+            f"fewer harmonics")
     scale = force_scale(arrays, float(np.max(amplitude * (2 * np.pi * freq) ** 2)))
     min_windows = max(1, int(np.ceil(min_periods / 2)))
     max_windows = max(1, int(np.ceil(max_periods / 2)))

@@ -86,6 +86,12 @@ ERRORS = [
     ("amplitude-zero", HARMONIC + ["--freq", "5", "--amplitude", "0"], ["--amplitude", "found 0", "> 0 m"]),
     ("amplitude-minus-inf", HARMONIC + ["--freq", "5", "--amplitude", "-inf"],
      ["argument --amplitude", "found '-inf'"]),
+    # simulate harmonic: frequencies far below the resonance (model read, nothing simulated): the
+    # steps a period grow as 1/f; 1e-6 Hz asked for terabytes, 1e-300 Hz overflowed the step count
+    ("freq-far-below-resonance", HARMONIC + ["--freq", "1e-6", "--amplitude", "1e-3"],
+     ["freq: found 1e-06 Hz", "steps per period", "at most"]),
+    ("freq-tiny", HARMONIC + ["--freq", "1e-300", "--amplitude", "1e-3"],
+     ["freq: found 1e-300 Hz", "steps per period", "resonance"]),
     # simulate harmonic: other numbers
     ("tolerance-negative", HARMONIC + POINT + ["--tolerance", "-1"], ["--tolerance", "found '-1'", ">= 1e-12"]),
     ("tolerance-zero", HARMONIC + POINT + ["--tolerance", "0"], ["--tolerance", "found '0'", "< 1"]),

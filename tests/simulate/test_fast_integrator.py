@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from idkit.errors import SimulationError
 from idkit.models import IwanModel, SDOFSystem, VoigtModel, library
 from idkit.simulate import BaseMotion, free_fall, harmonic_response, simulate
 
@@ -147,3 +148,23 @@ def test_linear_start_reaches_the_same_steady_state_sooner():
     assert linear.periods.sum() < 0.35 * rest.periods.sum()  # measured 0.24 (2744 vs 11340 periods)
     with pytest.raises(ValueError, match="start"):
         harmonic_response(wire_rope, freq, 1e-5, start="warm")
+
+
+@pytest.mark.parametrize("freq, n_harmonics, words", [
+    (1e-300, 3, "resonance"),   # 48 f_res / f steps a period overflowed int64 (a negative array size)
+    (1e-6, 3, "at most"),       # ~1e9 steps a period: Fourier tables of terabytes
+    (5e-4, 32, "n_harmonics=32"),  # the table grows with the harmonics too (3 harmonics run)
+])
+def test_frequency_far_below_resonance_is_refused_before_allocation(freq, n_harmonics, words):
+    """A period's steps grow as 1/f: a frequency whose tables cannot fit is named, not allocated."""
+    with pytest.raises(SimulationError, match=rf"freq: found {freq:g} Hz.*steps per period") as refused:
+        harmonic_response(library.get("system_a1_symmetric"), freq, 1e-3, n_harmonics=n_harmonics)
+    assert words in str(refused.value)
+
+
+def test_given_steps_per_period_are_bounded_by_the_table_size():
+    from idkit.simulate.harmonic import MAX_PERIOD_TABLE
+
+    too_many = 2 * (MAX_PERIOD_TABLE // (2 * 3) // 2 + 1)  # n_harmonics=1: 3 coefficients
+    with pytest.raises(SimulationError, match="with n_harmonics=1 a period may take at most"):
+        harmonic_response(library.get("system_a1_symmetric"), 5.0, 1e-3, n_harmonics=1, steps_per_period=too_many)
