@@ -41,6 +41,17 @@ def _write_table(frame, output):
     print(f"wrote {output}", file=sys.stderr)
 
 
+def _failed_points(frame, what: str) -> int:
+    """Exit status of a simulated table (written in every case): 1 when a point's ``status`` is
+    not ``ok`` (a step that did not converge, a run that never settled), else 0."""
+    failed = frame.loc[frame["status"] != "ok", "status"]
+    if failed.empty:
+        return 0
+    print(f"idkit: {len(failed)} of {len(frame)} {what} not valid (see the status column), e.g. "
+          f"{failed.iloc[0]}", file=sys.stderr)
+    return 1
+
+
 def _check_table_output(args):
     """Refuse a bad ``-o`` of ``simulate`` before simulating (exists, overlaps the model, unwritable)."""
     from idkit.output_checks import check_output
@@ -81,6 +92,7 @@ def _cmd_simulate_harmonic(args):
     table = harmonic_grid_table(system, freq, amplitude, n_harmonics=args.harmonics, tolerance=args.tolerance,
                                 progress=ProgressBar("harmonic", enabled=not args.quiet))
     _write_table(table, args.output)
+    return _failed_points(table, "points")
 
 
 def _cmd_simulate_drop(args):
@@ -101,7 +113,9 @@ def _cmd_simulate_drop(args):
     else:
         sweep = shock_sweep(system, drop_height=args.height, duration=duration, time_step=time_step,
                             gravity=args.gravity)
-    _write_table(sweep.to_dataframe(), args.output)
+    table = sweep.to_dataframe()
+    _write_table(table, args.output)
+    return _failed_points(table, "drops")
 
 
 def register(commands) -> None:
@@ -113,7 +127,10 @@ def register(commands) -> None:
 
     simulate = commands.add_parser("simulate", help="simulate a model file")
     kinds = simulate.add_subparsers(dest="kind", required=True)
-    harmonic = kinds.add_parser("harmonic", help="steady-state harmonic base excitation over a grid")
+    harmonic = kinds.add_parser("harmonic", help="steady-state harmonic base excitation over a grid",
+                                epilog="exit status (the table is written in every case): 0 every point is ok; "
+                                       "1 a point is not (its status says why: a step that did not converge, "
+                                       "no steady state within the periods)")
     harmonic.add_argument("model", help="model file (JSON)")
     harmonic.add_argument("--mass", type=opt.real(above=0, unit="kg"), help="top mass in kg (isolator model files)")
     harmonic.add_argument("--freq", type=opt.real(why="frequencies in Hz, or START STOP COUNT"), nargs="+", required=True,
@@ -135,7 +152,9 @@ def register(commands) -> None:
     harmonic.add_argument("--quiet", action="store_true")
     harmonic.set_defaults(handler=_cmd_simulate_harmonic)
 
-    drop = kinds.add_parser("drop", help="conditioned free fall (base fixed)")
+    drop = kinds.add_parser("drop", help="conditioned free fall (base fixed)",
+                            epilog="exit status (the table is written in every case): 0 every drop is ok; "
+                                   "1 a drop is not (its status says why)")
     drop.add_argument("model", help="model file (JSON)")
     drop.add_argument("--mass", type=opt.real(above=0, unit="kg"), help="top mass in kg (isolator model files)")
     drop.add_argument("--velocity", type=opt.real(at_least=0, unit="m/s", why="a speed; idkit sets the sign "

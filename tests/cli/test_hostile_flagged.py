@@ -42,3 +42,20 @@ def test_a_fit_that_is_not_a_success_is_written_with_its_reasons_and_exits_1(loo
     assert outcome.status == 1
     provenance = json.loads(output.read_text())["provenance"]
     assert provenance["success"] is False and provenance["reasons"]
+
+
+@pytest.mark.parametrize("command, options", [
+    # 4e150 m/s at impact, a 1e300 m base amplitude: no step of the simulator converges, the row is NaN
+    ("drop", ["--mass", "8", "--height", "0.05", "1e300"]),
+    ("harmonic", ["--mass", "8", "--freq", "10", "--amplitude", "1e-3", "1e300", "--quiet"]),
+])
+def test_a_simulated_point_that_is_not_valid_is_written_and_exits_1(tmp_path, command, options):
+    from idkit.models import library, save_model
+
+    model, output = tmp_path / "wire_rope.json", tmp_path / "table.csv"
+    save_model(library.get("table_7_1_wire_rope"), model)
+    outcome = run_main(["simulate", command, model, *options, "-o", output], inputs=[model])
+    check(outcome, "flagged", ["1 of 2", "not valid", "did not converge"], case=f"simulate {command} invalid point")
+    assert outcome.status == 1
+    status = output.read_text().splitlines()[1:]
+    assert status[0].endswith(",ok") and not status[1].endswith(",ok")  # the valid point is kept as computed
