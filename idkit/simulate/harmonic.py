@@ -257,6 +257,12 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
     if not ((amplitude > 0).all() and np.isfinite(amplitude).all()):
         bad = amplitude[~((amplitude > 0) & np.isfinite(amplitude))][:1]
         raise SimulationError(f"amplitude: found {bad}, expected positive finite amplitudes in m")
+    with np.errstate(over="ignore"):
+        base_accel = amplitude * (2 * np.pi * freq) ** 2
+    if not np.isfinite(base_accel).all():  # it scales every point's convergence test (force_scale)
+        worst = int(np.argmin(np.isfinite(base_accel)))
+        raise SimulationError(f"freq, amplitude: found {freq[worst]:g} Hz and {amplitude[worst]:g} m, whose base "
+                              f"acceleration A (2 pi f)^2 overflows; expected a finite one")
     if int(n_harmonics) < 1:
         raise SimulationError(f"n_harmonics: found {n_harmonics!r}, expected >= 1")
     if steps_per_period is None:
@@ -273,7 +279,7 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
             f"{int(n_harmonics)} a period may take at most {MAX_PERIOD_TABLE // (2 * n_coeff)} steps (its Fourier "
             f"tables would not fit in memory): expected a higher frequency, fewer steps per period or "
             f"fewer harmonics")
-    scale = force_scale(arrays, float(np.max(amplitude * (2 * np.pi * freq) ** 2)))
+    scale = force_scale(arrays, float(np.max(base_accel)))
     min_windows = max(1, int(np.ceil(min_periods / 2)))
     max_windows = max(1, int(np.ceil(max_periods / 2)))
     kernel_arrays = arrays.as_tuple()

@@ -168,3 +168,9 @@ def test_given_steps_per_period_are_bounded_by_the_table_size():
     too_many = 2 * (MAX_PERIOD_TABLE // (2 * 3) // 2 + 1)  # n_harmonics=1: 3 coefficients
     with pytest.raises(SimulationError, match="with n_harmonics=1 a period may take at most"):
         harmonic_response(library.get("system_a1_symmetric"), 5.0, 1e-3, n_harmonics=1, steps_per_period=too_many)
+
+
+def test_overflowing_base_acceleration_is_refused():
+    """A (2 pi f)^2 sets every point's force scale: an infinite one would void the batch's convergence tests."""
+    with pytest.raises(SimulationError, match=r"found 1e\+300 Hz and 0.001 m, whose base acceleration"):
+        harmonic_response(library.get("system_a1_symmetric"), [10.0, 1e300], 1e-3)
