@@ -18,6 +18,9 @@ def _parts(args):
 
     if (args.wire_rope is None) != (args.elastomer is None):
         raise IdkitError("give both --wire-rope and --elastomer model files, or neither (bundled data)")
+    if args.wire_rope is not None and args.data_dir is not None:
+        raise IdkitError(f"--data-dir {args.data_dir}: not used when --wire-rope and --elastomer give the parts; "
+                         "expected either the model files or --data-dir")
     if args.wire_rope is None:
         say("identifying the wire rope and the elastomer from the bundled data", enabled=not args.quiet)
         return identify_parts(args.data_dir, seed=args.seed)
@@ -52,6 +55,7 @@ def add_transport_parser(studies) -> None:
     opt.add_study_options(parser, "transport")
     parser.add_argument("--wire-rope", help="Iwan model file (default: identified from the bundled data)")
     parser.add_argument("--elastomer", help="generalized Maxwell model file (default: identified from the bundled data)")
-    parser.add_argument("--data-dir", help="data folder to identify the parts from (default: ./data)")
+    parser.add_argument("--data-dir", help="data folder to identify the parts from (default: ./data; not with "
+                        "--wire-rope and --elastomer)")
     parser.add_argument("--seed", type=opt.seed, default=2026, help="seed of the random floor signals")
     parser.set_defaults(handler=_cmd_transport)

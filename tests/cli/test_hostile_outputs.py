@@ -144,6 +144,15 @@ def test_transport_study_output_containing_its_model_files_is_refused(model_file
     check(outcome, "error", ["contains the input", str(model_file)], case="study transport -o contains input")
 
 
+def test_transport_study_refuses_a_data_folder_it_would_not_read(model_file, tmp_path):
+    """With both model files the parts are given: a --data-dir (even a missing one) was silently ignored."""
+    output = tmp_path / "study"
+    outcome = run_main(["study", "transport", "--wire-rope", model_file, "--elastomer", model_file,
+                        "--data-dir", tmp_path / "missing", "-o", output, "--quick", "--quiet"],
+                       inputs=[model_file], must_not_exist=[output])
+    check(outcome, "error", ["--data-dir", "not used", "--wire-rope"], case="study transport --data-dir unused")
+
+
 def test_study_never_replaces_the_working_folder_or_its_parents(tmp_path, monkeypatch):
     work = tmp_path / "work"
     work.mkdir()
