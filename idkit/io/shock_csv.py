@@ -3,7 +3,8 @@
 Layout (``docs/data-format.md``): one header row of ``name [unit]`` cells, the first column
 ``time`` in a time unit, every other column an acceleration of the same channel in one test
 (``m/s^2``, ``mm/s^2``, ``g``, ``1000g``; the unit is read from the header, never guessed),
-then one row of numbers per sample. A ``.gz`` name is gunzipped first. The result is the
+then one row of numbers per sample (empty lines at the very end are ignored; an empty line or
+empty cell between samples is an error, never skipped). A ``.gz`` name is gunzipped first. The result is the
 typed :class:`~idkit.io.measurements.AccelerationRecord` every shock function of
 :mod:`idkit.observe.shock` takes.
 """
@@ -61,8 +62,13 @@ def read_shock_csv(path: str | Path, *, channel: str | None = None) -> Accelerat
     path = Path(path)
     raw = read_file_bytes(path)
     text = decode_text(path, raw)
-    rows = [row for row in csv.reader(io.StringIO(text)) if row and any(cell.strip() for cell in row)]
     where = f"file '{path}'"
+    try:
+        rows = list(csv.reader(io.StringIO(text, newline="")))
+    except csv.Error as exc:
+        raise DataError(f"{where}: not parseable as CSV ({exc})") from None
+    while rows and not any(cell.strip() for cell in rows[-1]):
+        rows.pop()  # trailing empty lines carry no data; any other row is a sample (an empty one is refused)
     if len(rows) < 3:
         raise DataError(f"{where}: found {max(len(rows) - 1, 0)} data row(s), expected a header "
                         "'time [s], <test> [unit], ...' and at least 2 rows of samples")
@@ -83,7 +89,8 @@ def read_shock_csv(path: str | Path, *, channel: str | None = None) -> Accelerat
     body = [[cell.strip() for cell in row] for row in rows[1:]]
     for index, row in enumerate(body):
         if len(row) != len(header):
-            raise DataError(f"{where}: {source.row_label(index)}: found {len(row)} field(s), "
+            what = "an empty line" if not row else f"{len(row)} field(s)"
+            raise DataError(f"{where}: {source.row_label(index)}: found {what}, "
                             f"expected {len(header)} as in the header")
     time_scale = lookup_unit(units[0], "time", where=source.where("time"))
     time = convert_to_si(parse_number_cells([row[0] for row in body], "time", source), time_scale)

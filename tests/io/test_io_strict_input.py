@@ -132,3 +132,32 @@ def test_empty_and_header_only_mat(tmp_path):
     (tmp_path / "header.mat").write_bytes(_mat(False)[:128])
     with pytest.raises(DataError, match="without any variable"):
         load_mat_variables(tmp_path / "header.mat")
+
+
+SHOCK_ROWS = ["time [ms],shot_1 [g]"] + [f"{k / 100},{(k % 7) / 10}" for k in range(40)]
+SHOCK = "\n".join(SHOCK_ROWS) + "\n"
+
+
+@pytest.mark.parametrize(("text", "fragments"), [
+    # a sample row of empty cells, or an empty line, was dropped silently (the rows after it renumbered)
+    ("\n".join(SHOCK_ROWS[:20] + [","] + SHOCK_ROWS[20:]), ["data row 20 ", "file line 21", "found an empty cell"]),
+    ("\n".join(SHOCK_ROWS[:20] + [""] + SHOCK_ROWS[20:]), ["data row 20 ", "found an empty line"]),
+    ("time [s],shot_1 [g]\n0," + "1" * 200000 + "\n1,0\n", ["not parseable as CSV", "field limit"]),
+])
+def test_shock_csv_never_drops_a_row(tmp_path, text, fragments):
+    from idkit.io import read_shock_csv
+
+    path = tmp_path / "fixture.csv"
+    path.write_text(text)
+    with pytest.raises(DataError, match="file '.*fixture.csv'") as info:
+        read_shock_csv(path)
+    for fragment in fragments:
+        assert fragment in str(info.value)
+
+
+def test_shock_csv_ignores_only_trailing_empty_lines(tmp_path):
+    from idkit.io import read_shock_csv
+
+    path = tmp_path / "fixture.csv"
+    path.write_text(SHOCK + "\n\n")
+    assert read_shock_csv(path).accel.shape == (40, 1)
