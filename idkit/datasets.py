@@ -252,10 +252,9 @@ def _read_ansys_prony(path: Path, text: str, sha256: str) -> tuple[np.ndarray, n
         if not match:
             continue
         start = int(match.group(1))
-        cells = [c.strip() for c in match.group(2).split(",") if c.strip()]
-        numbers = parse_number_cells(cells, f"TBDATA on line {line_number}", source)
-        for offset, value in enumerate(numbers):
-            data[start + offset] = float(value)
+        for offset, cell in enumerate(c.strip() for c in match.group(2).split(",")):
+            if cell:  # ANSYS: a blank field leaves its location as it is (the next values keep theirs)
+                data[start + offset] = float(parse_number_cells([cell], f"TBDATA on line {line_number}", source)[0])
     if n_terms is None or not data:
         raise DataError(f"{source.where()}: no 'TB,PRON' table with TBDATA lines found; "
                         "expected an ANSYS Prony material file")

@@ -58,6 +58,29 @@ def test_prony_references(realdata, relpath, n_terms, e0_pa):
         np.testing.assert_allclose(prony.moduli.sum() + prony.equilibrium_modulus, e0_pa)
 
 
+_PRONY_HEAD = "TB,PRON,_MATL   ,   1,   2,SHEA\n"
+
+
+@pytest.mark.parametrize(("tbdata", "expected"), [
+    # a blank field leaves its location (ANSYS): the values after it keep their places
+    ("TBDATA,1,0.25,,0.5\nTBDATA,2,1e-3\nTBDATA,4,2e-2\n", ([0.25, 0.5], [1e-3, 2e-2])),
+    ("TBDATA,1,0.25,1e-3,0.5,2e-2,\n", ([0.25, 0.5], [1e-3, 2e-2])),  # a trailing comma adds nothing
+])
+def test_ansys_prony_blank_fields_keep_their_locations(tmp_path, tbdata, expected):
+    path = tmp_path / "prony_terms.MPL"
+    path.write_text(_PRONY_HEAD + tbdata)
+    prony = read_prony_reference(path)
+    assert prony.alpha.tolist() == expected[0] and prony.tau.tolist() == expected[1]
+
+
+def test_ansys_prony_blank_field_never_filled_is_refused(tmp_path):
+    """Before, the blank was dropped and every later value slid one location down, read without a word."""
+    path = tmp_path / "prony_terms.MPL"
+    path.write_text(_PRONY_HEAD + "TBDATA,1,0.25,,1e-3,0.5,2e-2\n")
+    with pytest.raises(DataError, match="TB,PRON declares 2 terms; found TBDATA indices 1..5 \\(4 values\\)"):
+        read_prony_reference(path)
+
+
 def test_both_time_master_prony_files_agree(realdata):
     folder = realdata("pyvisco_dma") / "verification" / "time_master"
     ansys = read_prony_reference(folder / "prony_terms.MPL", instantaneous_modulus=1739.03e6)
