@@ -105,7 +105,11 @@ def init_manifest(folder, *, kind: str, files: str | None = None, metadata: dict
     elif append:
         raise DataError(f"manifest '{path}': not found, nothing to append to")
     listed = {entry["file"] for entry in existing.get("measurements", [])}
-    pattern = files or "**/*"
+    pattern = "**/*" if files is None else files
+    parts = Path(pattern).parts
+    if not parts or Path(pattern).is_absolute() or ".." in parts:  # pathlib refuses '' and '/...' with a traceback
+        raise DataError(f"files: found {pattern!r}, expected a glob pattern relative to the folder '{folder}' "
+                        "and inside it (e.g. 'drops/*.csv')")
     found = sorted(p for p in folder.glob(pattern) if p.is_file() and p.name.endswith(DATA_SUFFIXES))
     relative = [p.relative_to(folder).as_posix() for p in found]
     relative = [r for r in relative if r not in listed] if append else relative

@@ -63,6 +63,20 @@ def test_drops_need_their_height(tmp_path):
         init_manifest(tmp_path, kind="drop")
 
 
+@pytest.mark.parametrize("pattern", ["", "/etc/*", ".", "../*.csv", "sub/../*.csv"])
+def test_files_pattern_must_stay_inside_the_folder(tmp_path, pattern):
+    """'' was taken as 'every file', '/etc/*' and '.' raised pathlib's NotImplementedError / IndexError."""
+    (tmp_path / "set").mkdir()
+    write_loops(tmp_path / "set" / "a.csv")
+    write_loops(tmp_path / "outside.csv")
+    with pytest.raises(DataError, match=r"files: found .*expected a glob pattern relative to the folder"):
+        init_manifest(tmp_path / "set", kind="quasi_static", files=pattern)
+    assert not (tmp_path / "set" / "manifest.json").exists()
+    outcome = run_main(["data", "init", tmp_path / "set", "--kind", "quasi_static", "--files", pattern],
+                       inputs=[tmp_path], must_not_exist=[tmp_path / "set" / "manifest.json"])
+    check(outcome, "error", ["files: found", "relative to the folder"], case="data-init-files-outside")
+
+
 def test_cli_writes_a_manifest_that_loads(tmp_path):
     write_loops(tmp_path / "a.csv")
     outcome = run_main(["data", "init", tmp_path, "--kind", "quasi_static", "--isolator", "mount",
