@@ -95,6 +95,9 @@ def init_manifest(folder, *, kind: str, files: str | None = None, metadata: dict
     path = folder / MANIFEST_NAME
     if append and force:
         raise DataError("give at most one of append and force")
+    if append and name:
+        raise DataError(f"name: found {name!r} with append; the existing manifest keeps its own name "
+                        "(edit it there), expected no name")
     existing: dict = {}
     if path.exists():
         if append:
@@ -116,6 +119,9 @@ def init_manifest(folder, *, kind: str, files: str | None = None, metadata: dict
     if not relative:
         raise DataError(f"folder '{folder}': no {' / '.join(DATA_SUFFIXES)} file matches {pattern!r}"
                         + (" that the manifest does not list already" if append else ""))
+    if mat_columns and not any(file.endswith(".mat") for file in relative):
+        raise DataError(f"mat_columns: found {', '.join(mat_columns)} but no .mat file among the {len(relative)} "
+                        "listed file(s), expected them only for .mat files (CSV files carry their own header)")
     taken = {entry["id"] for entry in existing.get("measurements", [])}
     raw_entries = []
     for file in relative:

@@ -77,6 +77,19 @@ def test_files_pattern_must_stay_inside_the_folder(tmp_path, pattern):
     check(outcome, "error", ["files: found", "relative to the folder"], case="data-init-files-outside")
 
 
+def test_stated_values_that_would_not_be_used_are_refused(tmp_path):
+    """A mapping for .mat files with only CSV files, or a name on append, were dropped without a word."""
+    write_loops(tmp_path / "a.csv")
+    with pytest.raises(DataError, match=r"mat_columns: found time but no .mat file among the 1 listed"):
+        init_manifest(tmp_path, kind="quasi_static", mat_columns={"time": "Tout [s]"})
+    assert not (tmp_path / "manifest.json").exists()
+    init_manifest(tmp_path, kind="quasi_static", name="bench")
+    write_loops(tmp_path / "b.csv")
+    with pytest.raises(DataError, match=r"name: found 'renamed' with append"):
+        init_manifest(tmp_path, kind="quasi_static", append=True, name="renamed")
+    assert load_measurement_set(tmp_path).ids == ("a",)
+
+
 def test_cli_writes_a_manifest_that_loads(tmp_path):
     write_loops(tmp_path / "a.csv")
     outcome = run_main(["data", "init", tmp_path, "--kind", "quasi_static", "--isolator", "mount",
