@@ -18,6 +18,10 @@ from idkit.errors import ParameterError
 __all__ = ["ParamSpec", "check_value", "check_array"]
 
 
+#: Values that convert to a float but are not numbers: a boolean, text.
+_NOT_NUMBERS = (bool, np.bool_, str, bytes)
+
+
 @dataclass(frozen=True)
 class ParamSpec:
     """Declaration of one scalar model parameter.
@@ -53,6 +57,9 @@ class ParamSpec:
             Naming the model, the parameter, the value found and what was expected.
         """
         where = f"{model} parameter {self.name!r}" if model else f"parameter {self.name!r}"
+        if isinstance(value, _NOT_NUMBERS):  # float() would take True as 1 and "8" as 8
+            raise ParameterError(f"{where}: found {value!r} ({type(value).__name__}), expected a real number "
+                                 f"in {self.unit}")
         try:
             number = float(value)
         except (TypeError, ValueError):
@@ -96,6 +103,8 @@ def check_array(
     first offending element (1-based, as in the model's parameter names).
     """
     try:
+        if any(isinstance(value, _NOT_NUMBERS) for value in np.ravel(np.asarray(values, dtype=object))):
+            raise TypeError  # np.array(..., dtype=float) would take True as 1 and "8" as 8
         array = np.array(values, dtype=float, ndmin=1)
     except (TypeError, ValueError):
         raise ParameterError(

@@ -45,6 +45,13 @@ GOOD_IWAN = dict(g1=3e3, k=[3e3, 3e3], fc=[8.3, 14.6])
         (SDOFSystem, dict(mass=-2.0, isolator=VoigtModel(k=1.0, damping=1.0)), "'mass'"),
         (SDOFSystem, dict(mass=2.0, isolator="rubber"), "expected an idkit isolator model"),
         (CoulombSpringSystem, dict(mass=10.0, stiffness=9e3, friction_force=-1.0), "'friction_force'"),
+        # booleans and text are not numbers: float(True) is 1 kg, float("8") is 8 kg (a model file refuses both)
+        (SDOFSystem, dict(mass=True, isolator=VoigtModel(k=1.0, damping=1.0)), "found True (bool)"),
+        (SDOFSystem, dict(mass=np.True_, isolator=VoigtModel(k=1.0, damping=1.0)), "'mass': found"),
+        (VoigtModel, dict(k="1e4", damping=1.0), "found '1e4' (str)"),
+        (IwanModel, {**GOOD_IWAN, "k": [3e3, True]}, "'k': found [3000.0, True]"),
+        (IwanModel, {**GOOD_IWAN, "fc": np.array(["8.3", "14.6"])}, "'fc': found"),
+        (GeneralizedMaxwell, dict(k0=1e3, k=[1e3], rate=np.array([True])), "'rate': found"),
     ],
 )
 def test_invalid_parameters_raise_named_errors(factory, kwargs, fragment):
