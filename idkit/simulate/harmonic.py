@@ -201,6 +201,19 @@ def _reasons(flags, converged, periods, change, tolerance) -> tuple[str, ...]:
     return tuple(reasons)
 
 
+def _whole(value, name: str, minimum: int, minimum_text: str = "") -> int:
+    """``value`` as an int if it is a whole number >= ``minimum`` (2.5 is refused, never truncated)."""
+    number = None
+    if not isinstance(value, (bool, np.bool_)):
+        if isinstance(value, (int, np.integer)):
+            number = int(value)
+        elif isinstance(value, (float, np.floating)) and np.isfinite(value) and value == int(value):
+            number = int(value)
+    if number is None or number < minimum:
+        raise SimulationError(f"{name}: found {value!r}, expected a whole number >= {minimum_text or minimum}")
+    return number
+
+
 def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, tolerance: float = 1e-3,
                       steps_per_period=None, min_periods: int = 8, max_periods: int = 4000,
                       progress=None, workers: int | None = None, executor=None,
@@ -247,9 +260,15 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
     """
     system = resolve_system(system)
     arrays = system_arrays(system)
-    freq, amplitude = np.broadcast_arrays(np.asarray(freq, dtype=float), np.asarray(amplitude, dtype=float))
+    try:
+        freq, amplitude = np.broadcast_arrays(np.asarray(freq, dtype=float), np.asarray(amplitude, dtype=float))
+    except ValueError:
+        raise SimulationError(f"freq, amplitude: found shapes {np.shape(freq)} and {np.shape(amplitude)}, "
+                              "expected shapes that broadcast together") from None
     freq = np.ascontiguousarray(freq.ravel())
     amplitude = np.ascontiguousarray(amplitude.ravel())
+    if freq.size == 0:
+        raise SimulationError("freq, amplitude: found no points, expected at least one")
     # ndarray methods, not np.any / np.all: a one-point call spends microseconds on each wrapper
     if not ((freq > 0).all() and np.isfinite(freq).all()):
         bad = freq[~((freq > 0) & np.isfinite(freq))][:1]
@@ -263,20 +282,25 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
         worst = int(np.argmin(np.isfinite(base_accel)))
         raise SimulationError(f"freq, amplitude: found {freq[worst]:g} Hz and {amplitude[worst]:g} m, whose base "
                               f"acceleration A (2 pi f)^2 overflows; expected a finite one")
-    if int(n_harmonics) < 1:
-        raise SimulationError(f"n_harmonics: found {n_harmonics!r}, expected >= 1")
+    n_harmonics = _whole(n_harmonics, "n_harmonics", 1)
+    min_periods = _whole(min_periods, "min_periods", 1)
+    max_periods = _whole(max_periods, "max_periods", min_periods, f"min_periods ({min_periods})")
+    if not (isinstance(tolerance, (int, float, np.floating, np.integer)) and not isinstance(tolerance, bool)
+            and 0 < tolerance < 1):
+        raise SimulationError(f"tolerance: found {tolerance!r}, expected a relative change > 0 and < 1")
     if steps_per_period is None:
         steps = default_steps_per_period(system, freq, arrays=arrays)
     else:
-        steps = np.broadcast_to(np.asarray(steps_per_period, dtype=np.int64), freq.shape).copy()
-        if np.any(steps < 8) or np.any(steps % 2):
-            raise SimulationError("steps_per_period: expected even integers >= 8")
-    n_coeff = 2 * int(n_harmonics) + 1
+        given = np.asarray(steps_per_period, dtype=float)
+        if not ((given >= 8).all() and (given % 2 == 0).all()):  # 128.7 is refused, never truncated
+            raise SimulationError(f"steps_per_period: found {steps_per_period!r}, expected even integers >= 8")
+        steps = np.broadcast_to(given.astype(np.int64), freq.shape).copy()
+    n_coeff = 2 * n_harmonics + 1
     if not (steps <= MAX_PERIOD_TABLE // (2 * n_coeff)).all():  # before the kernel allocates them
         worst = int(np.argmax(steps))
         raise SimulationError(
             f"freq: found {freq[worst]:g} Hz with {steps[worst]} steps per period; with n_harmonics="
-            f"{int(n_harmonics)} a period may take at most {MAX_PERIOD_TABLE // (2 * n_coeff)} steps (its Fourier "
+            f"{n_harmonics} a period may take at most {MAX_PERIOD_TABLE // (2 * n_coeff)} steps (its Fourier "
             f"tables would not fit in memory): expected a higher frequency, fewer steps per period or "
             f"fewer harmonics")
     scale = force_scale(arrays, float(np.max(base_accel)))

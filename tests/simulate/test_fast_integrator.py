@@ -174,3 +174,24 @@ def test_overflowing_base_acceleration_is_refused():
     """A (2 pi f)^2 sets every point's force scale: an infinite one would void the batch's convergence tests."""
     with pytest.raises(SimulationError, match=r"found 1e\+300 Hz and 0.001 m, whose base acceleration"):
         harmonic_response(library.get("system_a1_symmetric"), [10.0, 1e300], 1e-3)
+
+
+@pytest.mark.parametrize("arguments, words", [
+    # each was run as something else without a word: 2.5 harmonics as 2, 128.7 steps as 128,
+    # max_periods 0 as 2 periods, a negative or NaN tolerance as never met (every point to max_periods)
+    (dict(n_harmonics=2.5), "n_harmonics: found 2.5, expected a whole number >= 1"),
+    (dict(n_harmonics=True), "n_harmonics: found True"),
+    (dict(steps_per_period=128.7), "steps_per_period: found 128.7, expected even integers >= 8"),
+    (dict(max_periods=0), "max_periods: found 0, expected a whole number >= min_periods (8)"),
+    (dict(min_periods=100, max_periods=10), "max_periods: found 10, expected a whole number >= min_periods (100)"),
+    (dict(tolerance=-1.0), "tolerance: found -1.0, expected a relative change > 0 and < 1"),
+    (dict(tolerance=float("nan")), "tolerance: found nan"),
+    # numpy's own errors before: a shape mismatch, a reduction over no points
+    (dict(freq=[5.0, 10.0, 20.0], amplitude=[1e-3, 2e-3]), "found shapes (3,) and (2,)"),
+    (dict(freq=[]), "found no points"),
+])
+def test_harmonic_response_refuses_arguments_it_would_change(arguments, words):
+    call = dict(freq=5.0, amplitude=1e-3) | arguments
+    with pytest.raises(SimulationError) as refused:
+        harmonic_response(library.get("system_a1_symmetric"), **call)
+    assert words in str(refused.value)
