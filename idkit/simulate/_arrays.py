@@ -73,3 +73,16 @@ def system_arrays(system) -> SystemArrays:
 def force_scale(arrays: SystemArrays, accel_scale: float) -> float:
     """A force magnitude (N) for convergence tests: total mass times an acceleration scale."""
     return float(arrays.masses.sum() * (abs(accel_scale) + STANDARD_GRAVITY) + arrays.jfc.sum())
+
+
+def whole_number(value, name: str, minimum: int, minimum_text: str = "") -> int:
+    """``value`` as an int if it is a whole number >= ``minimum`` (2.5 is refused, never truncated)."""
+    number = None
+    if not isinstance(value, (bool, np.bool_)):
+        if isinstance(value, (int, np.integer)):
+            number = int(value)
+        elif isinstance(value, (float, np.floating)) and np.isfinite(value) and value == int(value):
+            number = int(value)
+    if number is None or number < minimum:
+        raise SimulationError(f"{name}: found {value!r}, expected a whole number >= {minimum_text or minimum}")
+    return number

@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 
 from idkit.errors import SimulationError
-from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
+from idkit.simulate._arrays import force_scale, resolve_system, system_arrays, whole_number
 from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS, harmonic_kernel
 from idkit.simulate._parallel import run_chunked
 from idkit.simulate._structured import structure_of
@@ -201,19 +201,6 @@ def _reasons(flags, converged, periods, change, tolerance) -> tuple[str, ...]:
     return tuple(reasons)
 
 
-def _whole(value, name: str, minimum: int, minimum_text: str = "") -> int:
-    """``value`` as an int if it is a whole number >= ``minimum`` (2.5 is refused, never truncated)."""
-    number = None
-    if not isinstance(value, (bool, np.bool_)):
-        if isinstance(value, (int, np.integer)):
-            number = int(value)
-        elif isinstance(value, (float, np.floating)) and np.isfinite(value) and value == int(value):
-            number = int(value)
-    if number is None or number < minimum:
-        raise SimulationError(f"{name}: found {value!r}, expected a whole number >= {minimum_text or minimum}")
-    return number
-
-
 def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, tolerance: float = 1e-3,
                       steps_per_period=None, min_periods: int = 8, max_periods: int = 4000,
                       progress=None, workers: int | None = None, executor=None,
@@ -282,9 +269,9 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
         worst = int(np.argmin(np.isfinite(base_accel)))
         raise SimulationError(f"freq, amplitude: found {freq[worst]:g} Hz and {amplitude[worst]:g} m, whose base "
                               f"acceleration A (2 pi f)^2 overflows; expected a finite one")
-    n_harmonics = _whole(n_harmonics, "n_harmonics", 1)
-    min_periods = _whole(min_periods, "min_periods", 1)
-    max_periods = _whole(max_periods, "max_periods", min_periods, f"min_periods ({min_periods})")
+    n_harmonics = whole_number(n_harmonics, "n_harmonics", 1)
+    min_periods = whole_number(min_periods, "min_periods", 1)
+    max_periods = whole_number(max_periods, "max_periods", min_periods, f"min_periods ({min_periods})")
     if not (isinstance(tolerance, (int, float, np.floating, np.integer)) and not isinstance(tolerance, bool)
             and 0 < tolerance < 1):
         raise SimulationError(f"tolerance: found {tolerance!r}, expected a relative change > 0 and < 1")

@@ -11,7 +11,7 @@ from idkit.errors import SimulationError
 from idkit.models.laws import kernel_array
 from idkit.models.base import IsolatorModel
 from idkit.gravity import impact_velocity_from_height
-from idkit.simulate._arrays import STANDARD_GRAVITY, force_scale, resolve_system, system_arrays
+from idkit.simulate._arrays import STANDARD_GRAVITY, force_scale, resolve_system, system_arrays, whole_number
 from idkit.simulate._kernel import FLAG_REASONS, time_kernel
 from idkit.simulate._parallel import run_chunked
 from idkit.simulate._structured import structure_of
@@ -173,6 +173,18 @@ def initial_states(system, deflections):
     return jforce, mstate, bwz
 
 
+def _gravity(gravity) -> float:
+    """``gravity`` of :func:`simulate` in m/s^2: True is standard gravity, False none, else a value >= 0."""
+    if gravity is True or gravity is np.True_:
+        return STANDARD_GRAVITY
+    if gravity is False or gravity is np.False_ or gravity is None:
+        return 0.0
+    if not (isinstance(gravity, (int, float, np.integer, np.floating)) and np.isfinite(gravity) and gravity >= 0):
+        raise SimulationError(f"gravity: found {gravity!r}, expected True, False or a finite acceleration "
+                              ">= 0 m/s^2 (acting downward)")
+    return float(gravity)
+
+
 def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=None,
              initial_velocity=None, initial_deflection=None, initial_state: TimeState | None = None,
              gravity: bool | float = False, record_every: int = 1, workers: int | None = None,
@@ -242,6 +254,9 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     v_abs = np.zeros((1, ndof)) if initial_velocity is None else np.atleast_2d(np.asarray(initial_velocity, float))
     y0 = np.zeros((1, ndof)) if initial_deflection is None else np.atleast_2d(np.asarray(initial_deflection, float))
     for name, values in (("initial_velocity", v_abs), ("initial_deflection", y0)):
+        if values.ndim != 2 or values.shape[0] == 0:
+            raise SimulationError(f"{name}: found shape {values.shape}, expected (batch, {ndof}) or ({ndof},) "
+                                  "with at least one run")
         if values.shape[1] != ndof:
             raise SimulationError(f"{name}: found {values.shape[1]} columns, expected {ndof} (one per mass/isolator)")
         if not np.all(np.isfinite(values)):
@@ -268,9 +283,8 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
         jforce0[:] = initial_state.jenkin_force
         mstate0[:] = initial_state.maxwell_elongation
         bwz0[:] = initial_state.boucwen_z
-    g = STANDARD_GRAVITY if gravity is True else float(gravity or 0.0)
-    if int(record_every) < 1:
-        raise SimulationError(f"record_every: found {record_every!r}, expected a positive integer")
+    g = _gravity(gravity)
+    record_every = whole_number(record_every, "record_every", 1)
     accel_scale = float(np.abs(np.diff(base_vel, axis=-1)).max() / h) if t.size > 1 else 0.0
     kernel_arrays = arrays.as_tuple()
     base_disp = kernel_array(base_disp)
@@ -349,8 +363,19 @@ def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float
         v0 = np.atleast_1d(impact_velocity_from_height(drop_height))
     else:
         v0 = np.atleast_1d(np.asarray(impact_velocity, dtype=float))
-    if not (duration > 0 and time_step > 0 and duration / time_step < 1e8):
-        raise SimulationError(f"free_fall: found duration={duration!r}, time_step={time_step!r}, expected positive s")
+    if v0.ndim != 1 or v0.size == 0:
+        name = "impact_velocity" if drop_height is None else "drop_height"
+        raise SimulationError(f"{name}: found shape {v0.shape}, expected one value or a 1-D batch of at least one")
+    for name, value in (("duration", duration), ("time_step", time_step)):
+        if not (isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+                and value > 0 and np.isfinite(value)):
+            raise SimulationError(f"free_fall: found {name}={value!r}, expected a finite number > 0 s")
+    if time_step > duration:
+        raise SimulationError(f"free_fall: found time_step={time_step!r} > duration={duration!r}, "
+                              "expected a step <= the duration")
+    if duration / time_step >= 1e8:
+        raise SimulationError(f"free_fall: found duration={duration!r} / time_step={time_step!r} = "
+                              f"{duration / time_step:.3g} steps, expected fewer than 1e8")
     n_steps = int(round(duration / time_step))
     time = np.arange(n_steps + 1) * time_step
     ndof = system_arrays(system).ndof

@@ -1,5 +1,7 @@
 """The compiled batched integrator against analytic results."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -195,3 +197,30 @@ def test_harmonic_response_refuses_arguments_it_would_change(arguments, words):
     with pytest.raises(SimulationError) as refused:
         harmonic_response(library.get("system_a1_symmetric"), **call)
     assert words in str(refused.value)
+
+
+@pytest.mark.parametrize("arguments, words", [
+    # run as something else without a word: NaN gravity, gravity upward, 2.5 as every 2nd step
+    (dict(gravity=float("nan")), "gravity: found nan"),
+    (dict(gravity=-9.81), "gravity: found -9.81, expected True, False or a finite acceleration >= 0"),
+    (dict(record_every=2.5), "record_every: found 2.5, expected a whole number >= 1"),
+    # numpy's or Python's own errors before
+    (dict(gravity="yes"), "gravity: found 'yes'"),
+    (dict(impact_velocity=-np.ones((2, 2))), "impact_velocity: found shape (2, 2)"),
+    (dict(impact_velocity=[]), "impact_velocity: found shape (0,)"),
+    (dict(duration="0.1"), "found duration='0.1', expected a finite number > 0 s"),
+    (dict(time_step=0.3), "found time_step=0.3 > duration=0.1"),
+    (dict(duration=1e6, time_step=1e-6), "1e+12 steps, expected fewer than 1e8"),
+])
+def test_free_fall_refuses_arguments_it_would_change_or_trip_over(arguments, words):
+    call = dict(impact_velocity=-1.0, duration=0.1, time_step=1e-3) | arguments
+    with pytest.raises(SimulationError) as refused:
+        free_fall(library.get("system_a1_symmetric"), **call)
+    assert words in str(refused.value)
+
+
+def test_simulate_refuses_an_empty_or_3d_batch_of_initial_velocities():
+    time = np.linspace(0.0, 0.01, 11)
+    for velocity, shape in ((np.zeros((0, 1)), "(0, 1)"), (np.zeros((2, 1, 1)), "(2, 1, 1)")):
+        with pytest.raises(SimulationError, match=re.escape(f"initial_velocity: found shape {shape}")):
+            simulate(library.get("system_a1_symmetric"), time, initial_velocity=velocity)
