@@ -186,6 +186,9 @@ def read_mat(path: str | Path, kind: str, *, columns: Mapping[str, str | MatColu
         raise DataError(f"file '{path}': unknown kind {kind!r}; expected one of "
                         f"{', '.join(KIND_SCHEMAS)}")
     schema = KIND_SCHEMAS[kind]
+    if not isinstance(columns, Mapping):
+        raise DataError(f"file '{path}': columns: found {columns!r:.80}, expected a mapping idkit column -> "
+                        "'var [unit]' (a .mat file has no header to read the units from)")
     specs = {name: parse_mat_column(spec, where=f"file '{path}', column '{name}'")
              for name, spec in columns.items()}
     unknown = [name for name in specs if name not in schema.allowed]

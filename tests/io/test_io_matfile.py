@@ -44,6 +44,9 @@ def test_read_mat_converts_and_records_provenance(mat_path):
     ({**COLUMNS, "force": "x_F(:,3) [N]"}, "column spec"),
     ({"time": "t [s]", "deflection": "x_F[:,0] [mm]"}, "lacks \\['force'\\]"),
     ({**COLUMNS, "temperature": "t [K]"}, "unknown \\['temperature'\\]"),
+    # AttributeError ('items') before
+    (None, "columns: found None, expected a mapping"),
+    (["t [s]", "x_F[:,0] [mm]", "x_F[:,2] [N]"], "columns: found \\['t \\[s\\]'"),
 ])
 def test_read_mat_errors(mat_path, columns, match):
     with pytest.raises(DataError, match=match):
