@@ -155,7 +155,8 @@ def fit_prony(freq, storage, loss, *, quantity: str = "modulus", max_order: int 
     quantity : {"modulus", "stiffness"}
         What the parts are.
     max_order : int, optional
-        Highest order tried (default :func:`default_max_order`).
+        Highest order tried (default :func:`default_max_order`, at most the number of distinct
+        frequencies - 1: order n has 2 n + 1 parameters, each frequency gives two numbers).
     orders : sequence of int, optional
         Orders tried (default ``1 .. max_order``).
     factor : float
@@ -174,7 +175,9 @@ def fit_prony(freq, storage, loss, *, quantity: str = "modulus", max_order: int 
     if not (isinstance(factor, (int, float)) and math.isfinite(factor) and factor >= 1.0):
         raise FitError(f"factor: found {factor!r}, expected a number >= 1 (error allowed above the smallest)")
     if orders is None:
-        top = default_max_order(freq) if max_order is None else max_order
+        # the default: as many orders as the distinct frequencies identify (order n needs n + 1)
+        top = min(default_max_order(freq), max(1, np.unique(np.asarray(freq, dtype=float)).size - 1)) \
+            if max_order is None else max_order
         if not (isinstance(top, (int, np.integer)) and top >= 1):
             raise FitError(f"max_order: found {top!r}, expected a positive integer")
         orders = range(1, int(top) + 1)

@@ -750,6 +750,47 @@ def fit_voigt(
                   seed=seed, settings_extra={})
 
 
+#: Magnitudes of a complex stiffness or modulus table the fit takes (N/m or Pa). Above, the fit's
+#: squares overflow; below, lmfit takes bounds closer than 1e-13 (absolute) for equal and refuses
+#: them (k0 is bounded by 1e-6 to 1 x the smallest storage). Real parts and materials lie far inside.
+TABLE_MAGNITUDE_RANGE = (1e-6, 1e100)
+#: Frequencies (Hz) of such a table, for the same reasons; the rates are bounded by 2 pi f_min / 10 to
+#: 2 pi f_max x 10, so the highest frequency must also reach :data:`TABLE_HIGHEST_FREQUENCY`. Master
+#: curves over 40 decades (pyvisco's reach 3e-18 Hz) lie inside.
+TABLE_FREQUENCY_RANGE = (1e-100, 1e100)
+TABLE_HIGHEST_FREQUENCY = 1e-12
+
+
+def _check_table_values(freq, value, order: int, unit: str) -> None:
+    """What a Prony series of ``order`` terms can be fitted to: storage > 0 (the model's
+    ``k0 + sum k_i w^2 / (w^2 + r_i^2)`` is), magnitudes in :data:`TABLE_MAGNITUDE_RANGE`, frequencies
+    in :data:`TABLE_FREQUENCY_RANGE` reaching :data:`TABLE_HIGHEST_FREQUENCY`, and
+    ``order + 1`` distinct frequencies (each gives two numbers for the ``2 order + 1`` parameters)."""
+    low = int(np.argmin(value.real))
+    if not value.real[low] > 0:
+        raise FitError(f"complex stiffness: found storage {value.real[low]:g} {unit} at {freq[low]:g} Hz, "
+                       "expected storage > 0 (a Maxwell model's storage k0 + sum k_i w^2/(w^2 + r_i^2) is)")
+    magnitude = np.abs(value)
+    for index in (int(np.argmin(magnitude)), int(np.argmax(magnitude))):
+        if not TABLE_MAGNITUDE_RANGE[0] <= magnitude[index] <= TABLE_MAGNITUDE_RANGE[1]:
+            raise FitError(f"complex stiffness: found |value| {magnitude[index]:g} {unit} at {freq[index]:g} Hz, "
+                           f"expected {TABLE_MAGNITUDE_RANGE[0]:g} to {TABLE_MAGNITUDE_RANGE[1]:g} {unit} "
+                           "(outside, the fit's squares overflow or its bounds become indistinguishable)")
+    for index in (int(np.argmin(freq)), int(np.argmax(freq))):
+        if not TABLE_FREQUENCY_RANGE[0] <= freq[index] <= TABLE_FREQUENCY_RANGE[1]:
+            raise FitError(f"complex stiffness: found frequency {freq[index]:g} Hz, expected "
+                           f"{TABLE_FREQUENCY_RANGE[0]:g} to {TABLE_FREQUENCY_RANGE[1]:g} Hz (outside, the fit's squares "
+                           "overflow or its rate bounds become indistinguishable)")
+    if freq.max() < TABLE_HIGHEST_FREQUENCY:
+        raise FitError(f"complex stiffness: found the highest frequency {freq.max():g} Hz, expected at least "
+                       f"{TABLE_HIGHEST_FREQUENCY:g} Hz (below, the rate bounds become indistinguishable)")
+    distinct = np.unique(freq).size
+    if distinct < order + 1:
+        raise FitError(f"complex stiffness: found {distinct} distinct frequencies in {freq.size} points, expected "
+                       f"at least {order + 1} for order {order} ({2 * order + 1} parameters, two numbers a "
+                       "frequency)")
+
+
 def fit_complex_stiffness(
     freq,
     storage,
@@ -819,6 +860,7 @@ def fit_complex_stiffness(
         raise FitError("freq: expected a non-empty 1-D array of finite frequencies > 0 Hz")
     band = check_band(band if band is not None else (freq.min(), freq.max() * (1 + 1e-12)))
     f_in, k_in = band_points(freq, value, band, "complex stiffness", min_points=2 * order + 2)
+    _check_table_values(f_in, k_in, order, unit)
     magnitude = np.abs(k_in)
     if k0 is None:
         k0_bounds = _check_bounds("k0_bounds", k0_bounds or (1e-6 * k_in.real.min(), k_in.real.min()), unit)

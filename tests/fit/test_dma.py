@@ -164,3 +164,32 @@ def test_plots_label_a_modulus_as_a_modulus():
     axes = plot_complex_stiffness(freq, material.complex_modulus(freq), quantity="modulus",
                                   axes=figure.subplots(2, 1))
     assert axes[0].get_ylabel() == "|E*| [Pa]"
+
+
+@pytest.mark.parametrize("scale, freq_scale, repeat_one, words", [
+    # 1e300 Pa: every order's error NaN -> IndexError; 1e-20 Pa or 1e-20 Hz: lmfit 'min == max'
+    (1e300, 1.0, False, "expected 1e-06 to 1e+100 Pa"),
+    (1e-20, 1.0, False, "expected 1e-06 to 1e+100 Pa"),
+    (1.0, 1e-20, False, "expected at least 1e-12 Hz"),
+    (1.0, 1e295, False, "expected 1e-100 to 1e+100 Hz"),
+    # no Maxwell model has a negative storage part (the fit failed on its own bounds)
+    (-1.0, 1.0, False, "expected storage > 0"),
+    # one frequency repeated: three parameters from two numbers, written as a success before
+    (1.0, 1.0, True, "found 1 distinct frequencies in 46 points, expected at least 2"),
+])
+def test_tables_no_prony_series_can_be_fitted_to_are_refused(scale, freq_scale, repeat_one, words):
+    from idkit.errors import FitError
+
+    freq = np.full(FREQ.size, 5.0) if repeat_one else FREQ * freq_scale
+    value = TRUTH.complex_stiffness(freq / freq_scale) * scale
+    with pytest.raises(FitError) as refused:
+        fit_prony(freq, value.real, value.imag, quantity="modulus")
+    assert words in str(refused.value)
+
+
+def test_default_orders_stop_at_what_the_distinct_frequencies_identify():
+    """Three distinct frequencies over 9 decades: orders 1 and 2 only (order 3 has 7 parameters for 6 numbers)."""
+    freq = np.repeat(FREQ[[0, 20, -1]], 4)
+    value = TRUTH.complex_stiffness(freq)
+    pruned = fit_prony(freq, value.real, value.imag, quantity="modulus")
+    assert list(pruned.table["order"]) == [1, 2]
