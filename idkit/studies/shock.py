@@ -105,6 +105,13 @@ def analyse_shock(records, *, input: AccelerationRecord | None = None, freq: Arr
     channels = records + ([input] if input is not None else [])
     if not channels:
         raise DataError("analyse_shock: no shock records given, expected at least one")
+    seen = {}
+    for record in channels:  # tables, figures and ratios are keyed by channel: a repeat would overwrite one
+        if record.channel in seen:
+            raise DataError(f"analyse_shock: channel {record.channel!r} given twice ({seen[record.channel]} and "
+                            f"{record.source.path}), expected one record per channel (rename a file or set "
+                            "its channel)")
+        seen[record.channel] = record.source.path
     conditioned = tuple(condition_shock(record, offset=offset, lowpass_hz=lowpass_hz) for record in channels)
     band = default_srs_band(conditioned[0].record) if freq is None else np.asarray(freq, dtype=float)
     spectra = tuple(record_spectra(shock.record, freq=band, damping_ratio=damping_ratio) for shock in conditioned)

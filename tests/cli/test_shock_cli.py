@@ -63,3 +63,16 @@ def test_output_over_an_input_is_refused(tmp_path):
     path = write_record(tmp_path / "in.csv")
     outcome = run_main(["shock", path, "-o", tmp_path], inputs=[path], must_not_exist=[])
     check(outcome, "error", ["-o"], case="shock-output-over-input")
+
+
+@pytest.mark.parametrize("as_input", [False, True])
+def test_two_records_of_one_channel_are_refused(tmp_path, as_input):
+    """Two files named payload.csv: the second's figures replaced the first's, the tables held 'payload' twice."""
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    first = write_record(tmp_path / "a" / "payload.csv", amplitude_g=300.0)
+    second = write_record(tmp_path / "b" / "payload.csv")
+    out = tmp_path / "shock"
+    argv = ["shock", first, *(["--input"] if as_input else []), second, "-o", out]
+    outcome = run_main(argv, inputs=[first, second], must_not_exist=[out], watch=[tmp_path])
+    check(outcome, "error", ["channel 'payload' given twice", str(first), str(second)], case="shock same channel")
