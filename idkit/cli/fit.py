@@ -22,6 +22,8 @@ def _check_outputs(kind: str, output: str, plots: str | None, dataset: str, *mor
 
     check_output(output, inputs=[dataset, *more_inputs])
     if plots is not None:
+        if Path(plots).resolve() == Path(output).resolve():  # found only after the fit, the model written
+            raise IdkitError(f"--plots '{plots}': is the model file -o '{output}'; expected a folder apart from it")
         check_output(plots, kind="folder", inputs=[dataset], option="--plots")
         from idkit.plot.fits import fit_plot_paths
 

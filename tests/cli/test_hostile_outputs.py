@@ -206,6 +206,15 @@ def test_fit_plots_below_a_file_stop_before_the_model_file_is_written(measuremen
     check(outcome, "error", ["--plots", "which is a file"], case="fit --plots below a file")
 
 
+@pytest.mark.parametrize("command", ["iwan", "boucwen"])
+def test_fit_plots_onto_the_model_file_stop_before_fitting(measurement_set, tmp_path, command):
+    """Found only after the fit before: the model file written, then '[Errno 17] File exists', status 2."""
+    model = tmp_path / "m.json"
+    outcome = run_main(["fit", command, measurement_set, "-o", model, "--plots", tmp_path / "." / "m.json"],
+                       inputs=[measurement_set], must_not_exist=[model], timeout_s=30)
+    check(outcome, "error", ["--plots", "is the model file -o"], case="fit --plots = -o")
+
+
 def _read_only_folder(tmp_path) -> Path:
     folder = tmp_path / "read-only"
     folder.mkdir()
