@@ -29,7 +29,6 @@ records per check and shrinks the transport study and the global searches.
 from __future__ import annotations
 
 import time
-import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -48,9 +47,8 @@ from idkit.fit.measurements import (
 )
 from idkit.fit.predictions import LoopFitPrediction, predict_loops
 from idkit.io.discover import default_data_dir, find_measurement_sets
-from idkit.models import GeneralizedMaxwell, HybridSystem, IwanModel, ModulatedIwanModel, SDOFSystem, library
+from idkit.models import GeneralizedMaxwell, HybridSystem, IwanModel
 from idkit.observe.quality import MeasurementSummary, summarize_measurements
-from idkit.studies.compile_ahead import compile_kernels
 from idkit.studies.transport import TransportStudy, compute_transport_study, quick_transport_options
 from idkit.validate import ValidationResult, blind_spots, validate_drops, validate_frf, validate_harmonic
 from idkit.studies.drop_histories import DropHistories, drop_histories
@@ -278,47 +276,6 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
     return tuple(entries), hybrid, sweep.info.id
 
 
-def _kernels_before_fits() -> dict:
-    """Kernels stages 3-4 run whatever the fits give (:mod:`idkit.studies.compile_ahead`).
-
-    Stand-in systems of the structures the stages simulate: the wire rope's held-out drops
-    under the plain and the slip-modulated Iwan model (:mod:`idkit.studies.drop_models`), the
-    elastomer (a generalized Maxwell model), the drop rig and the period map (shooting of the
-    map points that do not settle).
-    """
-    plain = library.get("table_a1_asymmetric")
-    modulated = ModulatedIwanModel(g1=plain.g1, g2=plain.g2, g3=plain.g3, k=plain.k, fc=plain.fc,
-                                   slip_modulation=0.3, slip_length=5e-3)
-    elastomer = SDOFSystem(1.0, library.get("table_b1_medium"))
-    ropes = [SDOFSystem(1.0, plain), SDOFSystem(1.0, modulated)]
-    return {"time": [*ropes, elastomer], "harmonic": [elastomer], "drop_rig": ropes[:1], "period_map": ropes[:1]}
-
-
-def _kernels_of_rope(wire_model: IwanModel, *, hybrid: bool) -> dict:
-    """Kernels of the fitted wire rope's structure: its sweeps and the hybrid's (a stand-in
-    elastomer over the fitted rope; the elastomer's parameters do not change the kernel)."""
-    rope = SDOFSystem(1.0, wire_model)
-    if not hybrid:
-        return {"harmonic": [rope]}
-    system = HybridSystem(1.0, library.get("table_b1_medium"), 0.01, wire_model)
-    return {"harmonic": [rope, system], "time": [system]}
-
-
-def _wait_for_kernels(calls: list[Forked]) -> None:
-    """Wait for the children compiling ahead; a call that could not fork is dropped (run here it
-    would only move the same compiles earlier). A failure costs time, not results: the kernels
-    then compile where they are first used."""
-    for call in calls:
-        if not call.forked:
-            call.abandon()
-            continue
-        try:
-            call.result()
-        except Exception as problem:  # noqa: BLE001 - an optimisation failed; the stages still run
-            warnings.warn(f"compiling the simulation kernels ahead failed ({type(problem).__name__}: "
-                          f"{problem}); they compile when first used", RuntimeWarning, stacklevel=2)
-
-
 def _figures_data(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell
                   ) -> tuple[dict[str, SweepMaps], dict[str, DropHistories]]:
     """The HOSIDF maps of the nonlinear isolators and a few drop time histories per isolator."""
@@ -389,13 +346,8 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
     # (idkit.forked: the same seeded computation, so the same result as run here)
     boucwen_call = fork_call(fit_boucwen_measurements, wire_rope, seed=seed, initial_state=start_state,
                              **({"global_max_evals": 800} if quick else {}))
-    # the simulation kernels of stages 3-4 compile (or load from numba's cache) in forked
-    # children while the fits run (idkit.studies.compile_ahead): first those that do not depend
-    # on the rope's model, then the rope's and the hybrid's once the Iwan fit has chosen it
-    ahead = [fork_call(compile_kernels, **_kernels_before_fits())]
     try:
         iwan = fit_iwan_measurements(wire_rope, seed=seed, valid_range=valid_range, initial_state=start_state)
-        ahead.append(fork_call(compile_kernels, **_kernels_of_rope(iwan.model, hybrid="hybrid" in sets)))
         iwan = iwan.with_repetition_spread()  # one refit per repetition of the fit split (a few seconds)
         iwan_loops = predict_loops(iwan.model, iwan.data.small, iwan.data.large)
 
@@ -409,11 +361,8 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
             order_table = maxwell_order_table(list(maxwell.data), k0=maxwell.k0.k0,
                                               orders=(1, 2) if quick else (1, 2, 3, 4))
         boucwen = boucwen_call.result()
-        _wait_for_kernels(ahead)  # stage 3 and the transport study's child load them from the cache
     finally:
         boucwen_call.abandon()
-        for call in ahead:
-            call.abandon()
     boucwen_loops = predict_loops(boucwen.model, boucwen.data.small, boucwen.data.large)
 
     # the transport study needs only the identified parts: it runs in a forked child while

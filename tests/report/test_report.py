@@ -18,53 +18,13 @@ DATA = Path(__file__).resolve().parents[2] / "data"
 
 
 STATUS = {}
-#: (kind, structure) of every kernel the report asked for in this process (stages 2-3)
-KERNELS_RUN = set()
 
 
 @pytest.fixture(scope="module")
 def quick_report(tmp_path_factory):
-    import idkit.simulate.harmonic as harmonic
-    import idkit.simulate.time_response as time_response
-
-    def recording(module, name, kind):
-        chosen = getattr(module, name)
-
-        def record(structure):
-            KERNELS_RUN.add((kind, structure))
-            return chosen(structure)
-
-        return chosen, record
-
-    originals = {}
-    for module, name, kind in ((harmonic, "harmonic_kernel", "harmonic"), (time_response, "time_kernel", "time")):
-        originals[module, name], replacement = recording(module, name, kind)
-        setattr(module, name, replacement)
-    try:
-        out = tmp_path_factory.mktemp("reports") / "report"
-        STATUS["report"] = main(["report", str(DATA), "-o", str(out), "--quick", "--quiet"])
-    finally:
-        for (module, name), chosen in originals.items():
-            setattr(module, name, chosen)
+    out = tmp_path_factory.mktemp("reports") / "report"
+    STATUS["report"] = main(["report", str(DATA), "-o", str(out), "--quick", "--quiet"])
     return out
-
-
-def test_the_kernels_compiled_ahead_are_those_the_report_runs(quick_report):
-    """The report compiles its simulation kernels in children during the fits
-    (idkit.studies.compile_ahead); a structure the validations run that the plan misses would
-    compile in the validating process again, one after another."""
-    from idkit.models import load_model
-    from idkit.simulate._arrays import system_arrays
-    from idkit.simulate._structured import structure_of
-    from idkit.studies.pipeline import _kernels_before_fits, _kernels_of_rope
-
-    rope = load_model(quick_report / "models" / "wire_rope_iwan.json")
-    planned = set()
-    for plan in (_kernels_before_fits(), _kernels_of_rope(rope, hybrid=True)):
-        for kind in ("time", "harmonic"):
-            planned |= {(kind, structure_of(system_arrays(system))) for system in plan.get(kind, ())}
-    assert KERNELS_RUN  # the validations simulate
-    assert KERNELS_RUN <= planned, sorted(KERNELS_RUN - planned)
 
 
 @pytest.mark.slow
