@@ -70,9 +70,12 @@ def system_arrays(system) -> SystemArrays:
     )
 
 
-def force_scale(arrays: SystemArrays, accel_scale: float) -> float:
-    """A force magnitude (N) for convergence tests: total mass times an acceleration scale."""
-    return float(arrays.masses.sum() * (abs(accel_scale) + STANDARD_GRAVITY) + arrays.jfc.sum())
+def force_scale(arrays: SystemArrays, accel_scale):
+    """A force magnitude (N) for convergence tests: total mass times an acceleration scale
+    (m/s^2) plus the slip forces; a float, or an array of one per run for an array of scales
+    (each run's own, so that no run's tolerance depends on the others of its batch)."""
+    scale = arrays.masses.sum() * (np.abs(accel_scale) + STANDARD_GRAVITY) + arrays.jfc.sum()
+    return float(scale) if np.ndim(scale) == 0 else np.ascontiguousarray(scale, dtype=float)
 
 
 def whole_number(value, name: str, minimum: int, minimum_text: str = "") -> int:

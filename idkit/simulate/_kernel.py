@@ -411,6 +411,9 @@ def _time_kernel(structure):
         q0, v0 : (batch, ndof) initial absolute displacement (m) and velocity (m/s).
         jforce0 : (batch, ndof, nj) initial Jenkin forces (N); mstate0 : (batch, ndof, nm)
             initial Maxwell elongations (m); bwz0 : (batch, ndof) initial Bouc-Wen z (N).
+        force_scale : (batch,) each run's force magnitude (N) for its convergence tests
+            (:func:`idkit.simulate._arrays.force_scale`): a run's records do not depend on the
+            other runs of the batch.
 
         Returns
         -------
@@ -441,6 +444,7 @@ def _time_kernel(structure):
         frc = np.zeros(2)
         for b in range(batch):
             row = np.int64(b) if base_disp.shape[0] > 1 else np.int64(0)
+            scale = force_scale[b]
             state = np.zeros(6)
             for d in range(ndof):
                 state[d] = q0[b, d]
@@ -461,17 +465,17 @@ def _time_kernel(structure):
                 vb_new = base_vel[row, n]
                 # the step of the driver's structure, called directly (see "Step dispatch" above)
                 if structure == SDOF_IWAN:
-                    flag = step_sdof(1, m0, state, h, gravity, xb_old, xb_new, vb_new, P, S, force_scale)
+                    flag = step_sdof(1, m0, state, h, gravity, xb_old, xb_new, vb_new, P, S, scale)
                 elif structure == SDOF_MAXWELL:
-                    flag = step_sdof(2, m0, state, h, gravity, xb_old, xb_new, vb_new, P, S, force_scale)
+                    flag = step_sdof(2, m0, state, h, gravity, xb_old, xb_new, vb_new, P, S, scale)
                 elif structure == HYBRID:
-                    flag = step_hybrid(1, m0, m1, state, h, gravity, xb_old, xb_new, vb_new, P, S, force_scale)
+                    flag = step_hybrid(1, m0, m1, state, h, gravity, xb_old, xb_new, vb_new, P, S, scale)
                 elif structure == SDOF_IWAN_MODULATED:
-                    flag = step_sdof(3, m0, state, h, gravity, xb_old, xb_new, vb_new, P, S, force_scale)
+                    flag = step_sdof(3, m0, state, h, gravity, xb_old, xb_new, vb_new, P, S, scale)
                 elif structure == HYBRID_MODULATED:
-                    flag = step_hybrid(3, m0, m1, state, h, gravity, xb_old, xb_new, vb_new, P, S, force_scale)
+                    flag = step_hybrid(3, m0, m1, state, h, gravity, xb_old, xb_new, vb_new, P, S, scale)
                 else:
-                    flag = _step(ndof, m0, m1, state, h, gravity, xb_old, xb_new, vb_new, P, S, force_scale)
+                    flag = _step(ndof, m0, m1, state, h, gravity, xb_old, xb_new, vb_new, P, S, scale)
                 if flag != FLAG_OK:
                     flags[b] = flag
                     flag_step[b] = n
@@ -539,6 +543,10 @@ def _harmonic_kernel(structure):
         accel_peak : (batch,) max |absolute top acceleration| (m/s^2), last window.
         deflection_coeff : complex (batch, n_coeff) same for the top deflection (q_top).
         windows, change, converged, flags.
+
+        ``force_scale`` (batch,): each member's force magnitude (N) for its convergence tests
+        (:func:`idkit.simulate._arrays.force_scale` of its own base acceleration), so a
+        member's result does not depend on the other members of the batch.
         """
         batch = freq.shape[0]
         ndof = masses.shape[0]
@@ -566,6 +574,7 @@ def _harmonic_kernel(structure):
             n_per = steps_per_period[b]
             h = 1.0 / (freq[b] * n_per)
             amp = amplitude[b]
+            scale = force_scale[b]
             P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
             state = np.zeros(6)
             for d in range(ndof):
@@ -617,17 +626,17 @@ def _harmonic_kernel(structure):
                     vb_new = amp * omega * base_cos[at]
                     # the step of the driver's structure, called directly (see "Step dispatch" above)
                     if structure == SDOF_IWAN:
-                        flag = step_sdof(1, m0, state, h, 0.0, base, xb_new, vb_new, P, S, force_scale)
+                        flag = step_sdof(1, m0, state, h, 0.0, base, xb_new, vb_new, P, S, scale)
                     elif structure == SDOF_MAXWELL:
-                        flag = step_sdof(2, m0, state, h, 0.0, base, xb_new, vb_new, P, S, force_scale)
+                        flag = step_sdof(2, m0, state, h, 0.0, base, xb_new, vb_new, P, S, scale)
                     elif structure == HYBRID:
-                        flag = step_hybrid(1, m0, m1, state, h, 0.0, base, xb_new, vb_new, P, S, force_scale)
+                        flag = step_hybrid(1, m0, m1, state, h, 0.0, base, xb_new, vb_new, P, S, scale)
                     elif structure == SDOF_IWAN_MODULATED:
-                        flag = step_sdof(3, m0, state, h, 0.0, base, xb_new, vb_new, P, S, force_scale)
+                        flag = step_sdof(3, m0, state, h, 0.0, base, xb_new, vb_new, P, S, scale)
                     elif structure == HYBRID_MODULATED:
-                        flag = step_hybrid(3, m0, m1, state, h, 0.0, base, xb_new, vb_new, P, S, force_scale)
+                        flag = step_hybrid(3, m0, m1, state, h, 0.0, base, xb_new, vb_new, P, S, scale)
                     else:
-                        flag = _step(ndof, m0, m1, state, h, 0.0, base, xb_new, vb_new, P, S, force_scale)
+                        flag = _step(ndof, m0, m1, state, h, 0.0, base, xb_new, vb_new, P, S, scale)
                     if flag != FLAG_OK:
                         break
                 if flag != FLAG_OK:

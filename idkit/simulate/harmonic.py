@@ -265,7 +265,7 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
         raise SimulationError(f"amplitude: found {bad}, expected positive finite amplitudes in m")
     with np.errstate(over="ignore"):
         base_accel = amplitude * (2 * np.pi * freq) ** 2
-    if not np.isfinite(base_accel).all():  # it scales every point's convergence test (force_scale)
+    if not np.isfinite(base_accel).all():  # it scales the point's convergence test (force_scale)
         worst = int(np.argmin(np.isfinite(base_accel)))
         raise SimulationError(f"freq, amplitude: found {freq[worst]:g} Hz and {amplitude[worst]:g} m, whose base "
                               f"acceleration A (2 pi f)^2 overflows; expected a finite one")
@@ -290,7 +290,7 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
             f"{n_harmonics} a period may take at most {MAX_PERIOD_TABLE // (2 * n_coeff)} steps (its Fourier "
             f"tables would not fit in memory): expected a higher frequency, fewer steps per period or "
             f"fewer harmonics")
-    scale = force_scale(arrays, float(np.max(base_accel)))
+    scale = force_scale(arrays, base_accel)  # each point's own: no point loosens another's tolerance
     min_windows = max(1, int(np.ceil(min_periods / 2)))
     max_windows = max(1, int(np.ceil(max_periods / 2)))
     kernel_arrays = arrays.as_tuple()
@@ -312,17 +312,18 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
     order = (np.zeros(1, dtype=np.int64) if freq.size == 1 else
              np.argsort(np.arange(freq.size) % max(1, min(freq.size, 64)), kind="stable"))
     if freq.size == 1:
-        dealt_freq, dealt_amplitude, dealt_steps = freq, amplitude, np.ascontiguousarray(steps)
+        dealt_freq, dealt_amplitude, dealt_steps, dealt_scale = freq, amplitude, np.ascontiguousarray(steps), scale
         dealt_states = tuple(np.ascontiguousarray(values) for values in (q0, v0, jforce0, mstate0, bwz0))
     else:
         dealt_freq, dealt_amplitude = freq[order], amplitude[order]
         dealt_steps = np.ascontiguousarray(steps[order])
+        dealt_scale = scale[order]
         dealt_states = tuple(np.ascontiguousarray(values[order]) for values in (q0, v0, jforce0, mstate0, bwz0))
 
     def task(part: slice):
         return run_harmonic_batch(
             *kernel_arrays, dealt_freq[part], dealt_amplitude[part], dealt_steps[part], n_coeff,
-            float(tolerance), min_windows, max_windows, scale, *(values[part] for values in dealt_states),
+            float(tolerance), min_windows, max_windows, dealt_scale[part], *(values[part] for values in dealt_states),
         )
 
     dealt = run_chunked(task, freq.size, workers=workers, chunk_size=chunk_size, progress=progress,

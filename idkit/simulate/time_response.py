@@ -285,19 +285,22 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
         bwz0[:] = initial_state.boucwen_z
     g = _gravity(gravity)
     record_every = whole_number(record_every, "record_every", 1)
-    accel_scale = float(np.abs(np.diff(base_vel, axis=-1)).max() / h) if t.size > 1 else 0.0
+    # each run's own acceleration scale (a shared base: the same for all), so that no run's
+    # convergence tests depend on the other runs of the batch
+    accel_scale = (np.abs(np.diff(base_vel, axis=-1)).max(axis=-1) / h if t.size > 1
+                   else np.zeros(base_vel.shape[0]))
     kernel_arrays = arrays.as_tuple()
     base_disp = kernel_array(base_disp)
     base_vel = kernel_array(base_vel)
     q0 = kernel_array(q0)
-    scale = force_scale(arrays, accel_scale)
+    scale = np.broadcast_to(force_scale(arrays, accel_scale), (batch,)).copy()
     run_time_batch = time_kernel(structure_of(arrays))
 
     def task(part: slice):
         rows = part if base_disp.shape[0] > 1 else slice(0, 1)
         return run_time_batch(
             *kernel_arrays, h, base_disp[rows], base_vel[rows], g, q0[part], v_abs[part], jforce0[part],
-            mstate0[part], bwz0[part], int(record_every), scale,
+            mstate0[part], bwz0[part], int(record_every), scale[part],
         )
 
     (rec_q, rec_v, rec_a, rec_f, flags, flag_step, end_q, end_v, end_jforce, end_mstate,
