@@ -161,7 +161,8 @@ def register(commands) -> None:
                                                    "downward"), nargs="+", help="impact speeds |v0| in m/s")
     drop.add_argument("--height", type=opt.real(at_least=0, unit="m"), nargs="+", help="drop heights in m")
     drop.add_argument("--duration", type=opt.real(above=0, unit="s"),
-                      help="simulated time in s (default: 4 periods of the small-amplitude resonance)")
+                      help="simulated time in s, covered by whole steps (the last ends less than a step after it; "
+                           "default: 4 periods of the small-amplitude resonance)")
     drop.add_argument("--time-step",
                       type=opt.real(at_least=opt.MIN_TIME_STEP, unit="s", why="a smaller step makes the number "
                                     "of steps duration/time_step too large"),

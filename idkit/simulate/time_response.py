@@ -354,11 +354,26 @@ def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float
     Parameters
     ----------
     impact_velocity : array_like (batch,), m/s
-        Velocity at impact, negative downward. Give this or ``drop_height``.
+        Velocity at impact, negative downward. A positive value is accepted on purpose: it
+        throws the masses upward from the same state, so the run starts in tension (the mirror
+        image of a drop, used for symmetry checks by :func:`idkit.responses.shock.shock_sweep`);
+        0 sets the masses down without speed. Give this or ``drop_height``.
     drop_height : array_like (batch,), m
         Drop heights; ``v0 = -sqrt(2 g h)`` (eq. 3.19).
     duration, time_step : float, s
+        The run covers at least ``duration``: it takes ``ceil(duration / time_step)`` steps of
+        ``time_step`` (a ratio within 1e-9 of a whole number counts as that number), so it ends
+        less than one step after ``duration`` and the step is never changed;
+        ``response.time[-1]`` is the simulated end.
     gravity, initial_deflection : see :func:`simulate`.
+
+    Examples
+    --------
+    >>> from idkit.models import SDOFSystem, VoigtModel
+    >>> run = free_fall(SDOFSystem(1.0, VoigtModel(k=1e4, damping=0.0)), impact_velocity=-0.5,
+    ...                 duration=0.1, time_step=0.03)
+    >>> [round(float(t), 2) for t in run.time]
+    [0.0, 0.03, 0.06, 0.09, 0.12]
     """
     if (impact_velocity is None) == (drop_height is None):
         raise SimulationError("free_fall: give exactly one of impact_velocity and drop_height")
@@ -379,9 +394,17 @@ def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float
     if duration / time_step >= 1e8:
         raise SimulationError(f"free_fall: found duration={duration!r} / time_step={time_step!r} = "
                               f"{duration / time_step:.3g} steps, expected fewer than 1e8")
-    n_steps = int(round(duration / time_step))
+    n_steps = _steps_covering(duration, time_step)
     time = np.arange(n_steps + 1) * time_step
     ndof = system_arrays(system).ndof
     velocities = np.repeat(v0[:, None], ndof, axis=1)
     return simulate(system, time, initial_velocity=velocities, initial_deflection=initial_deflection,
                     gravity=gravity, record_every=record_every, workers=workers, executor=executor)
+
+
+def _steps_covering(duration: float, time_step: float) -> int:
+    """The fewest whole steps of ``time_step`` that cover ``duration`` (a ratio within a relative
+    1e-9 of a whole number is that number: ``0.3 / 2e-5`` is 15000 steps, not 15001)."""
+    ratio = duration / time_step
+    nearest = round(ratio)
+    return int(nearest if abs(ratio - nearest) <= 1e-9 * ratio else np.ceil(ratio))

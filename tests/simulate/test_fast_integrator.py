@@ -219,6 +219,29 @@ def test_free_fall_refuses_arguments_it_would_change_or_trip_over(arguments, wor
     assert words in str(refused.value)
 
 
+@pytest.mark.parametrize("duration, time_step, steps", [
+    (0.1, 0.07, 2),      # 1.43 steps: was rounded down to 0.07 s, short of the duration
+    (0.1, 0.06, 2),      # 1.67 steps: 0.12 s
+    (0.3, 2e-5, 15000),  # 14999.999999999998 by division: a whole number, not 15001
+    (0.1, 0.1, 1),
+])
+def test_free_fall_covers_the_whole_duration_without_changing_the_step(duration, time_step, steps):
+    run = free_fall(library.get("system_a1_symmetric"), impact_velocity=-1.0, duration=duration,
+                    time_step=time_step)
+    assert run.time.size == steps + 1
+    assert run.time[-1] >= duration * (1 - 1e-9)
+    assert np.allclose(np.diff(run.time), time_step, rtol=1e-9, atol=0)
+
+
+def test_free_fall_throws_upward_for_a_positive_impact_velocity():
+    """Documented: ``v0 > 0`` starts in tension, the mirror image of the drop (symmetric rope)."""
+    system = library.get("system_a1_symmetric")
+    down = free_fall(system, impact_velocity=-0.5, duration=0.05, time_step=1e-5)
+    up = free_fall(system, impact_velocity=0.5, duration=0.05, time_step=1e-5)
+    assert up.deflection[0, 0, 1] > 0 > down.deflection[0, 0, 1]
+    assert np.allclose(up.deflection, -down.deflection, rtol=0, atol=1e-9 * np.abs(down.deflection).max())
+
+
 def test_simulate_refuses_an_empty_or_3d_batch_of_initial_velocities():
     time = np.linspace(0.0, 0.01, 11)
     for velocity, shape in ((np.zeros((0, 1)), "(0, 1)"), (np.zeros((2, 1, 1)), "(2, 1, 1)")):
