@@ -14,6 +14,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from idkit.errors import SimulationError
+from idkit.simulate._arrays import whole_number
 
 
 def default_workers() -> int:
@@ -24,13 +25,11 @@ def default_workers() -> int:
     """
     setting = os.environ.get("IDKIT_WORKERS", "").strip()
     if setting:
-        try:
-            workers = int(setting)
-        except ValueError:
-            workers = 0
-        if workers < 1:
-            raise SimulationError(f"IDKIT_WORKERS: found {setting!r}, expected a positive integer")
-        return workers
+        # ASCII digits only: int() would also read "1_0" as 10 and other scripts' digits
+        if not (setting.isascii() and setting.isdigit() and int(setting) >= 1):
+            raise SimulationError(f"environment variable IDKIT_WORKERS: found {setting!r}, expected a "
+                                  "whole number >= 1 written in digits (threads per batch)")
+        return int(setting)
     try:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not on Linux
@@ -44,14 +43,15 @@ def chunk_slices(size: int, chunk_size: int) -> list[slice]:
 def run_chunked(task, size: int, *, workers=None, chunk_size=None, progress=None, executor=None):
     """Call ``task(slice)`` for chunks covering ``range(size)``; concatenate each output field.
 
-    ``task`` returns a tuple of arrays whose first axis runs over the chunk.
+    ``task`` returns a tuple of arrays whose first axis runs over the chunk. ``workers`` and
+    ``chunk_size`` are whole numbers >= 1 (2.5 or 0 are refused, never truncated or raised).
     """
-    workers = default_workers() if workers is None else int(workers)
-    if workers < 1:
-        raise SimulationError(f"workers: found {workers}, expected a positive integer")
+    workers = default_workers() if workers is None else whole_number(workers, "workers", 1)
     if chunk_size is None:
         chunk_size = max(1, -(-size // (4 * workers))) if size > workers else 1
-    slices = chunk_slices(size, max(1, int(chunk_size)))
+    else:
+        chunk_size = whole_number(chunk_size, "chunk_size", 1)
+    slices = chunk_slices(size, chunk_size)
     results = [None] * len(slices)
     done = 0
     if executor is None and workers == 1:

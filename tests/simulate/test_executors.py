@@ -5,8 +5,10 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 
+from idkit.errors import SimulationError
 from idkit.models import library
 from idkit.simulate import free_fall, harmonic_response
+from idkit.simulate._parallel import default_workers, run_chunked
 
 
 def test_thread_pool_executor_gives_identical_results():
@@ -30,3 +32,31 @@ def test_local_dask_cluster_runs_grids_and_drops():
     np.testing.assert_array_equal(remote.coefficients, local.coefficients)
     local_drops = free_fall(system, impact_velocity=[-0.1, -0.5, -1.0], duration=0.2, time_step=1e-4)
     np.testing.assert_array_equal(drops.acceleration, local_drops.acceleration)
+
+
+@pytest.mark.parametrize("arguments, words", [
+    # were truncated or raised to 1 without a word
+    (dict(workers=2.5), "workers: found 2.5, expected a whole number >= 1"),
+    (dict(workers=True), "workers: found True"),
+    (dict(workers="2"), "workers: found '2'"),
+    (dict(chunk_size=0), "chunk_size: found 0, expected a whole number >= 1"),
+    (dict(chunk_size=-3), "chunk_size: found -3"),
+    (dict(chunk_size=2.5), "chunk_size: found 2.5"),
+])
+def test_run_chunked_refuses_counts_it_would_change(arguments, words):
+    with pytest.raises(SimulationError) as refused:
+        run_chunked(lambda part: (np.arange(part.start, part.stop),), 5, **arguments)
+    assert words in str(refused.value)
+
+
+def test_run_chunked_takes_whole_float_and_numpy_counts():
+    (values,) = run_chunked(lambda part: (np.arange(part.start, part.stop),), 5, workers=2.0,
+                            chunk_size=np.int64(2))
+    np.testing.assert_array_equal(values, np.arange(5))
+
+
+@pytest.mark.parametrize("setting", ["2.5", "0", "-1", "abc", "1_0", "\u0663"])
+def test_a_bad_idkit_workers_variable_is_refused_by_name(monkeypatch, setting):
+    monkeypatch.setenv("IDKIT_WORKERS", setting)
+    with pytest.raises(SimulationError, match=f"environment variable IDKIT_WORKERS: found {setting!r}"):
+        default_workers()
