@@ -88,11 +88,38 @@ def decode_utf8(raw: bytes, label: str, error: type[IdkitError]) -> str:
         if raw.startswith(bom):
             raise error(f"{label}: {encoding} text (byte-order mark {bom.hex(' ')}), "
                         "expected UTF-8 text")
+    encoding = _wide_encoding(raw)
+    if encoding is not None:
+        raise error(f"{label}: not UTF-8 text (NUL bytes between the first characters: {encoding} "
+                    "without a byte-order mark), expected UTF-8 text")
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise error(f"{label}: not UTF-8 text (byte {exc.start}: {exc.reason}; found "
                     f"{raw[exc.start:exc.start + 1]!r}), expected UTF-8 text") from None
+
+
+def _wide_encoding(raw: bytes) -> str | None:
+    """``"UTF-16-LE"`` etc. when the first characters of ``raw`` are ASCII text stored in two
+    or four bytes each (NUL bytes in the pattern of UTF-16/32 without byte-order mark), else
+    None. Only the first 64 bytes are looked at; a NUL byte elsewhere is left to the parsers,
+    which name its row and column."""
+    head = raw[:64]
+    if b"\x00" not in head or len(head) < 4:
+        return None
+    units = len(head) // 4 * 4
+    if units and not head[1:units:4].strip(b"\x00") and not head[2:units:4].strip(b"\x00") \
+            and not head[3:units:4].strip(b"\x00") and b"\x00" not in head[0:units:4]:
+        return "UTF-32-LE"
+    if units and not head[0:units:4].strip(b"\x00") and not head[1:units:4].strip(b"\x00") \
+            and not head[2:units:4].strip(b"\x00") and b"\x00" not in head[3:units:4]:
+        return "UTF-32-BE"
+    pairs = len(head) // 2 * 2
+    if not head[1:pairs:2].strip(b"\x00") and b"\x00" not in head[0:pairs:2]:
+        return "UTF-16-LE"
+    if not head[0:pairs:2].strip(b"\x00") and b"\x00" not in head[1:pairs:2]:
+        return "UTF-16-BE"
+    return None
 
 
 class _Bad:

@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from idkit.errors import DataError
@@ -87,6 +88,12 @@ def is_complex_table(path) -> bool:
         return False
 
 
+def _first_line(text: str) -> str:
+    """The header line: up to the first line end, ``\\n``, ``\\r\\n`` or a lone ``\\r``, as the
+    CSV readers split lines."""
+    return re.split(r"\r\n?|\n", text, maxsplit=1)[0]
+
+
 def complex_table_format(path) -> str | None:
     """``"complex_stiffness"`` (idkit CSV: frequency, storage, loss), ``"pyvisco"`` (two-line
     header ``f, E_stor, E_loss`` / units) or None, from the first line of a file.
@@ -97,7 +104,7 @@ def complex_table_format(path) -> str | None:
         The reader's own checks (not a file, corrupt gzip, not UTF-8).
     """
     path = Path(path)
-    header = decode_text(path, read_file_bytes(path)).lstrip("\ufeff").partition("\n")[0]
+    header = _first_line(decode_text(path, read_file_bytes(path)).lstrip("\ufeff"))
     names = {cell.split("[")[0].strip() for cell in header.split(",")}
     if {"frequency", "storage", "loss"} <= names:
         return "complex_stiffness"
@@ -110,7 +117,7 @@ def shift_factor_format(path) -> str:
     """``"pyvisco"`` (two-line header ``T, log_aT`` / units) or ``"idkit"`` (``temperature [C|K]``,
     ``log_aT [-]``) from the first line of a shift-factor file."""
     path = Path(path)
-    header = decode_text(path, read_file_bytes(path)).lstrip("\ufeff").partition("\n")[0]
+    header = _first_line(decode_text(path, read_file_bytes(path)).lstrip("\ufeff"))
     names = {cell.split("[")[0].strip() for cell in header.split(",")}
     return "pyvisco" if {"T", "log_aT"} <= names else "idkit"
 
@@ -128,7 +135,7 @@ def guess_kind(path) -> str:
         corrupt gzip, not UTF-8).
     """
     path = Path(path)
-    header = decode_text(path, read_file_bytes(path)).partition("\n")[0]
+    header = _first_line(decode_text(path, read_file_bytes(path)))
     names = {cell.split("[")[0].strip() for cell in header.split(",")}
     for column, kind in _KIND_BY_COLUMN:
         if column in names:

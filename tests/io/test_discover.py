@@ -30,6 +30,16 @@ def test_guess_kind_names_the_file_when_it_cannot_tell(tmp_path):
         guess_kind(path)
 
 
+def test_guess_kind_reads_the_header_of_a_cr_only_file(tmp_path):
+    path = tmp_path / "odd.csv"
+    path.write_bytes(b"time [s],pressure [Pa]\r0,0\r0.1,1\r")
+    # the header alone, not the whole file up to a "\n" that never comes
+    with pytest.raises(DataError, match=r"from the header 'time \[s\],pressure \[Pa\]'; expected"):
+        guess_kind(path)
+    path.write_bytes(b"time [s],deflection [m],force [N]\r0,0,0\r")
+    assert guess_kind(path) == "quasi_static"
+
+
 def test_bundled_data_sets_and_a_listed_file():
     assert default_data_dir().resolve() == DATA.resolve() or (default_data_dir() / "README.md").exists()
     sets = find_measurement_sets(DATA)

@@ -60,6 +60,26 @@ def test_columns_in_any_order_bom_crlf_spaces_and_trailing_blank_lines(tmp_path)
     np.testing.assert_array_equal(m.time, [0.0, 0.5])
 
 
+def test_cr_only_line_ends_read_like_lf(tmp_path):
+    """Classic-Mac files (a lone CR ends every line) give the same values and row numbers."""
+    lf = read_csv_measurement(_write(tmp_path / "lf.csv", QS_TEXT), "quasi_static")
+    cr = read_csv_measurement(_write(tmp_path / "cr.csv", QS_TEXT.replace("\n", "\r")), "quasi_static")
+    for name in ("time", "deflection", "force"):
+        np.testing.assert_array_equal(getattr(cr, name), getattr(lf, name))
+    broken = QS_TEXT.replace("20,1.5", "20,x").replace("\n", "\r")
+    with pytest.raises(DataError, match=r"column 'deflection \[mm\]': data row 3 .*file line 4\): found 'x'"):
+        read_csv_measurement(_write(tmp_path / "bad.csv", broken), "quasi_static")
+
+
+@pytest.mark.parametrize("encoding", ["utf-16-le", "utf-16-be", "utf-32-le", "utf-32-be"])
+def test_wide_text_without_byte_order_mark_is_named_not_utf8(tmp_path, encoding):
+    # was: "header cell 't\x00i\x00m\x00e...' is not of the form 'name [unit]'"
+    path = _write(tmp_path / "wide.csv", QS_TEXT.encode(encoding))
+    with pytest.raises(DataError, match=f"file '.*wide.csv': not UTF-8 text .*{encoding.upper()} without a "
+                                        "byte-order mark"):
+        read_csv_measurement(path, "quasi_static")
+
+
 def test_gzip_file_is_read_and_hashed_as_stored(tmp_path):
     path = _write(tmp_path / "c.csv.gz", gzip.compress(QS_TEXT.encode(), mtime=0))
     m = read_csv_measurement(path, "quasi_static")

@@ -60,6 +60,8 @@ def test_error_class_is_the_callers():
     ("é".encode("utf-16"), "UTF-16 text"),
     ("é".encode("utf-32"), "UTF-32 text"),
     (b"ok \xff", "not UTF-8 text (byte 3"),
+    ("time [s]".encode("utf-16-le"), "not UTF-8 text (NUL bytes between the first characters: UTF-16-LE"),
+    ("time [s]".encode("utf-32-be"), "UTF-32-BE without a byte-order mark"),
 ])
 def test_decode_utf8_names_the_encoding_problem(raw, fragment):
     with pytest.raises(DataError, match=fragment.replace("(", r"\(")):
