@@ -38,12 +38,12 @@ import pandas as pd
 from idkit.errors import DataError
 from idkit.inputfiles import decode_utf8
 from idkit.io.complex_stiffness import ComplexStiffnessTable, ShiftFactorTable
-from idkit.io.csv_table import parse_number_cells, read_file_bytes
+from idkit.io.csv_table import column_to_si, parse_number_cells, read_file_bytes
 from idkit.io.info import MeasurementInfo
 from idkit.io.matfile import load_mat_variables, read_mat
 from idkit.io.measurements import AccelerationRecord, QuasiStaticMeasurement
 from idkit.io.provenance import Source
-from idkit.io.units import convert_to_si, lookup_unit
+from idkit.io.units import lookup_unit
 
 __all__ = [
     "AFRL_CHANNELS",
@@ -124,7 +124,7 @@ def _two_line_header_table(path: Path, expected: dict[str, tuple[str, ...]]
     for k, name in enumerate(names):
         scale = lookup_unit(units[k], expected[name], where=source.where(name))
         cells = [row[k] for row in body]
-        values[name] = convert_to_si(parse_number_cells(cells, name, source), scale)
+        values[name] = column_to_si(parse_number_cells(cells, name, source), scale, name, source)
         declared[name] = scale.quantity
     return values, declared, source
 
@@ -316,7 +316,7 @@ def read_prony_reference(path: str | Path, *,
             raise DataError(f"{source.where()}: no '# E0 = <value> <unit>' line; expected the "
                             "pyvisco prony_terms layout")
         scale = lookup_unit(match.group(2), "modulus", where=f"{source.where()}, E0 line")
-        e0 = float(convert_to_si(parse_number_cells([match.group(1)], "E0", source), scale)[0])
+        e0 = float(column_to_si(parse_number_cells([match.group(1)], "E0", source), scale, "E0", source)[0])
         source = Source(path=path, sha256=sha256, header_lines=header_lines)
         body = lines[header_lines:]
         while body and not body[-1].strip():
@@ -412,7 +412,7 @@ def read_afrl_accel(path: str | Path) -> AccelerationRecord:
     time = parse_number_cells([r[0] for r in body], "time", source)
     scale = lookup_unit("1000g", "acceleration", where=source.where())
     accel = np.column_stack([
-        convert_to_si(parse_number_cells([r[k] for r in body], f"test {k}", source), scale)
+        column_to_si(parse_number_cells([r[k] for r in body], f"test {k}", source), scale, f"test {k}", source)
         for k in range(1, width)])
     match = re.search(r"accel_(\d+)", path.name)
     channel = AFRL_CHANNELS.get(int(match.group(1)), path.stem) if match else path.stem

@@ -16,11 +16,14 @@ every value is bit-identical to Python's ``float`` of the cell) after cheap
 whole-text checks that keep it from accepting anything the strict one refuses:
 only the characters of plain decimal numbers, commas, spaces, tabs and line
 ends; ``\r`` only in ``\r\n``; no quotes; as many lines as rows and exactly
-``columns - 1`` commas per row; every value finite. When any check fails, the
+``columns - 1`` commas per row; no exponent of -100 or below and no run of 200 zeros
+(a cell can only underflow to 0 that way); every value finite. When any check fails, the
 strict parser (:mod:`csv` and a regular expression per cell, about 6 times
 slower) reads the text again: it words the error (file, column, row, found,
-expected), or returns the values when the text was valid after all (a number
-that overflows to infinity, a quoted header).
+expected), or returns the values when the text was valid after all (a quoted
+header, ``1e-300``). A nonzero cell below float64's smallest magnitude (``1e-400``,
+which would read as 0), a cell beyond its largest (``1e400``) and a value the unit
+conversion would take there (``5e-324 mm``) are refused with their row and column.
 """
 
 from __future__ import annotations
@@ -43,10 +46,11 @@ from idkit.errors import DataError
 from idkit.inputfiles import decode_utf8, read_input_bytes
 from idkit.io.columns import COLUMN_QUANTITIES, KindSchema, parse_header_cell
 from idkit.io.provenance import Source
-from idkit.io.units import UnitScale, convert_to_si, lookup_unit
+from idkit.io.units import SI_UNITS, UnitScale, convert_to_si, lookup_unit
 
 __all__ = [
     "CsvTable",
+    "column_to_si",
     "decode_text",
     "parse_number_cells",
     "parse_table_text",
@@ -57,6 +61,16 @@ __all__ = [
 # ASCII digits only: Python's float() would also accept Unicode digits and underscores
 _NUMBER_RE = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 _NONFINITE_RE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
+_NONZERO_DIGIT = re.compile(r"[1-9]")
+# A cell can only underflow to 0 with an exponent of -100 or below or a run of 200 zeros
+# (0.000...1); the fast path leaves such texts, rare in measurements, to the strict parser
+# (overflow gives inf, which the fast path refuses anyway). Literal first bytes: "e-" and
+# "E-" are searched for several times faster than a character class.
+_TINY_EXPONENT = re.compile(rb"e-0*[1-9][0-9]{2}")
+_TINY_EXPONENT_UPPER = re.compile(rb"E-0*[1-9][0-9]{2}")
+_LONG_ZERO_RUN = b"0" * 200
+_LARGEST = float(np.finfo(np.float64).max)
+_SMALLEST = float(np.finfo(np.float64).smallest_subnormal)
 # bytes a data row may hold on the fast path: digits, sign, point, exponent, comma, blanks
 _FAST_ROW_BYTES = b"0123456789+-.eE, \t\r\n"
 # pandas < 3 converts with xstrtod by default, which may miss the last bit; "round_trip"
@@ -155,7 +169,36 @@ def parse_number_cells(cells: list[str], column: str, source: Source) -> np.ndar
                 found, expected = repr(cell), "a decimal number such as -1.5 or 3e-4"
             raise DataError(f"{source.where(column)}: {source.row_label(i)}: found {found}, "
                             f"expected {expected}")
-    return np.fromiter(map(float, cells), dtype=np.float64, count=len(cells))
+    values = np.fromiter(map(float, cells), dtype=np.float64, count=len(cells))
+    if not np.isfinite(values).all():
+        i = int(np.flatnonzero(~np.isfinite(values))[0])
+        raise DataError(f"{source.where(column)}: {source.row_label(i)}: found {cells[i]!r}, which is "
+                        f"beyond float64's largest magnitude ({_LARGEST:.4g}); expected a finite number")
+    # a nonzero number below float64's smallest magnitude reads as 0.0: only exact zeros are
+    # looked at again, by their text (a nonzero digit before the exponent)
+    for i in np.flatnonzero(values == 0.0):
+        if _NONZERO_DIGIT.search(cells[i].partition("e")[0].partition("E")[0]):
+            raise DataError(f"{source.where(column)}: {source.row_label(i)}: found {cells[i]!r}, which is "
+                            f"nonzero but below float64's smallest magnitude ({_SMALLEST:.3g}) and would "
+                            "read as 0; expected 0 or a number of magnitude >= that")
+    return values
+
+
+def column_to_si(values: np.ndarray, scale: UnitScale, column: str, source: Source) -> np.ndarray:
+    """``values`` (in the column's declared unit) in SI, refusing a value the conversion would
+    turn into infinity or (from nonzero) into 0."""
+    with np.errstate(over="ignore", under="ignore"):
+        si = convert_to_si(values, scale)
+    if scale.numerator == 1.0 and scale.denominator == 1.0 and scale.offset == 0.0:
+        return si
+    changed = ~np.isfinite(si) | ((si == 0.0) & (values != 0.0) & (scale.offset == 0.0))
+    if changed.any():
+        i = int(np.flatnonzero(changed)[0])
+        raise DataError(f"{source.where(column)}: {source.row_label(i)}: found {float(values[i])!r} "
+                        f"{scale.symbol}, which is {float(si[i])!r} {SI_UNITS[scale.quantity]} in SI "
+                        f"(beyond float64's range); expected a value whose SI magnitude is 0 or lies in "
+                        f"{_SMALLEST:.3g} to {_LARGEST:.4g}")
+    return si
 
 
 def _check_names(names: list[str], schema: KindSchema, source: Source) -> None:
@@ -217,6 +260,9 @@ def _parse_fast(path: Path, sha256: str, text: str, schema: KindSchema) -> CsvTa
         return None
     if b"\r" in data and data.count(b"\r") != data.count(b"\r\n"):
         return None
+    if (_TINY_EXPONENT.search(data) or (b"E" in data and _TINY_EXPONENT_UPPER.search(data))
+            or _LONG_ZERO_RUN in data):
+        return None  # may underflow to 0: the strict parser decides, by the text
     n_columns = len(names)
     n_rows = data.count(b"\n") + 1
     if data.count(b",") != n_rows * (n_columns - 1):
@@ -236,7 +282,7 @@ def _parse_fast(path: Path, sha256: str, text: str, schema: KindSchema) -> CsvTa
     columns = np.array(frame.to_numpy(dtype=np.float64).T, order="C")  # own, one row a column
     if not np.isfinite(columns).all():
         return None  # empty cells (NaN) and overflow: the strict parser decides
-    values = {name: convert_to_si(columns[k], scales[name]) for k, name in enumerate(names)}
+    values = {name: column_to_si(columns[k], scales[name], name, source) for k, name in enumerate(names)}
     return CsvTable(values=values, scales=scales, source=source)
 
 
@@ -267,7 +313,7 @@ def _parse_strict(path: Path, sha256: str, text: str, schema: KindSchema) -> Csv
     values = {}
     for k, name in enumerate(names):
         cells = [row[k].strip() for row in body]
-        values[name] = convert_to_si(parse_number_cells(cells, name, source), scales[name])
+        values[name] = column_to_si(parse_number_cells(cells, name, source), scales[name], name, source)
     return CsvTable(values=values, scales=scales, source=source)
 
 

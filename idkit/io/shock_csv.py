@@ -20,10 +20,10 @@ import numpy as np
 
 from idkit.errors import DataError
 from idkit.io.columns import parse_header_cell
-from idkit.io.csv_table import decode_text, parse_number_cells, read_file_bytes
+from idkit.io.csv_table import column_to_si, decode_text, parse_number_cells, read_file_bytes
 from idkit.io.measurements import AccelerationRecord
 from idkit.io.provenance import Source
-from idkit.io.units import convert_to_si, lookup_unit
+from idkit.io.units import lookup_unit
 
 __all__ = ["read_shock_csv"]
 
@@ -93,10 +93,11 @@ def read_shock_csv(path: str | Path, *, channel: str | None = None) -> Accelerat
             raise DataError(f"{where}: {source.row_label(index)}: found {what}, "
                             f"expected {len(header)} as in the header")
     time_scale = lookup_unit(units[0], "time", where=source.where("time"))
-    time = convert_to_si(parse_number_cells([row[0] for row in body], "time", source), time_scale)
+    time = column_to_si(parse_number_cells([row[0] for row in body], "time", source), time_scale, "time", source)
     columns = []
     for k in range(1, len(header)):
         scale = lookup_unit(units[k], "acceleration", where=source.where(names[k]))
-        columns.append(convert_to_si(parse_number_cells([row[k] for row in body], names[k], source), scale))
+        columns.append(column_to_si(parse_number_cells([row[k] for row in body], names[k], source), scale, names[k],
+                                    source))
     return AccelerationRecord(time=time, accel=np.column_stack(columns), channel=channel or path.name.split(".")[0],
                               source=source)

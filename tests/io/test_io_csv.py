@@ -80,6 +80,38 @@ def test_wide_text_without_byte_order_mark_is_named_not_utf8(tmp_path, encoding)
         read_csv_measurement(path, "quasi_static")
 
 
+@pytest.mark.parametrize("deflection, force, words", [
+    # read as 0.0 without a word
+    ("1e-3", "1e-400", ("column 'force [N]': data row 2 .*found '1e-400', which is nonzero but below "
+                        "float64's smallest magnitude")),
+    ("1e-3", "-0.00000000000000000001e-310", "found '-0.00000000000000000001e-310', which is nonzero"),
+    # was "found inf"
+    ("1e-3", "1e400", "column 'force [N]': data row 2 .*found '1e400', which is beyond float64's largest"),
+    ("1e-3", "1" + "0" * 400, "column 'force [N]': data row 2 .*beyond float64's largest"),
+])
+def test_numbers_float64_cannot_hold_are_refused_with_row_and_column(tmp_path, deflection, force, words):
+    text = f"time [s],deflection [m],force [N]\n0,0,0\n0.1,{deflection},{force}\n"
+    with pytest.raises(DataError, match=words.replace("[N]", r"\[N\]").replace("(", r"\(")):
+        read_csv_measurement(_write(tmp_path / "u.csv", text), "quasi_static")
+
+
+@pytest.mark.parametrize("cells, words", [
+    ("5e-324,1", r"column 'deflection \[mm\]': data row 2 .*found 5e-324 mm, which is 0.0 m in SI"),
+    ("1,1e306", r"column 'force \[kN\]': data row 2 .*found 1e\+306 kN, which is inf N in SI"),
+])
+def test_values_the_unit_conversion_would_underflow_or_overflow_are_refused(tmp_path, cells, words):
+    text = f"time [s],deflection [mm],force [kN]\n0,0,0\n0.1,{cells}\n"
+    with pytest.raises(DataError, match=words):
+        read_csv_measurement(_write(tmp_path / "c.csv", text), "quasi_static")
+
+
+def test_zeros_and_the_smallest_numbers_are_kept(tmp_path):
+    text = "time [s],deflection [m],force [N]\n0,0e-400,-0.0\n0.1,5e-324,-1e-320\n"
+    m = read_csv_measurement(_write(tmp_path / "z.csv", text), "quasi_static")
+    np.testing.assert_array_equal(m.deflection, [0.0, 5e-324])
+    np.testing.assert_array_equal(m.force, [-0.0, -1e-320])
+
+
 def test_gzip_file_is_read_and_hashed_as_stored(tmp_path):
     path = _write(tmp_path / "c.csv.gz", gzip.compress(QS_TEXT.encode(), mtime=0))
     m = read_csv_measurement(path, "quasi_static")

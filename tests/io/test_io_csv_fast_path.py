@@ -100,6 +100,12 @@ def test_hostile_corpus_file_gives_the_same_outcome_both_ways(case):
     "time [s],deflection [m],force [N]\n0,1,2\n1,2\n2,3,4,5\n",    # short and long rows
     "time [s],deflection [m],force [N]\n0,1,2\n1,,3\n",            # empty cell
     "time [s],deflection [m],force [N]\n0,1,2\n1,2,1e400\n",       # overflow to inf
+    "time [s],deflection [m],force [N]\n0,1,2\n1,2,1e-400\n",      # underflow to 0
+    "time [s],deflection [m],force [N]\n0,1,2\n1,2,0e-400\n",      # a true 0
+    "time [s],deflection [m],force [N]\n0,1,2\n1,2,5e-324\n",      # the smallest, kept
+    "time [s],deflection [m],force [N]\n0,1,2\n1,2,0." + "0" * 330 + "1\n",  # underflow, no exponent
+    "time [s],deflection [mm],force [kN]\n0,1,2\n1,5e-324,3\n",    # 0 after the unit conversion
+    "time [s],deflection [mm],force [kN]\n0,1,2\n1,2,1e306\n",     # inf after the unit conversion
     "time [s],deflection [m],force [N]\n0,1,2\r1,2,3\r",           # bare carriage returns
     "time [s],deflection [m],force [N]\n0,1,2\n1,2,3\n \n",        # a blank-looking last line
     '"time [s]",deflection [m],force [N]\n0,1,2\n1,2,3\n',         # quoted header cell
