@@ -26,11 +26,11 @@ import scipy.io
 from idkit.errors import DataError
 from idkit.io.columns import COLUMN_QUANTITIES, KIND_SCHEMAS
 from idkit.io.csv_measurement import build_measurement
-from idkit.io.csv_table import read_file_bytes
+from idkit.io.csv_table import column_to_si, read_file_bytes
 from idkit.io.info import MeasurementInfo
 from idkit.io.measurements import Measurement
 from idkit.io.provenance import Source
-from idkit.io.units import convert_to_si, lookup_unit
+from idkit.io.units import lookup_unit
 
 __all__ = ["MatColumn", "load_mat_variables", "parse_mat_column", "read_mat"]
 
@@ -129,6 +129,9 @@ def load_mat_variables(path: str | Path) -> tuple[dict[str, np.ndarray], str]:
     return variables, sha256
 
 
+_EXACT_INTEGER_LIMIT = 2**53  # every integer up to this magnitude is exact in float64
+
+
 def _column_values(variables: dict, column: MatColumn, where: str) -> np.ndarray:
     if column.variable not in variables:
         raise DataError(f"{where}: variable '{column.variable}' not in the file; found "
@@ -141,11 +144,28 @@ def _column_values(variables: dict, column: MatColumn, where: str) -> np.ndarray
         if value.ndim > 2 or (value.ndim == 2 and min(value.shape) != 1):
             raise DataError(f"{where}: variable '{column.variable}' has shape {value.shape}, "
                             "expected a vector; select a column with 'var[:,k]'")
-        return value.reshape(-1)
-    if value.ndim != 2 or column.index >= value.shape[1]:
-        raise DataError(f"{where}: variable '{column.variable}' has shape {value.shape}, "
-                        f"expected a 2-D array with a column {column.index} (0-based)")
-    return value[:, column.index]
+        selected = value.reshape(-1)
+    else:
+        if value.ndim != 2 or column.index >= value.shape[1]:
+            raise DataError(f"{where}: variable '{column.variable}' has shape {value.shape}, "
+                            f"expected a 2-D array with a column {column.index} (0-based)")
+        selected = value[:, column.index]
+    _check_exact_in_float64(selected, column.variable, where)
+    return selected
+
+
+def _check_exact_in_float64(values: np.ndarray, variable: str, where: str) -> None:
+    """Refuse integers (int64/uint64) that float64 would round: beyond 2^53 only some are exact."""
+    if values.dtype.kind not in "iu" or values.dtype.itemsize < 8:
+        return  # float, or integers of up to 32 bits: all exact in float64
+    beyond = np.flatnonzero((values > _EXACT_INTEGER_LIMIT) | (values < -_EXACT_INTEGER_LIMIT))
+    for i in beyond:
+        number = int(values[i])
+        if int(float(number)) != number:
+            raise DataError(f"{where}: variable '{variable}' ({values.dtype}) sample {i + 1} (1-based): "
+                            f"found {number}, which float64 cannot hold exactly (it would read as "
+                            f"{float(number)!r}); expected integers within +-2^53 or exactly "
+                            "representable as float64")
 
 
 def read_mat(path: str | Path, kind: str, *, columns: Mapping[str, str | MatColumn],
@@ -203,7 +223,7 @@ def read_mat(path: str | Path, kind: str, *, columns: Mapping[str, str | MatColu
     for name, spec in specs.items():
         where = source.where(name)
         scale = lookup_unit(spec.unit, COLUMN_QUANTITIES[name], where=where)
-        values[name] = convert_to_si(_column_values(variables, spec, where), scale)
+        values[name] = column_to_si(_column_values(variables, spec, where), scale, name, source)
     if info is None:
         info = MeasurementInfo(id=path.name.removesuffix(".mat"))
     return build_measurement(kind, values, info=info, source=source)

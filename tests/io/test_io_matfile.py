@@ -65,6 +65,37 @@ def test_length_mismatch_and_nan_in_mat(tmp_path):
                                                  "force": "f [N]"})
 
 
+def _read_force(path, spec):
+    return read_mat(path, "quasi_static", columns={"time": "t [s]", "deflection": "d [m]", "force": spec})
+
+
+def test_integers_float64_would_round_are_refused_by_variable_and_sample(tmp_path):
+    path = tmp_path / "ints.mat"
+    scipy.io.savemat(path, {
+        "t": np.arange(4.0), "d": np.zeros(4),
+        "big": np.array([0, 1, 2**53 + 1, 3], dtype=np.int64),               # read as 2^53 without a word
+        "umax": np.array([0, 1, 2**64 - 1, 3], dtype=np.uint64),
+        "exact": np.array([0, -(2**63), 2**62, 2**53], dtype=np.int64),      # powers of two: exact
+        "small": np.array([0, 1, 2**31 - 1, -(2**31)], dtype=np.int32),
+    })
+    with pytest.raises(DataError, match=r"column 'big \[N\]': variable 'big' \(int64\) sample 3 \(1-based\): "
+                                        r"found 9007199254740993, which float64 cannot hold exactly"):
+        _read_force(path, "big [N]")
+    with pytest.raises(DataError, match=r"variable 'umax' \(uint64\) sample 3 .*found 18446744073709551615"):
+        _read_force(path, "umax [N]")
+    np.testing.assert_array_equal(_read_force(path, "exact [N]").force, [0.0, -(2.0**63), 2.0**62, 2.0**53])
+    np.testing.assert_array_equal(_read_force(path, "small [N]").force, [0.0, 1.0, 2.0**31 - 1, -(2.0**31)])
+
+
+def test_values_the_unit_conversion_would_overflow_are_refused(tmp_path):
+    path = tmp_path / "huge.mat"
+    scipy.io.savemat(path, {"t": np.arange(4.0), "d": np.zeros(4), "f": np.array([0.0, 1.0, 1e306, 3.0])})
+    # was a RuntimeWarning and "found inf"
+    with pytest.raises(DataError, match=r"column 'f \[kN\]': sample 3 \(1-based\): found 1e\+306 kN, which is "
+                                        r"inf N in SI"):
+        _read_force(path, "f [kN]")
+
+
 def test_not_a_mat_file(tmp_path):
     path = tmp_path / "x.mat"
     path.write_bytes(b"not a mat file at all")
