@@ -189,7 +189,9 @@ def sdof_transmissibility(stiffness, moving_mass, omega):
     >>> float(abs(sdof_transmissibility(1e4, 1.0, 0.0)))
     1.0
     """
-    return stiffness / (stiffness - moving_mass * np.asarray(omega) ** 2)
+    # m omega^2 beyond float64 (a huge mass or frequency): its limit, T = -0, not a warning
+    with np.errstate(over="ignore"):
+        return stiffness / (stiffness - moving_mass * np.asarray(omega) ** 2)
 
 
 def hybrid_transmissibility(upper_stiffness, lower_stiffness, top_mass, intermediate_mass, omega):

@@ -274,6 +274,12 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
         velocity = np.atleast_1d(np.asarray(impact_velocity, dtype=float))
         if velocity.ndim != 1 or not np.all(np.isfinite(velocity)):
             raise SimulationError(f"impact_velocity: found {velocity!r}, expected finite m/s (drop: < 0)")
+        with np.errstate(over="ignore"):
+            too_fast = ~np.isfinite(velocity**2 / (2.0 * STANDARD_GRAVITY))
+        if too_fast.any():
+            limit = np.sqrt(2.0 * STANDARD_GRAVITY) * np.sqrt(np.finfo(float).max)
+            raise SimulationError(f"impact_velocity: found {float(velocity[too_fast][0])!r} m/s, whose drop "
+                                  f"height v0^2 / (2 g) overflows float64; expected |v0| below {limit:.3g} m/s")
     auto_duration, auto_step = default_shock_grid(system)
     duration = auto_duration if duration is None else float(duration)
     time_step = auto_step if time_step is None else float(time_step)

@@ -73,8 +73,21 @@ def system_arrays(system) -> SystemArrays:
 def force_scale(arrays: SystemArrays, accel_scale):
     """A force magnitude (N) for convergence tests: total mass times an acceleration scale
     (m/s^2) plus the slip forces; a float, or an array of one per run for an array of scales
-    (each run's own, so that no run's tolerance depends on the others of its batch)."""
-    scale = arrays.masses.sum() * (np.abs(accel_scale) + STANDARD_GRAVITY) + arrays.jfc.sum()
+    (each run's own, so that no run's tolerance depends on the others of its batch).
+
+    Raises
+    ------
+    SimulationError
+        When it overflows (a mass near 1e308 kg): convergence tests against an infinite force
+        would pass whatever the state, so the run would mean nothing.
+    """
+    with np.errstate(over="ignore"):
+        scale = arrays.masses.sum() * (np.abs(accel_scale) + STANDARD_GRAVITY) + arrays.jfc.sum()
+    if not np.isfinite(scale).all():
+        accel = float(np.max(np.abs(accel_scale)))
+        raise SimulationError(f"system: masses {arrays.masses.tolist()} kg times the acceleration scale "
+                              f"{accel + STANDARD_GRAVITY:.3g} m/s^2 overflow float64; expected "
+                              "masses and accelerations whose forces are finite")
     return float(scale) if np.ndim(scale) == 0 else np.ascontiguousarray(scale, dtype=float)
 
 

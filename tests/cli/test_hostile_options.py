@@ -249,3 +249,20 @@ def test_corpus_covers_every_numeric_option():
     covered = {word for _, argv, _ in ERRORS for word in argv if word.startswith("--")}
     assert numeric, "no numeric options found"
     assert numeric <= covered, f"numeric options without a refused case: {sorted(numeric - covered)}"
+
+
+@pytest.mark.parametrize("case, template, words", [
+    # were raw numpy overflow RuntimeWarnings, then exit 0 or 1 with meaningless numbers
+    ("harmonic-mass-1e308", ["simulate", "harmonic", "{isolator}", "--mass", "1e308", "-o", "{out}", "--quiet"]
+     + POINT, ["masses [1e+308] kg", "overflow float64"]),
+    ("drop-mass-1e308", ["simulate", "drop", "{isolator}", "--mass", "1e308", "-o", "{out}", "--velocity", "1"],
+     ["masses [1e+308] kg", "overflow float64"]),
+    ("drop-velocity-1e200", DROP + ["--velocity", "1e200"], ["impact_velocity: found -1e+200 m/s",
+                                                              "drop height v0^2 / (2 g) overflows"]),
+])
+def test_absurd_magnitudes_are_refused_without_numpy_warnings(case, template, words, models, tmp_path):
+    out = tmp_path / "out.csv"
+    argv = _argv(template, models, out)
+    outcome = run_main(argv, inputs=_inputs(argv, models), must_not_exist=[out], watch=[tmp_path], timeout_s=60)
+    check(outcome, "error", words, case=f"option:{case}")
+    assert "Warning" not in outcome.stderr, outcome.stderr
