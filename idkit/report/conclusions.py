@@ -139,18 +139,11 @@ def transport_conclusions(study, heights=(0.02, 0.05, 0.10)) -> list[str]:
         sentences.append(sentence)
     table_heights = study.shock_height.index.to_numpy(float)
     for height in heights:
-        if not table_heights.min() <= height <= table_heights.max():
+        if not (table_heights.min() <= height <= table_heights.max()
+                or np.isclose(table_heights, height, rtol=1e-9, atol=0.0).any()):
             continue
-        values = pd.Series({name: float(np.interp(height, table_heights, study.shock_height[name].to_numpy(float),
-                                                   left=np.nan, right=np.nan))
-                            for name in study.shock_height.columns})
-        # a level interpolated next to an invalid point is not a value
-        for name in values.index:
-            column = study.shock_height[name].to_numpy(float)
-            above = np.searchsorted(table_heights, height)
-            neighbours = column[max(above - 1, 0):above + 1]
-            if not np.all(np.isfinite(neighbours)):
-                values[name] = np.nan
+        # the summary table's values: a level interpolated next to an invalid point is not a value
+        values = study.rest_shock_at(height)
         sentences.append(_ranking_sentence(values, f"drop height {100 * height:g} cm, rest shock", "m/s^2"))
     for name, speed in curve_ends(study.shock_velocity).items():
         sentences.append(f"{name}: the rest-shock curve stops at an impact speed of {speed:.3g} m/s; beyond it the "

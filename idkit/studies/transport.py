@@ -245,14 +245,37 @@ class TransportStudy:
                                         "freq [Hz]": item.freq, "output PSD [(m/s^2)^2/Hz]": item.output_psd})
                           for item in self.psd])
 
+    def rest_shock_at(self, height: float) -> pd.Series:
+        """Rest shock level (m/s^2) of every system at drop height ``height`` (m).
+
+        A height within rounding of a point of the height sweep takes that point's value
+        (``np.linspace`` gives 0.04999999999999999 for 5 cm); between two points the level is
+        interpolated, and is NaN where either point is (the model went invalid there) or
+        outside the sweep.
+
+        Examples
+        --------
+        >>> study = TransportStudy(tuning=pd.DataFrame(), rms=pd.DataFrame(), psd=(), seed=0, n_realizations=1,
+        ...                        flagged_runs=0, shock_velocity=pd.DataFrame(),
+        ...                        shock_height=pd.DataFrame({"a": [1.0, 2.0, np.nan]}, index=[0.01, 0.04999999999999999, 0.06]))
+        >>> float(study.rest_shock_at(0.05)["a"]), float(study.rest_shock_at(0.055)["a"])
+        (2.0, nan)
+        """
+        heights = self.shock_height.index.to_numpy(float)
+        exact = np.flatnonzero(np.isclose(heights, height, rtol=1e-9, atol=0.0))
+        if exact.size:
+            return self.shock_height.iloc[int(exact[0])].astype(float).rename(None)
+        if not heights.min() < height < heights.max():
+            return pd.Series(np.nan, index=self.shock_height.columns, dtype=float)
+        # np.interp is NaN wherever one of the two neighbours is
+        return pd.Series({name: float(np.interp(height, heights, self.shock_height[name].to_numpy(float)))
+                          for name in self.shock_height.columns})
+
     def summary_table(self, heights=(0.02, 0.05, 0.10)) -> pd.DataFrame:
-        """RMS per system and level, and rest shock at a few drop heights (m; interpolated)."""
+        """RMS per system and level, and rest shock at a few drop heights (m; :meth:`rest_shock_at`)."""
         table = self.rms.copy()
         for height in heights:
-            table[f"rest shock at h = {height * 100:g} cm [m/s^2]"] = [
-                float(np.interp(height, self.shock_height.index.to_numpy(), self.shock_height[name].to_numpy()))
-                for name in table.index
-            ]
+            table[f"rest shock at h = {height * 100:g} cm [m/s^2]"] = self.rest_shock_at(height).reindex(table.index)
         return table
 
 

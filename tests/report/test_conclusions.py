@@ -83,3 +83,19 @@ def test_a_ranked_system_whose_runs_did_not_settle_is_flagged():
     ringing.loc["wire rope"] = 0.26  # the second best: named; a third-ranked one would not be
     sentence = transport_conclusions(dataclasses.replace(study, settling=ringing))[0]
     assert sentence.endswith("Not settled, so uncertain by about that fraction: wire rope (settling error 0.26).")
+
+
+def test_a_drop_height_on_a_sweep_point_takes_that_points_level_in_words_and_table():
+    # the study's sweep, np.linspace(0.005, 0.15, 30), puts 5 cm at 0.04999999999999999: the
+    # hybrid's last valid point is 5 cm itself, so its level there is computed, and it is the lowest
+    heights = [0.03, 0.04, 0.04999999999999999, 0.06, 0.07]
+    rms = pd.DataFrame({"1e-06 [(m/s^2)^2/Hz]": [0.3, 0.2]}, index=["reference", "hybrid"])
+    study = _study(rms, heights, {"reference": [20.0, 25.0, 28.0, 31.0, 34.0],
+                                  "hybrid": [12.0, 15.0, 17.6, np.nan, np.nan]},
+                   [0.1, 0.2], {"reference": [1.0, 2.0], "hybrid": [1.0, 2.0]})
+    sentence = transport_conclusions(study, heights=(0.05,))[1]
+    assert sentence.startswith("drop height 5 cm, rest shock: hybrid protects the payload best (17.6 m/s^2")
+    assert "model invalid" not in sentence
+    assert study.summary_table(heights=(0.05,)).loc["hybrid", "rest shock at h = 5 cm [m/s^2]"] == 17.6
+    # between the last valid point and the first invalid one there is no value
+    assert np.isnan(study.rest_shock_at(0.055)["hybrid"]) and np.isclose(study.rest_shock_at(0.055)["reference"], 29.5)
