@@ -21,6 +21,7 @@ from idkit.plot.studies import curve_ends
 __all__ = [
     "fit_sentence",
     "parameters_sentence",
+    "rest_shock_ends",
     "transport_conclusions",
     "validation_sentence",
 ]
@@ -124,8 +125,8 @@ def transport_conclusions(study, heights=(0.02, 0.05, 0.10)) -> list[str]:
     list of str
         One sentence per floor level (saying so when the best or next system's random runs
         did not settle, :meth:`~idkit.studies.transport.TransportStudy.unsettled`), one per
-        drop height, one per system whose rest-shock curve ends because its model went
-        invalid.
+        drop height, one per system whose rest-shock curve versus impact speed or drop height
+        ends because its model went invalid (:func:`rest_shock_ends`).
     """
     sentences = []
     unsettled = {(system, level): value for system, level, value in study.unsettled()}
@@ -145,7 +146,49 @@ def transport_conclusions(study, heights=(0.02, 0.05, 0.10)) -> list[str]:
         # the summary table's values: a level interpolated next to an invalid point is not a value
         values = study.rest_shock_at(height)
         sentences.append(_ranking_sentence(values, f"drop height {100 * height:g} cm, rest shock", "m/s^2"))
-    for name, speed in curve_ends(study.shock_velocity).items():
-        sentences.append(f"{name}: the rest-shock curve stops at an impact speed of {speed:.3g} m/s; beyond it the "
-                         "model leaves its valid range (the simulator flags the runs), so no level is given.")
+    for name, where in rest_shock_ends(study).items():
+        sentences.append(f"{name}: the rest-shock curve stops {where}; beyond it the model leaves its valid range "
+                         "(the simulator flags the runs), so no level is given.")
     return sentences
+
+
+def rest_shock_ends(study) -> dict[str, str]:
+    """Where each system's rest-shock curves stop, in words: ``{system: "at an impact speed of ... m/s ..."}``.
+
+    Both sweeps count: the speed sweep may end before a curve versus drop height stops
+    (the bundled study's speeds reach 1 m/s, its heights 15 cm, about 1.7 m/s). Systems
+    whose curves run to the end of both sweeps are left out.
+
+    Examples
+    --------
+    >>> from idkit.studies.transport import TransportStudy
+    >>> study = TransportStudy(tuning=pd.DataFrame(), rms=pd.DataFrame(), psd=(), seed=0, n_realizations=1,
+    ...                        flagged_runs=0, shock_velocity=pd.DataFrame({"a": [1.0, 2.0]}, index=[0.5, 1.0]),
+    ...                        shock_height=pd.DataFrame({"a": [1.0, np.nan]}, index=[0.05, 0.1]))
+    >>> rest_shock_ends(study)
+    {'a': 'at a drop height of 5 cm (its curve versus impact speed runs to the end of that sweep, 1 m/s)'}
+    """
+    speeds, heights = study.shock_velocity, study.shock_height
+    by_speed, by_height = curve_ends(speeds), curve_ends(heights)
+    ends = {}
+    for name in speeds.columns.union(heights.columns, sort=False):
+        speed = _sweep_end(speeds, name, by_speed, lambda value: f"an impact speed of {value:.3g} m/s")
+        height = _sweep_end(heights, name, by_height, lambda value: f"a drop height of {100 * value:.3g} cm")
+        if speed and height:
+            ends[name] = f"at {speed} and {height}"
+        elif speed:
+            ends[name] = (f"at {speed} (its curve versus drop height runs to the end of that sweep, "
+                          f"{100 * heights.index.max():.3g} cm)")
+        elif height:
+            ends[name] = (f"at {height} (its curve versus impact speed runs to the end of that sweep, "
+                          f"{speeds.index.max():.3g} m/s)")
+    return ends
+
+
+def _sweep_end(table: pd.DataFrame, name: str, ends: dict, words) -> str:
+    """Where ``name``'s curve in ``table`` stops, in ``words``; "" when it runs to the end of the sweep."""
+    if name not in table.columns:
+        return ""
+    if not np.isfinite(table[name].to_numpy(float)).any():
+        return f"{words(float(table.index.min()))} already (no valid point)"
+    return words(ends[name]) if name in ends else ""

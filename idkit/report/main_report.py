@@ -33,7 +33,7 @@ from idkit.plot.equivalent import (
     plot_loop_residuals,
 )
 from idkit.plot.fits import plot_frf_fit, plot_loop_fit, plot_parameter_spread, plot_storage_loss
-from idkit.plot.studies import curve_ends, plot_transport_psd, plot_transport_rest_shock
+from idkit.plot.studies import plot_transport_psd, plot_transport_rest_shock
 from idkit.plot.validation import (
     plot_drop_histories,
     plot_drop_validation,
@@ -42,7 +42,13 @@ from idkit.plot.validation import (
     plot_sweep_bode,
     plot_sweep_maps,
 )
-from idkit.report.conclusions import fit_sentence, parameters_sentence, transport_conclusions, validation_sentence
+from idkit.report.conclusions import (
+    fit_sentence,
+    parameters_sentence,
+    rest_shock_ends,
+    transport_conclusions,
+    validation_sentence,
+)
 from idkit.report.html import HtmlReport, file_stem
 from idkit.report.study_files import write_transport_files
 from idkit.studies.equivalent import complex_stiffness_comparison, drop_shock_spectra, equivalent_linearization
@@ -416,9 +422,9 @@ def _transport_section(report: HtmlReport, data: ReportData, summary_slot: str) 
                           "band 0.1-100 Hz and 12 decades below each row's peak: the lowest curve above the "
                           "resonance isolates best.",
                   alt="output acceleration PSD of every tuned system at every floor level")
-    ends = curve_ends(study.shock_velocity)
-    note = ("; " + "; ".join(f"the {name} curve stops at {speed:.3g} m/s where its model leaves its valid range"
-                             for name, speed in ends.items())) if ends else ""
+    ends = rest_shock_ends(study)
+    note = ("; " + "; ".join(f"the {name} curve stops {where}, where its model leaves its valid range"
+                             for name, where in ends.items())) if ends else ""
     report.figure(np.ravel(plot_transport_rest_shock(study))[0].figure, name="transport rest shock",
                   caption="Rest shock level versus impact speed (top) and drop height (bottom), at most six systems "
                           "a column (the reference repeated beside the hybrids): the lowest curve protects best"

@@ -3,7 +3,7 @@
 import numpy as np
 import pandas as pd
 
-from idkit.report.conclusions import transport_conclusions, validation_sentence
+from idkit.report.conclusions import rest_shock_ends, transport_conclusions, validation_sentence
 from idkit.studies.transport import TransportStudy
 from idkit.validate import ValidationResult
 
@@ -99,3 +99,21 @@ def test_a_drop_height_on_a_sweep_point_takes_that_points_level_in_words_and_tab
     assert study.summary_table(heights=(0.05,)).loc["hybrid", "rest shock at h = 5 cm [m/s^2]"] == 17.6
     # between the last valid point and the first invalid one there is no value
     assert np.isnan(study.rest_shock_at(0.055)["hybrid"]) and np.isclose(study.rest_shock_at(0.055)["reference"], 29.5)
+
+
+def test_a_curve_that_stops_only_versus_drop_height_is_named_too():
+    # the speed sweep ends (1 m/s) before the height sweep (15 cm is 1.7 m/s): a hybrid valid
+    # over every speed still stops versus height, and its blank drop heights need a reason
+    rms = pd.DataFrame({"1e-06 [(m/s^2)^2/Hz]": [0.3, 0.2, 0.1]}, index=["reference", "hybrid", "wire rope"])
+    study = _study(rms, [0.05, 0.10, 0.15], {"reference": [28.0, 40.0, 49.0], "hybrid": [18.0, np.nan, np.nan],
+                                             "wire rope": [np.nan, np.nan, np.nan]},
+                   [0.5, 1.0], {"reference": [14.0, 28.0], "hybrid": [9.0, 17.0], "wire rope": [5.0, np.nan]})
+    ends = rest_shock_ends(study)
+    assert ends["hybrid"] == ("at a drop height of 5 cm (its curve versus impact speed runs to the end of that "
+                              "sweep, 1 m/s)")
+    # no valid drop height at all is a stop too, not a curve that runs to the end
+    assert ends["wire rope"] == "at an impact speed of 0.5 m/s and a drop height of 5 cm already (no valid point)"
+    assert "reference" not in ends
+    sentences = transport_conclusions(study, heights=(0.10,))
+    assert "no value (model invalid) for hybrid, wire rope" in sentences[1]
+    assert "hybrid: the rest-shock curve stops at a drop height of 5 cm" in sentences[2]
