@@ -55,11 +55,26 @@ def parameters_sentence(table: pd.DataFrame, *, limit: int | None = None) -> str
     return "; ".join(parts)
 
 
-def fit_sentence(name: str, fit) -> tuple[str, str]:
-    """``(verdict, text)``: whether the fit of a :class:`~idkit.fit.measurements.MeasurementFit` succeeded, and why not."""
+def fit_sentence(name: str, fit, *, comparison: bool = False) -> tuple[str, str]:
+    """``(verdict, text)``: whether the fit of a :class:`~idkit.fit.measurements.MeasurementFit` succeeded, and why not.
+
+    A fit that is not a success is "FLAGGED", as ``idkit report`` prints it: FAIL is a
+    validation's verdict (exit status 1), a flagged fit the report predicts with gives exit
+    status 4. A ``comparison`` fit (Bouc-Wen) says that it enters neither.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> fit_sentence("Bouc-Wen", SimpleNamespace(success=False, reasons=["loop error 7 %"]), comparison=True)[0]
+    'FLAGGED'
+    """
     if fit.success:
         return "PASS", f"{name}: the fit succeeded."
-    return "FAIL", f"{name}: the fit is not a success: " + "; ".join(fit.reasons) + "."
+    text = f"{name}: the fit is not a success: " + "; ".join(fit.reasons) + "."
+    if comparison:
+        text += (" A comparison of model forms: the report does not predict with it, and it enters neither the "
+                 "verdicts nor the exit status.")
+    return "FLAGGED", text
 
 
 def validation_sentence(key: str, result, *, quick_note: str = "") -> tuple[str, str]:

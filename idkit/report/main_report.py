@@ -245,7 +245,7 @@ def _summary_section(report: HtmlReport, data: ReportData) -> str:
              fit_sentence(f"Iwan fit (loop error small {100 * iwan.result.error_small:.2f} %, large "
                           f"{100 * iwan.result.error_large:.2f} %, eq. 7.1)", iwan),
              fit_sentence(f"Bouc-Wen comparison (small {100 * boucwen.result.error_small:.2f} %, large "
-                          f"{100 * boucwen.result.error_large:.2f} %)", boucwen)]
+                          f"{100 * boucwen.result.error_large:.2f} %)", boucwen, comparison=True)]
     items += [validation_sentence(entry.key, entry.result, quick_note=QUICK_NOTE if data.quick else "")
               for entry in data.validations_of("wire rope")]
     if data.drop_models is not None:

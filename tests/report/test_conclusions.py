@@ -3,7 +3,7 @@
 import numpy as np
 import pandas as pd
 
-from idkit.report.conclusions import rest_shock_ends, transport_conclusions, validation_sentence
+from idkit.report.conclusions import fit_sentence, rest_shock_ends, transport_conclusions, validation_sentence
 from idkit.studies.transport import TransportStudy
 from idkit.validate import ValidationResult
 
@@ -117,3 +117,17 @@ def test_a_curve_that_stops_only_versus_drop_height_is_named_too():
     sentences = transport_conclusions(study, heights=(0.10,))
     assert "no value (model invalid) for hybrid, wire rope" in sentences[1]
     assert "hybrid: the rest-shock curve stops at a drop height of 5 cm" in sentences[2]
+
+
+def test_a_fit_that_is_not_a_success_is_flagged_as_the_cli_prints_it_not_failed():
+    # FAIL is a validation's verdict (exit status 1); a fit that is not a success is FLAGGED
+    # (exit status 4 for the fits the report predicts with, nothing for the Bouc-Wen comparison)
+    from types import SimpleNamespace
+
+    fit = SimpleNamespace(success=False, reasons=["small-loop error 7.64 % is 7.54 points above the noise floor"])
+    verdict, text = fit_sentence("Maxwell fit", fit)
+    assert verdict == "FLAGGED" and text == ("Maxwell fit: the fit is not a success: small-loop error 7.64 % is "
+                                             "7.54 points above the noise floor.")
+    verdict, text = fit_sentence("Bouc-Wen comparison", fit, comparison=True)
+    assert verdict == "FLAGGED" and text.endswith("it enters neither the verdicts nor the exit status.")
+    assert fit_sentence("Iwan fit", SimpleNamespace(success=True, reasons=[])) == ("PASS", "Iwan fit: the fit succeeded.")
