@@ -31,8 +31,12 @@ def _number(value: float, digits: int = 3) -> str:
     return "n/a" if value is None or not np.isfinite(value) else f"{value:.{digits}g}"
 
 
-def parameters_sentence(table: pd.DataFrame, *, limit: int | None = None) -> str:
+def parameters_sentence(table: pd.DataFrame, *, limit: int | None = None, unfitted: bool = False) -> str:
     """``name = value +- stderr unit`` for the fitted parameters of a ``parameters_table``.
+
+    With ``unfitted``, the model's other parameters follow with their ``stderr_note`` (how
+    they were set, e.g. the wire rope's ``c_visc`` from the stepped-sine resonance): the
+    identified model is then stated whole, as the model file holds it.
 
     Examples
     --------
@@ -42,9 +46,9 @@ def parameters_sentence(table: pd.DataFrame, *, limit: int | None = None) -> str
     'k = 1.2e+03 +- 15 N/m; c = 3.5 N s/m (no stderr)'
     """
     parts = []
-    rows = table[table["fitted"]] if "fitted" in table else table
-    for _, row in rows.iterrows():
-        unit = f" {row['unit']}" if isinstance(row.get("unit"), str) and row["unit"] else ""
+    fitted = table["fitted"].astype(bool) if "fitted" in table else pd.Series(True, index=table.index)
+    for _, row in table[fitted].iterrows():
+        unit = _unit(row)
         stderr = row.get("stderr")
         if stderr is not None and not (isinstance(stderr, float) and math.isnan(stderr)):
             parts.append(f"{row['parameter']} = {_number(row['value'])} +- {_number(float(stderr), 2)}{unit}")
@@ -52,7 +56,16 @@ def parameters_sentence(table: pd.DataFrame, *, limit: int | None = None) -> str
             parts.append(f"{row['parameter']} = {_number(row['value'])}{unit} (no stderr)")
     if limit is not None and len(parts) > limit:
         parts = parts[:limit] + [f"{len(parts) - limit} more in the fit section"]
+    if unfitted:
+        for _, row in table[~fitted].iterrows():
+            note = row.get("stderr_note")
+            how = note if isinstance(note, str) and note else "not fitted"
+            parts.append(f"{row['parameter']} = {_number(row['value'])}{_unit(row)} ({how})")
     return "; ".join(parts)
+
+
+def _unit(row) -> str:
+    return f" {row['unit']}" if isinstance(row.get("unit"), str) and row["unit"] else ""
 
 
 def fit_sentence(name: str, fit, *, comparison: bool = False) -> tuple[str, str]:

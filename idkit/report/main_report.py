@@ -240,7 +240,7 @@ def _summary_section(report: HtmlReport, data: ReportData) -> str:
     items = [f"Identified: {family} model of order {iwan.model.order}"
              + (" (the plain Iwan model missed the loops' noise floor: family rule, docs/fitting.md)"
                 if family != "Iwan" else "") + ", "
-             + parameters_sentence(iwan.parameters_table()) + ".",
+             + parameters_sentence(iwan.parameters_table(), unfitted=True) + ".",
              f"The identified Iwan model is {_valid_range_words(data)}.",
              fit_sentence(f"Iwan fit (loop error small {100 * iwan.result.error_small:.2f} %, large "
                           f"{100 * iwan.result.error_large:.2f} %, eq. 7.1)", iwan),

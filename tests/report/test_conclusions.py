@@ -3,7 +3,13 @@
 import numpy as np
 import pandas as pd
 
-from idkit.report.conclusions import fit_sentence, rest_shock_ends, transport_conclusions, validation_sentence
+from idkit.report.conclusions import (
+    fit_sentence,
+    parameters_sentence,
+    rest_shock_ends,
+    transport_conclusions,
+    validation_sentence,
+)
 from idkit.studies.transport import TransportStudy
 from idkit.validate import ValidationResult
 
@@ -131,3 +137,13 @@ def test_a_fit_that_is_not_a_success_is_flagged_as_the_cli_prints_it_not_failed(
     verdict, text = fit_sentence("Bouc-Wen comparison", fit, comparison=True)
     assert verdict == "FLAGGED" and text.endswith("it enters neither the verdicts nor the exit status.")
     assert fit_sentence("Iwan fit", SimpleNamespace(success=True, reasons=[])) == ("PASS", "Iwan fit: the fit succeeded.")
+
+
+def test_the_identified_model_is_stated_whole_with_how_its_unfitted_parameters_were_set():
+    # the rope's c_visc is not a loop-fit parameter, but the model file and every prediction carry it
+    table = pd.DataFrame({"parameter": ["g1", "c_visc"], "unit": ["N/m", "N s/m"], "value": [18383.3, 13.9155],
+                          "stderr": [8.3, None], "stderr_note": ["", "from the stepped-sine resonance, not the loops"],
+                          "fitted": [True, False]})
+    assert parameters_sentence(table) == "g1 = 1.84e+04 +- 8.3 N/m"
+    assert parameters_sentence(table, unfitted=True) == ("g1 = 1.84e+04 +- 8.3 N/m; c_visc = 13.9 N s/m (from the "
+                                                         "stepped-sine resonance, not the loops)")
