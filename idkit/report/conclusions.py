@@ -19,6 +19,7 @@ import pandas as pd
 from idkit.plot.studies import curve_ends
 
 __all__ = [
+    "drop_model_sentence",
     "fit_sentence",
     "parameters_sentence",
     "rest_shock_ends",
@@ -120,6 +121,34 @@ def validation_sentence(key: str, result, *, quick_note: str = "") -> tuple[str,
     for note in result.notes:
         text += f" Note: {note}."
     return result.verdict, text
+
+
+def drop_model_sentence(comparison, *, used: tuple[str, str | None]) -> str:
+    """The rope model and drop model the held-out drops support, with their median peak errors.
+
+    Parameters
+    ----------
+    comparison : DropModelComparison
+        :func:`idkit.studies.drop_models.wire_rope_drop_models`.
+    used : (str, str or None)
+        The rope model (a name of ``comparison``) and drop model the report's validations
+        use; when the drops support another pair, the sentence gives that pair's errors too,
+        so that the support is not read as the validated model's.
+    """
+    def errors(key) -> tuple[float, float]:
+        summary = comparison.results[key].summary
+        return (summary.get("median_peak_acceleration_compression_error", np.nan),
+                summary.get("median_peak_acceleration_tension_error", np.nan))
+
+    model, drop = comparison.supported()
+    compression, tension = errors((model, drop))
+    text = (f"The held-out drops support the {model} model with the {drop} drop model: median peak "
+            f"error {compression:.3f} in compression and {tension:.3f} in tension")
+    if tuple(used) != (model, drop) and tuple(used) in comparison.results:
+        compression, tension = errors(tuple(used))
+        text += (f"; the {used[0]} model with the {used[1]} drop model, which the validations above use, "
+                 f"{compression:.3f} and {tension:.3f}")
+    return text + "."
 
 
 def _ranking_sentence(values: pd.Series, what: str, unit: str) -> str:

@@ -43,6 +43,7 @@ from idkit.plot.validation import (
     plot_sweep_maps,
 )
 from idkit.report.conclusions import (
+    drop_model_sentence,
     fit_sentence,
     parameters_sentence,
     rest_shock_ends,
@@ -192,12 +193,10 @@ def _drop_model_section(report: HtmlReport, data: ReportData) -> None:
 
 
 def _drop_model_words(data: ReportData) -> str:
-    comparison = data.drop_models
-    model, drop = comparison.supported()
-    best = comparison.results[(model, drop)].summary
-    return (f"The held-out drops support the {model} model with the {drop} drop model: median peak "
-            f"error {best['median_peak_acceleration_compression_error']:.3f} in compression and "
-            f"{best['median_peak_acceleration_tension_error']:.3f} in tension.")
+    rope_drops = next((entry.result for entry in data.validations if entry.key == "wire rope drops"), None)
+    used_drop = rope_drops.summary.get("drop_model") if rope_drops is not None else None
+    used_model = "slip-modulated Iwan" if data.iwan.result.settings.family == "modulated" else "plain Iwan"
+    return drop_model_sentence(data.drop_models, used=(used_model, used_drop))
 
 
 def _loop_form_words(data: ReportData) -> str:

@@ -4,6 +4,7 @@ import numpy as np
 import pandas as pd
 
 from idkit.report.conclusions import (
+    drop_model_sentence,
     fit_sentence,
     parameters_sentence,
     rest_shock_ends,
@@ -147,3 +148,23 @@ def test_the_identified_model_is_stated_whole_with_how_its_unfitted_parameters_w
     assert parameters_sentence(table) == "g1 = 1.84e+04 +- 8.3 N/m"
     assert parameters_sentence(table, unfitted=True) == ("g1 = 1.84e+04 +- 8.3 N/m; c_visc = 13.9 N s/m (from the "
                                                          "stepped-sine resonance, not the loops)")
+
+
+def test_drop_model_support_for_another_model_than_the_validated_one_says_so():
+    from types import SimpleNamespace
+
+    from idkit.studies.drop_models import DropModelComparison
+
+    def result(compression, tension):
+        return SimpleNamespace(verdict="PASS", summary={"median_peak_acceleration_compression_error": compression,
+                                                        "median_peak_acceleration_tension_error": tension})
+
+    # the bundled rope: the plain model's worse phase (0.040) beats the modulated one's (0.086)
+    comparison = DropModelComparison(table=pd.DataFrame(), results={
+        ("plain Iwan", "rig"): result(0.040, 0.028), ("slip-modulated Iwan", "rig"): result(0.030, 0.086),
+        ("plain Iwan", "conditioned"): result(0.11, 0.24)})
+    text = drop_model_sentence(comparison, used=("slip-modulated Iwan", "rig"))
+    assert text == ("The held-out drops support the plain Iwan model with the rig drop model: median peak error "
+                    "0.040 in compression and 0.028 in tension; the slip-modulated Iwan model with the rig drop "
+                    "model, which the validations above use, 0.030 and 0.086.")
+    assert drop_model_sentence(comparison, used=("plain Iwan", "rig")).endswith("0.028 in tension.")
