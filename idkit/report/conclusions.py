@@ -157,10 +157,12 @@ def _ranking_sentence(values: pd.Series, what: str, unit: str) -> str:
         return f"{what}: no system gives a finite value."
     best, best_value = finite.index[0], float(finite.iloc[0])
     text = f"{what}: {best} protects the payload best ({_number(best_value)} {unit}"
+    named = [best]
     if len(finite) > 1:
         second, second_value = finite.index[1], float(finite.iloc[1])
         text += f"; next {second} {_number(second_value)} {unit}, {_number(second_value / best_value)} times as much"
-    if "reference" in finite.index and best != "reference":
+        named.append(second)
+    if "reference" in finite.index and "reference" not in named:
         text += f"; the viscous reference {_number(float(finite['reference']))} {unit}"
     missing = [name for name in values.index if name not in finite.index]
     if missing:

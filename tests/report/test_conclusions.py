@@ -168,3 +168,12 @@ def test_drop_model_support_for_another_model_than_the_validated_one_says_so():
                     "0.040 in compression and 0.028 in tension; the slip-modulated Iwan model with the rig drop "
                     "model, which the validations above use, 0.030 and 0.086.")
     assert drop_model_sentence(comparison, used=("plain Iwan", "rig")).endswith("0.028 in tension.")
+
+
+def test_the_reference_is_named_once_when_it_is_the_runner_up():
+    rms = pd.DataFrame({"1e-06 [(m/s^2)^2/Hz]": [0.3, 0.2, 0.4]}, index=["reference", "hybrid", "wire rope"])
+    study = _study(rms, [0.01, 0.03], {name: [1.0, 2.0] for name in rms.index}, [0.1, 0.2],
+                   {name: [1.0, 2.0] for name in rms.index})
+    sentence = transport_conclusions(study, heights=())[0]
+    assert sentence.endswith("hybrid protects the payload best (0.2 m/s^2; next reference 0.3 m/s^2, 1.5 times as "
+                             "much).")
