@@ -247,7 +247,12 @@ class MeasurementFit:
                          + ", ".join(self.spread.labels) + ")")
         elif self.spread_note:
             lines.append(f"    {self.spread_note}")
-        return "\n".join(lines) + "\n" + self.result.report()
+        if self.damping is not None:  # the loop fit holds c_visc at 0; the model carries the resonance's
+            loop_report = self.result.report({"c_visc": f"the loop fit's; the model's {self.damping.c_visc:.4g} N s/m "
+                                                        "is from the stepped-sine resonance, above"})
+        else:
+            loop_report = self.result.report()
+        return "\n".join(lines) + "\n" + loop_report
 
     def provenance_dict(self) -> dict:
         """Provenance record for the model file (JSON-ready)."""

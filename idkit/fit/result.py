@@ -64,13 +64,16 @@ def _undetermined_lines(groups) -> list[str]:
             "each value alone is not fixed by the data)" for found in groups]
 
 
-def _parameter_lines(parameters: lmfit.Parameters) -> list[str]:
+def _parameter_lines(parameters: lmfit.Parameters, notes: dict[str, str] | None = None) -> list[str]:
+    """One line per parameter; ``notes`` (name -> text) are appended to their parameter's line."""
+    notes = notes or {}
     lines = [f"    {'name':<8} {'value':>12} {'stderr':>10} {'unit':<7} {'bounds'}"]
     for name, par in parameters.items():
         unit = (par.user_data or {}).get("unit", "")
         stderr = f"{par.stderr:10.3g}" if par.stderr is not None else f"{'n/a':>10}"
         state = "" if par.vary else "  (fixed)"
-        lines.append(f"    {name:<8} {par.value:12.5g} {stderr} {unit:<7} [{par.min:.3g}, {par.max:.3g}]{state}")
+        note = f"  ({notes[name]})" if name in notes else ""
+        lines.append(f"    {name:<8} {par.value:12.5g} {stderr} {unit:<7} [{par.min:.3g}, {par.max:.3g}]{state}{note}")
     return lines
 
 
@@ -290,9 +293,10 @@ class _LoopFitResult(_LmfitStatistics):
             f"large sets {100 * self.error_large:.3f} %",
         ]
 
-    def _variables_lines(self, title: str) -> list[str]:
-        """``[[Variables]]`` with units and stderr, the missing-stderr notes and the statistics."""
-        return [f"[[Variables]] {title}", *_parameter_lines(self.parameters),
+    def _variables_lines(self, title: str, notes: dict[str, str] | None = None) -> list[str]:
+        """``[[Variables]]`` with units and stderr (``notes``: as :func:`_parameter_lines`), the
+        missing-stderr notes and the statistics."""
+        return [f"[[Variables]] {title}", *_parameter_lines(self.parameters, notes),
                 *(f"    no stderr: {note}" for note in self.stderr_notes), *_undetermined_lines(self.undetermined),
                 *_statistics_lines(self.statistics)]
 
@@ -349,8 +353,9 @@ class IwanFitResult(_LoopFitResult):
     start_states: dict = field(default_factory=dict)
     statistics: lmfit.minimizer.MinimizerResult | None = field(default=None, repr=False)
 
-    def report(self) -> str:
-        """Readable summary: parameters with units and stderr, errors per stage and set."""
+    def report(self, parameter_notes: dict[str, str] | None = None) -> str:
+        """Readable summary: parameters with units and stderr, errors per stage and set;
+        ``parameter_notes`` (name -> text) are printed beside their parameters."""
         s = self.settings
         title = ("Iwan fit, order {}, three stages" if s.family == "plain" else
                  "Slip-modulated Iwan fit, order {}, the plain fit's stages and the modulation stage(s)").format(s.order)
@@ -375,7 +380,7 @@ class IwanFitResult(_LoopFitResult):
                 f"{stage.evaluations} evaluations, {stage.restarts} restarts, {stage.message}"
             )
             lines.append(f"        per set [%]: {per_set}")
-        lines.extend(self._variables_lines("(stderr from the residual Jacobian at the optimum)"))
+        lines.extend(self._variables_lines("(stderr from the residual Jacobian at the optimum)", parameter_notes))
         return "\n".join(lines)
 
 

@@ -120,7 +120,7 @@ class MeasurementSummary:
                                                ("drop_height [m]", "height", 100, "cm"),
                                                ("freq [Hz]", "freq", 1, "Hz"),
                                                ("nominal_amplitude", "nominal amplitude", 1, ""),
-                                               ("deflection_range [mm]", "deflection", 1, "mm")):
+                                               ("deflection_range [mm]", "peak-to-peak deflection", 1, "mm")):
                 text = span(column, scale, unit)
                 if text is not None:
                     parts.append(f"{label} {text}")

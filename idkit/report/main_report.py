@@ -24,6 +24,7 @@ import pandas as pd
 from idkit import __version__
 from idkit.atomic import atomic_output_folder, write_text_atomic
 from idkit.fit import ORDER_RULE_FACTOR
+from idkit.fit.measurements import VALID_RANGE_MARGIN
 from idkit.models import save_model
 from idkit.plot.equivalent import (
     plot_complex_stiffness_comparison,
@@ -176,9 +177,13 @@ def _validation_section(report: HtmlReport, entry: ValidationEntry, quick: bool)
 def _drop_model_section(report: HtmlReport, data: ReportData) -> None:
     """The wire rope's held-out drops under both drop models, plain and slip-modulated Iwan."""
     comparison = data.drop_models
+    rope_drops = next((entry.result for entry in data.validations if entry.key == "wire rope drops"), None)
+    resolved = rope_drops.summary.get("drop_model") if rope_drops is not None else None
+    used = (f"drop_model='{data.drop_model}', here the {resolved}" if resolved and resolved != data.drop_model
+            else f"drop_model='{data.drop_model}'")
     report.heading("drop models compared")
     report.paragraph(f"Drop models compared on the same held-out wire-rope drops (the drop validations above use "
-                     f"drop_model='{data.drop_model}'): the conditioned free fall of the study (every mass at the "
+                     f"{used}): the conditioned free fall of the study (every mass at the "
                      "impact velocity, base fixed) and the drop rig (the stack released from its statically "
                      "loaded rest state, the bottom mass bouncing on the floor), each with the plain Iwan model "
                      "and with the slip-modulated Iwan model fitted on the same loops.")
@@ -192,11 +197,15 @@ def _drop_model_section(report: HtmlReport, data: ReportData) -> None:
         report.paragraph(note)
 
 
+def _rope_model_name(data: ReportData) -> str:
+    """The identified wire-rope model's family: "slip-modulated Iwan" or "plain Iwan"."""
+    return "slip-modulated Iwan" if data.iwan.result.settings.family == "modulated" else "plain Iwan"
+
+
 def _drop_model_words(data: ReportData) -> str:
     rope_drops = next((entry.result for entry in data.validations if entry.key == "wire rope drops"), None)
     used_drop = rope_drops.summary.get("drop_model") if rope_drops is not None else None
-    used_model = "slip-modulated Iwan" if data.iwan.result.settings.family == "modulated" else "plain Iwan"
-    return drop_model_sentence(data.drop_models, used=(used_model, used_drop))
+    return drop_model_sentence(data.drop_models, used=(_rope_model_name(data), used_drop))
 
 
 def _loop_form_words(data: ReportData) -> str:
@@ -222,7 +231,7 @@ def _valid_range_words(data: ReportData) -> str:
         span = "every deflection"
     return (f"valid for deflections {span} (its parallel spring's "
             f"local stiffness stays >= 0, SPEC 1.2; required: {1e3 * data.valid_range[0]:.1f} to "
-            f"{1e3 * data.valid_range[1]:.1f} mm, 1.25 times the data set's deflections)")
+            f"{1e3 * data.valid_range[1]:.1f} mm, {VALID_RANGE_MARGIN:g} times the data set's deflections)")
 
 
 def _summary_section(report: HtmlReport, data: ReportData) -> str:
@@ -240,7 +249,7 @@ def _summary_section(report: HtmlReport, data: ReportData) -> str:
              + (" (the plain Iwan model missed the loops' noise floor: family rule, docs/fitting.md)"
                 if family != "Iwan" else "") + ", "
              + parameters_sentence(iwan.parameters_table(), unfitted=True) + ".",
-             f"The identified Iwan model is {_valid_range_words(data)}.",
+             f"The identified {_rope_model_name(data)} model is {_valid_range_words(data)}.",
              fit_sentence(f"Iwan fit (loop error small {100 * iwan.result.error_small:.2f} %, large "
                           f"{100 * iwan.result.error_large:.2f} %, eq. 7.1)", iwan),
              fit_sentence(f"Bouc-Wen comparison (small {100 * boucwen.result.error_small:.2f} %, large "
@@ -320,8 +329,8 @@ def _sweep_figures(report: HtmlReport, data: ReportData, isolator: str) -> None:
 
 def _fit_sections(report: HtmlReport, data: ReportData) -> None:
     report.section("Wire rope fit", "wire-rope-fit")
-    report.paragraph(f"Valid range of the identified Iwan model: {_valid_range_words(data)}; simulations beyond the "
-                     "valid range are flagged, and validations count them as failures.")
+    report.paragraph(f"Valid range of the identified {_rope_model_name(data)} model: {_valid_range_words(data)}; "
+                     "simulations beyond the valid range are flagged, and validations count them as failures.")
     report.preformatted(data.iwan.report())
     report.table(data.iwan.parameters_table(),
                  caption="Iwan parameters: stderr from the residual Jacobian at the optimum (the spread "

@@ -180,3 +180,17 @@ def test_a_model_that_cannot_run_the_largest_sweep_level_is_not_a_success(iwan_f
     assert max(abs(x) for x in soft.valid_deflection_range()) < 2e-3
     reasons = _survives_the_largest_sweep_level(soft, wire_rope, "wire_rope")
     assert reasons and "largest sweep level (0.12" in reasons[0] and "negative local stiffness" in reasons[0]
+
+
+def test_the_fit_report_gives_one_c_visc_per_meaning():
+    """The loop fit holds c_visc at 0 and the model carries the value from the stepped-sine
+    resonance: the report's parameter list said "c_visc 0 (fixed)" under a header giving
+    13.9 N s/m, with nothing to tell the two apart."""
+    iwan_fit = fit_iwan_measurements(load_measurement_set(DATA / "wire_rope"))  # loops and sweeps
+    assert iwan_fit.damping is not None
+    text = iwan_fit.report()
+    lines = [line for line in text.splitlines() if line.strip().startswith("c_visc")]
+    identified = f"{iwan_fit.damping.c_visc:.4g} N s/m"
+    assert len(lines) == 2 and all(identified in line for line in lines)
+    assert "the loop fit's; the model's" in lines[1] and "(fixed)" in lines[1]
+    assert iwan_fit.model.c_visc == pytest.approx(iwan_fit.damping.c_visc, rel=1e-12)

@@ -110,8 +110,15 @@ def test_report_on_a_folder_without_data_fails_clearly(tmp_path, capsys):
 
 @pytest.mark.slow
 def test_report_states_the_valid_range_of_the_identified_wire_rope(quick_report):
-    html = (quick_report / "report.html").read_text(encoding="utf-8")
-    assert "Valid range of the identified Iwan model" in html
+    """Named by the identified family (the bundled rope is slip-modulated, issue 10), with the
+    margin the required range is built with and the drop model 'auto' resolved to."""
+    html = unescape((quick_report / "report.html").read_text(encoding="utf-8"))
+    iwan = json.loads((quick_report / "models" / "wire_rope_iwan.json").read_text())
+    family = "slip-modulated Iwan" if "slip_modulation" in json.dumps(iwan) else "plain Iwan"
+    assert f"Valid range of the identified {family} model" in html
+    assert f"The identified {family} model is valid for deflections" in html
+    assert "1.25 times the data set's deflections" in html
+    assert "drop validations above use drop_model='auto', here the rig)" in html
 
 
 @pytest.mark.slow
