@@ -123,12 +123,29 @@ class ReportSummary:
         """0 when everything passed: 1 when a validation failed, 3 when none failed but one is
         inconclusive, 4 when every validation passed but a fit the report predicts with is not a
         success (:data:`EXIT_STATUSES`)."""
-        verdicts = set(self.validation_verdicts.values())
-        if "FAIL" in verdicts:
-            return 1
-        if "INCONCLUSIVE" in verdicts:
-            return 3
-        return 4 if self.flagged_fits else 0
+        return report_exit_status(self.validation_verdicts, self.flagged_fits)
+
+
+def report_exit_status(verdicts: dict[str, str], flagged_fits) -> int:
+    """:attr:`ReportSummary.exit_status` of validation verdicts and flagged fits (:data:`EXIT_STATUSES`)."""
+    found = set(verdicts.values())
+    if "FAIL" in found:
+        return 1
+    if "INCONCLUSIVE" in found:
+        return 3
+    return 4 if flagged_fits else 0
+
+
+def outcome_sentence(verdicts: dict[str, str], flagged_fits) -> str:
+    """The report's outcome in one sentence: the exit status ``idkit report`` returns and why."""
+    status = report_exit_status(verdicts, flagged_fits)
+    counts = [f"{sum(v == verdict for v in verdicts.values())} {verdict}" for verdict in ("PASS", "INCONCLUSIVE", "FAIL")
+              if verdict in verdicts.values()]
+    text = (f"Outcome: {', '.join(counts) or 'no validation'} of {len(verdicts)} validation(s)"
+            + (f"; not a success: {', '.join(flagged_fits)}" if flagged_fits else "")
+            + f". idkit report exits with status {status}: {EXIT_STATUSES[status]}")
+    named = [key for key, verdict in verdicts.items() if verdict != "PASS"]
+    return text + (f" ({', '.join(named)})." if named and status in (1, 3) else ".")
 
 
 #: exit statuses of ``idkit report`` (:mod:`idkit.exit_status`)
@@ -241,6 +258,8 @@ def _summary_section(report: HtmlReport, data: ReportData) -> str:
     report.paragraph(f"Data: {data.data_dir} ({data.n_measurements} measurements). "
                      f"idkit {__version__}, seed {data.seed}{'; ' + QUICK_NOTE if data.quick else ''}. "
                      "Every sentence below is read off the computed fits and validations.")
+    flagged = tuple(name for name, reasons in _fit_reasons(data).items() if reasons)
+    report.paragraph(outcome_sentence(data.verdicts, flagged))
     iwan, boucwen, maxwell = data.iwan, data.boucwen, data.maxwell
 
     report.heading("Wire rope")

@@ -288,3 +288,21 @@ def test_the_figures_a_reader_of_the_study_expects_are_there(quick_report):
     assert expected <= stems, sorted(expected - stems)
     html = (quick_report / "report.html").read_text(encoding="utf-8")
     assert html.count('id="figure-hybrid_hosidf_maps"') == 1
+
+
+def test_the_summary_states_the_outcome_and_the_exit_status(quick_report):
+    """The page said every verdict but not what they add up to: a quick run whose validations
+    all pass exits 4 when a predicting fit is flagged, which the page did not say."""
+    from idkit.report.main_report import outcome_sentence
+
+    assert outcome_sentence({"a": "PASS", "b": "PASS"}, ()) == (
+        "Outcome: 2 PASS of 2 validation(s). idkit report exits with status 0: every validation passed and "
+        "every fit the report predicts with is a success.")
+    assert outcome_sentence({"a": "PASS", "b": "PASS"}, ("elastomer (generalized Maxwell)",)).endswith(
+        "; not a success: elastomer (generalized Maxwell). idkit report exits with status 4: every validation "
+        "passed, but a fit the report predicts with is not a success (see its reasons).")
+    assert outcome_sentence({"a": "PASS", "b": "INCONCLUSIVE", "c": "FAIL"}, ()) == (
+        "Outcome: 1 PASS, 1 INCONCLUSIVE, 1 FAIL of 3 validation(s). idkit report exits with status 1: "
+        "a validation failed (b, c).")
+    html = unescape((quick_report / "report.html").read_text(encoding="utf-8"))
+    assert f"idkit report exits with status {STATUS['report']}:" in html
