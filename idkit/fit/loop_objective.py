@@ -27,6 +27,7 @@ from collections.abc import Sequence
 import numba
 import numpy as np
 
+import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.errors import FitError
 from idkit.models import BoucWenModel, IwanModel, ModulatedIwanModel
 from idkit.models.laws import boucwen_z_step, jenkin_step, polynomial_spring_force

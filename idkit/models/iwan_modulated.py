@@ -47,6 +47,7 @@ import math
 import numba
 import numpy as np
 
+import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.errors import ParameterError
 from idkit.models.base import IsolatorArrays, _as_deflection, _as_time, _velocity
 from idkit.models.iwan import IwanModel

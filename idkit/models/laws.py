@@ -20,6 +20,8 @@ import math
 import numba
 import numpy as np
 
+import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
+
 
 def kernel_array(values) -> np.ndarray:
     """``values`` as a C-contiguous, writeable float64 array (copied only if needed).

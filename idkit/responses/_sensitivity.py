@@ -22,6 +22,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
+
 
 @numba.njit(cache=True, inline="always")
 def _poly_slope(P, j, y):

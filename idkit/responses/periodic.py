@@ -53,6 +53,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
+import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.errors import SimulationError
 from idkit.responses._sensitivity import tangent_start, tangent_step
 from idkit.simulate import default_steps_per_period

@@ -31,6 +31,7 @@ import threading
 import numba
 import numpy as np
 
+import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.models.laws import boucwen_z_step
 from idkit.simulate._structured import (
     GENERIC,

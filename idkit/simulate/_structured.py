@@ -29,6 +29,8 @@ import math
 
 import numba
 
+import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
+
 GENERIC = 0
 SDOF_IWAN = 1
 SDOF_MAXWELL = 2

@@ -22,6 +22,7 @@ import numba
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.errors import SimulationError
 
 __all__ = ["BaseMotion", "QUANTITIES", "integrate_acceleration"]

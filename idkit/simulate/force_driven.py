@@ -45,6 +45,7 @@ import numba
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.errors import ParameterError, SimulationError
 from idkit.models.boucwen import BoucWenModel
 from idkit.models.laws import kernel_array

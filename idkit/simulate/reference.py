@@ -45,6 +45,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline
 
+import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.errors import SimulationError
 from idkit.models.systems import CoulombSpringSystem, HybridSystem, SDOFSystem
 from idkit.simulate._arrays import STANDARD_GRAVITY

@@ -36,6 +36,8 @@ import math
 import numba
 import numpy as np
 
+import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
+
 __all__ = ["LINK_ELASTOMER", "LINK_WIRE_ROPE", "LINK_WIRE_ROPE_MODULATED", "ChainRun", "link_force_path", "run_chain"]
 
 LINK_WIRE_ROPE = 0

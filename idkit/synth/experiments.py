@@ -27,6 +27,7 @@ import numba
 import numpy as np
 from scipy.signal import lfilter
 
+import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.io import (
     DropMeasurement,
     Excitation,
