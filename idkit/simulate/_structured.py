@@ -40,6 +40,9 @@ HYBRID_MODULATED = 5
 STRUCTURE_NAMES = {GENERIC: "generic", SDOF_IWAN: "SDOF Iwan", SDOF_MAXWELL: "SDOF Maxwell",
                    HYBRID: "hybrid Maxwell over Iwan", SDOF_IWAN_MODULATED: "SDOF slip-modulated Iwan",
                    HYBRID_MODULATED: "hybrid Maxwell over slip-modulated Iwan"}
+#: the structures as identifiers: the suffix of their drivers' compiled names
+STRUCTURE_KEYS = {GENERIC: "generic", SDOF_IWAN: "sdof_iwan", SDOF_MAXWELL: "sdof_maxwell", HYBRID: "hybrid",
+                  SDOF_IWAN_MODULATED: "sdof_iwan_modulated", HYBRID_MODULATED: "hybrid_modulated"}
 
 # the same constants as the generic step (idkit.simulate._kernel)
 _FLAG_OK = 0

@@ -131,6 +131,20 @@ def test_kernels_are_compiled_once_per_structure():
     assert _kernel.time_kernel(99) is _kernel.run_time_batch
 
 
+def test_each_structures_driver_has_its_own_name_and_cache_files():
+    """numba names a compiled closure by its qualified name and a per-process counter and keeps
+    one cache index per qualified name: two structures' drivers compiled in two processes came
+    out under one name (seen: SDOF Iwan and slip-modulated SDOF Iwan both
+    'run_time_batchB2v1') and shared one index, where concurrent saves could cross their entries
+    (idkit._numba_cache). Each structure's driver has its own name and index file."""
+    structures = sorted(_kernel.SPECIALISED | {GENERIC})
+    for kernel in (_kernel.time_kernel, _kernel.harmonic_kernel):
+        drivers = [kernel(structure) for structure in structures]
+        names = {driver.py_func.__qualname__ for driver in drivers}
+        indexes = {driver._cache._cache_file._index_path for driver in drivers}
+        assert len(names) == len(indexes) == len(structures)
+
+
 def test_constants_match_the_generic_step():
     """The specialised steps repeat the generic step's flags and Newton settings (no import cycle)."""
     from idkit.simulate import _structured
