@@ -191,11 +191,11 @@ def test_table_7_3_resonances_need_the_printed_tau_read_as_rates():
     would be 24.9 / 10.4 Hz, 28-39 % off.
     """
     printed = library.get("table_7_3_elastomer")
-    as_seconds = GeneralizedMaxwell(k0=printed.k0, k=printed.k, rate=1.0 / np.asarray(printed.rate), m_eff=printed.m_eff)
+    tau_misread = GeneralizedMaxwell(k0=printed.k0, k=printed.k, rate=1.0 / np.asarray(printed.rate), m_eff=printed.m_eff)
     for mass, spec, measured in ((0.99, 19.5, 19.0), (6.40, 7.8, 7.5)):
         freq = linear_resonance(SDOFSystem(mass, printed)).freq
         assert freq == pytest.approx(spec, rel=5e-3) and freq == pytest.approx(measured, rel=0.05)
-        assert abs(linear_resonance(SDOFSystem(mass, as_seconds)).freq / measured - 1) > 0.25
+        assert abs(linear_resonance(SDOFSystem(mass, tau_misread)).freq / measured - 1) > 0.25
 
 
 def test_table_7_hybrid_shaker_resonance_near_20_hz():
