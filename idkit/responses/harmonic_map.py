@@ -16,8 +16,9 @@ first harmonic, and its geometric extrapolation ``change r / (1 - r)``, are both
 ``tolerance``. Points that reach ``max_periods`` without meeting it (lightly damped wire ropes
 far from resonance, where a 5 Hz free oscillation outlives thousands of excitation periods) are
 settled by shooting (:mod:`idkit.responses.periodic`: Newton on the period map of the same
-integrator, from the time-integrated state; a period-doubling unstable orbit is replaced by
-the stable 1/2 subharmonic); they are marked in :attr:`HarmonicMap.shooting`. Points that
+integrator, from 20 periods of the linear start; a period-doubling unstable orbit is replaced by
+the stable 1/2 subharmonic); they are marked in :attr:`HarmonicMap.shooting`. Points shooting
+does not close are run on to the plain grid's 4000 periods (default cap only). Points that
 still fail keep their last window's values, ``converged = False`` and a reason naming both
 attempts. Points where the model left its valid range (negative local stiffness, non-finite
 state) carry a non-zero ``flag`` and a reason.
@@ -40,6 +41,10 @@ __all__ = ["HarmonicMap", "harmonic_map", "parabolic_peak", "SHOOTING_AFTER_PERI
 #: Default period cap of a map's time integration when the points left over are shot
 #: (:func:`harmonic_map`).
 SHOOTING_AFTER_PERIODS = 200
+
+#: Period cap of a map's time integration without shooting, and of the fallback run of the
+#: points that shooting could not close after the default :data:`SHOOTING_AFTER_PERIODS`.
+PLAIN_MAX_PERIODS = 4000
 
 
 def _check_axis(values: ArrayLike, name: str, unit: str) -> NDArray[np.float64]:
@@ -315,6 +320,7 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
         Table A.1 asymmetric 50 x 30 map, 200 periods then shooting settle 1500/1500 points in
         1.6 s on 2 workers (4000 periods: 38 shot, 8.3 s on one worker) and agree with the
         4000-period map to 3.9e-4 in |H1| and |H3| (its own tolerance is 1e-3).
+        With the default cap, points that shooting does not close are run on to 4000 periods.
     shooting : bool, default True
         Settle the points that reach ``max_periods`` by shooting (module docstring); False
         leaves them unconverged, as a plain grid of time integrations.
@@ -330,8 +336,9 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
     >>> result.shape, bool(result.converged.all())
     ((3, 2), True)
     """
+    capped = max_periods is None and shooting  # the 200-period cap is ours, not the caller's
     if max_periods is None:
-        max_periods = SHOOTING_AFTER_PERIODS if shooting else 4000
+        max_periods = SHOOTING_AFTER_PERIODS if shooting else PLAIN_MAX_PERIODS
     freq = _check_axis(freq_axis, "freq_axis", "Hz")
     amplitude = _check_axis(amplitude_axis, "amplitude_axis", "m")
     if int(n_harmonics) != n_harmonics or n_harmonics < 1:
@@ -353,6 +360,8 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
     change = response.change.copy()
     converged = response.converged.astype(bool).copy()
     reasons = list(response.reasons)
+    periods = np.asarray(response.periods, dtype=float).copy()
+    flags = np.asarray(response.flags, dtype=np.int64).copy()
     settled = np.zeros(converged.size, dtype=bool)
     pending = np.flatnonzero(~converged & (np.asarray(response.flags) == 0))
     if shooting and pending.size:
@@ -372,12 +381,37 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
             converged[index] = True
             settled[index] = True
             reasons[index] = "ok"
+        # Shooting starts from 20 periods of the linear start, not from the capped run, and its
+        # Newton iteration can leave the basin of a stable orbit that more periods reach: run
+        # those points on to the plain grid's cap, so that the default never settles fewer
+        # points than ``shooting=False`` would.
+        failed = pending[~converged[pending]]
+        if capped and failed.size:
+            longer = harmonic_response(
+                system, response.freq[failed], response.amplitude[failed], n_harmonics=int(n_harmonics),
+                tolerance=tolerance, steps_per_period=response.steps_per_period[failed],
+                max_periods=PLAIN_MAX_PERIODS, workers=workers, executor=executor, start=start,
+            )
+            for row, index in enumerate(failed):
+                flags[index] = longer.flags[row]
+                periods[index] = longer.periods[row]
+                if not (longer.converged[row] and longer.flags[row] == 0):
+                    reasons[index] = f"{reasons[index]}; then {longer.reasons[row]}"
+                    continue
+                for slot, order in enumerate(orders):
+                    hosidf_values[slot, index] = longer.hosidf(order)[row]
+                half_range[index] = longer.half_range[row]
+                bias[index] = longer.bias[row]
+                peak[index] = longer.peak_acceleration[row]
+                change[index] = longer.change[row]
+                converged[index] = True
+                reasons[index] = "ok"
     return HarmonicMap(
         freq=freq, amplitude=amplitude, orders=orders, hosidf_values=hosidf_values.reshape((len(orders),) + shape),
         half_range=half_range.reshape(shape), bias=bias.reshape(shape), peak_acceleration=peak.reshape(shape),
-        periods=np.asarray(response.periods, dtype=float).reshape(shape),
+        periods=periods.reshape(shape),
         change=change.reshape(shape), converged=converged.reshape(shape),
-        flags=np.asarray(response.flags, dtype=np.int64).reshape(shape),
+        flags=flags.reshape(shape),
         reasons=np.asarray(reasons, dtype=str).reshape(shape), tolerance=float(tolerance),
         shooting=settled.reshape(shape),
     )
