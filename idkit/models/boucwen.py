@@ -204,11 +204,12 @@ class BoucWenModel(IsolatorModel):
     def hysteretic_force(self, deflection, initial_z: float = 0.0) -> np.ndarray:
         """The internal variable ``z`` in N along a deflection history in m.
 
-        ``z`` is integrated over each deflection step with :data:`BOUCWEN_SUBSTEPS`
-        Runge-Kutta sub-steps. A step far longer than the model's yield travel
-        ``z_max / alpha`` (``z_max = (alpha / (beta + gamma))^(1/n)``) can make that update
-        diverge: a :class:`~idkit.errors.SimulationError` names the sample (resample finer)
-        instead of returning NaN.
+        ``z`` is integrated over each deflection step with at least :data:`BOUCWEN_SUBSTEPS`
+        Runge-Kutta sub-steps, more where the step is long against ``z``'s relaxation length
+        (:func:`idkit.models.laws.boucwen_substeps`). A step too long even for the most
+        sub-steps (about a million relaxation lengths) can still make the update diverge: a
+        :class:`~idkit.errors.SimulationError` names the sample (resample finer) instead of
+        returning NaN.
         """
         x = _as_deflection(deflection)
         z = boucwen_z_history(kernel_array(x), self.alpha, self.beta, self.gamma, self.n, float(initial_z),
@@ -218,8 +219,8 @@ class BoucWenModel(IsolatorModel):
             step = abs(float(x[first] - x[first - 1])) if first else 0.0
             raise SimulationError(
                 f"{type(self).__name__}: the hysteretic force z diverged at deflection sample {first} (a step of "
-                f"{step:.3g} m, {BOUCWEN_SUBSTEPS} Runge-Kutta sub-steps): the step is too coarse for the model's "
-                f"yield travel z_max / alpha = {self.yield_travel:.3g} m; sample the deflection history finer")
+                f"{step:.3g} m): the step is too long for the model's yield travel z_max / alpha = "
+                f"{self.yield_travel:.3g} m; sample the deflection history finer")
         return z
 
     @property

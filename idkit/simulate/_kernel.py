@@ -32,7 +32,7 @@ import numba
 import numpy as np
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
-from idkit.models.laws import boucwen_z_step
+from idkit.models.laws import boucwen_substeps, boucwen_z_step
 from idkit.simulate._structured import (
     GENERIC,
     HYBRID,
@@ -168,9 +168,11 @@ def _isolator_force(j, y, dy, vrel, h, P, S):
         k1 = P[j, 0, _BW + 1]
         k2 = P[j, 0, _BW + 2]
         k3 = P[j, 0, _BW + 3]
-        # np.int64: the same compiled boucwen_z_step as the fits use (a bare constant is typed as a literal)
-        z, dz = boucwen_z_step(S[j, 2, 0], dy, P[j, 0, _BW + 4], P[j, 0, _BW + 5], P[j, 0, _BW + 6],
-                               P[j, 0, _BW + 7], np.int64(_BW_SUBSTEPS))
+        # at least _BW_SUBSTEPS, more where the step is long against z's relaxation length (np.int64:
+        # the same compiled functions as the model's history; a bare constant is typed as a literal)
+        alpha, beta, gamma, exponent = P[j, 0, _BW + 4], P[j, 0, _BW + 5], P[j, 0, _BW + 6], P[j, 0, _BW + 7]
+        z, dz = boucwen_z_step(S[j, 2, 0], dy, alpha, beta, gamma, exponent,
+                               boucwen_substeps(dy, alpha, beta, gamma, exponent, np.int64(_BW_SUBSTEPS)))
         factor = b_base ** (b_exp * y)
         bw_force = factor * (y * (k1 + k2 * abs(y) + k3 * y * y) + z)
         force += bw_force
