@@ -65,6 +65,9 @@ def _cmd_library(args):
     from idkit.models import library, save_model
 
     if args.name is None:
+        if args.output:  # listing writes nothing: an -o without a NAME would end with exit 0 and no file
+            raise IdkitError(f"-o {args.output}: found no NAME; expected a parameter set to write (idkit library "
+                             "lists them)")
         for name in library.names():
             print(f"{name:24s} {library.describe(name)}")
         return
@@ -121,7 +124,7 @@ def _cmd_simulate_drop(args):
 def register(commands) -> None:
     """Add ``idkit library`` and ``idkit simulate harmonic|drop``."""
     lib = commands.add_parser("library", help="list the bundled parameter sets or write one as a model file")
-    lib.add_argument("name", nargs="?")
+    lib.add_argument("name", nargs="?", help="parameter set to print or write (default: list them)")
     lib.add_argument("-o", "--output", help="model file to write (JSON)")
     lib.set_defaults(handler=_cmd_library)
 

@@ -44,6 +44,13 @@ def test_cli_library_and_simulate(tmp_path, capsys):
     assert "rest_shock" in printed and "ok" in printed
 
 
+def test_library_output_without_a_name_is_refused(tmp_path, capsys):
+    """``idkit library -o FILE`` lists the sets and writes nothing: an error, not exit 0 without the file."""
+    model_file = tmp_path / "model.json"
+    assert main(["library", "-o", str(model_file)]) == 2
+    assert "-o" in capsys.readouterr().err and not model_file.exists()
+
+
 def test_one_parser_with_every_command_and_study():
     parser = build_parser()
     args = parser.parse_args(["study", "transport", "--quick"])
