@@ -44,6 +44,23 @@ def test_cli_library_and_simulate(tmp_path, capsys):
     assert "rest_shock" in printed and "ok" in printed
 
 
+def test_simulate_json_table_keeps_every_digit(tmp_path):
+    """A JSON table holds the numbers the CSV holds: a 1e-11 m amplitude is not rounded to 0."""
+    import json
+
+    model_file = tmp_path / "elastomer.json"
+    assert main(["library", "table_7_3_elastomer", "-o", str(model_file)]) == 0
+    tables = {}
+    for suffix in ("csv", "json"):
+        tables[suffix] = tmp_path / f"map.{suffix}"
+        assert main(["simulate", "harmonic", str(model_file), "--mass", "4.37", "--freq", "5", "--amplitude",
+                     "1e-11", "1.0288907133153256e-05", "--quiet", "-o", str(tables[suffix])]) == 0
+    records = json.loads(tables["json"].read_text())
+    table = pd.read_csv(tables["csv"])
+    assert [row["amplitude [m]"] for row in records] == [1e-11, 1.0288907133153256e-05]
+    assert [row["half_range [m]"] for row in records] == list(table["half_range [m]"])
+
+
 def test_library_output_without_a_name_is_refused(tmp_path, capsys):
     """``idkit library -o FILE`` lists the sets and writes nothing: an error, not exit 0 without the file."""
     model_file = tmp_path / "model.json"
