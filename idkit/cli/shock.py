@@ -31,12 +31,15 @@ def _cmd_shock(args) -> None:
         check_output(args.output, kind="replaced", inputs=inputs, force=args.force)
     if (args.freq_min is None) != (args.freq_max is None):
         raise IdkitError("give both --freq-min and --freq-max (Hz), or neither for the default band")
-    freq = None
-    if args.freq_min is not None:
-        if not args.freq_min < args.freq_max:
-            raise IdkitError(f"--freq-min {args.freq_min:g} Hz / --freq-max {args.freq_max:g} Hz: expected min < max")
-        freq = np.logspace(np.log10(args.freq_min), np.log10(args.freq_max), args.points)
+    if args.freq_min is not None and not args.freq_min < args.freq_max:
+        raise IdkitError(f"--freq-min {args.freq_min:g} Hz / --freq-max {args.freq_max:g} Hz: expected min < max")
     records = [_read(path, args.layout) for path in args.files]
+    if args.freq_min is None:  # --points applies to the default band too (it was ignored there: always 60)
+        from idkit.observe.shock import default_srs_band
+
+        freq = default_srs_band(records[0], args.points)
+    else:
+        freq = np.logspace(np.log10(args.freq_min), np.log10(args.freq_max), args.points)
     base = _read(args.input, args.layout) if args.input else None
     analysis = analyse_shock(records, input=base, freq=freq, damping_ratio=args.damping, offset=args.offset,
                              lowpass_hz=args.lowpass)
@@ -62,7 +65,8 @@ def register(subparsers) -> None:
                             "files of ../shared/realdata (default csv)")
     shock.add_argument("--freq-min", type=opt.real(above=0, unit="Hz"), help="lowest natural frequency, Hz")
     shock.add_argument("--freq-max", type=opt.real(above=0, unit="Hz"), help="highest natural frequency, Hz")
-    shock.add_argument("--points", type=opt.integer(at_least=2, at_most=2000), default=60, help="natural frequencies (default 60)")
+    shock.add_argument("--points", type=opt.integer(at_least=2, at_most=2000), default=60, help="natural frequencies, log-spaced over the band (default 60; default band: 1 / record length "
+                            "to sample rate / 10)")
     shock.add_argument("--damping", type=opt.real(at_least=0, below=1, unit="-"), default=0.05,
                        help="damping ratio of the SRS oscillators (default 0.05)")
     shock.add_argument("--offset", choices=("pre-trigger", "none"), default="pre-trigger",

@@ -42,6 +42,18 @@ def test_records_in_tables_and_figures_out(tmp_path):
     assert "velocity_change" in outcome.stdout
 
 
+def test_points_apply_to_the_default_band(tmp_path):
+    """``--points`` without ``--freq-min/--freq-max`` sets the number of natural frequencies of the default band."""
+    from idkit.observe.shock import default_srs_band
+
+    path = write_record(tmp_path / "payload.csv")
+    out = tmp_path / "shock"
+    check(run_main(["shock", path, "--points", "7", "-o", out], inputs=[path]), "ok")
+    spectra = pd.read_csv(out / "spectra.csv")
+    np.testing.assert_array_equal(spectra.loc[spectra.test == spectra.test.iloc[0], "freq [Hz]"],
+                                  default_srs_band(read_shock_csv(path), 7))
+
+
 @pytest.mark.parametrize("case, header, words", [
     ("unknown-unit", "time [s],shot_1 [furlong/s^2]", ["furlong/s^2", "shot_1", "accepted"]),
     ("missing-unit", "time [s],shot_1", ["shot_1", "unit missing"]),
