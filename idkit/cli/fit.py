@@ -152,9 +152,13 @@ def _cmd_maxwell_table(args) -> int:
     """``idkit fit maxwell TABLE.csv``: a DMA / complex stiffness table, isotherms or master curve."""
     from idkit.fit import fit_dma_table
 
-    if args.k0 is not None or args.order_table or args.cross_check:
-        raise IdkitError("--k0, --order-table and --cross-check apply to measurement sets; a DMA table is fitted "
-                         "with --order auto|N (auto prints the order table)")
+    given = [option for option, value in (("--k0", args.k0), ("--k0-method", args.k0_method), ("--band", args.band),
+                                          ("--isolator", args.isolator), ("--split", args.split))
+             if value is not None] + [option for option, value in (("--order-table", args.order_table),
+                                                                   ("--cross-check", args.cross_check)) if value]
+    if given:  # each would be accepted and ignored: a table has one material, its whole band is fitted
+        raise IdkitError(f"{', '.join(given)}: apply to measurement sets; a DMA table is fitted over its whole master "
+                         "curve with --order auto|N (auto prints the order table)")
     _check_outputs("maxwell", args.output, None, args.dataset,
                    *(() if args.shift_factors is None else (args.shift_factors,)))
     if args.plots is not None:
@@ -186,6 +190,8 @@ def _cmd_maxwell(args) -> int:
         if value is not None:
             raise IdkitError(f"{option}: applies to a DMA table file; found a measurement-set folder")
     args.order = "auto" if args.order is None else args.order
+    args.band = [1.0, 100.0] if args.band is None else args.band
+    args.k0_method = "relaxation" if args.k0_method is None else args.k0_method
     opt.check_band("--band", args.band)
     _check_outputs("maxwell", args.output, args.plots, args.dataset)
     data = _load(args.dataset, args)
@@ -288,11 +294,11 @@ def register(subparsers) -> None:
     maxwell.add_argument("--use-given-shift-factors", action="store_true",
                          help="build the master curve from --shift-factors instead of the estimated ones")
     maxwell.add_argument("--k0", type=opt.real(above=0, unit="N/m"), help="static stiffness in N/m (default: from the quasi-static loops)")
-    maxwell.add_argument("--k0-method", choices=("relaxation", "secant"), default="relaxation",
+    maxwell.add_argument("--k0-method", choices=("relaxation", "secant"), default=None,
                          help="how k0 is read off the loops: with the relaxation of elements not yet relaxed at the "
                               "zero crossings fitted (default), or the loops' secant slope around zero (biased high "
                               "by such elements; docs/fitting.md)")
-    maxwell.add_argument("--band", type=opt.real(above=0, unit="Hz"), nargs=2, default=[1.0, 100.0], metavar=("F_LOW", "F_HIGH"),
+    maxwell.add_argument("--band", type=opt.real(above=0, unit="Hz"), nargs=2, default=None, metavar=("F_LOW", "F_HIGH"),
                          help="frequency band in Hz (default 1 100)")
     maxwell.add_argument("--cross-check", action="store_true", help="run the seeded global cross-check")
     maxwell.add_argument("--order-table", action="store_true", help="also print errors for orders 1-4 and Voigt")

@@ -29,6 +29,16 @@ def dma_file(tmp_path):
     return write_complex_stiffness(_isotherms(np.arange(260.0, 321.0, 10.0)), tmp_path / "dma.csv")
 
 
+@pytest.mark.parametrize("options", [["--k0-method", "secant"], ["--band", "2", "3"], ["--isolator", "pad"],
+                                     ["--split", "validation"], ["--k0", "1e5"]])
+def test_fit_maxwell_on_a_dma_table_refuses_the_set_options(dma_file, tmp_path, options):
+    """Options of a measurement set are named, not accepted and ignored, for a DMA table."""
+    out = tmp_path / "material.json"
+    outcome = run_main(["fit", "maxwell", dma_file, "-o", out, "--order", "2", *options], inputs=[dma_file])
+    check(outcome, "error", [options[0], "measurement sets"], case=f"dma-table{options[0]}")
+    assert not out.exists()
+
+
 def test_fit_maxwell_on_a_dma_table_writes_a_modulus_model(dma_file, tmp_path):
     out = tmp_path / "material.json"
     outcome = run_main(["fit", "maxwell", dma_file, "-o", out, "--order", "6", "--reference-temperature", "16.85"],
