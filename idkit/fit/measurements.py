@@ -411,14 +411,16 @@ def fit_iwan_measurements(
     if family not in IWAN_FAMILIES:
         raise FitError(f"family: found {family!r}, expected one of {IWAN_FAMILIES}")
     valid_range = options.pop("valid_range", "data")
+    if isinstance(valid_range, str) and valid_range != "data":
+        raise FitError(f"valid_range: found {valid_range!r}, expected 'data', None or (x_min, x_max) in m")
+    # the loops first: a selection that matches no record is named with what the set holds
+    # (the valid range's own error only said no record of the isolator had a deflection)
+    data = loop_sets(measurements, small_threshold=small_threshold, isolator=isolator, split=split,
+                     points_per_set=points_per_set, remove_offsets=remove_offsets)
     if isinstance(valid_range, str):
-        if valid_range != "data":
-            raise FitError(f"valid_range: found {valid_range!r}, expected 'data', None or (x_min, x_max) in m")
         valid_range = data_valid_range(measurements, isolator=isolator)
     if valid_range is not None:
         options["valid_range"] = tuple(float(v) for v in valid_range)
-    data = loop_sets(measurements, small_threshold=small_threshold, isolator=isolator, split=split,
-                     points_per_set=points_per_set, remove_offsets=remove_offsets)
     order_table = None
     # the loops' own fits (no valid-range barrier) choose the order and start the final fit:
     # they are the same to the last digits on every numpy CPU path, while the barrier's

@@ -145,3 +145,13 @@ def test_cli_fit_maxwell_k0_method_is_recorded(dataset, tmp_path, capsys):
     with pytest.raises(SystemExit) as stopped:  # argparse names the option and the choices
         main(["fit", "maxwell", str(dataset), "--k0-method", "tangent", "-o", str(tmp_path / "x.json")])
     assert stopped.value.code == 2 and "--k0-method" in capsys.readouterr().err
+
+
+def test_cli_fit_iwan_names_the_records_a_set_holds_for_another_isolator(dataset, tmp_path, capsys):
+    """A set of another isolator (``--isolator`` default wire_rope) is named with what it holds,
+    not with the valid range's Python arguments."""
+    output = tmp_path / "wr.json"
+    assert main(["fit", "iwan", str(dataset), "--isolator", "mr_damper", "-o", str(output)]) == 2
+    error = capsys.readouterr().err
+    assert "isolator='mr_damper'" in error and "available (kind, isolator, split)" in error
+    assert "valid_range=None" not in error and not output.exists()
