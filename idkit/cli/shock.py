@@ -34,15 +34,12 @@ def _cmd_shock(args) -> None:
     if args.freq_min is not None and not args.freq_min < args.freq_max:
         raise IdkitError(f"--freq-min {args.freq_min:g} Hz / --freq-max {args.freq_max:g} Hz: expected min < max")
     records = [_read(path, args.layout) for path in args.files]
-    if args.freq_min is None:  # --points applies to the default band too (it was ignored there: always 60)
-        from idkit.observe.shock import default_srs_band
-
-        freq = default_srs_band(records[0], args.points)
-    else:
-        freq = np.logspace(np.log10(args.freq_min), np.log10(args.freq_max), args.points)
+    # --points applies to the default band too (it was ignored there: always 60)
+    freq = (None if args.freq_min is None else
+            np.logspace(np.log10(args.freq_min), np.log10(args.freq_max), args.points))
     base = _read(args.input, args.layout) if args.input else None
-    analysis = analyse_shock(records, input=base, freq=freq, damping_ratio=args.damping, offset=args.offset,
-                             lowpass_hz=args.lowpass)
+    analysis = analyse_shock(records, input=base, freq=freq, n_points=args.points, damping_ratio=args.damping,
+                             offset=args.offset, lowpass_hz=args.lowpass)
     print(analysis.report())
     if args.output is not None:
         from idkit.report.shock_files import write_shock_analysis

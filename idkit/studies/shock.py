@@ -80,8 +80,8 @@ class ShockAnalysis:
 
 
 def analyse_shock(records, *, input: AccelerationRecord | None = None, freq: ArrayLike | None = None,
-                  damping_ratio: float = 0.05, offset: str = "pre-trigger", lowpass_hz: float | None = None
-                  ) -> ShockAnalysis:
+                  n_points: int = 60, damping_ratio: float = 0.05, offset: str = "pre-trigger",
+                  lowpass_hz: float | None = None) -> ShockAnalysis:
     """Condition, characterise and compare shock channels (``idkit shock``).
 
     Parameters
@@ -91,8 +91,10 @@ def analyse_shock(records, *, input: AccelerationRecord | None = None, freq: Arr
     input : AccelerationRecord, optional
         The input (fixture) channel; ratios are computed against it.
     freq : array_like, optional
-        Natural frequencies, Hz; default the band of the first record
+        Natural frequencies, Hz; default ``n_points`` over the band of the first record
         (:func:`idkit.observe.shock.default_srs_band`).
+    n_points : int, default 60
+        Natural frequencies of the default band (unused when ``freq`` is given).
     damping_ratio : float, default 0.05
     offset, lowpass_hz
         See :func:`idkit.observe.shock.condition_shock`.
@@ -113,7 +115,7 @@ def analyse_shock(records, *, input: AccelerationRecord | None = None, freq: Arr
                             "its channel)")
         seen[record.channel] = record.source.path
     conditioned = tuple(condition_shock(record, offset=offset, lowpass_hz=lowpass_hz) for record in channels)
-    band = default_srs_band(conditioned[0].record) if freq is None else np.asarray(freq, dtype=float)
+    band = default_srs_band(conditioned[0].record, n_points) if freq is None else np.asarray(freq, dtype=float)
     spectra = tuple(record_spectra(shock.record, freq=band, damping_ratio=damping_ratio) for shock in conditioned)
     ratios = ()
     if input is not None:
