@@ -40,7 +40,7 @@ from idkit.inputfiles import decode_utf8
 from idkit.io.complex_stiffness import ComplexStiffnessTable, ShiftFactorTable
 from idkit.io.csv_table import column_to_si, parse_number_cells, read_file_bytes
 from idkit.io.info import MeasurementInfo
-from idkit.io.matfile import load_mat_variables, read_mat
+from idkit.io.matfile import check_exact_in_float64, load_mat_variables, read_mat
 from idkit.io.measurements import AccelerationRecord, QuasiStaticMeasurement
 from idkit.io.provenance import Source
 from idkit.io.units import lookup_unit
@@ -479,10 +479,13 @@ def read_boucwen_benchmark(path: str | Path) -> BoucWenBenchmark:
         if var not in variables:
             raise DataError(f"{source.where()}: variable '{var}' missing; expected "
                             f"{', '.join(names.values())}")
-        value = np.asarray(variables[var], dtype=np.float64)
-        if value.ndim != 2 or min(value.shape) != 1:
-            raise DataError(f"{source.where(var)}: found shape {value.shape}, expected a vector")
-        value = value.reshape(-1).copy()
+        raw = np.asarray(variables[var])
+        if raw.dtype.kind not in "iuf":
+            raise DataError(f"{source.where(var)}: found dtype {raw.dtype}, expected real numbers")
+        if raw.ndim != 2 or min(raw.shape) != 1:
+            raise DataError(f"{source.where(var)}: found shape {raw.shape}, expected a vector")
+        check_exact_in_float64(raw.reshape(-1), var, source.where(var))  # int64 beyond 2^53 would round
+        value = raw.reshape(-1).astype(np.float64)
         if not np.all(np.isfinite(value)):
             raise DataError(f"{source.where(var)}: found non-finite values")
         value.setflags(write=False)

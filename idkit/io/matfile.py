@@ -32,7 +32,7 @@ from idkit.io.measurements import Measurement
 from idkit.io.provenance import Source
 from idkit.io.units import lookup_unit
 
-__all__ = ["MatColumn", "load_mat_variables", "parse_mat_column", "read_mat"]
+__all__ = ["MatColumn", "check_exact_in_float64", "load_mat_variables", "parse_mat_column", "read_mat"]
 
 _SPEC_RE = re.compile(
     r"^\s*([A-Za-z][A-Za-z0-9_]*)\s*(?:\[\s*:\s*,\s*(\d+)\s*\])?\s*(?:\[([^\[\]]*)\])?\s*$"
@@ -150,11 +150,11 @@ def _column_values(variables: dict, column: MatColumn, where: str) -> np.ndarray
             raise DataError(f"{where}: variable '{column.variable}' has shape {value.shape}, "
                             f"expected a 2-D array with a column {column.index} (0-based)")
         selected = value[:, column.index]
-    _check_exact_in_float64(selected, column.variable, where)
+    check_exact_in_float64(selected, column.variable, where)
     return selected
 
 
-def _check_exact_in_float64(values: np.ndarray, variable: str, where: str) -> None:
+def check_exact_in_float64(values: np.ndarray, variable: str, where: str) -> None:
     """Refuse integers (int64/uint64) that float64 would round: beyond 2^53 only some are exact."""
     if values.dtype.kind not in "iu" or values.dtype.itemsize < 8:
         return  # float, or integers of up to 32 bits: all exact in float64

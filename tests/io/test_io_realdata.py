@@ -146,3 +146,23 @@ def test_boucwen_benchmark(realdata):
     assert data.test_sinesweep_displacement.size == 153000
     assert np.sqrt(np.mean(data.train_force ** 2)) == pytest.approx(50.0, rel=0.05)  # RMS 50 N
     assert data.time(3)[-1] == pytest.approx(2 / 750)
+
+
+@pytest.mark.parametrize("u, message", [
+    (np.array([[0], [2**53 + 1], [5]], dtype=np.int64), r"'u'.*9007199254740993.*cannot hold exactly"),
+    (np.array([["a"], ["b"], ["c"]]), r"'u'.*found dtype <U1, expected real numbers"),
+])
+def test_boucwen_benchmark_refuses_values_float64_would_change(tmp_path, u, message):
+    """The benchmark adapter cast every variable straight to float64: an int64 beyond 2^53 was
+    rounded without a word (read_mat refuses it) and text raised numpy's own error."""
+    from scipy.io import savemat
+
+    vector = np.zeros((3, 1))
+    path = tmp_path / "bouc-wen.mat"
+    savemat(path, {"u": u, "y": vector, "uval_multisine": vector, "yval_multisine": vector,
+                   "uval_sinesweep": vector, "yval_sinesweep": vector})
+    with pytest.raises(DataError, match=message):
+        read_boucwen_benchmark(path)
+    savemat(path, {"u": np.array([[0], [2**53], [5]], dtype=np.int64), "y": vector, "uval_multisine": vector,
+                   "yval_multisine": vector, "uval_sinesweep": vector, "yval_sinesweep": vector})
+    assert read_boucwen_benchmark(path).train_force[1] == 2.0**53  # exactly representable: read as is
