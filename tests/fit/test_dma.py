@@ -147,6 +147,24 @@ def test_pyvisco_isotherms_fitted_end_to_end():
     assert fit.model.unit == "Pa"
 
 
+def test_a_fixed_order_does_not_depend_on_the_seeds_start():
+    """Order 3 on pyvisco's isotherms: one SQP from the seeded default start stopped in a
+    poorer local minimum with seed 3 (26.6 % and "success") where seeds 0-2 and 4 reach 20.4 %
+    (with k0 at its bound: flagged). The fixed order now also climbs from order 1 as the pruning
+    does and keeps the better fit: every seed gives the same error (to the SQP's ftol) and the
+    same verdict."""
+    from idkit.datasets import read_pyvisco_complex_modulus, realdata_dir
+
+    folder = realdata_dir("pyvisco_dma")
+    if folder is None:
+        pytest.skip("../shared/realdata/pyvisco_dma is absent")
+    raw = read_pyvisco_complex_modulus(folder / "examples" / "freq_user_raw.csv")
+    fits = [fit_dma_table(raw, order=3, seed=seed).result for seed in range(5)]
+    errors = np.array([fit.error for fit in fits])
+    assert np.ptp(errors) <= 1e-4 * errors.min()
+    assert len({fit.success for fit in fits}) == 1
+
+
 def test_plots_label_a_modulus_as_a_modulus():
     from matplotlib.figure import Figure
 
