@@ -11,12 +11,41 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from idkit.errors import ParameterError
+from idkit.errors import ParameterError, SimulationError
 
-__all__ = ["STANDARD_GRAVITY", "impact_velocity_from_height"]
+__all__ = ["STANDARD_GRAVITY", "gravity_acceleration", "impact_velocity_from_height"]
 
 #: Standard acceleration of gravity, m/s^2 (CGPM 1901 conventional value).
 STANDARD_GRAVITY = 9.80665
+
+
+def gravity_acceleration(gravity, *, name: str = "gravity") -> float:
+    """The acceleration of gravity a simulation runs with, m/s^2 (acting downward).
+
+    ``True`` is :data:`STANDARD_GRAVITY`, ``False`` or ``None`` none (0), a number itself
+    when finite and >= 0. Anything else (text, NaN, an upward value, an array) is refused
+    naming ``name``, rather than being read as something else.
+
+    Raises
+    ------
+    SimulationError
+        Anything but a boolean, None or a finite number >= 0 (every caller is a simulation
+        taking ``gravity=``: :func:`~idkit.simulate.simulate`, :func:`~idkit.simulate.free_fall`,
+        :func:`~idkit.simulate.solve_ivp_reference`, :func:`~idkit.responses.shock_sweep`).
+
+    Examples
+    --------
+    >>> gravity_acceleration(True), gravity_acceleration(False), gravity_acceleration(1.62)
+    (9.80665, 0.0, 1.62)
+    """
+    if gravity is True or gravity is np.True_:
+        return STANDARD_GRAVITY
+    if gravity is False or gravity is np.False_ or gravity is None:
+        return 0.0
+    if not (isinstance(gravity, (int, float, np.integer, np.floating)) and np.isfinite(gravity) and gravity >= 0):
+        raise SimulationError(f"{name}: found {gravity!r}, expected True, False or a finite acceleration "
+                              ">= 0 m/s^2 (acting downward)")
+    return float(gravity)
 
 
 def impact_velocity_from_height(height: ArrayLike, *, g: float = STANDARD_GRAVITY,

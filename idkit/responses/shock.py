@@ -45,7 +45,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from idkit.gravity import impact_velocity_from_height
+from idkit.gravity import gravity_acceleration, impact_velocity_from_height
 from idkit.signal.drop import drop_phase_peaks
 from idkit.signal.srs import ShockResponseSpectrum, shock_response_spectrum
 from idkit.errors import SimulationError
@@ -283,7 +283,7 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
     auto_duration, auto_step = default_shock_grid(system)
     duration = auto_duration if duration is None else float(duration)
     time_step = auto_step if time_step is None else float(time_step)
-    g = STANDARD_GRAVITY if gravity is True else float(gravity or 0.0)
+    g = gravity_acceleration(gravity)
     n_isolators = len(system.isolators)
     initial = relaxation_deflection(system) if relaxation else np.zeros(n_isolators)
     response = free_fall(system, impact_velocity=velocity, duration=duration, time_step=time_step, gravity=g,

@@ -48,7 +48,7 @@ from scipy.interpolate import CubicSpline
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.errors import SimulationError
 from idkit.models.systems import CoulombSpringSystem, HybridSystem, SDOFSystem
-from idkit.simulate._arrays import STANDARD_GRAVITY
+from idkit.gravity import gravity_acceleration
 from idkit.simulate._kernel import (
     FLAG_NEGATIVE_STIFFNESS,
     FLAG_NO_CONVERGENCE,
@@ -482,7 +482,7 @@ def _solve(system, t_start: float, time_eval: np.ndarray, base, initial_velocity
             raise SimulationError(f"{name}: found shape {values.shape}, expected ({ndof},) (one per mass/isolator)")
         if not np.all(np.isfinite(values)):
             raise SimulationError(f"{name}: found non-finite values, expected finite SI values")
-    gravity_value = STANDARD_GRAVITY if gravity is True else float(gravity or 0.0)
+    gravity_value = gravity_acceleration(gravity)
 
     xb0, _ = base_path.at(t_start, base_path.initial)
     q0 = xb0 + (y0 if ndof == 1 else np.array([y0[0] + y0[1], y0[1]]))

@@ -10,7 +10,7 @@ import pandas as pd
 from idkit.errors import SimulationError
 from idkit.models.laws import kernel_array
 from idkit.models.base import IsolatorModel
-from idkit.gravity import impact_velocity_from_height
+from idkit.gravity import gravity_acceleration, impact_velocity_from_height
 from idkit.simulate._arrays import STANDARD_GRAVITY, force_scale, resolve_system, system_arrays, whole_number
 from idkit.simulate._kernel import FLAG_REASONS, time_kernel
 from idkit.simulate._parallel import run_chunked
@@ -173,18 +173,6 @@ def initial_states(system, deflections):
     return jforce, mstate, bwz
 
 
-def _gravity(gravity) -> float:
-    """``gravity`` of :func:`simulate` in m/s^2: True is standard gravity, False none, else a value >= 0."""
-    if gravity is True or gravity is np.True_:
-        return STANDARD_GRAVITY
-    if gravity is False or gravity is np.False_ or gravity is None:
-        return 0.0
-    if not (isinstance(gravity, (int, float, np.integer, np.floating)) and np.isfinite(gravity) and gravity >= 0):
-        raise SimulationError(f"gravity: found {gravity!r}, expected True, False or a finite acceleration "
-                              ">= 0 m/s^2 (acting downward)")
-    return float(gravity)
-
-
 def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=None,
              initial_velocity=None, initial_deflection=None, initial_state: TimeState | None = None,
              gravity: bool | float = False, record_every: int = 1, workers: int | None = None,
@@ -283,7 +271,7 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
         jforce0[:] = initial_state.jenkin_force
         mstate0[:] = initial_state.maxwell_elongation
         bwz0[:] = initial_state.boucwen_z
-    g = _gravity(gravity)
+    g = gravity_acceleration(gravity)
     record_every = whole_number(record_every, "record_every", 1)
     # each run's own acceleration scale (a shared base: the same for all), so that no run's
     # convergence tests depend on the other runs of the batch

@@ -95,3 +95,20 @@ def test_input_checks():
         shock_sweep(system)
     with pytest.raises(SimulationError, match="impact_velocity"):
         shock_sweep(system, impact_velocity=[np.nan])
+
+
+@pytest.mark.parametrize("gravity", ["yes", float("nan"), -9.81, np.array([9.81])])
+@pytest.mark.parametrize("entry", ["shock_sweep", "solve_ivp_reference"])
+def test_gravity_that_is_not_an_acceleration_is_refused_by_every_entry(entry, gravity):
+    # shock_sweep and the reference path read gravity as float(gravity or 0): 'yes' raised
+    # Python's ValueError, NaN and an upward value ran; free_fall and simulate refused them
+    from idkit.simulate import solve_ivp_reference
+
+    system = SDOFSystem(1.0, VoigtModel(k=1e4, damping=10.0))
+    calls = {
+        "shock_sweep": lambda: shock_sweep(system, impact_velocity=[-1.0], duration=0.05, time_step=1e-4,
+                                           gravity=gravity),
+        "solve_ivp_reference": lambda: solve_ivp_reference(system, np.linspace(0.0, 0.01, 5), gravity=gravity),
+    }
+    with pytest.raises(SimulationError, match="gravity: found"):
+        calls[entry]()
