@@ -201,8 +201,11 @@ def linear_resonance(system, *, f_min: float = 1e-2, f_max: float = 1e4, n_grid:
     >>> round(resonance.freq, 3), round(resonance.damping_ratio_half_power, 4)
     (5.0, 0.01)
     """
-    if not (0 < f_min < f_max):
+    if not (0 < f_min < f_max < np.inf):
         raise SimulationError(f"f_min, f_max: found {f_min!r}, {f_max!r}, expected 0 < f_min < f_max in Hz")
+    if isinstance(n_grid, bool) or not (isinstance(n_grid, (int, np.integer)) and n_grid >= 3):
+        raise SimulationError(f"n_grid: found {n_grid!r}, expected a whole number >= 3 (a peak needs a sample "
+                              "on each side)")
 
     def magnitude(freq):
         return np.abs(system.transmissibility(freq))
@@ -210,6 +213,11 @@ def linear_resonance(system, *, f_min: float = 1e-2, f_max: float = 1e4, n_grid:
     grid = np.geomspace(f_min, f_max, int(n_grid))
     values = magnitude(grid)
     index = int(np.argmax(values))
+    if index in (0, grid.size - 1):
+        raise SimulationError(
+            f"linear_resonance: |H| is largest at the end of the search range ({grid[index]:.6g} Hz of "
+            f"[{f_min:.6g}, {f_max:.6g}] Hz), expected a peak inside it: the resonance lies outside the "
+            "range (widen f_min, f_max) or the transmissibility has no peak")
     low, high = np.log(grid[max(index - 1, 0)]), np.log(grid[min(index + 1, grid.size - 1)])
     refined = optimize.minimize_scalar(lambda log_f: -np.log(magnitude(np.exp(log_f))), bounds=(low, high),
                                        method="bounded", options={"xatol": 1e-12})
@@ -297,5 +305,27 @@ def linear_frf(system, freq: ArrayLike) -> LinearFrf:
         freq=freq, transmissibility=np.asarray(system.transmissibility(freq), dtype=complex),
         stiffness=effective_stiffness(system, freq),
         component_stiffness=tuple(complex_stiffness(isolator, freq) for isolator in system.isolators),
-        resonance=linear_resonance(system),
+        resonance=linear_resonance(system, **_resonance_range(system)),
     )
+
+
+def _resonance_range(system) -> dict[str, float]:
+    """A search range of :func:`linear_resonance` that holds ``system``'s resonance.
+
+    The undamped natural frequencies lie between ``sqrt(k_low / M) / 2 pi`` (the softest
+    isolator's static stiffness under the whole mass) and ``sqrt(k_high / m) / 2 pi`` (every
+    isolator's high-frequency stiffness on the lightest mass); damping only lowers the peak
+    of ``|H|``. The range is the default 0.01 Hz - 10 kHz widened to two decades below and one
+    above those bounds, so a stiff small part (or a soft heavy one) is not cut off.
+    """
+    masses = np.asarray(system.masses, dtype=float)
+    low = np.array([complex_stiffness(isolator, 1e-9).real for isolator in system.isolators])
+    high = np.array([complex_stiffness(isolator, 1e9).real for isolator in system.isolators])
+    f_low = np.sqrt(max(low.min(), 0.0) / masses.sum()) / (2.0 * np.pi)
+    f_high = np.sqrt(max(high.sum(), 0.0) / masses.min()) / (2.0 * np.pi)
+    f_min, f_max = 1e-2, 1e4
+    if np.isfinite(f_low) and f_low > 0:
+        f_min = min(f_min, f_low / 100.0)
+    if np.isfinite(f_high):
+        f_max = max(f_max, f_high * 10.0)
+    return {"f_min": f_min, "f_max": f_max}

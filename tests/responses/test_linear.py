@@ -92,3 +92,32 @@ def test_effective_stiffness_and_input_checks():
         linear_frf(system, [0.0, 1.0])
     with pytest.raises(SimulationError, match="expected SDOFSystem"):
         linear_frf(system.isolator, [1.0])
+
+
+@pytest.mark.parametrize("natural_hz", [1.5e-3, 15.0, 5e4])
+def test_linear_frf_finds_a_resonance_far_outside_the_default_search_range(natural_hz):
+    # the search was fixed to 0.01 Hz - 10 kHz: a 50 kHz part (0.01 kg on 1e9 N/m) reported
+    # its resonance at 10 kHz, a 1.5 mHz one at 0.01 Hz, with the range end's |H|.
+    # Closed form of the base-excited Voigt peak: r = sqrt(sqrt(1 + 8 z^2) - 1) / (2 z).
+    mass, zeta = 0.5, 0.05
+    omega = 2 * np.pi * natural_hz
+    system = SDOFSystem(mass, VoigtModel(k=mass * omega**2, damping=2 * zeta * mass * omega))
+    ratio = np.sqrt(np.sqrt(1 + 8 * zeta**2) - 1) / (2 * zeta)
+    resonance = linear_frf(system, [1.0]).resonance
+    assert resonance.freq == pytest.approx(ratio * natural_hz, rel=RESONANCE_TOLERANCE)
+    assert resonance.peak_magnitude == pytest.approx(abs(system.transmissibility(ratio * natural_hz)), rel=EXACT)
+
+
+@pytest.mark.parametrize("f_min, f_max", [(0.01, 2.0), (20.0, 1e4)])
+def test_linear_resonance_refuses_a_peak_at_the_end_of_its_range(f_min, f_max):
+    # a 5 Hz system searched in 0.01-2 Hz came back as "resonance at 2 Hz", half-power NaN
+    system = SDOFSystem(1.0, VoigtModel(k=(2 * np.pi * 5) ** 2, damping=0.2 * np.pi * 5))
+    with pytest.raises(SimulationError, match="largest at the end of the search range"):
+        linear_resonance(system, f_min=f_min, f_max=f_max)
+
+
+@pytest.mark.parametrize("n_grid", [1, 2, 2.7, True, "4000"])
+def test_linear_resonance_refuses_a_grid_that_cannot_hold_a_peak(n_grid):
+    system = SDOFSystem(1.0, VoigtModel(k=(2 * np.pi * 5) ** 2, damping=0.2 * np.pi * 5))
+    with pytest.raises(SimulationError, match="n_grid: found"):
+        linear_resonance(system, n_grid=n_grid)
