@@ -644,6 +644,18 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         raise SimulationError(f"system: found {type(system).__name__}, expected SDOFSystem or HybridSystem")
     if int(oversample) != oversample or oversample < 1:
         raise SimulationError(f"oversample: found {oversample!r}, expected an integer >= 1")
+    for name, value in (("fs", fs), ("freq_step", freq_step)):
+        if isinstance(value, bool) or not (isinstance(value, (int, float, np.integer, np.floating))
+                                           and np.isfinite(value) and value > 0):
+            raise SimulationError(f"{name}: found {value!r}, expected a finite frequency > 0 Hz")
+    if not callable(input_psd):
+        raise SimulationError(f"input_psd: found {type(input_psd).__name__}, expected a PsdProfile "
+                              "(or a callable psd(freq_Hz) in (m/s^2)^2/Hz)")
+    if isinstance(input_psd, PsdProfile) and np.isfinite(fs) and input_psd.freq[-1] > fs * oversample / 2:
+        raise SimulationError(
+            f"input_psd: found a profile reaching {input_psd.freq[-1]:g} Hz, expected none above "
+            f"oversample x fs / 2 = {oversample:g} x {fs:g} / 2 = {fs * oversample / 2:g} Hz, the Nyquist "
+            "frequency of the simulated floor (the profile's band above would be cut off); raise fs")
     if not (np.isfinite(settle_records) and settle_records >= 0):
         raise SimulationError(f"settle_records: found {settle_records!r}, expected a number of records >= 0")
     if settle_until is not None and not (np.isfinite(settle_until) and settle_until > 0):

@@ -185,7 +185,9 @@ def synthesize_random(
     ----------
     psd : callable
         One-sided PSD, ``psd(freq_Hz) -> level`` in (m/s^2)^2/Hz, vectorized (e.g. a
-        :class:`PsdProfile`).
+        :class:`PsdProfile`), sampled on the grid up to ``fs / 2``. A :class:`PsdProfile`
+        reaching above ``fs / 2`` is refused (its band would be cut off); a general
+        callable is read up to ``fs / 2`` only.
     seed : int, SeedSequence or Generator
         Seed of the phase generator (required: results must be reproducible).
     fs : float, default 800.0
@@ -218,6 +220,16 @@ def synthesize_random(
         )
     if int(n_realizations) != n_realizations or n_realizations < 1:
         raise DataError(f"n_realizations must be a positive integer; found {n_realizations!r}")
+    if not isinstance(seed, (np.random.SeedSequence, np.random.Generator)) and (
+            isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0):
+        raise DataError(f"seed: found {seed!r}, expected an integer >= 0, a SeedSequence or a Generator")
+    if not callable(psd):
+        raise DataError(f"psd: found {type(psd).__name__}, expected a callable psd(freq_Hz) such as a PsdProfile")
+    if isinstance(psd, PsdProfile) and psd.freq[-1] > fs / 2:
+        raise DataError(
+            f"psd: found a profile reaching {psd.freq[-1]:g} Hz, expected none above the Nyquist "
+            f"frequency fs / 2 = {fs / 2:g} Hz of the synthesized signals (its band above would be "
+            "cut off); raise fs or end the profile lower")
     grid = np.arange(n_samples // 2 + 1) * freq_step
     level = np.asarray(psd(grid), dtype=float)
     if level.shape != grid.shape or not np.all(np.isfinite(level) & (level >= 0)):

@@ -362,3 +362,36 @@ def test_an_undamped_resonance_on_a_line_is_not_a_bounded_stuck_state():
         voigt = VoigtModel(k=1e4, damping=0.0)
         with pytest.raises(SimulationError, match="unbounded.*undamped.*5 Hz.*method='time'"):
             random_response(SDOFSystem(_tuned_on_a_line(1e4), voigt), floor, seed=3, method="frequency")
+
+
+def test_a_floor_profile_above_the_simulated_nyquist_frequency_is_refused_not_cut():
+    # fs = 10 Hz (x 4 oversampling: a 20 Hz Nyquist frequency) with a 0.1-100 Hz floor ran
+    # and reported an input RMS of 0.045 m/s^2 for a profile of 0.1 m/s^2: the band above
+    # 20 Hz was dropped without a word
+    system = SDOFSystem(1.0, VoigtModel(k=(2 * np.pi * 5) ** 2, damping=0.1 * 2 * np.pi * 5))
+    profile = PsdProfile.flat(1e-4, f_lo=0.1, f_hi=100.0)
+    with pytest.raises(SimulationError, match="reaching 100 Hz, expected none above oversample x fs / 2"):
+        random_response(system, profile, seed=1, n_realizations=1, fs=10.0)
+    # the profile's top exactly at the Nyquist frequency is kept whole (its line there is zero
+    # in every realization, as at any fs)
+    kept = random_response(system, profile, seed=1, n_realizations=1, fs=50.0, method="frequency")
+    assert np.isfinite(kept.output_rms)
+
+
+@pytest.mark.parametrize("arguments, words", [
+    (dict(seed=-1), "seed: found -1"),
+    (dict(seed=True), "seed: found True"),
+    (dict(seed=1.5), "seed: found 1.5"),
+    (dict(input_psd={"level": 1e-4}), "input_psd: found dict"),
+    (dict(fs="800"), "fs: found '800'"),
+    (dict(freq_step=float("nan")), "freq_step: found nan"),
+])
+def test_random_response_names_a_bad_argument(arguments, words):
+    # numpy's "expected non-negative integer", "'dict' object is not callable", string
+    # comparisons: errors that named nothing the caller wrote
+    from idkit.errors import IdkitError
+
+    system = SDOFSystem(1.0, VoigtModel(k=(2 * np.pi * 5) ** 2, damping=0.1 * 2 * np.pi * 5))
+    call = dict(input_psd=PsdProfile.flat(1e-4, f_lo=0.1, f_hi=100.0), seed=1, n_realizations=1) | arguments
+    with pytest.raises(IdkitError, match=words):
+        random_response(system, **call)

@@ -149,3 +149,14 @@ def test_synthesis_and_welch_check_their_inputs():
         PsdProfile([10.0, 5.0], [1.0, 1.0])
     with pytest.raises(DataError, match="positive"):
         PsdProfile([1.0, 5.0], [1.0, 0.0])
+
+
+def test_synthesis_refuses_a_profile_it_would_cut_and_seeds_numpy_would_reject():
+    profile = PsdProfile.flat(1e-3, f_lo=0.1, f_hi=100.0)
+    with pytest.raises(DataError, match="reaching 100 Hz, expected none above the Nyquist frequency fs / 2 = 50 Hz"):
+        synthesize_random(profile, seed=1, fs=100.0, freq_step=0.5)
+    kept = synthesize_random(profile, seed=1, fs=200.0, freq_step=0.5, n_realizations=1)  # 100 Hz = fs / 2
+    assert kept.shape == (1, 400)
+    for seed in (-1, True, 2.0, "1"):
+        with pytest.raises(DataError, match="seed: found"):
+            synthesize_random(profile, seed=seed, fs=400.0, freq_step=0.5)
