@@ -48,7 +48,10 @@ PLAIN_MAX_PERIODS = 4000
 
 
 def _check_axis(values: ArrayLike, name: str, unit: str) -> NDArray[np.float64]:
-    axis = np.atleast_1d(np.asarray(values, dtype=float))
+    raw = np.asarray(values)
+    if raw.dtype.kind not in "biuf":  # text ("5", "abc"), None, objects: not read as numbers
+        raise SimulationError(f"{name}: found {values!r:.60}, expected numbers in {unit}")
+    axis = np.atleast_1d(raw.astype(float))
     if axis.ndim != 1 or axis.size == 0:
         raise SimulationError(f"{name}: found shape {np.shape(values)}, expected a non-empty 1-D axis in {unit}")
     if not np.all(np.isfinite(axis) & (axis > 0)):
@@ -90,6 +93,8 @@ def parabolic_peak(x: ArrayLike, y: ArrayLike) -> tuple[float, float, int]:
     """
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
+    if x.ndim != 1 or x.shape != y.shape:  # zip-like reads paired the wrong samples
+        raise SimulationError(f"x, y: found shapes {x.shape} and {y.shape}, expected two 1-D arrays of one length")
     if not np.any(np.isfinite(y)):
         return float("nan"), float("nan"), -1
     index = int(np.nanargmax(y))

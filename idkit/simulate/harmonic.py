@@ -179,6 +179,9 @@ def default_steps_per_period(system, freq, *, per_period: int = 128, per_resonan
     as for :func:`small_amplitude_resonance`)."""
     resonance = small_amplitude_resonance(system, arrays=arrays)
     freq = np.asarray(freq, dtype=float)
+    if not (np.isfinite(freq) & (freq > 0)).all():  # a negative or infinite one read as 128 steps
+        raise SimulationError(f"freq: found {freq[~(np.isfinite(freq) & (freq > 0))].ravel()[0]!r} Hz, "
+                              "expected positive finite frequencies")
     steps = np.maximum(per_period, np.ceil(per_resonance * resonance / freq))
     if not (steps < 2.0**62).all():  # before the cast: 1e-20 Hz would wrap to a negative count
         raise SimulationError(f"freq: found {np.min(freq):g} Hz, which takes {np.max(steps):.3g} steps per period "

@@ -111,6 +111,10 @@ def static_deflection(isolator: IsolatorModel, load: float, *, tolerance: float 
     Loading from the unloaded state; positive load = tension. Solved by
     bisection on the (monotonic while valid) backbone curve.
     """
+    if isinstance(load, bool) or not (isinstance(load, (int, float, np.integer, np.floating)) and np.isfinite(load)):
+        raise SimulationError(f"load: found {load!r}, expected a finite force in N (positive in tension)")
+    if not (isinstance(tolerance, (int, float, np.floating)) and 0 < tolerance < 1):
+        raise SimulationError(f"tolerance: found {tolerance!r}, expected a relative tolerance in (0, 1)")
     if load == 0:
         return 0.0
 

@@ -117,3 +117,19 @@ def test_a_point_shooting_cannot_close_still_settles_as_a_plain_grid_would():
     # The map's own steady-state tolerance is 1e-3 (window change of every coefficient
     # relative to the first harmonic); measured 1.7e-4.
     assert abs(result.hosidf(1)[0, 0] / reference.hosidf(1)[0] - 1) < 1e-3
+
+
+@pytest.mark.parametrize("freq_axis, words", [
+    ("5", "freq_axis: found '5', expected numbers in Hz"),        # was read as 5 Hz
+    ("abc", "freq_axis: found 'abc', expected numbers in Hz"),    # was numpy's ValueError
+    ([None], "freq_axis: found [None], expected numbers in Hz"),  # was NaN
+])
+def test_harmonic_map_reads_only_numbers_as_an_axis(freq_axis, words):
+    with pytest.raises(SimulationError, match=words.replace("[", r"\[").replace("]", r"\]")):
+        harmonic_map(library.get("system_b1_medium"), freq_axis, [1e-4])
+
+
+def test_parabolic_peak_refuses_unpaired_samples():
+    # x of 3 samples and y of 2 returned (2.0, 2.0, 1): the peak of pairs that do not exist
+    with pytest.raises(SimulationError, match=r"found shapes \(3,\) and \(2,\)"):
+        parabolic_peak([1.0, 2.0, 3.0], [1.0, 2.0])

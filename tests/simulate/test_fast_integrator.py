@@ -288,3 +288,21 @@ def test_a_stiff_bouc_wen_law_settles_at_the_default_step():
     fine = harmonic_response(system, 12.0, 3e-3, tolerance=1e-6, steps_per_period=1024)
     assert default.reasons == ("ok",) and fine.reasons == ("ok",)
     assert abs(default.hosidf(1)[0] / fine.hosidf(1)[0] - 1) < 2e-3
+
+
+@pytest.mark.parametrize("freq", [-1.0, 0.0, float("inf"), float("nan")])
+def test_default_steps_per_period_refuses_a_frequency_that_is_not_one(freq):
+    # -1 Hz and inf Hz were given 128 steps a period
+    from idkit.simulate import default_steps_per_period
+
+    with pytest.raises(SimulationError, match="freq: found"):
+        default_steps_per_period(library.get("system_b1_medium"), [5.0, freq])
+
+
+@pytest.mark.parametrize("load", [float("nan"), float("inf"), "10", True])
+def test_static_deflection_refuses_a_load_that_is_not_a_force(load):
+    # NaN returned a NaN deflection after 10 m of doubling; "10" raised a TypeError
+    from idkit.simulate import static_deflection
+
+    with pytest.raises(SimulationError, match="load: found"):
+        static_deflection(library.get("table_b1_medium"), load)
