@@ -246,6 +246,12 @@ def noise_level(signal) -> float:
     0.01
     """
     values = np.asarray(signal, dtype=float)
+    if values.ndim != 1 or values.size < 3:
+        raise DataError(f"signal: found shape {values.shape}, expected a 1-D record of at least 3 samples "
+                        "(one second difference)")
+    if not np.all(np.isfinite(values)):
+        raise DataError(f"signal: found a non-finite sample at index {int(np.flatnonzero(~np.isfinite(values))[0])}, "
+                        "expected finite values")
     second = np.diff(values, 2)
     return float(1.4826 * np.median(np.abs(second - np.median(second))) / np.sqrt(6.0))
 

@@ -212,6 +212,13 @@ def mean_squared_relative_error(predicted, measured, axis: int | None = None):
     """
     predicted = np.asarray(predicted)
     measured = np.asarray(measured)
+    try:
+        np.broadcast_shapes(predicted.shape, measured.shape)
+    except ValueError:
+        raise DataError(f"predicted, measured: found shapes {predicted.shape} and {measured.shape}, expected "
+                        "shapes that broadcast (the same points)") from None
+    if np.any(measured == 0):
+        raise DataError("measured: found a zero value, expected non-zero values (the error is relative to them)")
     mean = np.mean(np.abs(predicted - measured) ** 2 / np.abs(measured) ** 2, axis=axis)
     return float(mean) if axis is None else mean
 

@@ -503,13 +503,25 @@ def resonance_peak(freq, magnitude) -> tuple[float, float]:
     """Frequency and height of the largest ``magnitude`` over ``freq``.
 
     A parabola in (log f, log |H|) through the highest point and its two neighbours
-    refines both when the peak lies inside the range (the grid maximum otherwise).
+    refines both when the peak lies inside the range (the grid maximum otherwise). NaN
+    values (e.g. points a simulation could not settle) are skipped, never taken for the
+    peak; ``(nan, nan)`` when every value is NaN. A parabola through a NaN or non-positive
+    neighbour is not drawn.
     """
     freq, magnitude = np.asarray(freq, dtype=float), np.asarray(magnitude, dtype=float)
+    if freq.ndim != 1 or freq.shape != magnitude.shape or freq.size == 0:
+        raise DataError(f"freq, magnitude: found shapes {freq.shape} and {magnitude.shape}, expected two "
+                        "non-empty 1-D arrays of one length")
+    if not np.all(np.isfinite(freq) & (freq > 0)):
+        raise DataError(f"freq: found {freq[~(np.isfinite(freq) & (freq > 0))][0]!r}, expected positive finite "
+                        "frequencies in Hz")
+    if np.all(np.isnan(magnitude)):
+        return float("nan"), float("nan")
     order = np.argsort(freq)
     freq, magnitude = freq[order], magnitude[order]
-    index = int(np.argmax(magnitude))
-    if 0 < index < freq.size - 1:
+    index = int(np.nanargmax(magnitude))  # argmax takes a NaN for the largest value
+    neighbours = magnitude[max(index - 1, 0):index + 2]
+    if 0 < index < freq.size - 1 and np.all(np.isfinite(neighbours) & (neighbours > 0)):
         x = np.log(freq[index - 1 : index + 2])
         y = np.log(magnitude[index - 1 : index + 2])
         coefficients = np.polyfit(x, y, 2)

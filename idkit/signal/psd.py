@@ -357,8 +357,9 @@ def _check_spectrum(freq: ArrayLike, psd: ArrayLike) -> tuple[NDArray, NDArray]:
         )
     if not np.all(np.diff(f) > 0):
         raise DataError("freq must be strictly increasing (Hz)")
-    if not np.all(np.isfinite(s)):
-        raise DataError("psd must be finite")
+    if not np.all(np.isfinite(s) & (s >= 0)):
+        bad = s[~(np.isfinite(s) & (s >= 0))][0]
+        raise DataError(f"psd: found {bad!r}, expected finite levels >= 0 (a power spectral density)")
     return f, s
 
 

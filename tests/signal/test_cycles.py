@@ -156,3 +156,14 @@ def test_resample_loops_checks_its_inputs():
     one_reversal = 1e-3 * np.sin(np.linspace(0, np.pi, 101))
     with pytest.raises(FitError, match="complete branch"):
         resample_loops(one_reversal, one_reversal, min_excursion=1e-5)
+
+
+@pytest.mark.parametrize("signal, words", [
+    ([1.0, 2.0], "at least 3 samples"),                 # numpy's "Mean of empty slice", NaN
+    ([0.0, 1.0, np.nan, 3.0], "non-finite sample at index 2"),  # returned NaN
+])
+def test_noise_level_refuses_a_record_it_cannot_measure(signal, words):
+    from idkit.signal.cycles import noise_level
+
+    with pytest.raises(DataError, match=words):
+        noise_level(signal)

@@ -94,3 +94,12 @@ def test_estimate_frf_checks_its_inputs():
         estimate_frf(x, x, fs=FS, nperseg=256, f_lo=100.0, f_hi=10.0)
     with pytest.raises(DataError, match="overlap"):
         estimate_frf(x, x, fs=FS, nperseg=256, overlap=1.0)
+
+
+def test_relative_error_refuses_unpaired_points_and_zero_references():
+    from idkit.signal.frf import mean_squared_relative_error
+
+    with pytest.raises(DataError, match=r"found shapes \(2,\) and \(3,\)"):  # was numpy's broadcast error
+        mean_squared_relative_error([1.0, 2.0], [1.0, 2.0, 3.0])
+    with pytest.raises(DataError, match="measured: found a zero value"):  # was inf with a RuntimeWarning
+        mean_squared_relative_error([1.0, 2.0], [0.0, 2.0])

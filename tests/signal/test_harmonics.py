@@ -119,3 +119,18 @@ def test_input_flatness_from_amplitudes_and_from_results():
     assert from_results.ratio == pytest.approx(1.5, rel=1e-10)
     with pytest.raises(DataError, match="positive"):
         input_flatness([1.0, 2.0], [0.0, 1.0])
+
+
+def test_resonance_peak_skips_nan_points_and_refuses_unpaired_samples():
+    from idkit.signal.harmonics import resonance_peak
+
+    freq = np.array([4.0, 5.0, 6.0, 7.0, 8.0])
+    magnitude = np.array([2.0, 5.0, 3.0, np.nan, 1.5])
+    # argmax took the NaN at 7 Hz for the peak: (7.0, nan)
+    f_peak, peak = resonance_peak(freq, magnitude)
+    assert 4.0 < f_peak < 6.0 and peak >= 5.0
+    # a NaN neighbour: no parabola, the grid maximum itself
+    assert resonance_peak(freq, [2.0, np.nan, 3.0, 5.0, np.nan]) == (7.0, 5.0)
+    assert all(np.isnan(resonance_peak(freq, np.full(5, np.nan))))
+    with pytest.raises(DataError, match=r"found shapes \(5,\) and \(4,\)"):
+        resonance_peak(freq, magnitude[:4])  # was an IndexError

@@ -160,3 +160,10 @@ def test_synthesis_refuses_a_profile_it_would_cut_and_seeds_numpy_would_reject()
     for seed in (-1, True, 2.0, "1"):
         with pytest.raises(DataError, match="seed: found"):
             synthesize_random(profile, seed=seed, fs=400.0, freq_step=0.5)
+
+
+def test_a_negative_psd_level_is_refused_not_integrated():
+    # rms_from_psd([1, 2, 3], [1, -1, 1]) integrated to 0.0
+    for function in (rms_from_psd, cumulative_rms):
+        with pytest.raises(DataError, match=r"psd: found .*-1\.0.*, expected finite levels >= 0"):
+            function([1.0, 2.0, 3.0], [1.0, -1.0, 1.0])
