@@ -99,7 +99,23 @@ def transport_systems(*, wire_rope: IwanModel | None = None, elastomer: Generali
     """
     wire_rope = wire_rope if wire_rope is not None else library.get("table_7_1_wire_rope")
     elastomer = elastomer if elastomer is not None else library.get("table_7_3_elastomer")
+    if not isinstance(wire_rope, IwanModel):  # its stuck stiffness and g1 tune the systems
+        raise ParameterError(f"wire_rope: found {type(wire_rope).__name__}, expected an IwanModel")
+    if not isinstance(elastomer, GeneralizedMaxwell):  # its |k*| at target_freq and scaling
+        raise ParameterError(f"elastomer: found {type(elastomer).__name__}, expected a GeneralizedMaxwell "
+                             "stiffness model")
     omega = _omega(target_freq)
+    for name, value in (("reference_mass", reference_mass), ("intermediate_fraction", intermediate_fraction)):
+        if isinstance(value, bool) or not (isinstance(value, (int, float, np.integer, np.floating))
+                                           and np.isfinite(value) and value > 0):
+            raise ParameterError(f"{name}: found {value!r}, expected a finite number > 0")
+    if isinstance(reference_damping_ratio, bool) or not (
+            isinstance(reference_damping_ratio, (int, float, np.integer, np.floating))
+            and np.isfinite(reference_damping_ratio) and reference_damping_ratio >= 0):
+        raise ParameterError(f"reference_damping_ratio: found {reference_damping_ratio!r}, expected a finite "
+                             "ratio >= 0")
+    if len(r_k_values) == 0:
+        raise ParameterError("r_k_values: found none, expected at least one ratio g1 / |k*_el| (the hybrids)")
     systems = []
 
     stiffness = reference_mass * omega**2
@@ -330,6 +346,16 @@ def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVEL
     systems = transport_systems(wire_rope=wire_rope, elastomer=elastomer, r_k_values=r_k_values)
     speeds = np.linspace(0.01, 1.0, 40) if speeds is None else np.asarray(speeds, dtype=float)
     heights = np.linspace(0.005, 0.15, 30) if heights is None else np.asarray(heights, dtype=float)
+    # checked before the first simulation, not after minutes of random vibration
+    if speeds.ndim != 1 or speeds.size == 0 or not np.all(np.isfinite(speeds) & (speeds >= 0)):
+        raise ParameterError(f"speeds: found {speeds!r:.80}, expected a non-empty 1-D array of impact speeds "
+                             "|v0| >= 0 m/s (a negative one would be an upward impact)")
+    if heights.ndim != 1 or heights.size == 0 or not np.all(np.isfinite(heights) & (heights >= 0)):
+        raise ParameterError(f"heights: found {heights!r:.80}, expected a non-empty 1-D array of drop heights "
+                             ">= 0 m")
+    if len(levels) == 0:
+        raise ParameterError("levels: found none, expected at least one floor PSD level in (m/s^2)^2/Hz")
+    profiles = {float(level): PsdProfile.flat(level, f_lo=0.1, f_hi=100.0) for level in levels}
     total = len(systems) * (len(levels) + 2)
     done = 0
     rms_rows, psd, flagged, settling_rows, failures = {}, [], 0, {}, []
@@ -338,7 +364,7 @@ def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVEL
     rms_rows = {item.name: {} for item in systems}
     # level by level: every system is driven by the same seeded floor signals, synthesized once
     for level in levels:
-        profile = PsdProfile.flat(level, f_lo=0.1, f_hi=100.0)
+        profile = profiles[float(level)]
         for item in systems:
             settle = settle_of[item.name]
             # linear systems in the frequency domain (the expected Welch estimate, nothing

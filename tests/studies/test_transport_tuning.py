@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from idkit.errors import ParameterError
+from idkit.errors import DataError, ParameterError
 from idkit.models import library
 from idkit.studies.transport import RK_VALUES, transport_systems, tuning_table
 
@@ -65,3 +65,34 @@ def test_tuning_table_shows_the_moving_masses_the_thesis_prints():
     np.testing.assert_allclose(table.loc[hybrids, "moving mass [kg]"] - table.loc[hybrids, "top mass without m_eff [kg]"],
                                m_eff, rtol=1e-12)
     assert table.loc["wire rope", "moving mass [kg]"] == table.loc["wire rope", "top mass without m_eff [kg]"]
+
+
+@pytest.mark.parametrize("arguments, words", [
+    (dict(wire_rope=library.get("table_b1_medium")), "wire_rope: found GeneralizedMaxwell"),  # AttributeError
+    (dict(elastomer=library.get("table_a1_symmetric")), "elastomer: found IwanModel"),         # AttributeError
+    (dict(reference_mass=-1.0), "reference_mass: found -1.0"),  # named VoigtModel's k
+    (dict(reference_damping_ratio=-0.1), "reference_damping_ratio: found -0.1"),
+    (dict(intermediate_fraction=float("nan")), "intermediate_fraction: found nan"),
+    (dict(r_k_values=()), "r_k_values: found none"),
+])
+def test_transport_systems_name_a_bad_argument(arguments, words):
+    with pytest.raises(ParameterError, match=words):
+        transport_systems(**arguments)
+
+
+@pytest.mark.parametrize("arguments, words", [
+    (dict(speeds=[-1.0]), "speeds: found"),     # ran as an upward impact at +1 m/s
+    (dict(heights=[np.nan]), "heights: found"),
+    (dict(levels=()), "levels: found none"),    # ran a study without random vibration
+    (dict(levels=(1e-4, -1e-4)), "level must be positive"),  # after the first level's runs
+])
+def test_transport_study_checks_its_arguments_before_simulating(arguments, words, monkeypatch):
+    import idkit.studies.transport as transport
+
+    def no_simulation(*args, **kwargs):
+        raise AssertionError("simulated before the arguments were checked")
+
+    monkeypatch.setattr(transport, "random_response", no_simulation)
+    monkeypatch.setattr(transport, "shock_sweep", no_simulation)
+    with pytest.raises((ParameterError, DataError), match=words):
+        transport.compute_transport_study(**(dict(n_realizations=1) | arguments))
