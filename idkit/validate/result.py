@@ -65,7 +65,7 @@ class ValidationResult:
         Further tables (e.g. resonance per amplitude), by name.
     inconclusive : tuple of str
         Why the metrics cannot carry a PASS even where they are within their limits
-        (e.g. too many simulated points that never reached steady state); empty when
+        (e.g. a simulated point that never reached steady state); empty when
         the validation is complete.
     cannot_see : tuple of str
         Deliberately wrong components that pass this validation too
