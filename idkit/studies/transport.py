@@ -114,8 +114,6 @@ def transport_systems(*, wire_rope: IwanModel | None = None, elastomer: Generali
             and np.isfinite(reference_damping_ratio) and reference_damping_ratio >= 0):
         raise ParameterError(f"reference_damping_ratio: found {reference_damping_ratio!r}, expected a finite "
                              "ratio >= 0")
-    if len(r_k_values) == 0:
-        raise ParameterError("r_k_values: found none, expected at least one ratio g1 / |k*_el| (the hybrids)")
     systems = []
 
     stiffness = reference_mass * omega**2

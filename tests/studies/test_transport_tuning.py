@@ -73,7 +73,6 @@ def test_tuning_table_shows_the_moving_masses_the_thesis_prints():
     (dict(reference_mass=-1.0), "reference_mass: found -1.0"),  # named VoigtModel's k
     (dict(reference_damping_ratio=-0.1), "reference_damping_ratio: found -0.1"),
     (dict(intermediate_fraction=float("nan")), "intermediate_fraction: found nan"),
-    (dict(r_k_values=()), "r_k_values: found none"),
 ])
 def test_transport_systems_name_a_bad_argument(arguments, words):
     with pytest.raises(ParameterError, match=words):
