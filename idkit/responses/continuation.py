@@ -45,6 +45,10 @@ from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS
 
 __all__ = ["Branch", "SpecialPoint", "continue_in_amplitude", "continue_in_frequency"]
 
+#: A corrector iterate further than this from its prediction (scaled state and ``ln`` of the
+#: parameter: the whole response, or a factor e in the parameter) has left the branch.
+CORRECTOR_REACH = 1.0
+
 
 @dataclass(frozen=True)
 class SpecialPoint:
@@ -271,10 +275,15 @@ def _tangent(g_z, g_p, previous):
 
 
 def _correct(problem: _Problem, predicted, tangent, anchor, tolerance, max_iterations):
-    """Newton on ``[G; t . (y - y_predicted)] = 0``; returns ``(y, evaluation, iterations, flag)`` or None."""
+    """Newton on ``[G; t . (y - y_predicted)] = 0``; returns ``((y, evaluation, iterations), flag)``,
+    or ``(None, flag)`` when it does not converge: ``flag`` is the time step's failure if one
+    failed, else ``FLAG_OK``. An iterate further than :data:`CORRECTOR_REACH` from the prediction
+    (scaled), or not finite, has left the branch: the corrector stops there."""
     y = predicted.copy()
     n = y.size - 1
     for iteration in range(max_iterations + 1):
+        if not (np.all(np.isfinite(y)) and np.linalg.norm(y - predicted) <= CORRECTOR_REACH):
+            return None, FLAG_OK
         g, g_z, g_p, jacobian, flag = problem.evaluate(y[:n], y[n])
         if flag != FLAG_OK:
             return None, flag
@@ -397,14 +406,14 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
         predicted = y + ds * tangent
         outcome, flag = _correct(problem, predicted, tangent, y, tolerance, 8)
         if outcome is None:
-            if flag != FLAG_OK:
-                reason = f"the time step failed near {math.exp(predicted[-1]):.5g} {unit}: {FLAG_REASONS[flag]}"
-                success = False
-                break
+            # a failed step or a corrector that wandered off: try a shorter step; the reason of the
+            # last failure is kept for the report
+            failure = (f"the time step failed near {math.exp(predicted[-1]):.5g} {unit}: {FLAG_REASONS[flag]}"
+                       if flag != FLAG_OK else None)
             ds *= 0.5
             if ds < min_step:
                 reason = (f"corrector did not converge with the smallest step {min_step:g} near "
-                          f"{math.exp(y[-1]):.5g} {unit}")
+                          f"{math.exp(y[-1]):.5g} {unit}" + (f" ({failure})" if failure else ""))
                 success = False
                 break
             continue

@@ -216,3 +216,33 @@ def test_plot_branch_dashes_unstable_parts(duffing_branch):
     labels = [line.get_label() for line in ax.get_lines()]
     assert "fold" in labels and any(label.startswith("time integration") for label in labels)
     ax.figure.clear()
+
+
+def test_a_corrector_that_wanders_off_halves_the_step_instead_of_crashing():
+    """A Duffing oscillator (8 Hz, 2 %, k3 Y^2 / k up to 0.6) with a negligible Jenkin element
+    (1e-3 N/m, 1e-9 N: slipping, except where the deflection turns at t = 0 on the top of the
+    resonance). There the friction memory of that element makes the corrector wander to
+    36000 Hz, and ``math.exp`` overflowed (OverflowError) instead of a shorter step. The branch
+    must pass, with its two folds within the harmonic-balance error of the Duffing folds."""
+    mass, stiffness = 2.0, (2 * np.pi * 8.0) ** 2 * 2.0
+    damping, amplitude = 2 * 0.02 * np.sqrt(stiffness * mass), 2e-3
+    cubic = 0.4 * stiffness / (amplitude / 0.04) ** 2
+    system = SDOFSystem(mass, IwanModel(g1=stiffness, k=[1e-3], fc=[1e-9], g3=cubic, c_visc=damping))
+    branch = continue_in_frequency(system, amplitude, (6.0, 12.0), steps_per_period=256)
+    assert branch.success and branch.freq[-1] >= 12.0, branch.reason
+    folds = sorted(point.freq for point in branch.points("fold"))
+    # first-order HB turning points of [(k + 3/4 k3 Y^2 - m w^2)^2 + (c w)^2] Y^2 = (m A w^2)^2
+    deflection = np.linspace(5e-3, 0.1, 200001)
+    effective = stiffness + 0.75 * cubic * deflection**2
+    a = mass**2 * (deflection**2 - amplitude**2)
+    b = (damping**2 - 2 * effective * mass) * deflection**2
+    discriminant = b * b - 4 * a * effective**2 * deflection**2
+    upper = np.sqrt((-b + np.sqrt(np.where(discriminant >= 0, discriminant, np.nan))) / (2 * a))
+    slope = np.diff(upper)
+    turns = np.flatnonzero(slope[:-1] * slope[1:] < 0) + 1  # the jump up (a minimum), the jump down
+    assert len(folds) == 2 and turns.size == 2
+    for found, turn in zip(folds, turns):
+        omega, height = upper[turn], deflection[turn]
+        nonlinearity = cubic * height**2 / stiffness
+        bound = 1.5 * (3 / 256 * nonlinearity**2 + (omega / (found * 256)) ** 2 / 12)  # as _hb_error_bound
+        assert abs(found / (omega / (2 * np.pi)) - 1) < bound, (found, omega / (2 * np.pi), bound)
