@@ -101,7 +101,8 @@ class Branch:
     arclength : (n_points,) cumulative arclength in scaled variables (dimensionless)
     special_points : tuple of SpecialPoint
     success : bool
-        The branch reached the end of its parameter range (or ``max_points``) without a failure.
+        The branch left its parameter range at either end without a failure (a branch stopped
+        by ``max_points`` inside the range is not a success).
     reason : str
         ``"ok"`` or why the branch stopped early.
     """
@@ -428,6 +429,11 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
             ds = min(ds * 1.5, max_step)
         if not (p_low - 1e-12 <= y[-1] <= p_high + 1e-12):
             break
+    else:
+        if success:  # the cap, not the end of the range, stopped the branch
+            success = False
+            reason = (f"max_points ({max_points}) reached at {math.exp(y[-1]):.5g} {unit}, inside "
+                      f"{name} [{low:g}, {high:g}] {unit}")
     ys = np.array(ys)
     p_values = ys[:, -1]
     states = np.array([row[:-1] * problem.scale(p) for row, p in zip(ys, p_values)])
@@ -482,7 +488,8 @@ def continue_in_frequency(system, amplitude: float, freq_range, *, start: float 
         of frequency per step: keep it below the width of features to be resolved (the
         Table A.1 period-doubling range is 0.7 % wide: ``max_step=0.002``).
     max_points : int
-        Cap on the number of branch points.
+        Cap on the number of branch points; a branch it stops inside the range has
+        ``success=False`` (the reason says where it stopped).
     n_harmonics : int
         Harmonics kept (orders 0, 1/2, ..., K).
     tolerance : float

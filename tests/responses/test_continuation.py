@@ -246,3 +246,19 @@ def test_a_corrector_that_wanders_off_halves_the_step_instead_of_crashing():
         nonlinearity = cubic * height**2 / stiffness
         bound = 1.5 * (3 / 256 * nonlinearity**2 + (omega / (found * 256)) ** 2 / 12)  # as _hb_error_bound
         assert abs(found / (omega / (2 * np.pi)) - 1) < bound, (found, omega / (2 * np.pi), bound)
+
+
+def test_a_branch_stopped_by_max_points_is_not_a_success():
+    """Undamped linear oscillator (5.03 Hz): towards its resonance the periodic response grows
+    without bound (8.3 m at 5.03 Hz after 400 points), so the branch never reaches 8 Hz. It said
+    success=True and "complete"; the cap must be named with where it stopped."""
+    system = SDOFSystem(1.0, VoigtModel(k=1e3, damping=0.0))
+    branch = continue_in_frequency(system, 1e-3, (3.0, 8.0))
+    resonance = np.sqrt(1e3) / (2 * np.pi)
+    assert branch.freq.max() < resonance
+    assert not branch.success
+    assert "max_points (400)" in branch.reason and "freq_range" in branch.reason
+    assert "complete" not in branch.report()
+    short = continue_in_frequency(library.get("system_a1_asymmetric"), 1e-3, (20.0, 25.0), max_step=0.2,
+                                  max_points=3)
+    assert short.n_points == 3 and short.freq[-1] < 25.0 and not short.success
