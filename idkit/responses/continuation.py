@@ -35,12 +35,13 @@ from idkit.errors import SimulationError
 from idkit.responses.periodic import (
     NULL_TOLERANCE,
     PeriodMap,
+    check_steps_per_period,
     classify_multipliers,
     conserved_directions,
     orbit_harmonics,
     periodic_response,
 )
-from idkit.simulate import default_steps_per_period
+from idkit.simulate._arrays import whole_number
 from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS
 
 __all__ = ["Branch", "SpecialPoint", "continue_in_amplitude", "continue_in_frequency"]
@@ -352,34 +353,50 @@ def _special_points(parameter, p_values, tangent_p, multipliers, arclength, half
 
 def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_period, step, min_step, max_step,
               max_points, n_harmonics, tolerance, initial_state, settle_periods, direction, jacobian) -> Branch:
-    low, high = (float(value) for value in bounds)
     unit = "Hz" if parameter == "freq" else "m"
     name = "freq_range" if parameter == "freq" else "amplitude_range"
+    fixed_name = "amplitude" if parameter == "freq" else "freq"
+    try:
+        low, high = (float(value) for value in bounds)
+    except (TypeError, ValueError):
+        raise SimulationError(f"{name}: found {bounds!r}, expected (low, high) with 0 < low < high in {unit}") from None
+    try:
+        fixed = float(fixed)
+    except (TypeError, ValueError):
+        raise SimulationError(f"{fixed_name}: found {fixed!r}, expected one positive value in "
+                              f"{'m' if parameter == 'freq' else 'Hz'}") from None
     if not (np.isfinite(low) and np.isfinite(high) and 0 < low < high):
         raise SimulationError(f"{name}: found {bounds!r}, expected (low, high) with 0 < low < high in {unit}")
     if not (np.isfinite(fixed) and fixed > 0):
-        raise SimulationError(f"{'amplitude' if parameter == 'freq' else 'freq'}: found {fixed!r}, expected a "
+        raise SimulationError(f"{fixed_name}: found {fixed!r}, expected a "
                               f"positive value in {'m' if parameter == 'freq' else 'Hz'}")
     if direction not in (1, -1):
         raise SimulationError(f"direction: found {direction!r}, expected +1 (towards higher {parameter}) or -1")
-    start = (low if direction == 1 else high) if start is None else float(start)
+    given_start = start
+    try:
+        start = (low if direction == 1 else high) if start is None else float(start)
+    except (TypeError, ValueError):
+        start = math.nan
     if not (low <= start <= high):
-        raise SimulationError(f"start: found {start!r}, expected a value within {name} [{low:g}, {high:g}] {unit}")
-    if int(max_points) != max_points or max_points < 2:
-        raise SimulationError(f"max_points: found {max_points!r}, expected an integer >= 2")
-    step = max_step / 5 if step is None else step
-    if not (0 < min_step <= step <= max_step):
+        raise SimulationError(f"start: found {given_start!r}, expected a value within {name} [{low:g}, {high:g}] "
+                              f"{unit}")
+    max_points = whole_number(max_points, "max_points", 2)
+    try:
+        min_step, max_step = float(min_step), float(max_step)
+        step = max_step / 5 if step is None else float(step)
+    except (TypeError, ValueError):
+        min_step = step = max_step = math.nan
+    if not (np.isfinite([min_step, step, max_step]).all() and 0 < min_step <= step <= max_step):
         raise SimulationError(f"step: found min_step={min_step!r}, step={step!r}, max_step={max_step!r}, "
-                              "expected 0 < min_step <= step <= max_step")
+                              "expected finite 0 < min_step <= step <= max_step")
     period_map = PeriodMap(system, periods, jacobian=jacobian)
     freq0, amplitude0 = (start, fixed) if parameter == "freq" else (fixed, start)
-    if steps_per_period is None:
-        lowest_freq = low if parameter == "freq" else fixed
-        steps = int(default_steps_per_period(period_map.system, [lowest_freq])[0])
-    else:
-        steps = int(steps_per_period)
-        if steps < 8 or steps % 2:
-            raise SimulationError(f"steps_per_period: found {steps_per_period!r}, expected an even integer >= 8")
+    n_harmonics = whole_number(n_harmonics, "n_harmonics", 1)
+    if steps_per_period is not None and np.ndim(steps_per_period) != 0:
+        raise SimulationError(f"steps_per_period: found {steps_per_period!r}, expected one even integer >= 8 "
+                              "(fixed along the branch)")
+    lowest_freq = low if parameter == "freq" else fixed
+    steps = int(check_steps_per_period(period_map, [lowest_freq], steps_per_period, n_harmonics)[0])
     first = periodic_response(period_map.system, freq0, amplitude0, periods=periods, steps_per_period=steps,
                               jacobian=jacobian,
                               initial_states=None if initial_state is None else [initial_state],
@@ -512,7 +529,7 @@ def continue_in_frequency(system, amplitude: float, freq_range, *, start: float 
     >>> bool(branch.success), bool(branch.stable.all())
     (True, True)
     """
-    return _continue(system, "freq", float(amplitude), freq_range, start, periods=periods,
+    return _continue(system, "freq", amplitude, freq_range, start, periods=periods,
                      steps_per_period=steps_per_period, step=step, min_step=min_step, max_step=max_step,
                      max_points=max_points, n_harmonics=n_harmonics, tolerance=tolerance,
                      initial_state=initial_state, settle_periods=settle_periods, direction=direction,
@@ -536,7 +553,7 @@ def continue_in_amplitude(system, freq: float, amplitude_range, *, start: float 
     >>> bool(branch.success), bool(branch.amplitude[-1] >= 1e-3)
     (True, True)
     """
-    return _continue(system, "amplitude", float(freq), amplitude_range, start, periods=periods,
+    return _continue(system, "amplitude", freq, amplitude_range, start, periods=periods,
                      steps_per_period=steps_per_period, step=step, min_step=min_step, max_step=max_step,
                      max_points=max_points, n_harmonics=n_harmonics, tolerance=tolerance,
                      initial_state=initial_state, settle_periods=settle_periods, direction=direction,

@@ -57,7 +57,7 @@ import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (befor
 from idkit.errors import SimulationError
 from idkit.responses._sensitivity import tangent_start, tangent_step
 from idkit.simulate import default_steps_per_period
-from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
+from idkit.simulate._arrays import force_scale, resolve_system, system_arrays, whole_number
 from idkit.simulate._kernel import (
     FLAG_OK,
     FLAG_REASONS,
@@ -67,7 +67,7 @@ from idkit.simulate._kernel import (
     _step,
     base_motion_table,
 )
-from idkit.simulate.harmonic import linear_initial_state
+from idkit.simulate.harmonic import MAX_PERIOD_TABLE, linear_initial_state
 
 __all__ = ["STABILITY_MARGIN", "PeriodicResponse", "period_map", "periodic_response"]
 
@@ -182,7 +182,8 @@ class PeriodMap:
     def __init__(self, system, periods: int = 1, *, jacobian: str = "auto"):
         self.system = resolve_system(system)
         self.arrays = system_arrays(self.system)
-        if int(periods) not in (1, 2):
+        if isinstance(periods, (bool, np.bool_)) or not isinstance(periods, (int, np.integer, float, np.floating)) \
+                or periods not in (1, 2):  # 1.5 is refused, never truncated
             raise SimulationError(f"periods: found {periods!r}, expected 1 or 2 (the 1/2 subharmonic)")
         self.periods = int(periods)
         arrays = self.arrays
@@ -631,35 +632,81 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
     (True, True)
     """
     period_map = PeriodMap(system, periods, jacobian=jacobian)
-    freq, amplitude = np.broadcast_arrays(np.atleast_1d(np.asarray(freq, dtype=float)),
-                                          np.atleast_1d(np.asarray(amplitude, dtype=float)))
+    try:
+        freq, amplitude = np.broadcast_arrays(np.atleast_1d(np.asarray(freq, dtype=float)),
+                                              np.atleast_1d(np.asarray(amplitude, dtype=float)))
+    except ValueError:
+        raise SimulationError(f"freq, amplitude: found shapes {np.shape(freq)} and {np.shape(amplitude)}, "
+                              "expected shapes that broadcast together") from None
     freq, amplitude = freq.ravel().copy(), amplitude.ravel().copy()
+    if freq.size == 0:
+        raise SimulationError("freq, amplitude: found no points, expected at least one")
     if np.any(~np.isfinite(freq)) or np.any(freq <= 0):
-        raise SimulationError(f"freq: found {freq[~(freq > 0)][:1]}, expected positive frequencies in Hz")
+        raise SimulationError(f"freq: found {freq[~(freq > 0) | ~np.isfinite(freq)][:1]}, "
+                              "expected positive finite frequencies in Hz")
     if np.any(~np.isfinite(amplitude)) or np.any(amplitude <= 0):
-        raise SimulationError(f"amplitude: found {amplitude[~(amplitude > 0)][:1]}, expected positive m")
-    if not (np.isfinite(tolerance) and tolerance > 0):
-        raise SimulationError(f"tolerance: found {tolerance!r}, expected a positive closing error")
-    if int(n_harmonics) != n_harmonics or n_harmonics < 1:
-        raise SimulationError(f"n_harmonics: found {n_harmonics!r}, expected an integer >= 1")
-    if int(settle_periods) != settle_periods or settle_periods < 0:
-        raise SimulationError(f"settle_periods: found {settle_periods!r}, expected an integer >= 0")
-    if steps_per_period is None:
-        steps = default_steps_per_period(period_map.system, freq)
-    else:
-        steps = np.broadcast_to(np.asarray(steps_per_period, dtype=np.int64), freq.shape).copy()
-        if np.any(steps < 8) or np.any(steps % 2):
-            raise SimulationError("steps_per_period: expected even integers >= 8")
+        raise SimulationError(f"amplitude: found {amplitude[~(amplitude > 0) | ~np.isfinite(amplitude)][:1]}, "
+                              "expected positive finite amplitudes in m")
+    with np.errstate(over="ignore"):
+        base_accel = amplitude * (2 * np.pi * freq) ** 2
+    if not np.isfinite(base_accel).all():
+        worst = int(np.argmin(np.isfinite(base_accel)))
+        raise SimulationError(f"freq, amplitude: found {freq[worst]:g} Hz and {amplitude[worst]:g} m, whose base "
+                              f"acceleration A (2 pi f)^2 overflows; expected a finite one")
+    if isinstance(tolerance, (bool, np.bool_)) or not isinstance(tolerance, (int, float, np.integer, np.floating)) \
+            or not (np.isfinite(tolerance) and 0 < tolerance < 1):
+        raise SimulationError(f"tolerance: found {tolerance!r}, expected a closing error (over the state scale) "
+                              "> 0 and < 1")
+    n_harmonics = whole_number(n_harmonics, "n_harmonics", 1)
+    settle_periods = whole_number(settle_periods, "settle_periods", 0)
+    max_iterations = whole_number(max_iterations, "max_iterations", 0)
+    if seek_stable is not None and not isinstance(seek_stable, (bool, np.bool_)):
+        raise SimulationError(f"seek_stable: found {seek_stable!r}, expected True, False or None")
+    steps = check_steps_per_period(period_map, freq, steps_per_period, n_harmonics)
     if initial_states is None:
-        guesses, flags = settle(period_map, freq, amplitude, steps, int(settle_periods))
+        guesses, flags = settle(period_map, freq, amplitude, steps, settle_periods)
     else:
         guesses = np.atleast_2d(np.asarray(initial_states, dtype=float))
         if guesses.shape != (freq.size, period_map.size):
             raise SimulationError(f"initial_states: found shape {guesses.shape}, expected "
                                   f"{(freq.size, period_map.size)} (columns {', '.join(period_map.state_names)})")
-        guesses, flags = settle(period_map, freq, amplitude, steps, int(settle_periods), guesses)
+        if not np.isfinite(guesses).all():
+            row, column = np.argwhere(~np.isfinite(guesses))[0]
+            raise SimulationError(f"initial_states: found {guesses[row, column]} in row {row}, column "
+                                  f"{period_map.state_names[column]}, expected finite values")
+        guesses, flags = settle(period_map, freq, amplitude, steps, settle_periods, guesses)
     return _solve_points(period_map, freq, amplitude, steps, guesses, flags, n_harmonics, tolerance, max_iterations,
-                         int(settle_periods), seek_stable)
+                         settle_periods, seek_stable)
+
+
+def check_steps_per_period(period_map: PeriodMap, freq, steps_per_period, n_harmonics: int) -> NDArray[np.int64]:
+    """Steps per period of every point (``freq`` in Hz): ``steps_per_period`` if given (even
+    integers >= 8, never truncated), else :func:`idkit.simulate.default_steps_per_period`; at most
+    what the harmonic maps allow (:data:`idkit.simulate.harmonic.MAX_PERIOD_TABLE`: the two-period
+    Fourier table of :func:`orbit_harmonics` must fit in memory)."""
+    freq = np.atleast_1d(np.asarray(freq, dtype=float))
+    if steps_per_period is None:
+        steps = np.asarray(default_steps_per_period(period_map.system, freq), dtype=np.int64)
+    else:
+        try:
+            given = np.asarray(steps_per_period, dtype=float)
+        except (TypeError, ValueError):
+            given = np.array(np.nan)
+        if not (np.isfinite(given).all() and (given >= 8).all() and (given % 2 == 0).all()):
+            raise SimulationError(f"steps_per_period: found {steps_per_period!r}, expected even integers >= 8")
+        try:
+            steps = np.broadcast_to(given, freq.shape).astype(np.int64)
+        except ValueError:
+            raise SimulationError(f"steps_per_period: found shape {given.shape}, expected one value or one per "
+                                  f"point ({freq.size})") from None
+    limit = MAX_PERIOD_TABLE // (2 * (2 * n_harmonics + 1))
+    if not (steps <= limit).all():
+        worst = int(np.argmax(steps))
+        raise SimulationError(
+            f"freq: found {freq[worst]:g} Hz with {steps[worst]} steps per period; with n_harmonics="
+            f"{n_harmonics} a period may take at most {limit} steps (the orbit's Fourier table would not "
+            f"fit in memory): expected a higher frequency, fewer steps per period or fewer harmonics")
+    return steps
 
 
 def _escape(period_map, freq, amplitude, shot, steps, settle_periods, tolerance, max_iterations):

@@ -262,3 +262,20 @@ def test_a_branch_stopped_by_max_points_is_not_a_success():
     short = continue_in_frequency(library.get("system_a1_asymmetric"), 1e-3, (20.0, 25.0), max_step=0.2,
                                   max_points=3)
     assert short.n_points == 3 and short.freq[-1] < 25.0 and not short.success
+
+
+@pytest.mark.parametrize("arguments, name", [
+    (dict(freq_range=(4.0, 5.0, 6.0)), "freq_range"),  # ValueError from unpacking
+    (dict(freq_range=5.0), "freq_range"),  # TypeError
+    (dict(amplitude=[1e-3, 2e-3]), "amplitude"),  # TypeError from float()
+    (dict(steps_per_period=100.7), "steps_per_period"),  # was truncated to 100
+    (dict(steps_per_period=[128, 128]), "steps_per_period"),  # TypeError
+    (dict(max_step=np.inf), "max_step"),  # ds = inf: halving never ends
+    (dict(max_points=np.nan), "max_points"),  # ValueError from int()
+    (dict(start="low"), "start"),  # ValueError from float()
+    (dict(freq_range=(1e-6, 1e-5)), "steps per period"),  # 2.6e8 steps per period at 1e-6 Hz
+])
+def test_hostile_continuation_arguments_are_refused_naming_them(arguments, name):
+    call = dict(amplitude=1e-3, freq_range=(4.0, 7.0)) | arguments
+    with pytest.raises(SimulationError, match=name):
+        continue_in_frequency(_duffing(), call.pop("amplitude"), call.pop("freq_range"), **call)
