@@ -76,6 +76,10 @@ FD_STEP = 1e-6
 #: A multiplier is unstable when ``|mu| > 1 + STABILITY_MARGIN`` (100x the finite-difference error).
 #: The neutral multipliers of sticking friction memory sit at 1 within that error.
 STABILITY_MARGIN = 1e-4
+#: An unstable orbit left along its eigenvector: the growth of the push integrated before shooting again
+#: when a few periods do not reach a stable orbit (``_escape``), and the cap on those periods.
+ESCAPE_GROWTH = 1e3
+ESCAPE_MAX_PERIODS = 4000
 #: Singular values of the scaled ``I - dPhi/dx`` below this are conserved quantities (friction memory).
 NULL_TOLERANCE = 1e-5
 
@@ -712,7 +716,9 @@ def check_steps_per_period(period_map: PeriodMap, freq, steps_per_period, n_harm
 def _escape(period_map, freq, amplitude, shot, steps, settle_periods, tolerance, max_iterations):
     """From an unstable orbit, push the masses along its most unstable real eigenvector (1 and 3
     state scales, both ways; sticking friction elements follow, see :meth:`PeriodMap.push`),
-    integrate ``settle_periods`` and shoot again; the first stable orbit found, else None.
+    integrate ``settle_periods`` and shoot again; the first stable orbit found, else None. If
+    none is found, push by 1 scale both ways again and integrate until the unstable mode has
+    grown :data:`ESCAPE_GROWTH`-fold (at most :data:`ESCAPE_MAX_PERIODS` periods) before shooting.
 
     This is what a time integration does from near the unstable orbit, without waiting for the
     slow growth (a multiplier of 1.003 takes about 1500 periods to grow a 1 % perturbation 100x).
@@ -726,9 +732,17 @@ def _escape(period_map, freq, amplitude, shot, steps, settle_periods, tolerance,
     direction /= np.max(np.abs(direction))
     length = max(amplitude, float(np.max(np.abs(shot.state[:period_map.ndof]))))
     scale = period_map.scales(freq, amplitude, length)[0]
-    for size, sign in ((1.0, 1.0), (1.0, -1.0), (3.0, 1.0), (3.0, -1.0)):
+    # then, if the attractor lies further than a few state scales away (a subharmonic much larger
+    # than the period-1 orbit), long enough for the unstable mode to grow ESCAPE_GROWTH-fold
+    growth = float(np.abs(values[index]))
+    periods = min(ESCAPE_MAX_PERIODS, int(math.ceil(period_map.periods * math.log(ESCAPE_GROWTH) / math.log(growth))))
+    short = max(settle_periods, 2)
+    attempts = [(1.0, 1.0, short), (1.0, -1.0, short), (3.0, 1.0, short), (3.0, -1.0, short)]
+    if periods > short:
+        attempts += [(1.0, 1.0, periods), (1.0, -1.0, periods)]
+    for size, sign, n_periods in attempts:
         guess = period_map.push(shot.state, sign * size * direction[:2 * period_map.ndof] * scale[:2 * period_map.ndof])
-        settled, flags = settle(period_map, freq, amplitude, steps, max(settle_periods, 2), guess[None])
+        settled, flags = settle(period_map, freq, amplitude, steps, n_periods, guess[None])
         if flags[0] != FLAG_OK:
             continue
         retry = shoot(period_map, freq, amplitude, settled[0], steps, tolerance=tolerance,

@@ -10,6 +10,7 @@ import pytest
 from idkit.models import IwanModel, SDOFSystem, library
 from idkit.responses.continuation import continue_in_frequency
 from idkit.responses.periodic import PeriodMap, periodic_response
+from idkit.simulate import harmonic_response
 
 # Hardening Duffing m y'' + c y' + k y + k3 y^3 = m A w^2 sin(w t): 2 kg, 8 Hz, 2 %, base 2 mm;
 # the linear peak deflection A / (2 zeta) = 0.05 m carries a cubic force 0.4 of the linear one,
@@ -135,3 +136,64 @@ def test_table_a1_period_doubling_orbit_diverges_alternating_by_its_multiplier()
     distance, _ = _distances(period_map, below.states[0], 10.5, 1.2e-3, int(below.steps_per_period[0]), 1e-5, 3000)
     assert distance[-1] < 1e-3 * distance[0]
 
+
+def _mathieu_tongue(mass, stiffness, damping, depth):
+    """Excitation frequencies (Hz) bounding the first parametric-resonance tongue of
+    ``m y'' + c y' + k (1 + depth cos(W t)) y = 0`` by first-order harmonic balance at ``W / 2``:
+    ``(1 - r^2)^2 + (2 zeta r)^2 = depth^2 / 4`` with ``r = W / (2 w0)``."""
+    omega0 = np.sqrt(stiffness / mass)
+    zeta = damping / (2 * np.sqrt(stiffness * mass))
+    roots = np.roots([1.0, 4 * zeta**2 - 2, 1 - depth**2 / 4])
+    return np.sort(2 * omega0 * np.sqrt(roots.real) / (2 * np.pi))
+
+
+def _quadratic_rope():
+    """5 kg on an asymmetric rope of our own: quadratic spring 1.5e5 N/m^2, one Jenkin element
+    (4 kN/m, 30 N), 0.19 % damping; stuck resonance 6.75 Hz, so a 1/2 subharmonic near 13.5 Hz."""
+    return SDOFSystem(5.0, IwanModel(g1=5e3, g2=1.5e5, k=[4e3], fc=[30.0], c_visc=0.8))
+
+
+def test_period_doubling_range_of_a_quadratic_rope_is_where_time_runs_find_the_subharmonic():
+    """Base 0.5 mm: the quadratic spring modulates the stuck stiffness at the excitation frequency
+    with depth 2 g2 Y / k = 0.022 (Y the first-harmonic deflection), a damped Mathieu tongue
+    whose first-order bounds are good to O(depth^2) = 5e-4, plus the interpolation between
+    branch points 0.2 % apart: tolerance 1e-3 (measured 1.2e-4, 1.3e-4). Time runs (to 1e-8)
+    0.3 % outside either period-doubling point settle on the period-1 orbit (|H0.5| at the
+    noise floor 1e-6), 0.3 % inside on a 1/2 subharmonic, which shooting with periods=2 finds
+    too (to 1e-6, the same discrete orbit)."""
+    system = _quadratic_rope()
+    amplitude = 5e-4
+    branch = continue_in_frequency(system, amplitude, (13.0, 14.0), max_step=0.002)
+    assert branch.success
+    doubling = sorted(point.freq for point in branch.points("period doubling"))
+    assert len(doubling) == 2
+    near = [int(np.argmin(np.abs(branch.freq - freq))) for freq in doubling]
+    deflection = np.abs(branch.deflection_coefficients[near, 2]).mean()
+    mean = branch.deflection_coefficients[near, 0].real.mean()
+    rope = system.isolator
+    stiffness = rope.stuck_stiffness + 2 * rope.g2 * mean
+    expected = _mathieu_tongue(system.mass, stiffness, rope.c_visc, 2 * rope.g2 * deflection / stiffness)
+    assert np.all(np.abs(np.array(doubling) / expected - 1) < 1e-3), (doubling, expected)
+    outside = [doubling[0] * 0.997, doubling[1] * 1.003]
+    inside = [doubling[0] * 1.003, doubling[1] * 0.997]
+    runs = harmonic_response(system, outside + inside, amplitude, tolerance=1e-8, max_periods=40000,
+                             start="linear", workers=1)
+    assert runs.converged.all()
+    subharmonic = np.abs(runs.hosidf(0.5))
+    assert np.all(subharmonic[:2] < 1e-6) and np.all(subharmonic[2:] > 1.0), subharmonic
+    shot = periodic_response(system, inside, amplitude, periods=2)
+    assert shot.converged.all() and shot.stable.all()
+    assert np.allclose(np.abs(shot.hosidf(0.5)), subharmonic[2:], rtol=1e-6, atol=0)
+
+
+def test_a_subharmonic_far_larger_than_the_unstable_orbit_is_found():
+    """Inside the quadratic rope's tongue (13.45 Hz, 0.5 mm) the stable 1/2 subharmonic
+    (7.5 mm, slipping) is 45 times the period-1 orbit (0.17 mm): pushes of 1 and 3 state scales
+    and 20 periods fell back onto the doubled period-1 orbit, and periods=2 returned it
+    (unstable, |H0.5| = 0) while a time run settles on |H0.5| = 7.48."""
+    system = _quadratic_rope()
+    shot = periodic_response(system, 13.45, 5e-4, periods=2)
+    assert shot.converged[0] and shot.stable[0]
+    run = harmonic_response(system, 13.45, 5e-4, tolerance=1e-8, max_periods=40000, start="linear", workers=1)
+    assert run.converged[0]
+    assert abs(abs(shot.hosidf(0.5)[0]) / abs(run.hosidf(0.5)[0]) - 1) < 1e-6
