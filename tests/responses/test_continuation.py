@@ -279,3 +279,66 @@ def test_hostile_continuation_arguments_are_refused_naming_them(arguments, name)
     call = dict(amplitude=1e-3, freq_range=(4.0, 7.0)) | arguments
     with pytest.raises(SimulationError, match=name):
         continue_in_frequency(_duffing(), call.pop("amplitude"), call.pop("freq_range"), **call)
+
+
+def _hb_turning_frequencies(mass, stiffness, damping, cubic, base, deflection):
+    """Frequencies (rad/s) and deflections of the turning points of the first-order HB curve
+    ``[(k + 3/4 k3 Y^2 - m w^2)^2 + (c w)^2] Y^2 = (m A w^2)^2`` on ``deflection`` (both roots)."""
+    effective = stiffness + 0.75 * cubic * deflection**2
+    a = mass**2 * (deflection**2 - base**2)
+    b = (damping**2 - 2 * effective * mass) * deflection**2
+    discriminant = b * b - 4 * a * effective**2 * deflection**2
+    root = np.sqrt(np.where(discriminant >= 0, discriminant, np.nan))
+    turns = []
+    for sign in (-1.0, 1.0):
+        omega = np.sqrt((-b + sign * root) / (2 * a))
+        slope = np.diff(omega)
+        index = np.flatnonzero(slope[:-1] * slope[1:] < 0) + 1
+        turns += [(omega[i], deflection[i]) for i in index]
+    return turns
+
+
+def test_softening_duffing_folds_match_harmonic_balance():
+    """A softening Duffing (2 kg, 8 Hz, 2 %, base 2 mm, k3 = -0.12 k / (0.05 m)^2): the resonance
+    leans to lower frequencies, both folds near 7.65 Hz; first-order HB turning points within
+    the bound of :func:`_hb_error_bound` at k3 Y^2 / k = -0.1 (2.5e-4; measured 1.4e-5 and
+    9e-5). Between them the branch is unstable by a real multiplier above 1."""
+    mass, stiffness = 2.0, (2 * np.pi * 8.0) ** 2 * 2.0
+    damping, base = 2 * 0.02 * np.sqrt(stiffness * mass), 2e-3
+    cubic = -0.12 * stiffness / 0.05**2
+    system = SDOFSystem(mass, IwanModel(g1=0.9 * stiffness, k=[0.1 * stiffness], fc=[1e6], g3=cubic, c_visc=damping))
+    branch = continue_in_frequency(system, base, (5.0, 9.0), steps_per_period=STEPS)
+    assert branch.success
+    folds = sorted(branch.points("fold"), key=lambda point: point.freq)
+    expected = sorted(_hb_turning_frequencies(mass, stiffness, damping, cubic, base, np.linspace(1e-2, 0.07, 200001)))
+    assert len(folds) == 2 and len(expected) == 2
+    for point, (omega, deflection) in zip(folds, expected):
+        nonlinearity = cubic * deflection**2 / stiffness
+        bound = 1.5 * (3 / 256 * nonlinearity**2 + (omega / (point.freq * STEPS)) ** 2 / 12)
+        assert abs(point.freq / (omega / (2 * np.pi)) - 1) < bound, (point.freq, omega / (2 * np.pi), bound)
+    first, second = sorted(point.index for point in folds)
+    assert not branch.stable[first + 2:second - 1].any()
+    assert (np.abs(branch.multipliers[first + 2:second - 1, 0]) > 1).all()
+
+
+def test_amplitude_fold_is_a_frequency_fold_of_the_branch_at_that_amplitude():
+    """Hardening Duffing (8 Hz, 2 %, k3 = 0.4 k / (0.05 m)^2) at a fixed 9 Hz: the amplitude
+    branch folds where the upper orbit ends (jump down, 1.661 mm; HB 1.667 mm). At that base
+    amplitude the frequency branch must fold at 9 Hz: both turning points of the same discrete
+    orbits, each located by the vertex of a parabola through three branch points (measured
+    1e-7 apart here, 2e-4 at the other fold, 3.92 mm, where the frequency steps are coarser):
+    tolerance 1e-3."""
+    mass, stiffness = 2.0, (2 * np.pi * 8.0) ** 2 * 2.0
+    damping = 2 * 0.02 * np.sqrt(stiffness * mass)
+    cubic = 0.4 * stiffness / 0.05**2
+    system = SDOFSystem(mass, IwanModel(g1=0.9 * stiffness, k=[0.1 * stiffness], fc=[1e6], g3=cubic, c_visc=damping))
+    branch = continue_in_amplitude(system, 9.0, (2e-4, 4e-3), steps_per_period=STEPS)
+    assert branch.success
+    folds = sorted(branch.points("fold"), key=lambda point: point.amplitude)
+    assert len(folds) == 2
+    # between the folds (in arclength) the middle orbits are unstable, the others stable
+    first, second = sorted(point.index for point in folds)
+    assert branch.stable[:first].all() and branch.stable[second + 2:].all()
+    assert not branch.stable[first + 2:second - 1].any()
+    across = continue_in_frequency(system, folds[0].amplitude, (6.0, 12.0), steps_per_period=STEPS)
+    assert any(abs(point.freq / 9.0 - 1) < 1e-3 for point in across.points("fold")), across.report()
