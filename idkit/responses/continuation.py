@@ -49,6 +49,9 @@ __all__ = ["Branch", "SpecialPoint", "continue_in_amplitude", "continue_in_frequ
 #: A corrector iterate further than this from its prediction (scaled state and ``ln`` of the
 #: parameter: the whole response, or a factor e in the parameter) has left the branch.
 CORRECTOR_REACH = 1.0
+#: A unit tangent whose parameter component is below this (round-off of the null vector) does not
+#: move the parameter: the branch is following a family of orbits at a fixed parameter.
+TANGENT_NOISE = 1e-12
 
 
 @dataclass(frozen=True)
@@ -320,7 +323,8 @@ def _count_below_minus_one(multipliers):
 def _special_points(parameter, p_values, tangent_p, multipliers, arclength, half_range, fixed):
     points = []
     for index in range(p_values.size - 1):
-        if tangent_p[index] * tangent_p[index + 1] < 0:
+        if tangent_p[index] * tangent_p[index + 1] < 0 and min(abs(tangent_p[index]), abs(tangent_p[index + 1])) \
+                >= TANGENT_NOISE:  # a sign of round-off is no turn
             # parabola p(s) through three points around the turn; its vertex is the fold
             centre = index if 0 < index else index + 1
             centre = min(max(centre, 1), p_values.size - 2) if p_values.size >= 3 else index
@@ -445,6 +449,12 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
         if iterations <= 3:
             ds = min(ds * 1.5, max_step)
         if not (p_low - 1e-12 <= y[-1] <= p_high + 1e-12):
+            break
+        if abs(tangent[-1]) < TANGENT_NOISE:
+            reason = (f"at {math.exp(y[-1]):.5g} {unit} the branch has no direction in {parameter} left: it goes on "
+                      f"only along a family of orbits at that {parameter} (sticking friction memory, a multiplier "
+                      f"at 1, that the {parameter} does not leave conserved); not a fold")
+            success = False
             break
     else:
         if success:  # the cap, not the end of the range, stopped the branch

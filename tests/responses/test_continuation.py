@@ -342,3 +342,18 @@ def test_amplitude_fold_is_a_frequency_fold_of_the_branch_at_that_amplitude():
     assert not branch.stable[first + 2:second - 1].any()
     across = continue_in_frequency(system, folds[0].amplitude, (6.0, 12.0), steps_per_period=STEPS)
     assert any(abs(point.freq / 9.0 - 1) < 1e-3 for point in across.points("fold")), across.report()
+
+
+def test_a_branch_walking_along_friction_memory_reports_no_folds_and_is_not_complete():
+    """Chapter 5 hybrid (asymmetric rope), base 5 mm, from 2 Hz up: at 6.364 Hz the orbits become
+    a family at fixed frequency (a multiplier at 1 whose conserved quantity the frequency
+    changes, u . dG/dp = 0.47): the tangent's frequency component fell to round-off (1e-16) and
+    its sign flips were reported as 13 folds on a branch whose every point is stable (a fold
+    needs a multiplier through +1), which then walked back below 2 Hz and said "complete"
+    without reaching 60 Hz."""
+    system = library.get("hybrid_asymmetric")
+    branch = continue_in_frequency(system, 5e-3, (2.0, 60.0), max_step=0.02)
+    assert branch.stable.all()
+    assert not branch.points("fold")
+    if branch.freq.max() < 60.0:
+        assert not branch.success and "family of orbits" in branch.reason
