@@ -33,7 +33,8 @@ run open loop from rest on the measured force, as it will be used.
    that coloured residuals (model error) are visible.
 
 ``success`` is False, with reasons, when the optimiser did not converge, a
-parameter ends at a bound, ``J^T J`` is singular or the final simulation fails.
+parameter ends at a bound, ``J^T J`` is singular, two parameters correlate with |rho| >= 0.999, a
+residual is not finite or the final simulation fails (the shared verdict, docs/fitting.md "Verdicts").
 """
 
 from __future__ import annotations
@@ -48,6 +49,7 @@ from scipy.optimize import least_squares, minimize
 
 from idkit.errors import FitError, ParameterError
 from idkit.fit._params import to_lmfit
+from idkit.fit.result import UNDETERMINED_CORRELATION
 from idkit.models.boucwen import BoucWenModel
 from idkit.models.laws import boucwen_z_history, kernel_array
 from idkit.simulate.force_driven import (
@@ -68,6 +70,9 @@ OUTPUT_UNITS = {"mass_kg": "kg", "c_visc": "N s/m", "k1": "N/m", "k2": "N/m^2", 
 _POSITIVE = ("mass_kg", "c_visc", "k1", "alpha", "n")
 #: Relative distance to a bound (in the transformed coordinate) counted as "at the bound".
 _AT_BOUND = 1e-6
+#: J^T J is singular when its smallest singular value is below this share of its largest (as
+#: :func:`idkit.fit._params.gauss_newton_covariance` for every other fitter).
+_SINGULAR_RCOND = 1e-10
 
 
 def output_model(params: dict[str, float]) -> tuple[BoucWenModel, float]:
@@ -433,15 +438,37 @@ def fit_boucwen_output(force, displacement, sample_rate_hz: float, *, start: dic
     bounds = {name: ((math.exp(low), math.exp(high)) if name in _POSITIVE else (low * scales[name], high * scales[name]))
               for name, low, high in zip(varied, lower, upper)}
     normal = jacobian.T @ jacobian
-    if np.linalg.cond(normal) > 1e14 or not np.all(np.isfinite(normal)):
-        reasons.append(f"J^T J is singular (condition {np.linalg.cond(normal):.3g}): some parameters are not "
-                       "identifiable from this record")
+    finite = bool(np.all(np.isfinite(normal)) and np.all(np.isfinite(fit_residual)))
+    singular = np.linalg.svd(normal, compute_uv=False) if finite else np.array([math.inf])
+    if not np.all(np.isfinite(fit_residual)):
+        reasons.append("residuals are not finite at the optimum (NaN or inf): the error and standard errors mean "
+                       "nothing")
+    if y_used.size <= len(varied):
+        reasons.append(f"{y_used.size} samples for {len(varied)} varied parameters: fewer data than parameters")
+    # the shared verdict (docs/fitting.md, "Verdicts"): singular below 1e-10 of the largest
+    # singular value of J^T J, as every other fitter (gauss_newton_covariance)
+    if not finite or singular[-1] <= _SINGULAR_RCOND * singular[0]:
+        condition = singular[0] / singular[-1] if finite and singular[-1] > 0 else math.inf
+        reasons.append(f"not determined by the data: J^T J is singular (condition {condition:.3g}): some of "
+                       f"{', '.join(varied)} are not identifiable from this record")
         for name in varied:
             stderr[name] = math.nan
     else:
         covariance = variance * np.linalg.inv(normal) * np.outer(chain, chain)
         for index, name in enumerate(varied):
             stderr[name] = math.sqrt(max(covariance[index, index], 0.0))
+        sigma = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            correlation = covariance / np.outer(sigma, sigma)
+        linked = sorted({tuple(sorted((varied[i], varied[j]))) for i in range(len(varied)) for j in range(len(varied))
+                         if i < j and abs(correlation[i, j]) >= UNDETERMINED_CORRELATION})
+        if linked:
+            pairs = ", ".join(f"{a} and {b}" for a, b in linked)
+            reasons.append(f"determined only in combination: {pairs} (|correlation| >= {UNDETERMINED_CORRELATION:g}; "
+                           "each value alone is not fixed by the data)")
+        bad = [name for name in varied if not math.isfinite(stderr[name])]
+        if bad:
+            reasons.append(f"not determined by the data: {', '.join(bad)} (no finite standard error)")
     centred = fit_residual - np.mean(fit_residual)
     lag1 = float(np.dot(centred[1:], centred[:-1]) / np.dot(centred, centred)) if np.any(centred) else 0.0
     try:

@@ -72,7 +72,7 @@ from idkit.fit._optim import MAX_EVALS, nelder_mead
 from idkit.fit._params import Transform, jacobian_statistics, spec_units, to_lmfit, to_physical_statistics
 from idkit.fit.iwan_start import iwan_start
 from idkit.fit.loop_objective import IwanLoops, check_state, iwan_set_errors, iwan_set_forces
-from idkit.fit.result import IwanFitResult, IwanFitSettings, StageResult
+from idkit.fit.result import IwanFitResult, IwanFitSettings, StageResult, determinacy_reasons
 from idkit.models import IwanModel
 from idkit.models.laws import lowest_spring_stiffness
 from idkit.observe.quasi_static import LoopSet, as_loop_sets, prepare_loops
@@ -304,6 +304,7 @@ def fit_iwan(
                        f"the loops' own deflections ({1e3 * low:.4g} to {1e3 * high:.4g} mm): the model cannot be "
                        "simulated over its data")
     parameters, statistics = _iwan_lmfit(model, small_packed, large_packed, x_ref, stiffness_ref, force_ref, units)
+    reasons.extend(determinacy_reasons(parameters, statistics))  # the shared verdict (docs/fitting.md, "Verdicts")
     settings = IwanFitSettings(order=n, backend=backend, points_per_set=points_per_set, max_evals=max_evals,
                                xtol=xtol, ftol=ftol, restarts=restarts, initial_step=initial_step,
                                initial_state=initial_state, seed=int(seed),

@@ -55,7 +55,7 @@ from idkit.errors import FitError
 from idkit.fit.compare import ORDER_RULE_FACTOR, LoopModelComparison, compare_loop_models
 from idkit.fit._params import Transform, jacobian_statistics, to_lmfit, to_physical_statistics
 from idkit.fit.iwan import LoopSet, fit_iwan, prepare_loops
-from idkit.fit.result import IwanFitResult, IwanFitSettings, StageResult
+from idkit.fit.result import IwanFitResult, IwanFitSettings, StageResult, determinacy_reasons
 from idkit.models import IwanModel, ModulatedIwanModel
 
 __all__ = [
@@ -638,6 +638,8 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
             reasons.append(f"parameter {row.name} = {row.value:.6g} {row.unit} is on its search bound")
     if best.status <= 0:
         reasons.append(f"least squares stopped without converging: {best.message}")
+    reasons.extend(determinacy_reasons(lmfit_parameters, statistics,  # the shared verdict (docs/fitting.md)
+                                       excused=tuple(row.name for row in table.itertuples() if row.at_bound)))
     chi2 = _modulation_chi2(lmfit_parameters)
     if not chi2 >= RESOLVED_CHI2:
         a_err = lmfit_parameters["slip_modulation"].stderr

@@ -28,6 +28,7 @@ __all__ = [
     "BoucWenFitResult",
     "UNDETERMINED_CORRELATION",
     "undetermined_groups",
+    "determinacy_reasons",
 ]
 
 
@@ -57,6 +58,53 @@ def undetermined_groups(parameters: lmfit.Parameters, threshold: float = UNDETER
     for name in names:
         members.setdefault(root(name), []).append(name)
     return tuple(tuple(found) for found in members.values() if len(found) > 1)
+
+
+def determinacy_reasons(parameters: lmfit.Parameters, statistics, *, excused: tuple[str, ...] = ()) -> tuple[str, ...]:
+    """Why the data do not determine the fitted parameters: the shared verdict of every fitter.
+
+    The policy (docs/fitting.md, "Verdicts"): a fit whose varied parameters the data do not
+    each determine is **not a success** (``success=False``), whatever its error, and the
+    reason names the parameters. One reason per kind:
+
+    * the statistics could not be formed (no residuals, fewer residuals than varied
+      parameters) or a residual is not finite (NaN or inf) at the optimum;
+    * a varied parameter has no standard error or a non-finite one: ``J^T J`` is singular or
+      near-singular (smallest singular value below 1e-10 of the largest,
+      :func:`idkit.fit._params.gauss_newton_covariance`), its Jacobian column is zero, or the
+      Jacobian is not finite (``stderr_notes`` give the fitter's own words);
+    * parameters determined only in combination (``|correlation| >=``
+      :data:`UNDETERMINED_CORRELATION`, :func:`undetermined_groups`).
+
+    ``excused`` names parameters already given a reason of their own (a parameter on its search
+    bound has no standard error by construction); they are not named again.
+    """
+    varied = [name for name, par in parameters.items() if par.vary and name not in excused]
+    if not varied:
+        return ()
+    reasons = []
+    if statistics is None:
+        return (f"no least-squares statistics at the optimum: the data do not determine {', '.join(varied)}",)
+    residual = np.asarray(getattr(statistics, "residual", ()), dtype=float)
+    if residual.size and not np.all(np.isfinite(residual)):
+        reasons.append(f"{int(np.sum(~np.isfinite(residual)))} of {residual.size} residuals are not finite at the "
+                       "optimum (NaN or inf): the fit's error and standard errors mean nothing")
+    nvarys = int(getattr(statistics, "nvarys", len(varied)) or 0)
+    if 0 < int(getattr(statistics, "ndata", 0) or 0) <= nvarys:
+        reasons.append(f"{int(statistics.ndata)} residuals for {nvarys} varied parameters: fewer data than "
+                       "parameters, the data cannot determine them")
+    missing = [name for name in varied
+               if parameters[name].stderr is None or not np.isfinite(float(parameters[name].stderr))]
+    if missing:
+        notes = tuple(getattr(statistics, "stderr_notes", ()) or ())
+        why = "; ".join(notes) if notes else "no finite standard error"
+        reasons.append(f"not determined by the data: {', '.join(missing)} ({why})")
+    for group in undetermined_groups(parameters):
+        group = [name for name in group if name not in excused]
+        if len(group) > 1:
+            reasons.append(f"determined only in combination: {', '.join(group)} (|correlation| >= "
+                           f"{UNDETERMINED_CORRELATION:g}; each value alone is not fixed by the data)")
+    return tuple(reasons)
 
 
 def _undetermined_lines(groups) -> list[str]:
@@ -542,6 +590,7 @@ class MaxwellFitResult(_LmfitStatistics):
         if len(close):
             pairs = ", ".join(f"{rates[i]:.4g} and {rates[i + 1]:.4g} 1/s" for i in close)
             reasons.append(f"relaxation rates coincide ({pairs}): redundant elements, a lower order fits as well")
+        reasons.extend(determinacy_reasons(self.parameters, self.statistics, excused=self.at_bound))
         return tuple(reasons)
 
     @property
@@ -660,8 +709,9 @@ class BoucWenFitResult(_LoopFitResult):
 
     @property
     def reasons(self) -> tuple[str, ...]:
-        """Why the fit is not a success: a stage stopped on its evaluation limit (its optimiser status)."""
-        return tuple(self._stopped_stages())
+        """Why the fit is not a success: a stage stopped on its evaluation limit (its optimiser status),
+        or the data do not determine the parameters (:func:`determinacy_reasons`)."""
+        return tuple([*self._stopped_stages(), *determinacy_reasons(self.parameters, self.statistics)])
 
     def report(self) -> str:
         """Readable summary: stages, conditioning, parameters with stderr."""

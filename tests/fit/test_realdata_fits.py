@@ -94,3 +94,23 @@ def test_slip_modulated_iwan_on_mr_damper_cycles_is_honest():
     assert np.all(np.isfinite(result.small_errors)) and np.all(np.isfinite(result.large_errors))
     assert not result.success and result.reasons
     assert not result.to_iwan_result().success
+
+
+def test_a_prony_term_that_changes_nothing_is_not_a_success():
+    """The pyvisco master curve pruned from order 1 up: orders 10, 12, 14 and 16 add a term whose
+    stiffness goes to ~0 (error equal to the order below's to 1e-6; J^T J singular, condition
+    5.7e12 at order 10). Those terms are not determined by the data; before, those orders were
+    success=True with the singular J^T J only in their stderr notes."""
+    from idkit.fit import fit_dma_table
+
+    table = read_pyvisco_complex_modulus(_need("pyvisco_dma") / "verification" / "freq_master"
+                                         / "freq_user_master.csv")
+    prune = fit_dma_table(table).prony.table
+    errors = dict(zip(prune["order"], prune["error [%]"]))
+    idle = [order for order in errors if order - 1 in errors and abs(errors[order] - errors[order - 1])
+            <= 1e-6 * errors[order - 1]]
+    assert idle
+    for order in idle:
+        row = prune[prune["order"] == order].iloc[0]
+        assert not row["success"], order
+        assert "not determined by the data" in row["reasons"] or "coincide" in row["reasons"], row["reasons"]

@@ -198,11 +198,15 @@ def test_rope_family_rule_picks_a_model_whose_parameters_the_loops_determine(rop
     # order 2 (the thesis's) scored 5.6 % / 3.4 %: two elements cannot hold slip spread over
     # 20 um - 7.5 mm. The plain rule reaches 1.5 / 1.8 % at order 6, but orders 5 and 6 carry
     # an element slipping only at the tips of the largest loops, traded against g1
-    # (correlation 1.000): the family rule then tries the slip-modulated model, whose
-    # symmetric term follows the truth's loop width growing alike in tension and compression
+    # (correlation 1.000), so they are not successes (docs/fitting.md, "Verdicts") and the plain
+    # rule keeps a lower, determined order, above the loops' noise floor: the family rule then
+    # tries the slip-modulated model, whose symmetric term follows the truth's loop width
+    # growing alike in tension and compression
     table = rope_fit.order_table
     plain = table[table["family"] == "plain"]
-    assert rope_fit.family_fits["plain"].undetermined  # what sent the rule to the modulation
+    traded = plain[plain["reasons"].str.contains("determined only in combination")]
+    assert len(traded) and not traded["success"].any()
+    assert not rope_fit.family_fits["plain"].undetermined
     assert rope_fit.result.settings.family == "modulated" and not rope_fit.result.undetermined
     assert rope_fit.model.slip_growth > 0.2  # the loops widen at both ends (truth: 0.4 tanh^2)
     chosen = table[table["recommended"]]
