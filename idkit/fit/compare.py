@@ -103,7 +103,8 @@ def iwan_order_table(small, large, *, orders: Sequence[int] = (1, 2, 3, 4, 5, 6)
     +-inf if never), ``success``, ``reasons`` and ``recommended``: the lowest order whose mean
     of small and large error is within :data:`ORDER_RULE_FACTOR` of the best, among the
     fits that succeeded (an order that stopped at a limit or a bound is not recommended
-    while another succeeds). ``options`` go to :func:`fit_iwan`.
+    while another succeeds), ``family`` and ``fit`` (``"loops"``: fitted without a valid-range
+    barrier; ``"valid range"``: with one). ``options`` go to :func:`fit_iwan`.
     """
     return iwan_order_fits(small, large, orders=orders, **options)[0]
 
@@ -134,7 +135,8 @@ def iwan_order_row(result, secant: float) -> dict:
             "stuck_stiffness [N/m]": float(result.model.stuck_stiffness), "smallest_loop_secant [N/m]": secant,
             "spring_negative_below [m]": below, "spring_negative_above [m]": above,
             "success": result.success, "reasons": "; ".join(result.reasons),
-            "family": getattr(result.settings, "family", "plain")}
+            "family": getattr(result.settings, "family", "plain"),
+            "fit": "loops" if getattr(result.settings, "valid_range", None) is None else "valid range"}
 
 
 def _rule(table: pd.DataFrame, error: pd.Series) -> int:

@@ -451,6 +451,12 @@ def fit_iwan_measurements(
         else:
             result = fit_iwan(list(data.small), list(data.large), backend=backend, seed=seed, start=result.model,
                               **options)
+            if order_table is not None:
+                # the table shows the fit the model is (and the report's loop errors quote): the
+                # chosen order's valid-range refit, beside the loops' own fits the rule compared
+                refit = pd.DataFrame([iwan_order_row(result, order_table["smallest_loop_secant [N/m]"].iloc[0])])
+                order_table = pd.concat([order_table.assign(recommended=False),
+                                         refit.assign(fit=VALID_RANGE_FIT, recommended=True)], ignore_index=True)
     family_fits = {"plain": result}
     if family != "plain":
         plain_fits = {order: result} if order_table is None else {
@@ -469,6 +475,8 @@ def fit_iwan_measurements(
                 [iwan_order_row(plain_fits[order], secant)])
             order_table = pd.concat([base.assign(recommended=False), family_rows], ignore_index=True)
             chosen = (order_table["family"] == result.settings.family) & (order_table["order"] == result.model.order)
+            if result.settings.family == "plain" and (order_table["fit"] == VALID_RANGE_FIT).any():
+                chosen &= order_table["fit"] == VALID_RANGE_FIT  # the refit, not the loops' own fit of that order
             order_table["recommended"] = chosen
         order = result.model.order
         family_fits = {"plain": plain_result, **({"modulated": modulated_result} if modulated_result else {})}
@@ -498,6 +506,10 @@ def fit_iwan_measurements(
                                                               else result.model, measurements, isolator)
                           + _above_the_noise_floor(result, measurements, isolator, split))
 
+
+#: ``fit`` column of an Iwan order-table row that is the valid-range refit of the chosen order
+#: (the other rows: ``"loops"``, the loops' own fits the order rule compares).
+VALID_RANGE_FIT = "valid-range refit"
 
 #: The default valid range of an Iwan fit reaches this far beyond the data set's deflections.
 VALID_RANGE_MARGIN = 1.25

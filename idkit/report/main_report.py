@@ -358,14 +358,19 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
                          + (f"; {data.iwan.spread_note}" if data.iwan.spread_note else ""),
                  name="wire rope iwan parameters")
     if data.iwan.order_table is not None:
-        report.table(data.iwan.order_table,
+        secant = float(data.iwan.order_table["smallest_loop_secant [N/m]"].iloc[0])  # one value: in the caption
+        report.table(data.iwan.order_table.drop(columns=["smallest_loop_secant [N/m]"]),
                      caption=f"Iwan order table: the order rule (lowest successful order within "
                              f"{ORDER_RULE_FACTOR:g} x the best mean loop error) among the plain rows; when the plain "
                              "model misses the loops' noise floor by more than 2 points, the family rule adds "
                              "slip-modulated rows (lowest order within 2 points of the floor) and keeps one if it is "
-                             f"better by the same factor (docs/fitting.md); the recommended row, "
-                             f"{data.iwan.result.settings.family} order {data.iwan.model.order}, is the model used; "
-                             "stuck stiffness g1 + sum k_i beside the secant of the shortest measured branch",
+                             f"better by the same factor (docs/fitting.md); fit 'loops' rows are the loops' own "
+                             "fits the rule compares, a 'valid-range refit' row the chosen order refitted with the "
+                             "valid-range barrier; the recommended row, "
+                             f"{data.iwan.result.settings.family} order {data.iwan.model.order}, is the model used "
+                             "(its loop errors are the ones quoted above); "
+                             f"stuck stiffness g1 + sum k_i beside the secant of the shortest measured branch, "
+                             f"{secant:.4g} N/m",
                      name="wire rope iwan order table")
     _spread_figure(report, data.iwan, "wire rope", "Iwan")
     report.figure(plot_loop_fit(data.iwan_loops, label="Iwan")[0].figure, name="wire rope iwan loops",
