@@ -710,8 +710,11 @@ class BoucWenFitResult(_LoopFitResult):
     @property
     def reasons(self) -> tuple[str, ...]:
         """Why the fit is not a success: a stage stopped on its evaluation limit (its optimiser status),
-        or the data do not determine the parameters (:func:`determinacy_reasons`)."""
-        return tuple([*self._stopped_stages(), *determinacy_reasons(self.parameters, self.statistics)])
+        a scaled coordinate sits on a bound of the box (the data do not place it inside), or the
+        data do not determine the parameters (:func:`determinacy_reasons`)."""
+        bound = ([f"at a bound of the search box (not determined inside it): {', '.join(self.at_bound)}"]
+                 if self.at_bound else [])
+        return tuple([*self._stopped_stages(), *bound, *determinacy_reasons(self.parameters, self.statistics)])
 
     def report(self) -> str:
         """Readable summary: stages, conditioning, parameters with stderr."""

@@ -173,3 +173,28 @@ def test_a_reported_parameter_depending_on_an_undetermined_coordinate_gets_no_st
     assert any(note.startswith("n: at a bound of the search box") for note in notes)
     assert any(note.startswith("beta: depends on shape, n") for note in notes)
     assert set(result.params["k1"].correl) == {"k2", "k3", "alpha", "c"}
+
+
+def test_loops_of_a_jenkin_element_push_n_to_its_bound_and_the_fit_says_so():
+    """A truth of another family: one Jenkin element beside a spring, whose loops turn sharply at
+    slip (the Bouc-Wen limit n -> infinity). The fit ends with n on the box's upper bound (6):
+    not a success, the bound named (before: success, the bound only printed)."""
+    from idkit.models import IwanModel
+
+    truth = IwanModel(g1=2e3, k=[8e3], fc=[10.0])
+    rng = np.random.default_rng(1)
+    phase = np.linspace(0, 6 * np.pi, 900)
+
+    def group(amplitudes, prefix):
+        sets = []
+        for index, amplitude in enumerate(amplitudes):
+            x = amplitude * np.sin(phase)
+            force = truth.force(x)
+            force = force + 0.005 * np.std(force) * rng.standard_normal(force.size)
+            sets.append(prepare_loops(x, force, points_per_set=POINTS, name=f"{prefix}{index}"))
+        return sets
+
+    result = fit_boucwen(group([0.3e-3, 1e-3, 2e-3, 4e-3], "small"), group([6e-3, 10e-3, 14e-3], "large"),
+                         seed=3, global_max_evals=600)
+    assert "n" in result.at_bound and not result.success
+    assert any(reason.startswith("at a bound of the search box") and "n" in reason for reason in result.reasons)
