@@ -456,6 +456,24 @@ def _statistics_lines(statistics) -> list[str]:
 #: Two relaxation rates closer than this ratio are one element split in two.
 DUPLICATE_RATE_RATIO = 1.01
 
+#: A Maxwell fit with the loss-factor constraint imposed whose least-squares optimum of the same
+#: residuals (one Gauss-Newton step, ``statistics.gauss_newton_step``) lies more than this many
+#: standard errors from its parameters is not a success: the constraint moved them, and their
+#: standard errors (statistics of an unconstrained minimum) do not describe them. 2: a success must
+#: recover a truth within the 5 standard errors of the recovery tests, and a bias of 2 leaves 3 for
+#: the noise (p = 0.3 % per parameter).
+CONSTRAINT_STEP_LIMIT = 2.0
+
+
+def constraint_step(statistics) -> tuple[str, float] | None:
+    """The parameter and the size (in its standard errors) of the largest Gauss-Newton step of the
+    statistics, or None when none was computed."""
+    steps = getattr(statistics, "gauss_newton_step", {}) or {}
+    if not steps:
+        return None
+    name = max(steps, key=lambda key: abs(steps[key]))
+    return name, abs(float(steps[name]))
+
 
 @dataclass(frozen=True)
 class MaxwellFitSettings:
@@ -590,6 +608,12 @@ class MaxwellFitResult(_LmfitStatistics):
         if len(close):
             pairs = ", ".join(f"{rates[i]:.4g} and {rates[i + 1]:.4g} 1/s" for i in close)
             reasons.append(f"relaxation rates coincide ({pairs}): redundant elements, a lower order fits as well")
+        step = constraint_step(self.statistics) if self.settings.monotone_loss else None
+        if step is not None and step[1] > CONSTRAINT_STEP_LIMIT:
+            reasons.append(f"the loss-factor constraint binds: the least-squares optimum of the data lies {step[1]:.3g} "
+                           f"standard errors away ({step[0]}; limit {CONSTRAINT_STEP_LIMIT:g}), so the constraint moved "
+                           "the parameters and their standard errors do not describe them (monotone_loss=False fits "
+                           "without it)")
         reasons.extend(determinacy_reasons(self.parameters, self.statistics, excused=self.at_bound))
         return tuple(reasons)
 

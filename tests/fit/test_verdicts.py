@@ -97,3 +97,44 @@ def test_the_verdict_names_each_kind_of_undetermined_result():
     assert determinacy_reasons(linked, _Statistics(np.ones(10), 10, 2))[0].startswith(
         "determined only in combination: a, b")
     assert determinacy_reasons(_parameters([0.1, None]), _Statistics(np.ones(10), 10, 2), excused=("b",)) == ()
+
+
+# A truth whose loss factor falls 5 % between 20 and 50 Hz (0.183 -> 0.174), three rates a decade
+# apart; 5 % complex noise puts the error near the noise floor, where the constrained and the
+# free fit differ by less than LOSS_RULE_FACTOR (5.25 % vs 5.01 %)
+FALLING_LOSS = dict(k0=13800.0, k=[3000.0, 5000.0, 8000.0], rate=[10.0, 100.0, 1000.0], m_eff=0.1)
+RECOVERY_SIGMA = 5.0  # as the Maxwell recovery tests (docs/fitting.md, "Verdicts")
+
+
+def _noisy_frfs(truth, seed, noise):
+    from idkit.fit import TransmissibilitySet
+    from tests.fit.test_maxwell import MASSES, _transmissibility
+
+    rng = np.random.default_rng(seed)
+    freq = np.arange(0.5, 150.0, 0.5)
+    sets = []
+    for mass in MASSES:
+        for repetition in range(3):
+            scatter = noise * (rng.standard_normal(freq.size) + 1j * rng.standard_normal(freq.size)) / np.sqrt(2)
+            sets.append(TransmissibilitySet(mass, freq, _transmissibility(truth, mass, freq) * (1 + scatter),
+                                            f"{mass:.2f} kg #{repetition + 1}"))
+    return sets
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_a_loss_constraint_the_data_reject_is_dropped_or_flagged(seed):
+    """Before: the constraint was kept (errors within 1.1 x) and the fit was a success with k_2 and
+    m_eff 13 of their standard errors off the truth (the least-squares optimum 11.6 standard errors
+    away). Now 'auto' drops it and recovers the truth; imposed, the fit is not a success."""
+    from idkit.models import GeneralizedMaxwell
+
+    truth = GeneralizedMaxwell(**FALLING_LOSS)
+    frfs = _noisy_frfs(truth, seed, 0.05)
+    result = fit_maxwell(frfs, k0=truth.k0, order=3)
+    assert result.success, result.reasons
+    for name, value in truth.params().items():
+        if result.params[name].vary:
+            assert abs(result.params[name].value - value) < RECOVERY_SIGMA * result.params[name].stderr, name
+    imposed = fit_maxwell(frfs, k0=truth.k0, order=3, monotone_loss=True)
+    assert not imposed.success
+    assert any(reason.startswith("the loss-factor constraint binds") for reason in imposed.reasons)
