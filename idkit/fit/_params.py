@@ -220,6 +220,7 @@ def jacobian_statistics(
     rcond: float = 1e-10,
     method: str = "Jacobian at the optimum",
     jacobian: Callable[[np.ndarray], np.ndarray] | None = None,
+    group_sizes: Sequence[int] | None = None,
 ) -> lmfit.minimizer.MinimizerResult:
     """Least-squares statistics of ``residuals`` at ``u`` without moving ``u``.
 
@@ -241,6 +242,15 @@ def jacobian_statistics(
     jacobian : callable, optional
         ``jacobian(u) -> ndarray`` of shape ``(N, p)``: the analytic ``d residuals / d u``
         (lmfit's ``Dfun``), used instead of central differences (``step`` is then unused).
+    group_sizes : sequence of int, optional
+        The residuals come in consecutive groups of these sizes (one per loop set) whose noise
+        variances may differ: the covariance is then the sandwich
+        ``(J^T J)^-1 (sum_g s_g^2 J_g^T J_g) (J^T J)^-1 N / (N - p)`` with ``s_g^2`` the mean
+        squared residual of group ``g`` (it is ``redchi (J^T J)^-1`` when every group has the
+        same variance). Loops measured with one load cell carry the same force noise in N, so
+        their relative residuals differ by the ratio of the loops' forces: with one pooled
+        variance the standard errors of the parameters the small loops fix came out 1.6-1.9
+        times too small (docs/fitting.md, "Iwan uncertainty").
 
     Returns
     -------
@@ -319,6 +329,18 @@ def jacobian_statistics(
             notes.append(f"every parameter: J^T J is singular (condition {condition:.3g}); "
                          f"the data do not determine the combination of {', '.join(involved)} "
                          "(weights of the direction the residuals do not change along)")
+    if covar_seen is not None and group_sizes is not None:
+        sizes = np.asarray(group_sizes, dtype=int)
+        if sizes.sum() != n_data or np.any(sizes < 1):
+            raise ValueError(f"group_sizes: found sizes summing to {int(sizes.sum())}, expected positive sizes "
+                             f"summing to the {n_data} residuals")
+        columns = jacobian[:, seen]
+        bread = np.linalg.inv(columns.T @ columns)
+        meat = np.zeros_like(bread)
+        for rows in np.split(np.arange(n_data), np.cumsum(sizes)[:-1]):
+            block = columns[rows]
+            meat += float(np.mean(residual[rows] ** 2)) * (block.T @ block)
+        covar_seen = bread @ meat @ bread * (n_data / max(1, nfree))
     covar = None
     if covar_seen is not None:
         index = np.flatnonzero(seen)

@@ -62,6 +62,7 @@ from :mod:`idkit.fit.iwan_start`; the bounded Nelder-Mead with restarts from
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 
 import nlopt
@@ -418,6 +419,30 @@ def _flat_params(current: dict) -> dict:
     return values
 
 
+def _add_the_step(internal, names) -> None:
+    """Add the distance to the least-squares optimum to each standard error, in quadrature (in place).
+
+    The stages stop where Nelder-Mead's tolerance lets them (and hold ``g1, g2, g3`` from the
+    large loops), not at the least-squares optimum of the residuals the statistics describe;
+    one Gauss-Newton step ``d`` measures how far that optimum is. The reported standard error
+    is ``sqrt(s^2 + d^2)``, the spread of the returned point about the truth when the step is
+    as random as the noise (correlations kept, covariance rescaled; the step is then reported
+    in the new standard errors). With the same force noise (N) on every loop the steps of
+    ``g1, g2, g3`` reached 2-3 standard errors (docs/fitting.md, "Iwan uncertainty").
+    """
+    steps = getattr(internal, "gauss_newton_step", None) or {}
+    if internal.covar is None or not steps:
+        return
+    for index, name in enumerate(names):
+        if name not in steps or internal.params[name].stderr is None:
+            continue
+        factor = math.sqrt(1.0 + steps[name] ** 2)
+        internal.covar[index, :] *= factor
+        internal.covar[:, index] *= factor
+        internal.params[name].stderr *= factor
+        steps[name] /= factor
+
+
 def _iwan_lmfit(model: IwanModel, small: IwanLoops, large: IwanLoops, x_ref: float, stiffness_ref: float,
                 force_ref: float, units: dict):
     """lmfit view of the final model and its statistics at the optimum (see :func:`fit_iwan`).
@@ -444,8 +469,9 @@ def _iwan_lmfit(model: IwanModel, small: IwanLoops, large: IwanLoops, x_ref: flo
         return weights * np.concatenate([small.residuals(*args), large.residuals(*args)])
 
     names = [t.name for t in transforms]
-    internal = jacobian_statistics(residuals, u_opt, names,
+    internal = jacobian_statistics(residuals, u_opt, names, group_sizes=sizes,
                                    method="Jacobian of the per-point residuals at the Nelder-Mead optimum")
+    _add_the_step(internal, names)
     specs = {spec.name: spec for spec in model.param_specs()}
     parameters = to_lmfit(
         names + ["c_visc"], [float(t.to_physical(u)) for t, u in zip(transforms, u_opt)] + [0.0],
