@@ -617,6 +617,9 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
     # the residuals are the stage's own, so these describe the data's noise, not the model error
     internal = jacobian_statistics(lambda u: evaluate(u, True)["residual"].copy(), best.x, order_names,
                                    jacobian=lambda u: evaluate(u, True)["jacobian"].copy(),
+                                   # a noise variance per loop set (same force noise in N: the small
+                                   # loops' relative residuals are larger), the barrier rows as one
+                                   group_sizes=[*np.diff(offsets), grid.size + 1],
                                    method="Jacobian of the per-point residuals at the least-squares optimum")
     specs = {spec.name: spec for spec in model.param_specs()}
     lmfit_parameters = to_lmfit(
