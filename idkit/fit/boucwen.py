@@ -355,7 +355,7 @@ def _lmfit_view(space: _Space, u: np.ndarray, small: BoucWenLoops, large: BoucWe
         p = space.physical(v)
         return np.array([p[name] for name in _REPORTED])
 
-    step = 1e-5
+    step = 1e-3
     jacobian = central_jacobian(residuals_all, u, step=step)
     map_jacobian = central_jacobian(mapped, u, step=step)  # d(physical)/d(scaled), rows _REPORTED
     # condition numbers of J^T J: scaled coordinates vs the SI parameters k1, k2, k3, alpha, beta, gamma, n, c
@@ -377,7 +377,7 @@ def _lmfit_view(space: _Space, u: np.ndarray, small: BoucWenLoops, large: BoucWe
         vary=[name in varied for name in names])
     if not free:
         return parameters, None, conditioning, at_bound
-    internal = jacobian_statistics(residuals, u[free], [_NAMES[i] for i in free], step=step,
+    internal = jacobian_statistics(residuals, u[free], [_NAMES[i] for i in free], step=step, group_sizes=sizes,
                                    method="Jacobian of the per-point residuals at the Nelder-Mead optimum")
     return parameters, _physical_statistics(internal, map_jacobian, free, parameters, at_bound), conditioning, at_bound
 
