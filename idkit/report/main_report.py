@@ -245,8 +245,9 @@ def _valid_range_words(data: ReportData) -> str:
     elif math.isfinite(upper):
         span = f"x <= {1e3 * upper:.1f} mm (no lower limit)"
     else:
-        span = "every deflection"
-    return (f"valid for deflections {span} (its parallel spring's "
+        span = None
+    where = "every deflection" if span is None else f"deflections {span}"
+    return (f"valid for {where} (its parallel spring's "
             f"local stiffness stays >= 0, SPEC 1.2; required: {1e3 * data.valid_range[0]:.1f} to "
             f"{1e3 * data.valid_range[1]:.1f} mm, {VALID_RANGE_MARGIN:g} times the data set's deflections)")
 
