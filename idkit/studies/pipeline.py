@@ -6,7 +6,8 @@ computes nothing. Stages (each timed):
 
 1. load and inspect every measurement set under the data folder
    (:func:`idkit.io.discover.find_measurement_sets`: one folder with a ``manifest.json``
-   per isolator: ``wire_rope``, ``elastomer``, ``hybrid``);
+   per isolator: ``wire_rope``, ``elastomer``, ``hybrid``), refusing two records with the same
+   samples (:func:`refuse_repeated_records`);
 2. fit the wire rope (three-stage Iwan, its parameters' spread over one refit per
    repetition (:meth:`~idkit.fit.MeasurementFit.with_repetition_spread`); Bouc-Wen for
    comparison, in a forked child process beside the Iwan and elastomer fits
@@ -28,13 +29,16 @@ records per check and shrinks the transport study and the global searches.
 
 from __future__ import annotations
 
+import hashlib
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
+from idkit.errors import DataError
 from idkit.fit import maxwell_order_table
 from idkit.forked import Forked, fork_call
 from idkit.fit.measurements import (
@@ -63,6 +67,7 @@ __all__ = [
     "ValidationEntry",
     "compute_report_data",
     "identify_parts",
+    "refuse_repeated_records",
     "valid_range_of",
 ]
 
@@ -229,6 +234,44 @@ class _Stages:
             self._started = None
 
 
+def _fingerprint(measurement) -> str:
+    """SHA-256 of a record's kind and samples (every signal in SI, by name): equal for copies of one
+    recording whatever their file name, compression or units."""
+    digest = hashlib.sha256(measurement.kind.encode())
+    for name, values in sorted(measurement.signals().items()):
+        digest.update(name.encode() + b"\0" + np.ascontiguousarray(values, dtype=float).tobytes())
+    return digest.hexdigest()
+
+
+def refuse_repeated_records(sets: dict) -> None:
+    """Refuse two records of the data folder that hold the same samples in every column.
+
+    Two measurements never agree sample for sample (sensor noise), so such a pair is one recording
+    listed twice: it would count twice in a fit or a validation, and a copy of a fit record in the
+    validation split would validate the model on the data it was fitted to (a PASS that tests nothing).
+
+    Raises
+    ------
+    DataError
+        Naming both records (id, file, split) of every repeated recording.
+    """
+    seen: dict[str, tuple[str, str, str]] = {}
+    repeated = []
+    for measurement_set in {id(s): s for s in sets.values()}.values():
+        for measurement in measurement_set.measurements:
+            path = measurement.source.path
+            where = (measurement.info.id, str(path) if path is not None else "in-memory data",
+                     measurement.info.split or "no split")
+            first = seen.setdefault(_fingerprint(measurement), where)
+            if first is not where:
+                repeated.append(f"{where[0]} ({where[1]}, split {where[2]}) repeats {first[0]} "
+                                f"({first[1]}, split {first[2]})")
+    if repeated:
+        raise DataError("records holding the same samples in every column as another record: " + "; ".join(repeated)
+                        + "; expected each measurement once (a repeated record counts twice, and a copy of a fit "
+                          "record held out for validation validates the model on its own fit data)")
+
+
 def _validations(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell,
                  limit: int | None, drop_model: str = "auto", static_stiffness=None, wire_loop_range=None
                  ) -> tuple[tuple[ValidationEntry, ...], HybridSystem | None, str | None]:
@@ -337,6 +380,7 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
 
     stages.start(STAGES[0])
     sets = find_measurement_sets(data_dir)
+    refuse_repeated_records(sets)
     inspections = {isolator: summarize_measurements(s.measurements) for isolator, s in sets.items()}
 
     stages.start(STAGES[1])
