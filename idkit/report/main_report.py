@@ -144,8 +144,12 @@ def outcome_sentence(verdicts: dict[str, str], flagged_fits) -> str:
     text = (f"Outcome: {', '.join(counts) or 'no validation'} of {len(verdicts)} validation(s)"
             + (f"; not a success: {', '.join(flagged_fits)}" if flagged_fits else "")
             + f". idkit report exits with status {status}: {EXIT_STATUSES[status]}")
-    named = [key for key, verdict in verdicts.items() if verdict != "PASS"]
-    return text + (f" ({', '.join(named)})." if named and status in (1, 3) else ".")
+    failed = [key for key, verdict in verdicts.items() if verdict == "FAIL"]
+    inconclusive = [key for key, verdict in verdicts.items() if verdict == "INCONCLUSIVE"]
+    if status == 1:  # the failed ones are what the status says; the inconclusive ones are named as such
+        return text + f" ({', '.join(failed)}" + (f"; inconclusive: {', '.join(inconclusive)}" if inconclusive
+                                                   else "") + ")."
+    return text + (f" ({', '.join(inconclusive)})." if status == 3 else ".")
 
 
 #: exit statuses of ``idkit report`` (:mod:`idkit.exit_status`)

@@ -303,6 +303,6 @@ def test_the_summary_states_the_outcome_and_the_exit_status(quick_report):
         "passed, but a fit the report predicts with is not a success (see its reasons).")
     assert outcome_sentence({"a": "PASS", "b": "INCONCLUSIVE", "c": "FAIL"}, ()) == (
         "Outcome: 1 PASS, 1 INCONCLUSIVE, 1 FAIL of 3 validation(s). idkit report exits with status 1: "
-        "a validation failed (b, c).")
+        "a validation failed (c; inconclusive: b).")
     html = unescape((quick_report / "report.html").read_text(encoding="utf-8"))
     assert f"idkit report exits with status {STATUS['report']}:" in html

@@ -27,3 +27,18 @@ def test_the_valid_range_sentence_reads_for_every_kind_of_range(lower, upper, wo
     sentence = _valid_range_words(_data(lower, upper))
     assert sentence.startswith(words)
     assert "required: -84.8 to 15.0 mm" in sentence
+
+
+def test_the_outcome_names_as_failed_only_the_validations_that_failed():
+    """With status 1 every non-PASS verdict was listed as failed: 'a validation failed (wire rope
+    sweeps, elastomer FRF)' where the sweeps were INCONCLUSIVE (Table A.1 / Table B.1 high set)."""
+    from idkit.report.main_report import outcome_sentence
+
+    verdicts = {"wire rope sweeps": "INCONCLUSIVE", "wire rope drops": "PASS", "elastomer FRF": "FAIL"}
+    assert outcome_sentence(verdicts, ()).endswith(
+        "exits with status 1: a validation failed (elastomer FRF; inconclusive: wire rope sweeps).")
+    verdicts["wire rope sweeps"] = "PASS"
+    assert outcome_sentence(verdicts, ()).endswith("exits with status 1: a validation failed (elastomer FRF).")
+    verdicts.update({"elastomer FRF": "INCONCLUSIVE", "wire rope drops": "INCONCLUSIVE"})
+    assert outcome_sentence(verdicts, ("wire rope (Iwan)",)).endswith(
+        "exits with status 3: no validation failed, but one is inconclusive (wire rope drops, elastomer FRF).")
