@@ -7,7 +7,8 @@ computes nothing. Stages (each timed):
 1. load and inspect every measurement set under the data folder
    (:func:`idkit.io.discover.find_measurement_sets`: one folder with a ``manifest.json``
    per isolator: ``wire_rope``, ``elastomer``, ``hybrid``), refusing two records with the same
-   samples (:func:`refuse_repeated_records`);
+   samples (:func:`refuse_repeated_records`) and one with no record for a validation
+   (:func:`refuse_missing_held_out`), before any fit;
 2. fit the wire rope (three-stage Iwan, its parameters' spread over one refit per
    repetition (:meth:`~idkit.fit.MeasurementFit.with_repetition_spread`); Bouc-Wen for
    comparison, in a forked child process beside the Iwan and elastomer fits
@@ -67,6 +68,7 @@ __all__ = [
     "ValidationEntry",
     "compute_report_data",
     "identify_parts",
+    "refuse_missing_held_out",
     "refuse_repeated_records",
     "valid_range_of",
 ]
@@ -272,6 +274,36 @@ def refuse_repeated_records(sets: dict) -> None:
                           "record held out for validation validates the model on its own fit data)")
 
 
+#: the records each validation of the report needs: isolator -> (kind, split) pairs (split None: any)
+HELD_OUT_KINDS = {
+    "wire_rope": (("stepped_sine", "validation"), ("drop", "validation")),
+    "elastomer": (("white_noise", "validation"), ("stepped_sine", "validation"), ("drop", "validation")),
+    "hybrid": (("stepped_sine", None), ("drop", None)),
+}
+
+
+def refuse_missing_held_out(sets: dict) -> None:
+    """Refuse, before any fit, a data folder that holds no record for one of the report's validations.
+
+    Raises
+    ------
+    DataError
+        Naming the set's manifest and every (isolator, kind, split) with no record.
+    """
+    missing = []
+    for isolator, needs in HELD_OUT_KINDS.items():
+        measurement_set = sets.get(isolator)
+        if measurement_set is None:
+            continue  # the two required sets are checked on discovery, the hybrid is optional
+        for kind, split in needs:
+            if not len(measurement_set.select(kind=kind, split=split)):  # what the validations are given
+                missing.append(f"{measurement_set.folder / 'manifest.json'}: no {kind} record"
+                               + (" with split 'validation'" if split else "") + f" (the {isolator} set)")
+    if missing:
+        raise DataError("; ".join(missing) + "; expected at least one for each validation of the report "
+                        "(docs/validation.md; split 'validation' is the held-out data)")
+
+
 def _validations(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell,
                  limit: int | None, drop_model: str = "auto", static_stiffness=None, wire_loop_range=None
                  ) -> tuple[tuple[ValidationEntry, ...], HybridSystem | None, str | None]:
@@ -381,6 +413,7 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
     stages.start(STAGES[0])
     sets = find_measurement_sets(data_dir)
     refuse_repeated_records(sets)
+    refuse_missing_held_out(sets)
     inspections = {isolator: summarize_measurements(s.measurements) for isolator, s in sets.items()}
 
     stages.start(STAGES[1])

@@ -16,7 +16,7 @@ from idkit.cli.main import main
 from idkit.errors import DataError
 from idkit.io import MeasurementInfo, QuasiStaticMeasurement, write_measurement_set
 from idkit.io.discover import find_measurement_sets
-from idkit.studies.pipeline import refuse_repeated_records
+from idkit.studies.pipeline import refuse_missing_held_out, refuse_repeated_records
 
 
 def _loop(ident, isolator, split, seed):
@@ -55,4 +55,22 @@ def test_a_fit_record_copied_into_the_validation_split_is_refused(tmp_path, unit
         refuse_repeated_records(find_measurement_sets(folder))
     assert main(["report", str(folder), "-o", str(tmp_path / "out"), "--quick", "--quiet"]) == 2
     assert "qs_el_5" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_folder_without_records_for_a_validation_is_refused_before_any_fit(tmp_path, capsys):
+    """Every held-out wire-rope drop removed from a Table A.1 / 7.3 set: the report fitted both
+    isolators (about a minute) and then stopped with 'wire rope: drops (validation split): no
+    drop measurements given', naming no file. Now refused on loading, naming each manifest and
+    every kind missing."""
+    folder = _folder(tmp_path / "data")  # quasi-static loops only: nothing to validate on
+    with pytest.raises(DataError) as raised:
+        refuse_missing_held_out(find_measurement_sets(folder))
+    message = str(raised.value)
+    for isolator, kinds in (("wire_rope", ("stepped_sine", "drop")), ("elastomer", ("white_noise", "stepped_sine", "drop"))):
+        for kind in kinds:
+            assert f"{folder / isolator / 'manifest.json'}: no {kind} record with split 'validation' (the {isolator} set)" \
+                in message
+    assert main(["report", str(folder), "-o", str(tmp_path / "out"), "--quick", "--quiet"]) == 2
+    assert "no drop record with split 'validation' (the wire_rope set)" in capsys.readouterr().err
     assert not (tmp_path / "out").exists()
