@@ -124,7 +124,8 @@ def validation_sentence(key: str, result, *, quick_note: str = "") -> tuple[str,
 
 
 def drop_model_sentence(comparison, *, used: tuple[str, str | None]) -> str:
-    """The rope model and drop model the held-out drops support, with their median peak errors.
+    """The rope model and drop model the held-out drops support, with their median peak errors
+    (support only by a pair whose verdict is PASS; else the closest pair, named as not passing).
 
     Parameters
     ----------
@@ -142,8 +143,14 @@ def drop_model_sentence(comparison, *, used: tuple[str, str | None]) -> str:
 
     model, drop = comparison.supported()
     compression, tension = errors((model, drop))
-    text = (f"The held-out drops support the {model} model with the {drop} drop model: median peak "
-            f"error {compression:.3f} in compression and {tension:.3f} in tension")
+    verdict = comparison.results[(model, drop)].verdict
+    if verdict == "PASS":
+        text = (f"The held-out drops support the {model} model with the {drop} drop model: median peak "
+                f"error {compression:.3f} in compression and {tension:.3f} in tension")
+    else:  # the best pair did not pass: nothing is supported, say so with the closest pair's errors
+        text = (f"The held-out drops support no rope and drop model compared ({len(comparison.results)} pairs, "
+                f"none passes); the closest is the {model} model with the {drop} drop model ({verdict}): median "
+                f"peak error {compression:.3f} in compression and {tension:.3f} in tension")
     if tuple(used) != (model, drop) and tuple(used) in comparison.results:
         compression, tension = errors(tuple(used))
         text += (f"; the {used[0]} model with the {used[1]} drop model, which the validations above use, "

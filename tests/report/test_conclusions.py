@@ -170,6 +170,28 @@ def test_drop_model_support_for_another_model_than_the_validated_one_says_so():
     assert drop_model_sentence(comparison, used=("plain Iwan", "rig")).endswith("0.028 in tension.")
 
 
+def test_drop_models_that_all_fail_are_not_said_to_be_supported():
+    """Held-out rope drops made with a 7.39 kg payload declared as 4.33 kg (Table A.1 asymmetric
+    set): both pairs FAIL (0.415 / 0.251 conditioned, 0.620 / 0.259 rig), and the report said
+    'The held-out drops support the plain Iwan model with the conditioned drop model'."""
+    from types import SimpleNamespace
+
+    from idkit.studies.drop_models import DropModelComparison
+
+    def result(verdict, compression, tension):
+        return SimpleNamespace(verdict=verdict, summary={"median_peak_acceleration_compression_error": compression,
+                                                         "median_peak_acceleration_tension_error": tension})
+
+    comparison = DropModelComparison(table=pd.DataFrame(), results={
+        ("plain Iwan", "conditioned"): result("FAIL", 0.415, 0.251), ("plain Iwan", "rig"): result("FAIL", 0.620, 0.259)})
+    text = drop_model_sentence(comparison, used=("plain Iwan", "rig"))
+    assert "support the" not in text
+    assert text == ("The held-out drops support no rope and drop model compared (2 pairs, none passes); the closest "
+                    "is the plain Iwan model with the conditioned drop model (FAIL): median peak error 0.415 in "
+                    "compression and 0.251 in tension; the plain Iwan model with the rig drop model, which the "
+                    "validations above use, 0.620 and 0.259.")
+
+
 def test_the_reference_is_named_once_when_it_is_the_runner_up():
     rms = pd.DataFrame({"1e-06 [(m/s^2)^2/Hz]": [0.3, 0.2, 0.4]}, index=["reference", "hybrid", "wire rope"])
     study = _study(rms, [0.01, 0.03], {name: [1.0, 2.0] for name in rms.index}, [0.1, 0.2],
