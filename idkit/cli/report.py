@@ -60,11 +60,13 @@ def _cmd_report(args) -> int:
 
 
 def verdict_lines(summary, quick_note: str) -> str:
-    """What ``idkit report`` prints: one line per validation verdict (with its notes indented
-    under it), one per flagged fit, and the quick note of a quick run."""
+    """What ``idkit report`` prints: one line per validation verdict (with what keeps it from
+    PASS and its notes indented under it), one per flagged fit, and the quick note of a quick
+    run."""
     lines = []
     for name, verdict in summary.validation_verdicts.items():
         lines.append(f"{verdict:12s}  {name}")
+        lines.extend(f"{'':12s}    why: {reason}" for reason in summary.validation_reasons.get(name, ()))
         lines.extend(f"{'':12s}    note: {note}" for note in summary.validation_notes.get(name, ()))
     lines.extend(f"{'FLAGGED':12s}  {name} fit: " + "; ".join(summary.fit_reasons[name])
                  for name in summary.flagged_fits)

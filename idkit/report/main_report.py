@@ -15,7 +15,7 @@ import math
 import json
 import os
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -101,6 +101,9 @@ class ReportSummary:
         Per validation, the findings that explain its verdict without changing it
         (:attr:`idkit.validate.ValidationResult.notes`, e.g. levels outside the loops the model
         was identified on).
+    validation_reasons : dict of str to tuple of str
+        Per validation, what keeps its verdict from PASS (:attr:`idkit.validate.ValidationResult.why`:
+        the metrics beyond their limits, the reasons it is inconclusive); empty for a PASS.
     """
 
     out_dir: Path
@@ -112,6 +115,7 @@ class ReportSummary:
     quick: bool = False
     fit_reasons: dict = field(default_factory=dict)
     validation_notes: dict = field(default_factory=dict)
+    validation_reasons: dict = field(default_factory=dict)
 
     @property
     def flagged_fits(self) -> tuple[str, ...]:
@@ -581,7 +585,8 @@ def _write_report(data: ReportData, report: HtmlReport, folder: Path, started: f
                          validation_passed={entry.key: entry.result.passed for entry in data.validations},
                          timings_s=timings, validation_verdicts=verdicts, quick=data.quick,
                          fit_reasons=_fit_reasons(data),
-                         validation_notes={entry.key: entry.result.notes for entry in data.validations})
+                         validation_notes={entry.key: entry.result.notes for entry in data.validations},
+                         validation_reasons={entry.key: entry.result.why for entry in data.validations})
 
 
 def _fit_reasons(data: ReportData) -> dict[str, tuple[str, ...]]:
@@ -631,7 +636,4 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
         say(WRITING)
         summary = write_report(data, folder, pdf=pdf)
     out_dir = Path(out_dir)
-    return ReportSummary(out_dir=out_dir, html=out_dir / "report.html", sections=summary.sections,
-                         validation_passed=summary.validation_passed, timings_s=summary.timings_s,
-                         validation_verdicts=summary.validation_verdicts, quick=summary.quick,
-                         fit_reasons=summary.fit_reasons, validation_notes=summary.validation_notes)
+    return replace(summary, out_dir=out_dir, html=out_dir / "report.html")

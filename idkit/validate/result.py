@@ -105,6 +105,15 @@ class ValidationResult:
         return "INCONCLUSIVE" if self.inconclusive or self.unmeasured else "PASS"
 
     @property
+    def why(self) -> tuple[str, ...]:
+        """What keeps the verdict from PASS, one line each: every metric beyond its limit
+        (``"name value > limit"``), every reason it is inconclusive, every metric that could not
+        be computed; empty for a PASS."""
+        beyond = tuple(f"{key} {self.summary[key]:.4g} > {limit:g}" for key, limit in self.thresholds.items()
+                       if not self.checks[key] and key not in self.unmeasured)
+        return beyond + tuple(self.inconclusive) + tuple(f"{key} could not be computed" for key in self.unmeasured)
+
+    @property
     def passed(self) -> bool:
         """True only for the verdict ``"PASS"``."""
         return self.verdict == "PASS"

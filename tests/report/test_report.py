@@ -61,18 +61,26 @@ def test_exit_status_rules():
     assert set(EXIT_STATUSES) == {0, 1, 3, 4}
 
 
-def test_printed_verdicts_carry_their_notes_and_the_flagged_fits():
+def test_printed_verdicts_carry_their_reasons_notes_and_the_flagged_fits():
+    # the terminal said FAIL or INCONCLUSIVE and no more: the reason was only in the HTML
     from idkit.cli.report import verdict_lines
     from idkit.report.main_report import ReportSummary
 
     summary = ReportSummary(out_dir=Path("."), html=Path("r.html"), sections=(), validation_passed={}, timings_s={},
-                            validation_verdicts={"wire rope sweeps": "FAIL", "wire rope drops": "PASS"},
+                            validation_verdicts={"wire rope sweeps": "FAIL", "wire rope drops": "PASS",
+                                                 "hybrid sweeps": "INCONCLUSIVE"},
                             fit_reasons={"wire rope (Iwan)": ("hit a bound",)}, quick=True,
-                            validation_notes={"wire rope sweeps": ("level 0.002 lies below the loops",)})
+                            validation_notes={"wire rope sweeps": ("level 0.002 lies below the loops",)},
+                            validation_reasons={"wire rope sweeps": ("max_peak_magnitude_error_db 4.2 > 3",),
+                                                "wire rope drops": (),
+                                                "hybrid sweeps": ("2 of 24 points not settled",)})
     assert verdict_lines(summary, "quick").splitlines() == [
         "FAIL          wire rope sweeps",
+        "                why: max_peak_magnitude_error_db 4.2 > 3",
         "                note: level 0.002 lies below the loops",
         "PASS          wire rope drops",
+        "INCONCLUSIVE  hybrid sweeps",
+        "                why: 2 of 24 points not settled",
         "FLAGGED       wire rope (Iwan) fit: hit a bound",
         "(quick)",
     ]

@@ -319,6 +319,10 @@ def test_verdict_rules(summary, inconclusive, verdict):
                               inconclusive=inconclusive)
     assert result.verdict == verdict and result.passed == (verdict == "PASS")
     assert result.report().startswith(f"v: {verdict}")
+    # what keeps it from PASS, one line each; nothing for a PASS
+    expected = ((f"error {summary['error']:.4g} > 1",) if summary["error"] > 1 else ()) + tuple(inconclusive) \
+        + (("error could not be computed",) if np.isnan(summary["error"]) else ())
+    assert result.why == expected and (verdict == "PASS") == (result.why == ())
 
 
 @pytest.mark.parametrize("level", ["largest", "smallest"])
