@@ -74,6 +74,11 @@ class ViscousDamping:
         Level -> the ``c_visc`` that would match that level's peak alone (N s/m), for
         every level with a resonance inside its sweep (the spread is the amplitude
         dependence of the damping that the hysteresis model does not hold).
+    unsettled_points : int
+        Points of the level whose simulation with the identified ``c_visc`` did not reach
+        a steady state within the harmonic runs' period limit: where it is not 0,
+        ``peak_simulated`` is read off transients and the match that set ``c_visc`` is not
+        reliable (the measurement fit then is not a success).
     """
 
     c_visc: float
@@ -85,6 +90,7 @@ class ViscousDamping:
     damping_ratio: float
     message: str
     per_level: dict
+    unsettled_points: int = 0
 
     def model(self, fitted: IwanModel) -> IwanModel:
         """``fitted`` with this viscous damping."""
@@ -176,19 +182,28 @@ def _match_level(model, level, rows, tolerance, workers) -> ViscousDamping:
                        f"({freq[top]:g} Hz), expected the resonance inside {freq[0]:g}-{freq[-1]:g} Hz")
     f_peak, peak_measured = resonance_peak(freq, measured)
 
+    unsettled = {}  # c_visc -> points whose run did not settle
+
     def simulated_peak(c_visc: float) -> float:
         trial = type(model).from_params({**model.params(), "c_visc": c_visc})
         response = harmonic_response(SDOFSystem(mass, trial), freq, base_amplitude, n_harmonics=1,
                                      tolerance=tolerance, start="linear", workers=workers)
+        unsettled[c_visc] = int(np.count_nonzero(~response.converged))
         return resonance_peak(freq, np.abs(response.hosidf(1)))[1]
+
+    def not_settled(c_visc: float) -> str:
+        count = unsettled[c_visc]
+        return (f"; {count} of {freq.size} simulated points did not settle with it (peak read off transients)"
+                if count else "")
 
     critical = 2.0 * math.sqrt(float(model.stuck_stiffness) * mass)
     low, high = 1e-6 * critical, 1e3 * critical
     peak_low = simulated_peak(low)
     if peak_low <= peak_measured:
-        return ViscousDamping(0.0, level, len(rows), f_peak, peak_measured, simulated_peak(0.0), 0.0,
+        peak_zero = simulated_peak(0.0)
+        return ViscousDamping(0.0, level, len(rows), f_peak, peak_measured, peak_zero, 0.0,
                               f"the hysteresis alone gives a peak {peak_low:.4g} <= measured {peak_measured:.4g}: "
-                              "c_visc = 0", {})
+                              "c_visc = 0" + not_settled(0.0), {}, unsettled[0.0])
     value, peak = low, peak_low
     for step in range(BISECTION_STEPS):
         value = math.sqrt(low * high)
@@ -200,4 +215,5 @@ def _match_level(model, level, rows, tolerance, workers) -> ViscousDamping:
         else:
             high = value
     return ViscousDamping(value, level, len(rows), f_peak, peak_measured, peak, value / critical,
-                          f"peak matched to {abs(peak / peak_measured - 1):.1e} after {step + 1} bisections", {})
+                          f"peak matched to {abs(peak / peak_measured - 1):.1e} after {step + 1} bisections"
+                          + not_settled(value), {}, unsettled[value])

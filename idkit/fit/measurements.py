@@ -500,11 +500,22 @@ def fit_iwan_measurements(
                           damping=damping, damping_note=damping_note, order_table=order_table,
                           family_fits=family_fits,
                           checks=_valid_over_the_data(result.model, measurements, isolator)
+                          + _damping_settled(damping)
                           + _survives_the_largest_drops(damping.model(result.model) if damping else result.model,
                                                         measurements, isolator)
                           + _survives_the_largest_sweep_level(damping.model(result.model) if damping
                                                               else result.model, measurements, isolator)
                           + _above_the_noise_floor(result, measurements, isolator, split))
+
+
+def _damping_settled(damping: ViscousDamping | None) -> tuple[str, ...]:
+    """A viscous damping matched to a simulated peak that never reached steady state is not an
+    identification: its runs were cut at the period limit, so the peak compared was a transient's."""
+    if damping is None or not damping.unsettled_points:
+        return ()
+    return (f"c_visc = {damping.c_visc:.4g} N s/m: {damping.unsettled_points} of {damping.points} simulated "
+            f"stepped-sine points of level {damping.level:g} did not reach steady state with it, so the resonance "
+            "peak it was matched on is a transient's; the viscous damping is not identified by these sweeps",)
 
 
 #: ``fit`` column of an Iwan order-table row that is the valid-range refit of the chosen order
