@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,6 +71,11 @@ def system_arrays(system) -> SystemArrays:
     )
 
 
+#: Largest force scale (N) a simulation accepts: forces are squared in each step's residual
+#: norm, ``sqrt(r0 * r0 + r1 * r1)``, so larger ones overflow float64 (:func:`force_scale`).
+MAX_FORCE_SCALE = math.sqrt(np.finfo(np.float64).max)
+
+
 def force_scale(arrays: SystemArrays, accel_scale):
     """A force magnitude (N) for convergence tests: total mass times an acceleration scale
     (m/s^2) plus the slip forces; a float, or an array of one per run for an array of scales
@@ -78,16 +84,22 @@ def force_scale(arrays: SystemArrays, accel_scale):
     Raises
     ------
     SimulationError
-        When it overflows (a mass near 1e308 kg): convergence tests against an infinite force
-        would pass whatever the state, so the run would mean nothing.
+        When it reaches :data:`MAX_FORCE_SCALE` (``sqrt`` of the largest float64, 1.3e154 N;
+        a mass of 1e300 kg, a base amplitude of 1e200 m): each step's Newton iteration takes
+        the norm of its force residual as ``sqrt(r0 * r0 + r1 * r1)``, which overflows to
+        infinity for residuals of that size, and convergence tests against an infinite force
+        would pass whatever the state, so the run would mean nothing (it ended as "Newton
+        iteration did not converge" or "not settled" instead of being refused).
     """
     with np.errstate(over="ignore"):
         scale = arrays.masses.sum() * (np.abs(accel_scale) + STANDARD_GRAVITY) + arrays.jfc.sum()
-    if not np.isfinite(scale).all():
+    if not (scale < MAX_FORCE_SCALE).all():
         accel = float(np.max(np.abs(accel_scale)))
         raise SimulationError(f"system: masses {arrays.masses.tolist()} kg times the acceleration scale "
-                              f"{accel + STANDARD_GRAVITY:.3g} m/s^2 overflow float64; expected "
-                              "masses and accelerations whose forces are finite")
+                              f"{accel + STANDARD_GRAVITY:.3g} m/s^2 (plus slip forces {arrays.jfc.sum():.3g} N) "
+                              f"give forces of {float(np.max(scale)):.3g} N, whose squares overflow float64 in "
+                              f"the integrator's residual norm; expected forces below {MAX_FORCE_SCALE:.3g} N "
+                              "(sqrt of the largest float64)")
     return float(scale) if np.ndim(scale) == 0 else np.ascontiguousarray(scale, dtype=float)
 
 

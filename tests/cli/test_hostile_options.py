@@ -257,6 +257,14 @@ def test_corpus_covers_every_numeric_option():
      + POINT, ["masses [1e+308] kg", "overflow float64"]),
     ("drop-mass-1e308", ["simulate", "drop", "{isolator}", "--mass", "1e308", "-o", "{out}", "--velocity", "1"],
      ["masses [1e+308] kg", "overflow float64"]),
+    # were run: forces above sqrt(float64 max) = 1.3e154 N overflow the step's residual norm, and
+    # ended as exit 1 "not settled after 4000 periods" or "Newton iteration did not converge"
+    ("harmonic-mass-1e300", ["simulate", "harmonic", "{isolator}", "--mass", "1e300", "-o", "{out}", "--quiet"]
+     + POINT, ["masses [1e+300] kg", "1.08e+301 N", "overflow float64", "below 1.34e+154 N"]),
+    ("harmonic-amplitude-1e200", HARMONIC + ["--freq", "5", "--amplitude", "1e200", "--quiet"],
+     ["acceleration scale 9.87e+202 m/s^2", "overflow float64", "below 1.34e+154 N"]),
+    ("drop-mass-1e200", ["simulate", "drop", "{isolator}", "--mass", "1e200", "-o", "{out}", "--height", "0.05"],
+     ["masses [1e+200] kg", "overflow float64", "below 1.34e+154 N"]),
     ("drop-velocity-1e200", DROP + ["--velocity", "1e200"], ["impact_velocity: found -1e+200 m/s",
                                                               "drop height v0^2 / (2 g) overflows"]),
 ])
