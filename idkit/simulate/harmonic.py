@@ -115,6 +115,11 @@ _RESONANCES: dict[bytes, float] = {}
 _RESONANCES_KEPT = 256
 
 
+#: Band (Hz) searched by :func:`small_amplitude_resonance`; a result at either end means the
+#: resonance lies at or beyond it (not located).
+RESONANCE_BAND_HZ = (0.1, 5e3)
+
+
 def small_amplitude_resonance(system, *, arrays=None) -> float:
     """Frequency (Hz) of the peak of the small-amplitude transmissibility (0.1 Hz - 5 kHz).
 
@@ -126,7 +131,7 @@ def small_amplitude_resonance(system, *, arrays=None) -> float:
                    for values in arrays.as_tuple())
     found = _RESONANCES.get(key)
     if found is None:
-        freq = np.logspace(-1, np.log10(5e3), 2000)
+        freq = np.logspace(np.log10(RESONANCE_BAND_HZ[0]), np.log10(RESONANCE_BAND_HZ[1]), 2000)
         found = float(freq[np.argmax(np.abs(system.transmissibility(freq)))])
         if len(_RESONANCES) >= _RESONANCES_KEPT:
             _RESONANCES.clear()

@@ -255,7 +255,8 @@ def test_corpus_covers_every_numeric_option():
     # were raw numpy overflow RuntimeWarnings, then exit 0 or 1 with meaningless numbers
     ("harmonic-mass-1e308", ["simulate", "harmonic", "{isolator}", "--mass", "1e308", "-o", "{out}", "--quiet"]
      + POINT, ["masses [1e+308] kg", "overflow float64"]),
-    ("drop-mass-1e308", ["simulate", "drop", "{isolator}", "--mass", "1e308", "-o", "{out}", "--velocity", "1"],
+    ("drop-mass-1e308", ["simulate", "drop", "{isolator}", "--mass", "1e308", "-o", "{out}", "--velocity", "1",
+                         "--duration", "0.1", "--time-step", "1e-4"],
      ["masses [1e+308] kg", "overflow float64"]),
     # were run: forces above sqrt(float64 max) = 1.3e154 N overflow the step's residual norm, and
     # ended as exit 1 "not settled after 4000 periods" or "Newton iteration did not converge"
@@ -263,8 +264,19 @@ def test_corpus_covers_every_numeric_option():
      + POINT, ["masses [1e+300] kg", "1.08e+301 N", "overflow float64", "below 1.34e+154 N"]),
     ("harmonic-amplitude-1e200", HARMONIC + ["--freq", "5", "--amplitude", "1e200", "--quiet"],
      ["acceleration scale 9.87e+202 m/s^2", "overflow float64", "below 1.34e+154 N"]),
-    ("drop-mass-1e200", ["simulate", "drop", "{isolator}", "--mass", "1e200", "-o", "{out}", "--height", "0.05"],
+    ("drop-mass-1e200", ["simulate", "drop", "{isolator}", "--mass", "1e200", "-o", "{out}", "--height", "0.05",
+                         "--duration", "0.1", "--time-step", "1e-4"],
      ["masses [1e+200] kg", "overflow float64", "below 1.34e+154 N"]),
+    # default drop grid of a resonance outside the 0.1 Hz - 5 kHz band where idkit locates it: 1e6 kg on
+    # the 1e3 N/m elastomer (5 mHz) simulated 40 s, a fifth of the compression, and said "ok"; 1e-300 kg
+    # reported no peak at all with "ok"
+    ("drop-mass-1e6-resonance-below-band", ["simulate", "drop", "{isolator}", "--mass", "1e6", "-o", "{out}",
+                                            "--height", "0.05"],
+     ["--mass 1e+06 kg", "largest at 0.1 Hz", "give --duration and --time-step"]),
+    ("drop-mass-1e-300-flat-transmissibility", ["simulate", "drop", "{isolator}", "--mass", "1e-300", "-o", "{out}",
+                                                "--height", "0.05"], ["--mass 1e-300 kg", "largest at 0.1 Hz"]),
+    ("drop-mass-1e-7-resonance-above-band", ["simulate", "drop", "{isolator}", "--mass", "1e-7", "-o", "{out}",
+                                             "--height", "0.05"], ["--mass 1e-07 kg", "largest at 5000 Hz"]),
     ("drop-velocity-1e200", DROP + ["--velocity", "1e200"], ["impact_velocity: found -1e+200 m/s",
                                                               "drop height v0^2 / (2 g) overflows"]),
 ])
