@@ -27,6 +27,8 @@ Limits and why (also in README, "Command line"):
   :data:`DEFAULT_MAX_SAMPLES` (10^7) stored samples, drops x (steps + 1), about
   80 MB per recorded signal and degree of freedom (``--max-samples`` raises it).
   Both are counted from the options before anything is allocated.
+* Every real number: 0 or at least :data:`SMALLEST_NORMAL` (2.2e-308) in magnitude; a subnormal
+  one has lost precision, and a response divided by it overflows.
 * ``--workers``: 1 to :data:`MAX_WORKERS` (256) threads; ``--seed``: 0 to 2^32 - 1, the
   range every random generator idkit uses (numpy, nlopt) accepts.
 """
@@ -46,7 +48,7 @@ __all__ = [
     "IdkitArgumentParser", "OptionError", "real", "integer", "Axis", "parse_axis", "check_grid_size",
     "check_band", "check_valid_range", "check_drop", "seed", "workers",
     "MAX_ORDER", "MAX_DMA_ORDER", "MAX_EVALS", "MAX_HARMONICS", "MIN_TOLERANCE", "MIN_TIME_STEP", "MAX_STEPS",
-    "DEFAULT_MAX_POINTS", "DEFAULT_MAX_SAMPLES", "MAX_WORKERS", "MAX_SEED",
+    "DEFAULT_MAX_POINTS", "DEFAULT_MAX_SAMPLES", "MAX_WORKERS", "MAX_SEED", "SMALLEST_NORMAL",
 ]
 
 MAX_ORDER = 12
@@ -61,6 +63,9 @@ DEFAULT_MAX_POINTS = 10**6
 DEFAULT_MAX_SAMPLES = 10**7
 MAX_WORKERS = 256
 MAX_SEED = 2**32 - 1
+#: Smallest normal float64 (2.2e-308): a nonzero number below it is subnormal, with fewer significant
+#: bits; ``simulate harmonic --amplitude 1e-310`` gave |H1| = inf with status "ok".
+SMALLEST_NORMAL = float(np.finfo(np.float64).tiny)
 
 
 class OptionError(IdkitError, ValueError):
@@ -125,6 +130,10 @@ def real(*, above=None, at_least=None, below=None, at_most=None, unit: str = "",
                 and (above is None or value > above) and (at_least is None or value >= at_least)
                 and (below is None or value < below) and (at_most is None or value <= at_most)):
             raise argparse.ArgumentTypeError(f"found {text!r}, expected {expected}")
+        if value != 0 and abs(value) < SMALLEST_NORMAL:
+            raise argparse.ArgumentTypeError(
+                f"found {text!r}, a subnormal float64 (below {SMALLEST_NORMAL:.4g}: fewer than 53 significant bits, "
+                f"and ratios to it overflow); expected {expected}, of magnitude 0 or >= {SMALLEST_NORMAL:.4g}")
         return value
 
     convert.__name__ = "number"

@@ -84,6 +84,10 @@ ERRORS = [
     ("amplitude-negative", HARMONIC + ["--freq", "5", "--amplitude", "-1e-3"],
      ["--amplitude", "value 1 found -0.001", "> 0 m"]),
     ("amplitude-zero", HARMONIC + ["--freq", "5", "--amplitude", "0"], ["--amplitude", "found 0", "> 0 m"]),
+    # subnormal values: --amplitude 1e-310 gave |H1| = inf with status "ok" and exit 0
+    ("amplitude-subnormal", HARMONIC + ["--freq", "5", "--amplitude", "1e-310"],
+     ["argument --amplitude", "found '1e-310'", "subnormal", ">= 2.225e-308"]),
+    ("height-subnormal", DROP + ["--height", "5e-324"], ["argument --height", "found '5e-324'", "subnormal"]),
     ("amplitude-minus-inf", HARMONIC + ["--freq", "5", "--amplitude", "-inf"],
      ["argument --amplitude", "found '-inf'"]),
     # simulate harmonic: frequencies far below the resonance (model read, nothing simulated): the
