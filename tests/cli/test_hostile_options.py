@@ -59,6 +59,8 @@ ERRORS = [
                                          "--amplitude-spacing", "log"], ["--amplitude", "COUNT found 0"]),
     ("freq-grid-1e9", HARMONIC + ["--freq", "1", "100", "1e9", "--freq-spacing", "log", "--amplitude", "1e-3"],
      ["--freq", "1e+09 points", "--max-points 1000000"]),
+    ("freq-grid-1e300", HARMONIC + ["--freq", "1", "100", "1e300", "--freq-spacing", "log", "--amplitude", "1e-3"],
+     ["the grid has 1e+300 (--freq) x 1 (--amplitude) = 1e+300 points"]),  # was a 301-digit integer
     ("amplitude-grid-1e9", HARMONIC + ["--freq", "5", "--amplitude", "1e-5", "1e-2", "1e9",
                                        "--amplitude-spacing", "log"], ["--amplitude", "1e+09 points", "--max-points"]),
     ("grid-product-over-limit", HARMONIC + ["--freq", "1", "100", "1001", "--freq-spacing", "log",
