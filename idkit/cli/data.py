@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 from idkit.cli import options as opt
@@ -45,7 +46,8 @@ def _cmd_init(args) -> None:
                              mat_columns=mat_columns or None, name=args.name or "", append=args.append,
                              force=args.force)
     print(f"wrote {manifest.path}: {len(manifest.entries)} measurement(s); every file read back with the stated "
-          "metadata. Check the values that differ between files (drop heights, masses, splits) and edit them.")
+          "metadata. Check the values that differ between files (drop heights, masses, splits) and edit them.",
+          file=sys.stderr)
 
 
 def register(subparsers) -> None:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 from idkit.io.columns import KINDS
 
 __all__ = ["register"]
@@ -38,7 +40,7 @@ def _cmd_inspect(args) -> None:
         from idkit.report.inspect_files import save_overview_plots
 
         for path in save_overview_plots(inspection, args.plots, force=args.force):
-            print(f"wrote {path}")
+            print(f"wrote {path}", file=sys.stderr)
 
 
 def register(commands) -> None:

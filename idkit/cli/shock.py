@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 from idkit.cli import options as opt
 
 __all__ = ["register"]
@@ -45,7 +47,7 @@ def _cmd_shock(args) -> None:
         from idkit.report.shock_files import write_shock_analysis
 
         written = write_shock_analysis(analysis, args.output, force=args.force)
-        print(f"wrote {len(written)} files to {args.output}")
+        print(f"wrote {len(written)} files to {args.output}", file=sys.stderr)
 
 
 def register(subparsers) -> None:
