@@ -109,6 +109,29 @@ def check_time(time: np.ndarray, source: Source, sample_rate_hz: float | None) -
             )
 
 
+def _check_uniform_time(time: np.ndarray, source: Source) -> None:
+    """Every step within :data:`SAMPLE_RATE_TOLERANCE` of the median step (shock records).
+
+    The shock response spectra, the low-pass filter and the velocity change run at one
+    sample rate, ``1 / median step``; a missing sample (a step of two), a splice or a
+    pause would be processed as if the samples were evenly spaced. The tolerance is the
+    one between a declared and the measured sample rate; stamps rounded to four
+    significant digits of the step stay within it.
+    """
+    step = np.diff(time)
+    median = float(np.median(step))
+    bad = np.flatnonzero(np.abs(step - median) > SAMPLE_RATE_TOLERANCE * median)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise DataError(
+            f"{source.where('time')}: {source.row_label(i)}: time step {float(step[i - 1]):.6g} s from "
+            f"{float(time[i - 1])!r} to {float(time[i])!r}, {float(step[i - 1]) / median:.4g} x the median step "
+            f"{median:.6g} s ({bad.size} such step(s)); expected uniform sampling within "
+            f"{SAMPLE_RATE_TOLERANCE:.0%} (a missing or inserted sample?), since the spectra and integrals run "
+            "at one sample rate"
+        )
+
+
 @dataclass(frozen=True, eq=False)
 class _SignalMeasurement:
     """Common machinery of the time-series measurements (not public)."""
@@ -435,6 +458,7 @@ class AccelerationRecord:
             _as_signal(accel[:, j], f"test {j + 1}", self.source)
         accel.setflags(write=False)
         check_time(time, self.source, None)
+        _check_uniform_time(time, self.source)
         object.__setattr__(self, "time", time)
         object.__setattr__(self, "accel", accel)
 

@@ -88,3 +88,13 @@ def test_two_records_of_one_channel_are_refused(tmp_path, as_input):
     argv = ["shock", first, *(["--input"] if as_input else []), second, "-o", out]
     outcome = run_main(argv, inputs=[first, second], must_not_exist=[out], watch=[tmp_path])
     check(outcome, "error", ["channel 'payload' given twice", str(first), str(second)], case="shock same channel")
+
+
+def test_a_missing_sample_is_refused_not_spread_over_the_record(tmp_path):
+    """A row removed from a 100 kHz record was analysed at 1 / median step (spectra, velocity change)."""
+    record = write_record(tmp_path / "payload.csv")
+    lines = record.read_text().splitlines(keepends=True)
+    record.write_text("".join(lines[:501] + lines[502:]))  # data row 501 (t = 5 ms) removed
+    outcome = run_main(["shock", record], inputs=[record])
+    check(outcome, "error", ["payload.csv", "column 'time [s]'", "data row 501", "2 x the median step 1e-05 s",
+                             "expected uniform sampling"])
