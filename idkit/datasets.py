@@ -486,11 +486,16 @@ def read_boucwen_benchmark(path: str | Path) -> BoucWenBenchmark:
             raise DataError(f"{source.where(var)}: found shape {raw.shape}, expected a vector")
         check_exact_in_float64(raw.reshape(-1), var, source.where(var))  # int64 beyond 2^53 would round
         value = raw.reshape(-1).astype(np.float64)
-        if not np.all(np.isfinite(value)):
-            raise DataError(f"{source.where(var)}: found non-finite values")
+        bad = np.flatnonzero(~np.isfinite(value))
+        if bad.size:  # named by sample, as read_mat does (it said only "found non-finite values")
+            raise DataError(f"{source.where(var)}: sample {int(bad[0]) + 1} (1-based): found {float(value[bad[0]])!r}, "
+                            f"expected a finite number ({bad.size} non-finite value(s) in total)")
         value.setflags(write=False)
         arrays[field_name] = value
     for prefix in ("train", "test_multisine", "test_sinesweep"):
         if arrays[f"{prefix}_force"].size != arrays[f"{prefix}_displacement"].size:
-            raise DataError(f"{source.where()}: {prefix}: force and displacement lengths differ")
+            force_var, displacement_var = names[f"{prefix}_force"], names[f"{prefix}_displacement"]
+            raise DataError(f"{source.where()}: {prefix}: found {arrays[f'{prefix}_force'].size} samples of "
+                            f"'{force_var}' (force) and {arrays[f'{prefix}_displacement'].size} of "
+                            f"'{displacement_var}' (displacement), expected equal lengths")
     return BoucWenBenchmark(sample_rate_hz=BOUCWEN_SAMPLE_RATE_HZ, source=source, **arrays)

@@ -28,3 +28,34 @@ def test_afrl_record_with_a_missing_sample_is_refused(realdata, tmp_path, row):
     with pytest.raises(DataError, match=rf"data row {row + 1} .*time step 2e-06 s.*2 x the median step 1e-06 s.*"
                                         r"expected uniform sampling"):
         read_afrl_accel(path)
+
+
+def _boucwen_variables(realdata):
+    scipy_io = pytest.importorskip("scipy.io")
+    path = realdata("boucwen_benchmark") / "bouc-wen.mat"
+    return scipy_io, {k: v for k, v in scipy_io.loadmat(path).items() if not k.startswith("__")}
+
+
+@pytest.mark.parametrize("index", [0, 1000, 40959])
+def test_boucwen_benchmark_nan_is_named_by_sample(realdata, tmp_path, index):
+    """The message was only "found non-finite values": no sample, no count."""
+    scipy_io, variables = _boucwen_variables(realdata)
+    y = variables["y"].copy()
+    y[0, index] = np.nan
+    scipy_io.savemat(tmp_path / "bouc-wen.mat", {**variables, "y": y})
+    from idkit.datasets import read_boucwen_benchmark
+
+    with pytest.raises(DataError, match=rf"column 'y': sample {index + 1} \(1-based\): found nan, expected a finite "
+                                        r"number \(1 non-finite value\(s\) in total\)"):
+        read_boucwen_benchmark(tmp_path / "bouc-wen.mat")
+
+
+def test_boucwen_benchmark_truncated_signal_names_both_lengths(realdata, tmp_path):
+    """A training force three samples short said only "force and displacement lengths differ"."""
+    scipy_io, variables = _boucwen_variables(realdata)
+    scipy_io.savemat(tmp_path / "bouc-wen.mat", {**variables, "u": variables["u"][:-3]})
+    from idkit.datasets import read_boucwen_benchmark
+
+    with pytest.raises(DataError, match=r"train: found 40957 samples of 'u' \(force\) and 40960 of 'y' "
+                                        r"\(displacement\), expected equal lengths"):
+        read_boucwen_benchmark(tmp_path / "bouc-wen.mat")
