@@ -293,7 +293,10 @@ def register(subparsers) -> None:
                               "against the ones estimated from the isotherms")
     maxwell.add_argument("--use-given-shift-factors", action="store_true",
                          help="build the master curve from --shift-factors instead of the estimated ones")
-    maxwell.add_argument("--k0", type=opt.real(above=0, unit="N/m"), help="static stiffness in N/m (default: from the quasi-static loops)")
+    maxwell.add_argument("--k0", type=opt.real(at_least=opt.MIN_K0, at_most=opt.MAX_K0, unit="N/m",
+                                               why="the element stiffnesses are searched in 0.1-10 k0; "
+                                                   "outside, the fit's bounds collapse or its squares overflow"),
+                         help="static stiffness in N/m (default: from the quasi-static loops)")
     maxwell.add_argument("--k0-method", choices=("relaxation", "secant"), default=None,
                          help="how k0 is read off the loops: with the relaxation of elements not yet relaxed at the "
                               "zero crossings fitted (default), or the loops' secant slope around zero (biased high "
