@@ -52,6 +52,10 @@ __all__ = [
 #: Fewest samples per period of the highest natural frequency an SRS is computed for:
 #: a peak between samples is then missed by at most ``(2 pi / 10)^2 / 8 = 4.9 %``.
 MIN_SAMPLES_PER_PERIOD = 10.0
+#: Most samples of the residual window (one period of the lowest natural frequency, zeros after
+#: the record): the simulator's own step limit (idkit.cli.options.MAX_STEPS). A natural frequency
+#: of 1e-300 Hz asked for 1e305 samples and ended in numpy's "Maximum allowed dimension exceeded".
+MAX_RESIDUAL_SAMPLES = 10**8
 
 
 def smallwood_coefficients(
@@ -218,6 +222,12 @@ def _checked(acceleration, fs, freq, damping_ratio, residual_duration):
         residual_duration = 1.0 / fn.min()
     if not (np.isfinite(residual_duration) and residual_duration >= 0):
         raise DataError(f"residual_duration must be >= 0 s; found {residual_duration!r}")
+    if residual_duration * fs * (1 - 1e-12) > MAX_RESIDUAL_SAMPLES:
+        raise DataError(
+            f"freq: the lowest natural frequency {fn.min():g} Hz needs a residual window of {residual_duration:.4g} s, "
+            f"{residual_duration * fs:.4g} samples at {fs:g} Hz; expected at most {MAX_RESIDUAL_SAMPLES:.0e} "
+            f"(natural frequencies >= {fs / MAX_RESIDUAL_SAMPLES:.4g} Hz, or a shorter residual_duration)"
+        )
     # a window of whole samples; the small margin keeps a product like 0.1 s x 200 kHz at 20000
     padded = np.concatenate([values, np.zeros(int(np.ceil(residual_duration * fs * (1 - 1e-12))))])
     return fn, padded

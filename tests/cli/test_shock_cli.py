@@ -98,3 +98,13 @@ def test_a_missing_sample_is_refused_not_spread_over_the_record(tmp_path):
     outcome = run_main(["shock", record], inputs=[record])
     check(outcome, "error", ["payload.csv", "column 'time [s]'", "data row 501", "2 x the median step 1e-05 s",
                              "expected uniform sampling"])
+
+
+@pytest.mark.parametrize("freq_min, samples", [("1e-300", "1e+305"), ("1e-4", "1e+09")])
+def test_a_residual_window_beyond_the_step_limit_is_refused(tmp_path, freq_min, samples):
+    """--freq-min 1e-300 ended in numpy's 'Maximum allowed dimension exceeded' traceback (one period of
+    the lowest natural frequency is padded after the record: 1e305 samples)."""
+    record = write_record(tmp_path / "payload.csv")
+    outcome = run_main(["shock", record, "--freq-min", freq_min, "--freq-max", "1000"], inputs=[record])
+    check(outcome, "error", [f"lowest natural frequency {float(freq_min):g} Hz", f"{samples} samples at 100000 Hz",
+                             "expected at most 1e+08", ">= 0.001 Hz"])
