@@ -18,7 +18,8 @@ Choices (documented because a shock record is easy to misread):
 - **Filtering**: none by default. ``lowpass_hz`` applies a zero-phase Butterworth low-pass
   (order ``filter_order``, default 4, run forward and backward with
   :func:`scipy.signal.sosfiltfilt`, so the magnitude response is squared and the phase is
-  zero); the cut-off must lie below the Nyquist frequency.
+  zero); the cut-off must lie below the Nyquist frequency and at or above ``1 / T`` (a period
+  longer than the record leaves only its mean and trend, as the SRS band starts at ``1 / T``).
 - **Pulse characteristics** (:func:`shock_pulses`): the peak is the sample of largest
   magnitude (sign kept); the duration is the length of the contiguous span around it where
   ``|a| >= duration_fraction * |peak|`` (default 10 %, the usual pulse-width reading of
@@ -188,6 +189,12 @@ def condition_shock(record: AccelerationRecord, *, offset: str = "pre-trigger", 
         if not (np.isfinite(lowpass_hz) and 0 < lowpass_hz < fs / 2 * (1 - 1e-6)):
             raise DataError(f"lowpass_hz: found {lowpass_hz!r}, expected a cut-off in (0, {fs / 2:g}) Hz "
                             f"(below the Nyquist frequency of {_where(record)})")
+        span = float(record.time[-1] - record.time[0])
+        if lowpass_hz * span < 1.0:  # 10 Hz on a 20 ms record: "peak" 0.4 of 100 m/s^2, duration the whole record
+            raise DataError(f"lowpass_hz: found {lowpass_hz!r}, below 1 / record length = {1.0 / span:.6g} Hz "
+                            f"({_where(record)}, {span:.6g} s): a cut-off whose period exceeds the record leaves only "
+                            f"its mean and trend (below 1e-5 Hz the filter design was singular); expected a cut-off "
+                            f"in [{1.0 / span:.6g}, {fs / 2:g}) Hz")
         if int(filter_order) != filter_order or not 1 <= filter_order <= 10:
             raise DataError(f"filter_order: found {filter_order!r}, expected an integer in 1..10")
         sos = sps.butter(int(filter_order), lowpass_hz, fs=fs, output="sos")

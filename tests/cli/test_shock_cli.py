@@ -108,3 +108,13 @@ def test_a_residual_window_beyond_the_step_limit_is_refused(tmp_path, freq_min, 
     outcome = run_main(["shock", record, "--freq-min", freq_min, "--freq-max", "1000"], inputs=[record])
     check(outcome, "error", [f"lowest natural frequency {float(freq_min):g} Hz", f"{samples} samples at 100000 Hz",
                              "expected at most 1e+08", ">= 0.001 Hz"])
+
+
+@pytest.mark.parametrize("lowpass", ["1e-300", "10"])
+def test_a_lowpass_below_one_over_the_record_length_is_refused(tmp_path, lowpass):
+    """--lowpass 10 on a 20 ms record with a 1 ms, 100 m/s^2 half sine reported a peak of 0.42 m/s^2 lasting the
+    whole record, exit 0 (only the mean and trend survive); --lowpass 1e-300 ended in a LinAlgError traceback."""
+    record = write_record(tmp_path / "payload.csv")
+    outcome = run_main(["shock", record, "--lowpass", lowpass], inputs=[record])
+    check(outcome, "error", [f"lowpass_hz: found {float(lowpass)!r}", "below 1 / record length = 50.025 Hz",
+                             "expected a cut-off in [50.025, 50000) Hz"])
