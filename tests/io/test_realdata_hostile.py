@@ -59,3 +59,29 @@ def test_boucwen_benchmark_truncated_signal_names_both_lengths(realdata, tmp_pat
     with pytest.raises(DataError, match=r"train: found 40957 samples of 'u' \(force\) and 40960 of 'y' "
                                         r"\(displacement\), expected equal lengths"):
         read_boucwen_benchmark(tmp_path / "bouc-wen.mat")
+
+
+def test_afrl_one_ulp_moves_the_shock_analysis_by_rounding_only(realdata, tmp_path):
+    """Every nonzero acceleration of accel_1 moved by one ulp: peaks, velocity changes and the three spectra
+    move by rounding, not by a changed pulse window or trigger (measured: 2.2e-16 peak, 1.3e-15 velocity
+    change, 6e-13 spectra). Bound of the spectra: the recursive filters accumulate one rounding per sample
+    of the padded record (5000 samples + one period of the lowest natural frequency, 1/T: 10000), eps each."""
+    from idkit.studies.shock import analyse_shock
+
+    head, body = _afrl_lines(realdata)
+    rows = [line.strip().split(",") for line in body]
+    moved = [",".join([row[0]] + [repr(float(np.nextafter(float(v), np.inf))) if float(v) != 0 else v
+                                  for v in row[1:]]) + "\n" for row in rows]
+    path = tmp_path / "accel_1.csv"
+    path.write_text("".join(head + moved))
+    fixture = read_afrl_accel(realdata("droptower_shock_afrl") / "accel_6.csv")
+    before = analyse_shock([read_afrl_accel(realdata("droptower_shock_afrl") / "accel_1.csv")], input=fixture)
+    after = analyse_shock([read_afrl_accel(path)], input=fixture)
+    eps = np.finfo(float).eps
+    a, b = before.pulse_table(), after.pulse_table()
+    assert (a["time_of_peak [s]"] == b["time_of_peak [s]"]).all() and (a["duration [s]"] == b["duration [s]"]).all()
+    for column in ("peak [m/s^2]", "velocity_change [m/s]", "offset_removed [m/s^2]"):
+        np.testing.assert_allclose(b[column], a[column], rtol=16 * eps, atol=0)
+    for s_before, s_after in zip(before.spectra[0].spectra, after.spectra[0].spectra):
+        for name in ("absolute_acceleration", "pseudo_velocity", "relative_displacement"):
+            np.testing.assert_allclose(getattr(s_after, name), getattr(s_before, name), rtol=10000 * eps, atol=0)
