@@ -218,6 +218,16 @@ class ShiftFactorTable:
         if temperature.size != log_a_t.size or temperature.size == 0:
             raise DataError(f"{self.source.where()}: found {temperature.size} temperatures and "
                             f"{log_a_t.size} shift factors, expected equal non-zero counts")
+        # master_curve takes the nearest temperature's shift factor: of a repeated one, the first row
+        # won and the other was ignored without a word (70 C given as -8.2 and 3.0)
+        order = np.argsort(temperature, kind="stable")
+        repeated = np.flatnonzero(np.diff(temperature[order]) == 0)
+        if repeated.size:
+            first, second = sorted((int(order[repeated[0]]), int(order[repeated[0] + 1])))
+            raise DataError(f"{self.source.where('temperature')}: {self.source.row_label(second)}: temperature "
+                            f"{float(temperature[second])!r} K repeats {self.source.row_label(first)} (log_aT "
+                            f"{float(log_a_t[first])!r} there, {float(log_a_t[second])!r} here); expected one shift "
+                            "factor per temperature")
         object.__setattr__(self, "temperature", temperature)
         object.__setattr__(self, "log_a_t", log_a_t)
 

@@ -85,3 +85,21 @@ def test_afrl_one_ulp_moves_the_shock_analysis_by_rounding_only(realdata, tmp_pa
     for s_before, s_after in zip(before.spectra[0].spectra, after.spectra[0].spectra):
         for name in ("absolute_acceleration", "pseudo_velocity", "relative_displacement"):
             np.testing.assert_allclose(getattr(s_after, name), getattr(s_before, name), rtol=10000 * eps, atol=0)
+
+
+@pytest.mark.parametrize("value", ["3.0", None])
+def test_pyvisco_shift_factor_repeated_temperature_is_refused(realdata, tmp_path, value):
+    """A temperature given twice (62 C as -7.74 and 3.0) was read, and master_curve took the first row's
+    shift factor without a word."""
+    from idkit.datasets import read_pyvisco_shift_factors
+
+    lines = (realdata("pyvisco_dma") / "examples" / "freq_user_master__shift_factors.csv").read_text().splitlines(
+        keepends=True)
+    head, body = lines[:2], lines[2:]
+    temperature, log_a_t = (cell.strip() for cell in body[5].split(","))
+    repeat = f"{temperature},{value if value is not None else log_a_t}\n"
+    path = tmp_path / "shift_factors.csv"
+    path.write_text("".join(head + body[:6] + [repeat] + body[6:]))
+    with pytest.raises(DataError, match=rf"data row 7 .*temperature 335.15 K repeats data row 6 .*\(log_aT "
+                                        rf"{log_a_t} there, {value or log_a_t} here\); expected one shift factor"):
+        read_pyvisco_shift_factors(path)
