@@ -111,41 +111,17 @@ def _cmd_simulate_harmonic(args):
     return _failed_points(table, "points")
 
 
-def _check_resonance_located(system, args) -> None:
-    """Refuse the default drop grid of a system whose small-amplitude resonance lies outside the band
-    where idkit locates it: the default duration (4 periods) and step (2000 a period) come from it.
-
-    A resonance found at an end of :data:`~idkit.simulate.harmonic.RESONANCE_BAND_HZ` is not located
-    (a 1e6 kg mass on a 1e3 N/m elastomer resonates at 5 mHz: the 40 s simulated covered a fifth of
-    the compression and the travel was reported "ok"; a 1e-300 kg mass gave no peak at all)."""
-    from idkit.simulate.harmonic import RESONANCE_BAND_HZ, small_amplitude_resonance
-
-    low, high = RESONANCE_BAND_HZ
-    found = small_amplitude_resonance(system)
-    if low * (1 + 1e-9) < found < high * (1 - 1e-9):
-        return
-    edge = low if found <= low * (1 + 1e-9) else high
-    what = f"--mass {args.mass:g} kg on {args.model}" if args.mass is not None else f"the system of {args.model}"
-    raise IdkitError(f"{what}: the small-amplitude transmissibility is largest at {edge:g} Hz, an end of the band "
-                     f"{low:g}-{high:g} Hz searched for the resonance (it lies beyond, or the curve has no peak), "
-                     "so the default --duration (4 resonance periods) and --time-step (2000 steps a period) would "
-                     "not follow the drop; expected a mass and isolator resonating inside the band, or give "
-                     "--duration and --time-step")
-
-
 def _cmd_simulate_drop(args):
     """Conditioned free falls through :func:`idkit.responses.shock.shock_sweep` (the one drop reduction)."""
-    from idkit.responses.shock import default_shock_grid, shock_sweep
+    from idkit.responses.shock import shock_sweep
+    from idkit.studies.drop_grid import drop_grid
 
     if (args.velocity is None) == (args.height is None):
         raise IdkitError("give exactly one of --velocity and --height")
     _check_table_output(args)
     system = _model_or_system(args.model, args.mass)
-    if args.duration is None or args.time_step is None:
-        _check_resonance_located(system, args)
-    auto_duration, auto_step = default_shock_grid(system)
-    duration = auto_duration if args.duration is None else args.duration
-    time_step = auto_step if args.time_step is None else args.time_step
+    what = f"--mass {args.mass:g} kg on {args.model}" if args.mass is not None else f"the system of {args.model}"
+    duration, time_step = drop_grid(system, args.duration, args.time_step, what=what)
     opt.check_drop(len(args.velocity or args.height), duration, time_step, args.max_samples)
     if args.velocity is not None:
         sweep = shock_sweep(system, impact_velocity=-np.abs(np.asarray(args.velocity, dtype=float)),
