@@ -14,7 +14,7 @@ import numpy as np
 
 from idkit import __version__
 from idkit.cli import options as opt
-from idkit.errors import IdkitError
+from idkit.errors import IdkitError, SimulationError
 
 
 def _model_or_system(path, mass):
@@ -113,15 +113,21 @@ def _cmd_simulate_harmonic(args):
 
 def _cmd_simulate_drop(args):
     """Conditioned free falls through :func:`idkit.responses.shock.shock_sweep` (the one drop reduction)."""
-    from idkit.responses.shock import shock_sweep
-    from idkit.studies.drop_grid import drop_grid
+    from idkit.responses.shock import default_shock_grid, shock_sweep
 
     if (args.velocity is None) == (args.height is None):
         raise IdkitError("give exactly one of --velocity and --height")
     _check_table_output(args)
     system = _model_or_system(args.model, args.mass)
-    what = f"--mass {args.mass:g} kg on {args.model}" if args.mass is not None else f"the system of {args.model}"
-    duration, time_step = drop_grid(system, args.duration, args.time_step, what=what)
+    duration, time_step = args.duration, args.time_step
+    if duration is None or time_step is None:  # the defaults follow the system's resonance
+        try:
+            auto_duration, auto_step = default_shock_grid(system)
+        except SimulationError as problem:
+            what = f"--mass {args.mass:g} kg on {args.model}" if args.mass is not None else f"the system of {args.model}"
+            raise SimulationError(f"{what}: {problem}; give --duration and --time-step") from None
+        duration = auto_duration if duration is None else duration
+        time_step = auto_step if time_step is None else time_step
     opt.check_drop(len(args.velocity or args.height), duration, time_step, args.max_samples)
     if args.velocity is not None:
         sweep = shock_sweep(system, impact_velocity=-np.abs(np.asarray(args.velocity, dtype=float)),

@@ -112,3 +112,16 @@ def test_gravity_that_is_not_an_acceleration_is_refused_by_every_entry(entry, gr
     }
     with pytest.raises(SimulationError, match="gravity: found"):
         calls[entry]()
+
+
+@pytest.mark.parametrize("mass", [1e6, 1e-7])
+def test_the_default_drop_grid_refuses_a_resonance_it_has_not_located(mass):
+    # 1e6 kg on 1e3 N/m resonates at 5 mHz, 1e-7 kg at 16 kHz: outside the 0.1 Hz - 5 kHz band
+    # searched, the grid was built on the band's end (40 s for a 200 s period) and ran "ok"
+    system = SDOFSystem(mass, VoigtModel(k=1e3, damping=0.1 * np.sqrt(1e3 * mass)))
+    with pytest.raises(SimulationError, match="an end of the band 0.1-5000 Hz"):
+        default_shock_grid(system)
+    with pytest.raises(SimulationError, match="an end of the band"):
+        shock_sweep(system, drop_height=[0.05])
+    # given a grid, it runs
+    assert shock_sweep(system, drop_height=[0.05], duration=1e-3, time_step=1e-5).drop_height.size == 1
