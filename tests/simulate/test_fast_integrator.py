@@ -306,3 +306,15 @@ def test_static_deflection_refuses_a_load_that_is_not_a_force(load):
 
     with pytest.raises(SimulationError, match="load: found"):
         static_deflection(library.get("table_b1_medium"), load)
+
+
+def test_a_subnormal_amplitude_is_refused_not_answered_with_inf():
+    # 1e-310 m returned |H1| = inf with the reason "ok"; 1e-306 m (normal) is a linear answer
+    system = library.get("system_b1_medium")
+    normal = harmonic_response(system, 5.0, 1e-306)
+    # a linear system: the same |H1| as at 1 mm, to round-off of the scaled run
+    reference = harmonic_response(system, 5.0, 1e-3)
+    assert normal.reasons == ("ok",) and np.isclose(normal.hosidf(1)[0], reference.hosidf(1)[0], rtol=1e-9)
+    with pytest.raises(SimulationError,
+                       match=r"amplitude: found \[1.e-310\], expected finite amplitudes >= 2.23e-308 m \(positive and"):
+        harmonic_response(system, 5.0, 1e-310)
