@@ -27,7 +27,7 @@ Limits and why (also in README, "Command line"):
   :data:`DEFAULT_MAX_SAMPLES` (10^7) stored samples, drops x (steps + 1), about
   80 MB per recorded signal and degree of freedom (``--max-samples`` raises it).
   Both are counted from the options before anything is allocated.
-* ``fit maxwell --k0``: :data:`MIN_K0` (1e-13 N/m) to :data:`MAX_K0` (1.3e153 N/m): the element
+* ``fit maxwell --k0``: :data:`MIN_K0` (1e-12 N/m) to :data:`MAX_K0` (1.3e153 N/m): the element
   stiffnesses are searched in 0.1-10 k0; a narrower span is "min == max" to lmfit, a larger one
   overflows when squared.
 * Every real number: 0 or at least :data:`SMALLEST_NORMAL` (2.2e-308) in magnitude; a subnormal
@@ -66,11 +66,13 @@ DEFAULT_MAX_POINTS = 10**6
 DEFAULT_MAX_SAMPLES = 10**7
 MAX_WORKERS = 256
 MAX_SEED = 2**32 - 1
-#: ``fit maxwell --k0`` (N/m): the element stiffnesses are searched in 0.1 k0 .. 10 k0 (idkit.fit.maxwell).
-#: Below MIN_K0 that span, 9.9 k0, is within lmfit's absolute 1e-13 of zero width and its Parameter
-#: refuses "min == max" (--k0 1e-150 and 1e-300 ended in that traceback); above MAX_K0, 10 k0 squared
-#: in lmfit's bound transform overflows float64 (--k0 1e300: OverflowError traceback).
-MIN_K0 = 1e-13
+#: ``fit maxwell --k0`` (N/m): the element stiffnesses are searched in 0.1 k0 .. 10 k0 and the order
+#: table's Voigt damping in k0 / 1e4 .. k0 / 1 s (idkit.fit.maxwell). The narrower, the damping box,
+#: spans 0.9999 k0; at or below lmfit's absolute 1e-13 its Parameter refuses "min == max" (--k0
+#: 1e-150 and 1e-300 ended in that traceback, 1e-13 in the Voigt's), so MIN_K0 = 1e-12 keeps every
+#: box nine times wider than that; above MAX_K0, 10 k0 squared in lmfit's bound transform overflows
+#: float64 (--k0 1e300: OverflowError traceback).
+MIN_K0 = 1e-12
 MAX_K0 = math.sqrt(np.finfo(np.float64).max) / 10.0
 #: Smallest normal float64 (2.2e-308): a nonzero number below it is subnormal, with fewer significant
 #: bits; ``simulate harmonic --amplitude 1e-310`` gave |H1| = inf with status "ok".

@@ -517,6 +517,11 @@ class CrossCheck:
     elapsed_s: float
 
 
+#: Relative error (fraction) of the null prediction 0 under the RMS relative complex error (7.5):
+#: ``|0 - H| / |H| = 1`` at every point. A fit that does not beat it explains nothing of the data.
+NULL_PREDICTION_ERROR = 1.0
+
+
 @dataclass(frozen=True)
 class MaxwellFitResult(_LmfitStatistics):
     """Result of :func:`idkit.fit.fit_maxwell`, :func:`fit_voigt` or :func:`fit_complex_stiffness`.
@@ -589,13 +594,18 @@ class MaxwellFitResult(_LmfitStatistics):
     def reasons(self) -> tuple[str, ...]:
         """Why the fit is not a success (empty when it is).
 
-        The SQP found no point meeting the constraints, stopped on its evaluation limit or
+        The error is not below that of the prediction 0 (:data:`NULL_PREDICTION_ERROR`, 100 %);
+        the SQP found no point meeting the constraints, stopped on its evaluation limit or
         failed; a free parameter sits on its
         search bound (the data do not place it inside the box); two relaxation rates
         coincide within :data:`DUPLICATE_RATE_RATIO` (the elements are one element
         split in two: a lower order fits as well).
         """
         reasons = []
+        if not self.error < NULL_PREDICTION_ERROR:
+            reasons.append(f"error {100 * self.error:.4g} % >= {100 * NULL_PREDICTION_ERROR:g} %: the model predicts the "
+                           "data no better than zero would (a prediction of 0 has a relative error of exactly 100 %); "
+                           "the parameters are not an identification (a k0 far from the data, e.g. --k0)")
         if self.status == "infeasible":
             reasons.append("no point met the constraints (loss factor non-decreasing over the band): the start "
                            f"was kept, error {100 * self.error:.3g} % ({self.message})")

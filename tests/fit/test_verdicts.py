@@ -138,3 +138,16 @@ def test_a_loss_constraint_the_data_reject_is_dropped_or_flagged(seed):
     imposed = fit_maxwell(frfs, k0=truth.k0, order=3, monotone_loss=True)
     assert not imposed.success
     assert any(reason.startswith("the loss-factor constraint binds") for reason in imposed.reasons)
+
+
+@pytest.mark.parametrize("k0_factor", [1e-3, 1e20])
+def test_a_maxwell_fit_no_better_than_predicting_zero_is_not_a_success(k0_factor):
+    # fit maxwell --k0 1e150 on the bundled elastomer fitted at 2416 % error and said success; so
+    # did order 1 here with k0 x 1e20 (3079 %). x 1e-3 was already flagged for other reasons.
+    truth = library.get("table_7_3_elastomer")
+    result = fit_maxwell(noisy_frf_sets(truth, 7), k0=truth.k0 * k0_factor, order=1)
+    assert result.error >= 1.0
+    assert not result.success and any("no better than zero would" in reason for reason in result.reasons)
+    # the truth's own k0 stays far below that error, without that reason
+    fine = fit_maxwell(noisy_frf_sets(truth, 7), k0=truth.k0, order=2)
+    assert fine.error < 0.2 and not any("no better than zero" in reason for reason in fine.reasons)
