@@ -221,6 +221,7 @@ def jacobian_statistics(
     method: str = "Jacobian at the optimum",
     jacobian: Callable[[np.ndarray], np.ndarray] | None = None,
     group_sizes: Sequence[int] | None = None,
+    step_nuisance: np.ndarray | None = None,
 ) -> lmfit.minimizer.MinimizerResult:
     """Least-squares statistics of ``residuals`` at ``u`` without moving ``u``.
 
@@ -251,6 +252,10 @@ def jacobian_statistics(
         their relative residuals differ by the ratio of the loops' forces: with one pooled
         variance the standard errors of the parameters the small loops fix came out 1.6-1.9
         times too small (docs/fitting.md, "Iwan uncertainty").
+    step_nuisance : ndarray, shape (N, q), optional
+        Residual derivatives of ``q`` nuisance quantities the fit holds at zero (e.g. one
+        force offset per loop set): ``gauss_newton_step`` is then the step to the least-squares
+        optimum with these free too (reported for ``names`` only); the covariance is unchanged.
 
     Returns
     -------
@@ -348,7 +353,11 @@ def jacobian_statistics(
         covar[np.ix_(index, index)] = covar_seen
         sigma = np.sqrt(np.clip(np.diag(covar_seen), 0.0, None))
         correlation = covar_seen / np.outer(sigma, sigma)
-        gn_step = -np.linalg.lstsq(jacobian[:, seen], residual, rcond=None)[0]
+        design = jacobian[:, seen]
+        if step_nuisance is not None:
+            extra = np.asarray(step_nuisance, dtype=float).reshape(n_data, -1)
+            design = np.hstack([design, extra])
+        gn_step = -np.linalg.lstsq(design, residual, rcond=None)[0][: index.size]
         for position, i in enumerate(index):
             parameters[names[i]].stderr = float(sigma[position])
             parameters[names[i]].correl = {names[j]: float(correlation[position, other])

@@ -179,7 +179,9 @@ def fit_iwan(
         (step 1e-4) in the internal coordinates, mapped by ``stderr(p) = p stderr(log p)``
         (``g2``, ``g3``: linear). ``result.chisqr``, ``redchi``, ``aic``, ``bic``,
         ``fit_report()`` as in lmfit; a parameter without stderr is named with the reason
-        in ``result.stderr_notes``. Calibrated on synthetic loops in docs/fitting.md.
+        in ``result.stderr_notes``. Each stderr is ``sqrt(s^2 + d^2)``, ``d`` the Gauss-Newton
+        step to the least-squares optimum of ``r`` with one force offset per set free.
+        Calibrated on synthetic loops in docs/fitting.md.
 
     Raises
     ------
@@ -428,7 +430,10 @@ def _add_the_step(internal, names) -> None:
     is ``sqrt(s^2 + d^2)``, the spread of the returned point about the truth when the step is
     as random as the noise (correlations kept, covariance rescaled; the step is then reported
     in the new standard errors). With the same force noise (N) on every loop the steps of
-    ``g1, g2, g3`` reached 2-3 standard errors (docs/fitting.md, "Iwan uncertainty").
+    ``g1, g2, g3`` reached 2-3 standard errors (docs/fitting.md, "Iwan uncertainty"). The
+    optimum is that of the residuals with one force offset per loop set free (a load-cell zero
+    error the fit holds at 0 is absorbed by ``g2`` and the others; the step measures it): a
+    0.1 N offset per set with 0.05 N noise left ``g2`` off by RMS 8 of its stderr before.
     """
     steps = getattr(internal, "gauss_newton_step", None) or {}
     if internal.covar is None or not steps:
@@ -469,7 +474,13 @@ def _iwan_lmfit(model: IwanModel, small: IwanLoops, large: IwanLoops, x_ref: flo
         return weights * np.concatenate([small.residuals(*args), large.residuals(*args)])
 
     names = [t.name for t in transforms]
+    # one force offset per loop set (a load-cell zero the fit holds at 0): d r / d offset
+    norms = np.concatenate([small.norm, large.norm])
+    nuisance = np.zeros((int(sizes.sum()), sizes.size))
+    for s, (a, b) in enumerate(zip(np.cumsum(sizes) - sizes, np.cumsum(sizes))):
+        nuisance[a:b, s] = weights[a:b] / norms[s]
     internal = jacobian_statistics(residuals, u_opt, names, group_sizes=sizes,
+                                   step_nuisance=nuisance,
                                    method="Jacobian of the per-point residuals at the Nelder-Mead optimum")
     _add_the_step(internal, names)
     specs = {spec.name: spec for spec in model.param_specs()}
