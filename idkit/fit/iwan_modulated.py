@@ -54,7 +54,7 @@ import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (befor
 from idkit.errors import FitError
 from idkit.fit.compare import ORDER_RULE_FACTOR, LoopModelComparison, compare_loop_models
 from idkit.fit._params import Transform, jacobian_statistics, to_lmfit, to_physical_statistics
-from idkit.fit.iwan import LoopSet, fit_iwan, prepare_loops
+from idkit.fit.iwan import LoopSet, _add_the_step, fit_iwan, prepare_loops
 from idkit.fit.result import IwanFitResult, IwanFitSettings, StageResult, determinacy_reasons
 from idkit.models import IwanModel, ModulatedIwanModel
 
@@ -615,12 +615,19 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
                   for name, kind, scale, low, high in zip(order_names, kinds, scales, lower, upper)]
     # least-squares statistics at the solution (internal coordinates, then the chain rule):
     # the residuals are the stage's own, so these describe the data's noise, not the model error
+    # one force offset per loop set (a load-cell zero the fit holds at 0): d r / d offset, none
+    # in the barrier rows
+    nuisance = np.zeros((rows, len(sets)))
+    for s in range(len(sets)):
+        nuisance[offsets[s]:offsets[s + 1], s] = inv_norms[s]
     internal = jacobian_statistics(lambda u: evaluate(u, True)["residual"].copy(), best.x, order_names,
                                    jacobian=lambda u: evaluate(u, True)["jacobian"].copy(),
                                    # a noise variance per loop set (same force noise in N: the small
                                    # loops' relative residuals are larger), the barrier rows as one
-                                   group_sizes=[*np.diff(offsets), grid.size + 1],
+                                   group_sizes=[*np.diff(offsets), grid.size + 1], step_nuisance=nuisance,
                                    method="Jacobian of the per-point residuals at the least-squares optimum")
+    # the distance to the optimum with the offsets free, in quadrature (as for the plain fit)
+    _add_the_step(internal, order_names)
     specs = {spec.name: spec for spec in model.param_specs()}
     lmfit_parameters = to_lmfit(
         order_names + ["c_visc"], [physical[name] for name in order_names] + [0.0],
