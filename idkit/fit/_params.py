@@ -271,7 +271,8 @@ def jacobian_statistics(
             with, or the combination that makes ``J^T J`` singular.
         ``gauss_newton_step`` : dict
             Name -> one Gauss-Newton step ``-(J^T J)^-1 J^T r`` in units of that
-            parameter's standard error: how far the least-squares optimum of the same
+            parameter's standard error (with ``step_nuisance``: ``step_nuisance_count``
+            nuisance quantities free too): how far the least-squares optimum of the same
             residuals lies from ``u`` (a polish that moves a parameter by more than one
             stderr shows that the fitted point is not that optimum).
 
@@ -370,7 +371,8 @@ def jacobian_statistics(
         redchi=chisqr / max(1, nfree), aic=neg2_log_likelihood + 2 * n_vary,
         bic=neg2_log_likelihood + math.log(n_data) * n_vary, errorbars=covar_seen is not None and not notes,
         success=True, aborted=False, message="statistics at the given optimum (not moved)",
-        stderr_notes=notes, gauss_newton_step=step_in_stderr)
+        stderr_notes=notes, gauss_newton_step=step_in_stderr,
+        step_nuisance_count=0 if step_nuisance is None else int(np.asarray(step_nuisance).reshape(n_data, -1).shape[1]))
     return result
 
 

@@ -446,8 +446,8 @@ def _statistics_lines(statistics) -> list[str]:
     steps = getattr(statistics, "gauss_newton_step", {}) or {}
     if steps:
         name = max(steps, key=lambda key: abs(steps[key]))
-        lines.append(f"    least-squares optimum of the same residuals, one force offset free per loop set (one "
-                     f"Gauss-Newton step): at most "
+        freed = ", one force offset free per loop set" if getattr(statistics, "step_nuisance_count", 0) else ""
+        lines.append(f"    least-squares optimum of the same residuals{freed} (one Gauss-Newton step): at most "
                      f"{abs(steps[name]):.2g} stderr away ({name})")
     return lines
 

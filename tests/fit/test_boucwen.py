@@ -143,6 +143,8 @@ def test_result_carries_lmfit_statistics_at_the_optimum(fit):
     report = fit.fit_report()
     assert "[[Fit Statistics]]" in report and "[[Correlations]]" in report and "gamma:" in report
     assert "chi-square" in fit.report()
+    # its step frees no force offset (the Iwan fits' does): the report says only what was done
+    assert "Gauss-Newton step" in fit.report() and "offset free" not in fit.report()
 
 
 def test_a_reported_parameter_depending_on_an_undetermined_coordinate_gets_no_stderr_and_a_note():

@@ -147,6 +147,7 @@ def test_iwan_result_carries_lmfit_statistics():
     report = result.fit_report()
     assert "[[Fit Statistics]]" in report and "[[Correlations]]" in report and "g1:" in report
     assert "chi-square" in result.report() and "Gauss-Newton step" in result.report()
+    assert "one force offset free per loop set" in result.report() and result.statistics.step_nuisance_count == len(result.small_names) + len(result.large_names)
 
 
 IWAN_NAMES = ("g1", "g2", "g3", "k_1", "k_2", "fc_1", "fc_2")
