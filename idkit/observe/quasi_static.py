@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from idkit.errors import FitError
+from idkit.errors import DataError, FitError
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
 from idkit.observe._common import _require
@@ -849,8 +849,15 @@ class CycleStatistics:
 
     @property
     def median_force_offset(self) -> float:
-        """Median loop midline at the centre, N."""
-        return float(np.median(self.force_offset)) if self.force_offset.size else 0.0
+        """Median loop midline at the centre over the cycles where it is measured, N (0 without
+        cycles; NaN when no cycle has both branches crossing its centre). A cycle whose loading
+        or unloading branch does not reach its centre (the record's first or last turn) has no
+        midline there (NaN) and is left out: with it the median was NaN, and subtracting it made
+        every force sample NaN."""
+        measured = self.force_offset[np.isfinite(self.force_offset)]
+        if self.force_offset.size == 0:
+            return 0.0
+        return float(np.median(measured)) if measured.size else float("nan")
 
     def findings(self) -> list[str]:
         """Drift and offset beyond :data:`DRIFT_WARNING_FRACTION` / :data:`FORCE_OFFSET_WARNING_FRACTION`."""
@@ -993,6 +1000,10 @@ def remove_loop_offsets(measurement: QuasiStaticMeasurement, *, drift: bool = Tr
         knots_t, knots_c = stats.time, stats.center
         deflection = deflection - np.interp(measurement.time, knots_t, knots_c)
     offset = stats.median_force_offset if force_offset else 0.0
+    if not np.isfinite(offset):
+        raise DataError(f"{measurement.id}: no cycle has both its loading and unloading branch crossing its "
+                        f"centre ({stats.force_offset.size} cycles), so the force offset cannot be measured; "
+                        "expected at least one full loop (or keep the offset: force_offset=False)")
     force = force - offset
     correction = OffsetCorrection(measurement_id=measurement.id, center_knots_time=knots_t, center_knots=knots_c,
                                   force_offset=float(offset))

@@ -106,3 +106,23 @@ def test_one_amplitude_test_is_one_group_and_different_amplitudes_still_need_a_t
     different = [rig_record(amplitude=a, name=f"qs_{k}") for k, a in enumerate((1e-3, 4e-3))]
     with pytest.raises(Exception, match="no large-loop record"):
         loop_sets(different, small_threshold=8e-3)
+
+
+def _amplitude_steps(offset_n: float) -> QuasiStaticMeasurement:
+    """Loops of 1, 5 and 12 mm in turn (a quasi-static protocol), force offset by ``offset_n``."""
+    turns = np.array([0, 1, -1, 1, -1, 5, -5, 5, -5, 12, -12, 12, -12, 0]) * 1e-3
+    half = 0.5 * (1 - np.cos(np.linspace(0.0, np.pi, 201)[:-1]))
+    x = np.concatenate([a + (b - a) * half for a, b in zip(turns[:-1], turns[1:])] + [turns[-1:]])
+    t = np.arange(x.size) * 0.01
+    return QuasiStaticMeasurement(time=t, deflection=x, force=offset_n + 1e4 * x + 2e3 * np.gradient(x, t))
+
+
+def test_a_cycle_across_an_amplitude_step_does_not_make_the_force_offset_nan():
+    # the cycle from the 1 mm to the 5 mm loops has its unloading branch short of its centre:
+    # its midline is NaN, and the median of all cycles was NaN; remove_offsets then made every
+    # force sample NaN and the fit blamed the file ("column 'force [N]': found nan")
+    stats = cycle_statistics(_amplitude_steps(50.0))
+    assert np.isnan(stats.force_offset).any()
+    assert stats.median_force_offset == pytest.approx(50.0, abs=1e-9)
+    clean, correction = remove_loop_offsets(_amplitude_steps(50.0))
+    assert correction.force_offset == pytest.approx(50.0, abs=1e-9) and np.all(np.isfinite(clean.force))
