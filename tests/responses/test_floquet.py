@@ -11,6 +11,7 @@ from idkit.models import IwanModel, SDOFSystem, library
 from idkit.responses.continuation import continue_in_frequency
 from idkit.responses.periodic import PeriodMap, periodic_response
 from idkit.simulate import harmonic_response
+from tests.responses.test_continuation import _mathieu_tongue
 
 # Hardening Duffing m y'' + c y' + k y + k3 y^3 = m A w^2 sin(w t): 2 kg, 8 Hz, 2 %, base 2 mm;
 # the linear peak deflection A / (2 zeta) = 0.05 m carries a cubic force 0.4 of the linear one,
@@ -135,16 +136,6 @@ def test_table_a1_period_doubling_orbit_diverges_alternating_by_its_multiplier()
     assert below.stable[0]
     distance, _ = _distances(period_map, below.states[0], 10.5, 1.2e-3, int(below.steps_per_period[0]), 1e-5, 3000)
     assert distance[-1] < 1e-3 * distance[0]
-
-
-def _mathieu_tongue(mass, stiffness, damping, depth):
-    """Excitation frequencies (Hz) bounding the first parametric-resonance tongue of
-    ``m y'' + c y' + k (1 + depth cos(W t)) y = 0`` by first-order harmonic balance at ``W / 2``:
-    ``(1 - r^2)^2 + (2 zeta r)^2 = depth^2 / 4`` with ``r = W / (2 w0)``."""
-    omega0 = np.sqrt(stiffness / mass)
-    zeta = damping / (2 * np.sqrt(stiffness * mass))
-    roots = np.roots([1.0, 4 * zeta**2 - 2, 1 - depth**2 / 4])
-    return np.sort(2 * omega0 * np.sqrt(roots.real) / (2 * np.pi))
 
 
 def _quadratic_rope():
