@@ -21,21 +21,26 @@ def _z_max(model):
     return (model.alpha / (model.beta + model.gamma)) ** (1 / model.n)
 
 
-@pytest.fixture(scope="module")
-def loops():
-    rng = np.random.default_rng(35)
+def _noisy_loop_sets(truth, noise, rng):
+    """Small (0.3-4 mm) and large (6-14 mm) loop sets of three cycles of ``truth`` with relative
+    force noise ``noise`` (a fraction of the force's standard deviation)."""
     phase = np.linspace(0, 6 * np.pi, 900)
 
     def group(amplitudes, prefix):
         sets = []
         for index, amplitude in enumerate(amplitudes):
             x = amplitude * np.sin(phase)
-            force = TRUTH.force(x)
-            force = force + NOISE * np.std(force) * rng.standard_normal(force.size)
+            force = truth.force(x)
+            force = force + noise * np.std(force) * rng.standard_normal(force.size)
             sets.append(prepare_loops(x, force, points_per_set=POINTS, name=f"{prefix}{index}"))
         return sets
 
     return group([0.3e-3, 1e-3, 2e-3, 4e-3], "small"), group([6e-3, 10e-3, 14e-3], "large")
+
+
+@pytest.fixture(scope="module")
+def loops():
+    return _noisy_loop_sets(TRUTH, NOISE, np.random.default_rng(35))
 
 
 @pytest.fixture(scope="module")
@@ -184,20 +189,8 @@ def test_loops_of_a_jenkin_element_push_n_to_its_bound_and_the_fit_says_so():
     from idkit.models import IwanModel
 
     truth = IwanModel(g1=2e3, k=[8e3], fc=[10.0])
-    rng = np.random.default_rng(1)
-    phase = np.linspace(0, 6 * np.pi, 900)
-
-    def group(amplitudes, prefix):
-        sets = []
-        for index, amplitude in enumerate(amplitudes):
-            x = amplitude * np.sin(phase)
-            force = truth.force(x)
-            force = force + 0.005 * np.std(force) * rng.standard_normal(force.size)
-            sets.append(prepare_loops(x, force, points_per_set=POINTS, name=f"{prefix}{index}"))
-        return sets
-
-    result = fit_boucwen(group([0.3e-3, 1e-3, 2e-3, 4e-3], "small"), group([6e-3, 10e-3, 14e-3], "large"),
-                         seed=3, global_max_evals=600)
+    small, large = _noisy_loop_sets(truth, 0.005, np.random.default_rng(1))
+    result = fit_boucwen(small, large, seed=3, global_max_evals=600)
     assert "n" in result.at_bound and not result.success
     assert any(reason.startswith("at a bound of the search box") and "n" in reason for reason in result.reasons)
 

@@ -37,14 +37,15 @@ def truth():
     return library.get("table_7_3_elastomer")
 
 
-def noisy_frf_sets(truth, seed: int) -> list[TransmissibilitySet]:
-    """Transmissibilities of ``truth`` on the 8 masses x 3 repetitions with NOISE complex noise."""
+def noisy_frf_sets(truth, seed: int, noise_level: float = NOISE) -> list[TransmissibilitySet]:
+    """Transmissibilities of ``truth`` on the 8 masses x 3 repetitions with ``noise_level``
+    (default NOISE) relative complex noise."""
     rng = np.random.default_rng(seed)
     freq = np.arange(0.5, 150.0, 0.5)  # Hz, beyond the band on both sides
     sets = []
     for mass in MASSES:
         for repetition in range(3):
-            noise = NOISE * (rng.standard_normal(freq.size) + 1j * rng.standard_normal(freq.size)) / np.sqrt(2)
+            noise = noise_level * (rng.standard_normal(freq.size) + 1j * rng.standard_normal(freq.size)) / np.sqrt(2)
             sets.append(TransmissibilitySet(mass, freq, _transmissibility(truth, mass, freq) * (1 + noise),
                                             f"{mass:.2f} kg #{repetition + 1}"))
     return sets

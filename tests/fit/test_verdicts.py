@@ -107,18 +107,7 @@ RECOVERY_SIGMA = 5.0  # as the Maxwell recovery tests (docs/fitting.md, "Verdict
 
 
 def _noisy_frfs(truth, seed, noise):
-    from idkit.fit import TransmissibilitySet
-    from tests.fit.test_maxwell import MASSES, _transmissibility
-
-    rng = np.random.default_rng(seed)
-    freq = np.arange(0.5, 150.0, 0.5)
-    sets = []
-    for mass in MASSES:
-        for repetition in range(3):
-            scatter = noise * (rng.standard_normal(freq.size) + 1j * rng.standard_normal(freq.size)) / np.sqrt(2)
-            sets.append(TransmissibilitySet(mass, freq, _transmissibility(truth, mass, freq) * (1 + scatter),
-                                            f"{mass:.2f} kg #{repetition + 1}"))
-    return sets
+    return noisy_frf_sets(truth, seed, noise)
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
