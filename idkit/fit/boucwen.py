@@ -378,6 +378,7 @@ def _lmfit_view(space: _Space, u: np.ndarray, small: BoucWenLoops, large: BoucWe
     if not free:
         return parameters, None, conditioning, at_bound
     internal = jacobian_statistics(residuals, u[free], [_NAMES[i] for i in free], step=step, group_sizes=sizes,
+                                   point_sources=np.concatenate([small.sources, large.sources]),
                                    method="Jacobian of the per-point residuals at the Nelder-Mead optimum")
     return parameters, _physical_statistics(internal, map_jacobian, free, parameters, at_bound), conditioning, at_bound
 

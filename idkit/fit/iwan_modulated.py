@@ -439,6 +439,12 @@ class ModulatedIwanFitResult:
         return "\n".join(lines)
 
 
+def _sources(loop_set: LoopSet) -> np.ndarray:
+    """Raw-sample index of every point of a set (NaN: each point a measured sample of its own)."""
+    index = getattr(loop_set, "source_index", None)
+    return np.full(loop_set.deflection.size, np.nan) if index is None else np.asarray(index, dtype=float)
+
+
 def _prepare(sets, group, points_per_set):
     prepared = []
     for index, item in enumerate(sets):
@@ -625,6 +631,9 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
                                    # a noise variance per loop set (same force noise in N: the small
                                    # loops' relative residuals are larger), the barrier rows as one
                                    group_sizes=[*np.diff(offsets), grid.size + 1], step_nuisance=nuisance,
+                                   # the raw samples behind resampled points (NaN: the barrier rows)
+                                   point_sources=np.concatenate([_sources(s) for s in sets]
+                                                                + [np.full(grid.size + 1, np.nan)]),
                                    method="Jacobian of the per-point residuals at the least-squares optimum")
     # the distance to the optimum with the offsets free, in quadrature (as for the plain fit)
     _add_the_step(internal, order_names)

@@ -75,6 +75,9 @@ class PackedLoops:
         Set ``s`` is ``x[offsets[s]:offsets[s + 1]]``.
     norm, norm2 : ndarray
         ``|F_meas|`` and its square per set.
+    sources : ndarray
+        Concatenated :attr:`LoopSet.source_index` (NaN where a set has none): the raw samples
+        the points interpolate, for the standard errors.
     """
 
     def __init__(self, sets: Sequence[LoopSet], initial_state: str):
@@ -85,6 +88,9 @@ class PackedLoops:
         self.f = np.ascontiguousarray(np.concatenate([s.force for s in sets]))
         self.offsets = np.concatenate([[0], np.cumsum([s.deflection.size for s in sets])]).astype(np.int64)
         self.norm = np.array([math.sqrt(float(np.sum(s.force**2))) for s in sets])
+        # the raw-sample index of every point (NaN: a measured sample of its own), for the statistics
+        self.sources = np.concatenate([np.full(s.deflection.size, np.nan) if getattr(s, "source_index", None) is None
+                                       else np.asarray(s.source_index, dtype=float) for s in sets])
         self.norm2 = self.norm**2
         self.errors = np.empty(len(sets))
 

@@ -121,6 +121,65 @@ def test_a_combination_the_data_do_not_determine_is_named():
     assert result.covar is None
 
 
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_standard_errors_of_points_interpolated_from_fewer_samples_count_the_samples(seed):
+    """A loop branch of m = 100 measured samples resampled to 401 points (each point interpolates
+    two neighbouring samples, as a 0.05 mm branch of 20 samples at 50 Hz resampled to 41 points):
+    the least-squares line through the points is linear in the samples' white noise, so its
+    covariance is exactly ``sigma^2 (J^T J)^-1 J^T W W^T J (J^T J)^-1`` (``W`` the interpolation
+    weights). Counted as 401 independent residuals the standard errors came out 0.35-0.42 of
+    that; with the points' sources they are that, up to the estimate of sigma from the residuals
+    (relative spread 1 / sqrt(2 (m - 2)), allowed 4 of it)."""
+    rng = np.random.default_rng(seed)
+    m, n, sigma = 100, 401, 0.05
+    t = np.linspace(0.0, 1.0, m)
+    measured = 1.0 + 2.0 * t + sigma * rng.standard_normal(m)
+    sources = np.linspace(0.0, m - 1.0, n)
+    lower = np.minimum(np.floor(sources).astype(int), m - 2)
+    fraction = sources - lower
+    weights = np.zeros((n, m))
+    weights[np.arange(n), lower] = 1.0 - fraction
+    weights[np.arange(n), lower + 1] = fraction
+    design = np.column_stack([np.ones(n), weights @ t])
+    y = weights @ measured
+    best = np.linalg.lstsq(design, y, rcond=None)[0]
+
+    def residuals(u):
+        return design @ u - y
+
+    bread = np.linalg.inv(design.T @ design)
+    exact = np.sqrt(np.diag(sigma**2 * bread @ design.T @ weights @ weights.T @ design @ bread))
+    counted = jacobian_statistics(residuals, best, ["a", "b"], group_sizes=[n], point_sources=sources)
+    plain = jacobian_statistics(residuals, best, ["a", "b"], group_sizes=[n])
+    tolerance = 4 / math.sqrt(2 * (m - 2))
+    for index, name in enumerate("ab"):
+        assert counted.params[name].stderr / exact[index] == pytest.approx(1.0, abs=tolerance), name
+        assert plain.params[name].stderr / exact[index] < 1.0 - tolerance, name  # the defect
+    # integral sources, each once: the points are the samples, the plain sandwich is unchanged
+    direct = jacobian_statistics(lambda u: np.column_stack([np.ones(m), t]) @ u - measured,
+                                 np.polyfit(t, measured, 1)[::-1], ["a", "b"], group_sizes=[m],
+                                 point_sources=np.arange(m, dtype=float))
+    same = jacobian_statistics(lambda u: np.column_stack([np.ones(m), t]) @ u - measured,
+                               np.polyfit(t, measured, 1)[::-1], ["a", "b"], group_sizes=[m])
+    for name in "ab":
+        assert direct.params[name].stderr == pytest.approx(same.params[name].stderr, rel=1e-12)
+
+
+def test_a_resampled_loop_set_records_the_samples_behind_its_points():
+    """The fits' standard errors need the raw samples behind each point (above): a resampled set
+    records them, and its deflection and force are the linear interpolations at them."""
+    x = 1e-3 * np.sin(np.linspace(0.0, 4.5 * np.pi, 95))  # about 20 samples per branch
+    force = 3e3 * x + 10.0 * np.tanh(x / 2e-4)
+    resampled = prepare_loops(x, force, points_per_set=200)
+    index = resampled.source_index
+    assert index is not None and index.shape == resampled.deflection.shape
+    samples = np.arange(x.size)
+    np.testing.assert_allclose(resampled.deflection, np.interp(index, samples, x), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(resampled.force, np.interp(index, samples, force), rtol=0, atol=1e-12)
+    assert resampled.deflection.size > np.ptp(index) + 1  # more points than samples: interpolations
+    assert prepare_loops(x, force, points_per_set=None).source_index is None  # the samples themselves
+
+
 def _synthetic_fit(seed: int):
     rng = np.random.default_rng(seed)
     truth = _truth()
