@@ -94,15 +94,18 @@ def fit_sentence(name: str, fit, *, comparison: bool = False) -> tuple[str, str]
 def validation_sentence(key: str, result, *, quick_note: str = "") -> tuple[str, str]:
     """``(verdict, text)`` of a :class:`~idkit.validate.ValidationResult`: the verdict and its reason with numbers.
 
-    FAIL names every metric over its limit; INCONCLUSIVE the reasons the metrics cannot
+    FAIL names every metric over its limit (``records_beyond_limit`` with each record beyond its own
+    limit, :attr:`~idkit.validate.ValidationResult.record_failures`); INCONCLUSIVE the reasons the metrics cannot
     carry a PASS; PASS every metric with its limit. Metrics within their limits follow as
     what the model predicts well.
     """
     checks, summary, thresholds = result.checks, result.summary, result.thresholds
     unmeasured = set(result.unmeasured)
     good = [f"{metric} {_number(summary[metric])} <= {thresholds[metric]:g}" for metric, ok in checks.items() if ok]
-    bad = [f"{metric} {_number(summary[metric])} > {thresholds[metric]:g}" for metric, ok in checks.items()
-           if not ok and metric not in unmeasured]
+    bad = [f"{metric} {_number(summary[metric])} > {thresholds[metric]:g}"
+           + (" (" + "; ".join(result.record_failures) + ")"
+              if metric == "records_beyond_limit" and getattr(result, "record_failures", ()) else "")
+           for metric, ok in checks.items() if not ok and metric not in unmeasured]
     points = f"{len(result.metrics)} points"
     if result.verdict == "FAIL":
         text = f"{key} ({points}): fails on " + "; ".join(bad)

@@ -11,6 +11,7 @@ from idkit.errors import ValidationError
 from idkit.responses.shock import shock_sweep
 from idkit.signal.drop import process_drop
 from idkit.simulate import DEFAULT_CONTACT, ContactModel, contact_from_velocity_step
+from idkit.validate.records import RECORD_METRIC, departures
 from idkit.validate.result import ValidationResult, check_thresholds, checked_identified_range
 from idkit.validate.systems import system_for
 
@@ -21,12 +22,20 @@ __all__ = ["DROP_MODELS", "DROP_THRESHOLDS", "validate_drops"]
 DROP_MODELS = ("auto", "conditioned", "rig")
 
 #: Default limits on the median relative errors over the drops the model could simulate,
-#: and on the fraction of drops that left the model's valid range (flagged runs).
+#: on the fraction of drops that left the model's valid range (flagged runs), and on the
+#: number of drops beyond their own limit: a drop's error may lie up to the median limit
+#: outside the interval between 0 and the other drops' median error
+#: (:func:`idkit.validate.records.departures`).
 DROP_THRESHOLDS = {
     "median_peak_acceleration_error": 0.25,
     "median_peak_compression_error": 0.25,
     "invalid_run_fraction": 0.0,
+    RECORD_METRIC: 0,
 }
+
+#: The per-drop errors judged one drop at a time, with the median limit that bounds each.
+_PER_DROP = (("peak acceleration", "median_peak_acceleration_error"),
+             ("peak compression", "median_peak_compression_error"))
 
 
 @dataclass(frozen=True)
@@ -86,6 +95,13 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
     are counted in :attr:`ValidationResult.notes` with their median peak acceleration error
     against the drops inside: the model is extrapolated there, which the verdict alone does
     not say.
+
+    Each drop is also judged on its own (:mod:`idkit.validate.records`): its peak acceleration
+    and peak compression errors may lie up to the median limit outside the interval between 0 and
+    the median error of the *other* drops (the model's error that the drops share); a drop
+    beyond is counted in ``records_beyond_limit`` (limit 0) and named in
+    :attr:`ValidationResult.record_failures`. The table gives each drop's ``... departure [-]``,
+    its limit and ``record verdict``.
     """
     if impact_velocity == "velocity_step":
         impact_velocity = "measured"
@@ -187,6 +203,22 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
     valid = table["status"] == "ok"
     table.loc[~valid, ["peak acceleration error [-]", "peak compression error [-]"]] = np.nan
 
+    judged = np.zeros(len(table), dtype=bool)
+    lines = [[] for _ in range(len(table))]
+    for quantity, limit_name in _PER_DROP:
+        departure, sibling_median = departures(table[f"{quantity} error [-]"].to_numpy(float))
+        limit = limits[limit_name]
+        table[f"{quantity} departure [-]"] = departure
+        table[f"{quantity} departure limit [-]"] = limit
+        judged |= np.isfinite(departure)
+        for index in np.flatnonzero(departure > limit):
+            lines[index].append(f"{quantity} error {table[f'{quantity} error [-]'].iloc[index]:+.3f} lies "
+                                f"{departure[index]:.3f} outside 0 to the other drops' median "
+                                f"{sibling_median[index]:+.3f} (limit {limit:g})")
+    beyond = np.array([bool(words) for words in lines], dtype=bool)
+    failures = [f"{table['id'].iloc[index]}: " + "; ".join(lines[index]) for index in np.flatnonzero(beyond)]
+    table["record verdict"] = np.where(beyond, "FAIL", np.where(judged, "ok", ""))
+
     def median_abs(column):
         values = np.abs(table.loc[valid, column].to_numpy(float))
         return float(np.median(values)) if values.size else np.nan
@@ -197,6 +229,7 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
         "max_peak_acceleration_error": float(np.nanmax(np.abs(table["peak acceleration error [-]"])))
         if valid.any() else np.nan,
         "invalid_run_fraction": float(1.0 - valid.mean()),
+        RECORD_METRIC: int(beyond.sum()),
         "relaxation": bool(relaxation) if drop_model == "conditioned" else False,
         "impact_velocity": impact_velocity if drop_model == "conditioned" else "rig fall from the drop height",
         "drop_model": drop_model,
@@ -214,7 +247,7 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
         ["peak acceleration error [-]", "peak compression error [-]"]].mean().reset_index()
     notes = () if identified_range is None else _outside_notes(table, identified_range)
     return ValidationResult(name=name, metrics=table, summary=summary, thresholds=limits,
-                            details={"by_height": by_height}, notes=notes)
+                            details={"by_height": by_height}, notes=notes, record_failures=tuple(failures))
 
 
 def _outside_notes(table: pd.DataFrame, identified_range) -> tuple[str, ...]:

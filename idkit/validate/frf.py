@@ -12,6 +12,7 @@ from idkit.io import WhiteNoiseMeasurement
 from idkit.signal.frf import half_power_damping, mean_squared_relative_error
 from idkit.models.maxwell import preloaded
 from idkit.observe.white_noise import FRF_RESOLUTION_HZ, frf_from_white_noise
+from idkit.validate.records import RECORD_METRIC, departures
 from idkit.validate.result import ValidationResult, check_thresholds
 from idkit.validate.systems import system_for
 
@@ -25,7 +26,11 @@ __all__ = ["validate_frf", "FRF_THRESHOLDS", "half_power_damping", "model_throug
 #: (``max_peak_magnitude_error_db``); the median because a single half-power reading on a
 #: grid of 0.25-0.5 Hz scatters by 10-20 % (on the bundled elastomer one of eight masses read
 #: 0.082 where its neighbours read 0.087-0.095 on the 0.25 Hz grid).
-FRF_THRESHOLDS = {"max_frf_error": 0.15, "max_resonance_frequency_error": 0.05, "median_damping_ratio_error_db": 3.0}
+#: ``records_beyond_limit``: runs beyond their own limit (the worst-run limits per run; a run's
+#: damping error in dB up to the median limit outside 0 to the other runs' median,
+#: :func:`idkit.validate.records.departures`).
+FRF_THRESHOLDS = {"max_frf_error": 0.15, "max_resonance_frequency_error": 0.05, "median_damping_ratio_error_db": 3.0,
+                  RECORD_METRIC: 0}
 
 
 def model_through_the_estimator(measurement: WhiteNoiseMeasurement, frf, transmissibility, *, band,
@@ -80,6 +85,12 @@ def validate_frf(measurements, *, system=None, isolator=None, band=(1.0, 100.0),
         ``isolator`` is then compared about that preload
         (:meth:`~idkit.models.GeneralizedMaxwell.preloaded`), as its fit was.
 
+    Each run is also judged on its own (:mod:`idkit.validate.records`): its FRF error and
+    resonance error against the worst-run limits, and its damping error ``20 log10(zeta_model /
+    zeta_measured)`` up to the median limit outside the interval between 0 and the other runs'
+    median; a run beyond is counted in ``records_beyond_limit`` (limit 0) and named in
+    :attr:`ValidationResult.record_failures`.
+
     Returns
     -------
     ValidationResult
@@ -127,6 +138,9 @@ def validate_frf(measurements, *, system=None, isolator=None, band=(1.0, 100.0),
                                         "H model": predicted, "H model exact": model.transmissibility(estimate.freq),
                                         "coherence": estimate.coherence})
     table = pd.DataFrame(rows)
+    table["damping error [dB]"] = 20 * np.log10(table["damping ratio model [-]"].to_numpy(float)
+                                                / table["damping ratio measured [-]"].to_numpy(float))
+    failures, beyond = _record_checks(table, limits)
     summary = {
         "max_frf_error": float(table["frf error [-]"].max()),
         "mean_frf_error": float(table["frf error [-]"].mean()),
@@ -135,5 +149,41 @@ def validate_frf(measurements, *, system=None, isolator=None, band=(1.0, 100.0),
         "median_damping_ratio_error_db": float(np.nanmedian(np.abs(20 * np.log10(
             table["damping ratio model [-]"] / table["damping ratio measured [-]"]))))
         if table[["damping ratio model [-]", "damping ratio measured [-]"]].notna().all(axis=1).any() else np.nan,
+        RECORD_METRIC: int(beyond.sum()),
     }
-    return ValidationResult(name=name, metrics=table, summary=summary, thresholds=limits, details={"curves": curves})
+    return ValidationResult(name=name, metrics=table, summary=summary, thresholds=limits, details={"curves": curves},
+                            record_failures=failures)
+
+
+def _record_checks(table: pd.DataFrame, limits: dict) -> tuple[tuple[str, ...], np.ndarray]:
+    """Each run against its own limits: FRF and resonance errors against the worst-run limits, the
+    damping error's departure from 0 to the other runs' median against the median limit. Adds the
+    limits, the departure and ``record verdict`` to ``table``; returns the lines naming the runs
+    beyond and the mask of those runs."""
+    failures = []
+    beyond = np.zeros(len(table), dtype=bool)
+    judged = np.zeros(len(table), dtype=bool)
+    frf_limit, resonance_limit = limits["max_frf_error"], limits["max_resonance_frequency_error"]
+    damping_limit = limits["median_damping_ratio_error_db"]
+    departure, sibling_median = departures(table["damping error [dB]"].to_numpy(float))
+    table["frf error limit [-]"] = frf_limit
+    table["resonance error limit [-]"] = resonance_limit
+    table["damping departure [dB]"] = departure
+    table["damping departure limit [dB]"] = damping_limit
+    for index in range(len(table)):
+        frf_error, resonance_error = table["frf error [-]"].iloc[index], table["resonance error [-]"].iloc[index]
+        judged[index] = np.isfinite(frf_error) or np.isfinite(resonance_error) or np.isfinite(departure[index])
+        lines = []
+        if frf_error > frf_limit:
+            lines.append(f"FRF error {frf_error:.3f} > {frf_limit:g}")
+        if abs(resonance_error) > resonance_limit:
+            lines.append(f"resonance error {resonance_error:+.3f} beyond {resonance_limit:g}")
+        if departure[index] > damping_limit:
+            lines.append(f"damping error {table['damping error [dB]'].iloc[index]:+.1f} dB lies "
+                         f"{departure[index]:.1f} dB outside 0 to the other runs' median "
+                         f"{sibling_median[index]:+.1f} dB (limit {damping_limit:g} dB)")
+        if lines:
+            beyond[index] = True
+            failures.append(f"{table['id'].iloc[index]}: " + "; ".join(lines))
+    table["record verdict"] = np.where(beyond, "FAIL", np.where(judged, "ok", ""))
+    return tuple(failures), beyond

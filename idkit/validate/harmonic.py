@@ -10,6 +10,7 @@ from idkit.observe.stepped_sine import hosidf_from_stepped_sine
 from idkit.signal.harmonics import resonance_peak
 from idkit.simulate import harmonic_response
 from idkit.simulate._kernel import FLAG_OK
+from idkit.validate.records import RECORD_METRIC, phase_floor_deg, sweep_point_envelope
 from idkit.validate.result import ValidationResult, check_thresholds, checked_identified_range
 from idkit.validate.systems import system_for
 
@@ -26,11 +27,19 @@ MAX_UNSETTLED_FRACTION = 0.0
 #: relative error of the resonance frequency per amplitude level, and of the peak magnitude;
 #: and the fraction of points the simulator flagged (the model left its valid range at a
 #: measured point: it cannot be simulated where the data were taken), as for the drops.
+#: Standard errors of a point's measured H1 (from the residuals of its harmonic fits) added to its
+#: own magnitude and phase limits: by noise alone one of 100 points exceeds 4 of them with a
+#: chance of 0.6 % (normal errors).
+NOISE_STANDARD_ERRORS = 4.0
+
+#: ``records_beyond_limit``: settled points beyond their own magnitude or phase limit
+#: (:func:`idkit.validate.records.sweep_point_envelope`).
 HARMONIC_THRESHOLDS = {
     "rms_log_magnitude_error_db": 2.0,
     "max_resonance_frequency_error": 0.10,
     "max_peak_magnitude_error_db": 3.0,
     "invalid_run_fraction": 0.0,
+    RECORD_METRIC: 0,
 }
 
 
@@ -51,6 +60,16 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
     INCONCLUSIVE, never PASS (FAIL when a metric of the settled points fails). A point the simulator flagged (the model left its valid
     range there) also counts in ``invalid_run_fraction``, limit 0: a model that cannot be
     simulated at a measured point FAILs, as in :func:`~idkit.validate.validate_drops`.
+
+    Each settled point is also judged on its own (:mod:`idkit.validate.records`): its magnitude
+    error may reach the RMS limit plus, and its phase error ``asin(10^(RMS limit / 20) - 1)``
+    (15 degrees) plus, what a model the aggregate limits accept may differ there (resonance moved
+    by up to ``max_resonance_frequency_error``, damping by up to ``max_peak_magnitude_error_db``:
+    :func:`~idkit.validate.records.sweep_point_envelope`; near a lightly damped resonance that
+    allows almost any phase), plus :data:`NOISE_STANDARD_ERRORS` standard errors of its measured
+    H1 (column ``H1 measured relative standard error [-]``). A point beyond is counted in
+    ``records_beyond_limit`` (limit 0) and named in :attr:`ValidationResult.record_failures`; the
+    table gives each point's limits and ``record verdict``.
 
     Parameters
     ----------
@@ -96,6 +115,10 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
             "input distortion h2 [-]": point.input_distortion[0],
             "input distortion h3 [-]": point.input_distortion[1],
             "H1 measured": complex(point.hosidf[0]),
+            # standard error of H1 over |H1| from the two harmonic fits' residuals (white residual)
+            "H1 measured relative standard error [-]": float(np.hypot(
+                point.input.standard_error / np.abs(point.input.coefficients[0]),
+                point.output.standard_error / np.abs(point.output.coefficients[0]))),
             "_system": system_for(measurement, system=system, isolator=isolator, upper=upper, lower=lower),
         })
     table = pd.DataFrame(rows)
@@ -143,6 +166,7 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
             "peak simulated [-]": peak_sim, "peak error [dB]": 20 * np.log10(peak_sim / peak_meas),
         })
     resonance = pd.DataFrame(resonance_rows)
+    failures = _record_checks(table, limits)
     errors = settled["magnitude error [dB]"].to_numpy()
     unsettled = int((~converged).sum())
     summary = {
@@ -155,6 +179,7 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
         "max_input_distortion": float(table[["input distortion h2 [-]", "input distortion h3 [-]"]].to_numpy().max()),
         "points_not_converged": unsettled,
         "invalid_run_fraction": float(flagged.mean()),
+        RECORD_METRIC: len(failures),
     }
     inconclusive = ()
     if unsettled > MAX_UNSETTLED_FRACTION * len(table):
@@ -164,7 +189,53 @@ def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, l
                         "every metric",)
     notes = () if identified_range is None else _outside_notes(table, resonance, identified_range)
     return ValidationResult(name=name, metrics=table, summary=summary, thresholds=limits,
-                            details={"resonance": resonance}, inconclusive=inconclusive, notes=notes)
+                            details={"resonance": resonance}, inconclusive=inconclusive, notes=notes,
+                            record_failures=failures)
+
+
+def _record_checks(table: pd.DataFrame, limits: dict) -> tuple[str, ...]:
+    """Each settled point against its own magnitude and phase limits (columns added to ``table``,
+    with ``record verdict``); the lines naming the points beyond."""
+    settled = table["converged"].to_numpy(bool)
+    model = np.where(settled, table["H1 simulated"].to_numpy(complex), np.nan)
+    tolerance, peak_db = limits["max_resonance_frequency_error"], limits["max_peak_magnitude_error_db"]
+    phase_envelope, magnitude_envelope = sweep_point_envelope(
+        table["freq [Hz]"].to_numpy(float), table["level"].to_numpy(), model, frequency_tolerance=tolerance,
+        peak_tolerance_db=peak_db)
+    rms_limit = limits["rms_log_magnitude_error_db"]
+    floor = phase_floor_deg(rms_limit)
+    # the record's own noise: NOISE_STANDARD_ERRORS standard errors of its H1 (relative: radians of
+    # phase, 20 / ln 10 dB per unit of magnitude)
+    relative_error = NOISE_STANDARD_ERRORS * table["H1 measured relative standard error [-]"].to_numpy(float)
+    noise_phase, noise_magnitude = np.degrees(relative_error), 20 / np.log(10) * relative_error
+    table["magnitude error limit [dB]"] = rms_limit + magnitude_envelope + noise_magnitude
+    table["phase error limit [deg]"] = floor + phase_envelope + noise_phase
+    magnitude = table["magnitude error [dB]"].to_numpy(float)
+    phase = table["phase error [deg]"].to_numpy(float)
+    judged = settled & np.isfinite(phase_envelope)
+    allowance = (f"a resonance moved by {tolerance:.0%} and a peak {peak_db:g} dB off allow there, plus")
+    failures, verdicts = [], []
+    for index in range(len(table)):
+        if not judged[index]:
+            verdicts.append("")
+            continue
+        lines = []
+        magnitude_limit = table["magnitude error limit [dB]"].iloc[index]
+        if not abs(magnitude[index]) <= magnitude_limit:  # an infinite error too
+            lines.append(f"magnitude error {magnitude[index]:+.2f} dB beyond {magnitude_limit:.2f} dB "
+                         f"({magnitude_envelope[index]:.2f} dB {allowance} the RMS limit {rms_limit:g} dB "
+                         f"and {noise_magnitude[index]:.2f} dB of noise)")
+        phase_limit = table["phase error limit [deg]"].iloc[index]
+        if abs(phase[index]) > phase_limit:
+            lines.append(f"phase error {phase[index]:+.0f} deg beyond {phase_limit:.0f} deg "
+                         f"({phase_envelope[index]:.0f} deg {allowance} {floor:.0f} deg and "
+                         f"{noise_phase[index]:.0f} deg of noise)")
+        verdicts.append("FAIL" if lines else "ok")
+        if lines:
+            failures.append(f"{table['id'].iloc[index]} ({table['freq [Hz]'].iloc[index]:g} Hz, level "
+                            f"{table['level'].iloc[index]:g}): " + "; ".join(lines))
+    table["record verdict"] = verdicts
+    return tuple(failures)
 
 
 def _outside_notes(table: pd.DataFrame, resonance: pd.DataFrame, identified_range) -> tuple[str, ...]:

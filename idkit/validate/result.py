@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 
 from idkit.errors import ValidationError
+from idkit.validate.records import RECORD_METRIC
 
 __all__ = ["ValidationResult", "check_thresholds", "VERDICTS"]
 
@@ -73,6 +74,12 @@ class ValidationResult:
     notes : tuple of str
         Findings that explain the verdict without changing it (e.g. amplitude levels that lie
         outside the range the model was identified on, where the model is extrapolated).
+    record_failures : tuple of str
+        The held-out records beyond their own per-record limit (:mod:`idkit.validate.records`),
+        one line each naming the record, its error and the limit; their number is the summary
+        metric ``records_beyond_limit`` (limit 0), and when it is beyond its limit :attr:`why`
+        lists these lines. The ``metrics`` table carries each record's per-record errors, limits
+        and ``record verdict``.
     """
 
     name: str
@@ -83,6 +90,7 @@ class ValidationResult:
     inconclusive: tuple[str, ...] = ()
     cannot_see: tuple[str, ...] = ()
     notes: tuple[str, ...] = ()
+    record_failures: tuple[str, ...] = ()
 
     @property
     def checks(self) -> dict[str, bool]:
@@ -107,11 +115,17 @@ class ValidationResult:
     @property
     def why(self) -> tuple[str, ...]:
         """What keeps the verdict from PASS, one line each: every metric beyond its limit
-        (``"name value > limit"``), every reason it is inconclusive, every metric that could not
-        be computed; empty for a PASS."""
-        beyond = tuple(f"{key} {self.summary[key]:.4g} > {limit:g}" for key, limit in self.thresholds.items()
-                       if not self.checks[key] and key not in self.unmeasured)
-        return beyond + tuple(self.inconclusive) + tuple(f"{key} could not be computed" for key in self.unmeasured)
+        (``"name value > limit"``; for ``records_beyond_limit`` followed by each record beyond its
+        own limit, :attr:`record_failures`), every reason it is inconclusive, every metric that
+        could not be computed; empty for a PASS."""
+        beyond = []
+        for key, limit in self.thresholds.items():
+            if not self.checks[key] and key not in self.unmeasured:
+                beyond.append(f"{key} {self.summary[key]:.4g} > {limit:g}")
+                if key == RECORD_METRIC:
+                    beyond.extend(self.record_failures)
+        return tuple(beyond) + tuple(self.inconclusive) + tuple(f"{key} could not be computed"
+                                                                for key in self.unmeasured)
 
     @property
     def passed(self) -> bool:
@@ -126,6 +140,7 @@ class ValidationResult:
         if self.cannot_see:
             lines.append("  cannot see (these wrong components pass too): " + "; ".join(self.cannot_see))
         lines.extend(f"  note: {note}" for note in self.notes)
+        lines.extend(f"  record beyond its limit: {line}" for line in self.record_failures)
         for key, value in self.summary.items():
             if key in self.thresholds:
                 verdict = "ok" if self.checks[key] else "n/a" if key in self.unmeasured else "FAIL"

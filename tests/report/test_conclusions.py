@@ -51,6 +51,15 @@ def test_notes_follow_the_verdict_without_changing_it():
                          "below the loops.")
 
 
+def test_a_record_beyond_its_own_limit_is_named_in_the_sentence():
+    line = "drop-9: peak compression error +0.467 lies 0.400 outside 0 to the other drops' median +0.067 (limit 0.25)"
+    verdict, text = validation_sentence("rope drops", _result({"a": 0.07, "records_beyond_limit": 1},
+                                                              {"a": 0.25, "records_beyond_limit": 0},
+                                                              record_failures=(line,)))
+    assert verdict == "FAIL"
+    assert f"fails on records_beyond_limit 1 > 0 ({line}); within the limits: a 0.07 <= 0.25" in text
+
+
 def _study(rms, heights, shock_height, speeds, shock_velocity):
     return TransportStudy(tuning=pd.DataFrame(), rms=rms, psd=(), seed=0, n_realizations=1, flagged_runs=0,
                           shock_height=pd.DataFrame(shock_height, index=pd.Index(heights)),

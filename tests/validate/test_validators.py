@@ -52,28 +52,31 @@ def test_a_few_unsettled_points_make_the_verdict_inconclusive(stepped_sine_point
     assert "did not reach a valid steady state" in few.report()
 
 
+def sweep_point(system, level, freq, rng):
+    """One stepped-sine point of ``system`` (top mass 8 kg; base velocity amplitude ``level``, m/s)
+    with 1 % sensor noise: the last 2 s of 8 s."""
+    omega = 2 * np.pi * freq
+    time = np.arange(int(8.0 * FS)) / FS
+    run = simulate(system, time, base=BaseMotion.harmonic(freq, level / omega))
+    keep = time >= 6.0
+    v_base = level * np.cos(omega * time[keep])
+    v_top = run.velocity[0, 0, keep] + v_base
+    noise = 0.01 * level
+    return SteppedSineMeasurement(
+        time=time[keep], v_base=v_base + rng.normal(0, noise, keep.sum()),
+        v_top=v_top + rng.normal(0, noise, keep.sum()),
+        info=MeasurementInfo(id=f"ss-{level:g}-{freq:.2f}", isolator="wire_rope", top_mass_kg=8.0,
+                             excitation=Excitation(freq=float(freq), amplitude=level, amplitude_quantity="velocity")))
+
+
 @pytest.fixture(scope="module")
 def stepped_sine_points():
     """Time-integrated sweeps at two velocity levels with 1 % sensor noise."""
     rng = np.random.default_rng(RNG_SEED)
     system = SDOFSystem(8.0, wire_rope())
-    points = []
-    for level in (2e-3, 2e-2):  # base velocity amplitude, m/s
-        for freq in np.geomspace(2.5, 12.0, 12):
-            omega = 2 * np.pi * freq
-            time = np.arange(int(8.0 * FS)) / FS
-            run = simulate(system, time, base=BaseMotion.harmonic(freq, level / omega))
-            keep = time >= 6.0
-            v_base = level * np.cos(omega * time[keep])
-            v_top = run.velocity[0, 0, keep] + v_base
-            noise = 0.01 * level
-            points.append(SteppedSineMeasurement(
-                time=time[keep], v_base=v_base + rng.normal(0, noise, keep.sum()),
-                v_top=v_top + rng.normal(0, noise, keep.sum()),
-                info=MeasurementInfo(id=f"ss-{level:g}-{freq:.2f}", isolator="wire_rope", top_mass_kg=8.0,
-                                     excitation=Excitation(freq=float(freq), amplitude=level,
-                                                           amplitude_quantity="velocity"))))
-    return points
+    return [sweep_point(system, level, freq, rng)
+            for level in (2e-3, 2e-2)  # base velocity amplitude, m/s
+            for freq in np.geomspace(2.5, 12.0, 12)]
 
 
 def test_harmonic_validation_passes_on_own_data_and_fails_when_stiffness_doubles(stepped_sine_points):
@@ -191,23 +194,7 @@ def test_frf_validation_fails_when_only_the_damping_is_three_times_too_high():
 
 @pytest.fixture(scope="module")
 def drops():
-    rng = np.random.default_rng(RNG_SEED)
-    system = SDOFSystem(4.33, wire_rope())
-    heights = np.array([0.01, 0.04, 0.08, 0.12])
-    fs = 2000.0
-    run = free_fall(system, drop_height=heights, duration=1.0, time_step=1 / fs)
-    records = []
-    for index, height in enumerate(heights):
-        accel = run.acceleration[index, 0]
-        scale = np.max(np.abs(accel))
-        records.append(DropMeasurement(
-            time=run.time, deflection=run.deflection[index, 0] + rng.normal(0, 1e-6, run.time.size),
-            a_top_1=accel + rng.normal(0, 0.01 * scale, run.time.size),
-            a_top_2=accel + rng.normal(0, 0.01 * scale, run.time.size),
-            v_rel=run.velocity[index, 0],
-            info=MeasurementInfo(id=f"drop-{height}", isolator="wire_rope", top_mass_kg=4.33,
-                                 drop_height_m=float(height), repetition=1)))
-    return records
+    return drops_of(wire_rope(), [0.01, 0.04, 0.08, 0.12], np.random.default_rng(RNG_SEED))
 
 
 def test_drops_outside_the_identified_loop_range_are_counted(drops):
@@ -523,3 +510,86 @@ def test_frf_validation_of_the_true_model_on_short_records_passes_the_damping_ch
     assert own.verdict == "PASS", own.report()
     wrong = validate_frf(runs, isolator=VoigtModel(k=1.4e4, damping=30.0))
     assert wrong.verdict == "FAIL", wrong.report()
+
+
+def test_one_sweep_point_of_another_rope_fails_and_is_named(stepped_sine_points):
+    """The 12 Hz point of the large level replaced by one of a rope twice as stiff: far above both
+    resonances (about 5 and 7 Hz) |H1| ~ 1 / (r^2 - 1) rises by about 8 dB; one such point among 24
+    leaves the RMS under 2 dB and the level's resonance where it was, so the aggregate metrics
+    pass (RMS 1.7 dB); the point alone is beyond its limit (2 dB plus the 2.4 dB by which a 10 %
+    resonance shift and 3 dB of damping move |H1| there) and is named."""
+    foreign_point = sweep_point(SDOFSystem(8.0, wire_rope(2.0)), 2e-2, float(np.geomspace(2.5, 12.0, 12)[-1]),
+                                np.random.default_rng(RNG_SEED + 1))
+    points = list(stepped_sine_points)
+    index = next(i for i, p in enumerate(points) if p.info.id == foreign_point.info.id)
+    points[index] = foreign_point
+    own = validate_harmonic(stepped_sine_points, isolator=wire_rope())
+    assert own.summary["records_beyond_limit"] == 0 and set(own.metrics["record verdict"]) == {"ok"}
+    mixed = validate_harmonic(points, isolator=wire_rope())
+    aggregate = {key: ok for key, ok in mixed.checks.items() if key != "records_beyond_limit"}
+    assert all(aggregate.values()), mixed.report()  # hidden among its siblings
+    assert mixed.verdict == "FAIL" and mixed.summary["records_beyond_limit"] == 1
+    assert list(mixed.metrics.index[mixed.metrics["record verdict"] == "FAIL"]) == [index]
+    row = mixed.metrics.iloc[index]
+    assert abs(row["magnitude error [dB]"]) > row["magnitude error limit [dB]"]
+    assert mixed.why[0] == "records_beyond_limit 1 > 0"
+    assert mixed.why[1].startswith(f"{foreign_point.info.id} (12 Hz, level 0.02): magnitude error ")
+    assert f"record beyond its limit: {foreign_point.info.id}" in mixed.report()
+
+
+def drops_of(rope, heights, rng):
+    """Conditioned free falls of ``rope`` under 4.33 kg at ``heights`` with 1 % accelerometer noise."""
+    heights = np.asarray(heights, dtype=float)
+    run = free_fall(SDOFSystem(4.33, rope), drop_height=heights, duration=1.0, time_step=1 / 2000.0)
+    records = []
+    for index, height in enumerate(heights):
+        accel = run.acceleration[index, 0]
+        scale = np.max(np.abs(accel))
+        records.append(DropMeasurement(
+            time=run.time, deflection=run.deflection[index, 0] + rng.normal(0, 1e-6, run.time.size),
+            a_top_1=accel + rng.normal(0, 0.01 * scale, run.time.size),
+            a_top_2=accel + rng.normal(0, 0.01 * scale, run.time.size),
+            v_rel=run.velocity[index, 0],
+            info=MeasurementInfo(id=f"drop-{height}", isolator="wire_rope", top_mass_kg=4.33,
+                                 drop_height_m=float(height), repetition=1)))
+    return records
+
+
+@pytest.mark.parametrize("index", [1, 2, 3])
+def test_one_drop_of_another_rope_fails_and_is_named(drops, index):
+    """One drop of a rope twice as stiff among drops of the right one: a linear spring's peak
+    acceleration scales as sqrt(k) and its stroke as 1 / sqrt(k), so the model errs by about
+    1/sqrt(2) - 1 = -0.29 and sqrt(2) - 1 = +0.41 on that drop (the friction elements soften it
+    at 4 cm: -0.36 / +0.35), while the other drops err by the noise (< 0.01): the medians pass,
+    the drop lies more than 0.25 outside 0 to its siblings' median, and it is named."""
+    foreign_drop = drops_of(wire_rope(2.0), [drops[index].info.drop_height_m], np.random.default_rng(RNG_SEED + 1))[0]
+    records = list(drops)
+    records[index] = foreign_drop
+    own = validate_drops(drops, isolator=wire_rope())
+    assert own.summary["records_beyond_limit"] == 0 and set(own.metrics["record verdict"]) == {"ok"}
+    mixed = validate_drops(records, isolator=wire_rope())
+    assert mixed.summary["median_peak_acceleration_error"] < 0.05  # hidden in the medians
+    assert mixed.summary["median_peak_compression_error"] < 0.05
+    assert mixed.verdict == "FAIL" and mixed.summary["records_beyond_limit"] == 1
+    assert list(mixed.metrics.index[mixed.metrics["record verdict"] == "FAIL"]) == [index]
+    row = mixed.metrics.iloc[index]
+    assert row["peak compression departure [-]"] > row["peak compression departure limit [-]"] == 0.25
+    assert mixed.why[-1].startswith(f"{foreign_drop.info.id}: ") and "peak compression error +0." in mixed.why[-1]
+    # a user may tolerate one such drop, like any threshold
+    assert validate_drops(records, isolator=wire_rope(), thresholds={"records_beyond_limit": 1}).passed
+
+
+def test_a_white_noise_run_of_another_system_is_named(white_noise_runs):
+    """The 3 kg run declared as 6.4 kg: its resonance lies sqrt(6.4 / 3) = 1.46 times above the
+    model's, and the run is named with its errors (the worst-run limits already failed it)."""
+    import dataclasses
+
+    elastomer, runs = white_noise_runs
+    wrong = list(runs)
+    wrong[1] = dataclasses.replace(runs[1], info=dataclasses.replace(runs[1].info, top_mass_kg=6.4))
+    own = validate_frf(runs, isolator=elastomer)
+    assert own.summary["records_beyond_limit"] == 0 and set(own.metrics["record verdict"]) == {"ok"}
+    result = validate_frf(wrong, isolator=elastomer)
+    assert result.verdict == "FAIL" and result.summary["records_beyond_limit"] == 1
+    assert list(result.metrics["record verdict"]) == ["ok", "FAIL", "ok"]
+    assert result.why[-1].startswith(f"{runs[1].info.id}: FRF error ") and "resonance error -0.3" in result.why[-1]
