@@ -11,7 +11,7 @@ from idkit.errors import ValidationError
 from idkit.responses.shock import shock_sweep
 from idkit.signal.drop import process_drop
 from idkit.simulate import DEFAULT_CONTACT, ContactModel, contact_from_velocity_step
-from idkit.validate.records import RECORD_METRIC, departures
+from idkit.validate.records import MIN_SIBLINGS, RECORD_METRIC, departures
 from idkit.validate.result import ValidationResult, check_thresholds, checked_identified_range
 from idkit.validate.systems import system_for
 
@@ -24,8 +24,8 @@ DROP_MODELS = ("auto", "conditioned", "rig")
 #: Default limits on the median relative errors over the drops the model could simulate,
 #: on the fraction of drops that left the model's valid range (flagged runs), and on the
 #: number of drops beyond their own limit: a drop's error may lie up to the median limit
-#: outside the interval between 0 and the other drops' median error
-#: (:func:`idkit.validate.records.departures`).
+#: outside the interval between 0 and the median error of its nearest siblings (drops of the same
+#: top mass nearest in drop height, :func:`idkit.validate.records.departures`).
 DROP_THRESHOLDS = {
     "median_peak_acceleration_error": 0.25,
     "median_peak_compression_error": 0.25,
@@ -98,10 +98,11 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
 
     Each drop is also judged on its own (:mod:`idkit.validate.records`): its peak acceleration
     and peak compression errors may lie up to the median limit outside the interval between 0 and
-    the median error of the *other* drops (the model's error that the drops share); a drop
-    beyond is counted in ``records_beyond_limit`` (limit 0) and named in
-    :attr:`ValidationResult.record_failures`. The table gives each drop's ``... departure [-]``,
-    its limit and ``record verdict``.
+    the median error of its siblings, the drops of the same top mass nearest in drop height (at
+    least two: the model's error at that condition, which they share); a drop beyond is counted
+    in ``records_beyond_limit`` (limit 0) and named in :attr:`ValidationResult.record_failures`.
+    A drop with fewer than two siblings is not judged alone (counted in the notes). The table
+    gives each drop's ``... departure [-]``, its limit and ``record verdict``.
     """
     if impact_velocity == "velocity_step":
         impact_velocity = "measured"
@@ -203,21 +204,27 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
     valid = table["status"] == "ok"
     table.loc[~valid, ["peak acceleration error [-]", "peak compression error [-]"]] = np.nan
 
+    # siblings: drops of the same top mass nearest in drop height (else in measured velocity step)
+    heights = table["drop height [m]"].to_numpy(float)
+    condition = heights if np.all(np.isfinite(heights)) else np.abs(table["relative velocity step [m/s]"]
+                                                                    .to_numpy(float))
     judged = np.zeros(len(table), dtype=bool)
     lines = [[] for _ in range(len(table))]
     for quantity, limit_name in _PER_DROP:
-        departure, sibling_median = departures(table[f"{quantity} error [-]"].to_numpy(float))
+        departure, sibling_median = departures(table[f"{quantity} error [-]"].to_numpy(float),
+                                               groups=table["top mass [kg]"].to_numpy(), coordinate=condition)
         limit = limits[limit_name]
         table[f"{quantity} departure [-]"] = departure
         table[f"{quantity} departure limit [-]"] = limit
         judged |= np.isfinite(departure)
         for index in np.flatnonzero(departure > limit):
             lines[index].append(f"{quantity} error {table[f'{quantity} error [-]'].iloc[index]:+.3f} lies "
-                                f"{departure[index]:.3f} outside 0 to the other drops' median "
+                                f"{departure[index]:.3f} outside 0 to its nearest siblings' median "
                                 f"{sibling_median[index]:+.3f} (limit {limit:g})")
     beyond = np.array([bool(words) for words in lines], dtype=bool)
     failures = [f"{table['id'].iloc[index]}: " + "; ".join(lines[index]) for index in np.flatnonzero(beyond)]
     table["record verdict"] = np.where(beyond, "FAIL", np.where(judged, "ok", ""))
+    alone = int((valid.to_numpy(bool) & ~judged).sum())
 
     def median_abs(column):
         values = np.abs(table.loc[valid, column].to_numpy(float))
@@ -246,6 +253,9 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
     by_height = table.groupby(["top mass [kg]", "drop height [m]"])[
         ["peak acceleration error [-]", "peak compression error [-]"]].mean().reset_index()
     notes = () if identified_range is None else _outside_notes(table, identified_range)
+    if alone:
+        notes += (f"{alone} of {len(table)} drops have fewer than {MIN_SIBLINGS} other drops of their top mass to "
+                  "compare with: they are judged only together (medians), not one at a time",)
     return ValidationResult(name=name, metrics=table, summary=summary, thresholds=limits,
                             details={"by_height": by_height}, notes=notes, record_failures=tuple(failures))
 

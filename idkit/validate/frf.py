@@ -27,8 +27,8 @@ __all__ = ["validate_frf", "FRF_THRESHOLDS", "half_power_damping", "model_throug
 #: grid of 0.25-0.5 Hz scatters by 10-20 % (on the bundled elastomer one of eight masses read
 #: 0.082 where its neighbours read 0.087-0.095 on the 0.25 Hz grid).
 #: ``records_beyond_limit``: runs beyond their own limit (the worst-run limits per run; a run's
-#: damping error in dB up to the median limit outside 0 to the other runs' median,
-#: :func:`idkit.validate.records.departures`).
+#: damping error in dB up to the median limit outside 0 to the median of the runs nearest in top
+#: mass, at least two, :func:`idkit.validate.records.departures`).
 FRF_THRESHOLDS = {"max_frf_error": 0.15, "max_resonance_frequency_error": 0.05, "median_damping_ratio_error_db": 3.0,
                   RECORD_METRIC: 0}
 
@@ -87,8 +87,9 @@ def validate_frf(measurements, *, system=None, isolator=None, band=(1.0, 100.0),
 
     Each run is also judged on its own (:mod:`idkit.validate.records`): its FRF error and
     resonance error against the worst-run limits, and its damping error ``20 log10(zeta_model /
-    zeta_measured)`` up to the median limit outside the interval between 0 and the other runs'
-    median; a run beyond is counted in ``records_beyond_limit`` (limit 0) and named in
+    zeta_measured)`` up to the median limit outside the interval between 0 and the median of the
+    (at least two) runs nearest in top mass (with fewer runs the damping is judged only by the
+    median); a run beyond is counted in ``records_beyond_limit`` (limit 0) and named in
     :attr:`ValidationResult.record_failures`.
 
     Returns
@@ -165,7 +166,9 @@ def _record_checks(table: pd.DataFrame, limits: dict) -> tuple[tuple[str, ...], 
     judged = np.zeros(len(table), dtype=bool)
     frf_limit, resonance_limit = limits["max_frf_error"], limits["max_resonance_frequency_error"]
     damping_limit = limits["median_damping_ratio_error_db"]
-    departure, sibling_median = departures(table["damping error [dB]"].to_numpy(float))
+    # siblings: the runs nearest in top mass (at least two; with fewer the damping is judged only by the median)
+    departure, sibling_median = departures(table["damping error [dB]"].to_numpy(float),
+                                           coordinate=table["top mass [kg]"].to_numpy(float))
     table["frf error limit [-]"] = frf_limit
     table["resonance error limit [-]"] = resonance_limit
     table["damping departure [dB]"] = departure
@@ -180,7 +183,7 @@ def _record_checks(table: pd.DataFrame, limits: dict) -> tuple[tuple[str, ...], 
             lines.append(f"resonance error {resonance_error:+.3f} beyond {resonance_limit:g}")
         if departure[index] > damping_limit:
             lines.append(f"damping error {table['damping error [dB]'].iloc[index]:+.1f} dB lies "
-                         f"{departure[index]:.1f} dB outside 0 to the other runs' median "
+                         f"{departure[index]:.1f} dB outside 0 to the nearest runs' median "
                          f"{sibling_median[index]:+.1f} dB (limit {damping_limit:g} dB)")
         if lines:
             beyond[index] = True

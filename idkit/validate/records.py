@@ -10,10 +10,12 @@ has (docs/validation.md, "One record at a time"):
 * a per-record quantity whose aggregate is a **maximum** (FRF error, resonance error per
   white-noise run) has that limit per record: the verdict is the same, but the record is named;
 * a quantity whose aggregate is a **median** (drop peak errors, FRF damping) may lie anywhere
-  between zero (the model right) and the median error of the *other* records (the model's
-  systematic error, which the siblings share), and up to the aggregate limit beyond that
-  interval: :func:`departures`. A record within the aggregate limit of zero is never blamed,
-  and a shared error is not held against one record;
+  between zero (the model right) and the median error of its siblings (the nearest records of
+  the same top mass: the model's error at that condition, which they share), and up to the
+  aggregate limit beyond that interval: :func:`departures`. A record within the aggregate limit
+  of zero is never blamed, a shared error is not held against one record, and a record with
+  fewer than two siblings is not judged alone (its error cannot be told from a model error that
+  changes with the condition);
 * a sweep point's first harmonic (:func:`sweep_point_envelope`) may be off the model's by as
   much as the aggregate limits allow a model to differ there: the resonance shifted by up to
   ``max_resonance_frequency_error`` and the damping scaled by up to the peak limit
@@ -30,34 +32,53 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["RECORD_METRIC", "departures", "phase_floor_deg", "sweep_point_envelope"]
+__all__ = ["RECORD_METRIC", "MIN_SIBLINGS", "departures", "phase_floor_deg", "sweep_point_envelope"]
 
 #: Summary metric counting the held-out records beyond their own limit (threshold 0).
 RECORD_METRIC = "records_beyond_limit"
 
 
-def departures(errors) -> tuple[np.ndarray, np.ndarray]:
-    """How far each record's signed error lies outside ``[min(0, m), max(0, m)]``, ``m`` the median
-    of the *other* records' finite errors (0 when there is none).
+#: Fewest siblings (records of the same group with a finite error) a record is compared with; with
+#: fewer, a record's error cannot be told from a model error that changes with the condition
+#: (drop height, top mass), and the record is not judged on its own.
+MIN_SIBLINGS = 2
 
-    Returns ``(departure, sibling_median)``; NaN where the record's own error is NaN.
+
+def departures(errors, *, groups=None, coordinate=None,
+               min_siblings: int = MIN_SIBLINGS) -> tuple[np.ndarray, np.ndarray]:
+    """How far each record's signed error lies outside ``[min(0, m), max(0, m)]``, ``m`` the median
+    error of its siblings.
+
+    The siblings of a record are the *other* records of its group (``groups``, e.g. the top mass;
+    all records when None) with a finite error; with ``coordinate`` (e.g. the drop height) only the
+    nearest of them: those no farther than the ``min_siblings``-th nearest (ties included), where
+    the model's error is what it is at the record's own condition. A record with fewer than
+    ``min_siblings`` siblings is not judged (NaN), nor is one whose own error is NaN.
+
+    Returns ``(departure, sibling_median)``.
 
     >>> dep, med = departures([0.05, 0.07, 0.06, 0.47])
     >>> [round(float(v), 2) for v in dep], [round(float(v), 2) for v in med]
     ([0.0, 0.01, 0.0, 0.41], [0.07, 0.06, 0.07, 0.06])
-    >>> [round(float(v), 2) for v in departures([-0.3])[0]]
-    [0.3]
+    >>> departures([-0.3, 0.1])[0].tolist()  # one sibling each: which one is off cannot be told
+    [nan, nan]
     """
     errors = np.asarray(errors, dtype=float)
-    departure = np.full(errors.shape, np.nan)
-    sibling_median = np.full(errors.shape, np.nan)
+    count = errors.size
+    groups = np.zeros(count) if groups is None else np.asarray(groups)
+    coordinate = np.zeros(count) if coordinate is None else np.asarray(coordinate, dtype=float)
+    departure = np.full(count, np.nan)
+    sibling_median = np.full(count, np.nan)
     for index, error in enumerate(errors):
-        others = np.delete(errors, index)
-        others = others[np.isfinite(others)]
-        median = float(np.median(others)) if others.size else 0.0
+        others = np.flatnonzero((groups == groups[index]) & np.isfinite(errors) & (np.arange(count) != index))
+        if others.size < max(1, min_siblings) or not np.isfinite(error):
+            continue
+        distance = np.abs(coordinate[others] - coordinate[index])
+        distance = np.where(np.isfinite(distance), distance, np.inf)
+        reach = np.sort(distance)[max(1, min_siblings) - 1]
+        median = float(np.median(errors[others[distance <= reach]]))
         sibling_median[index] = median
-        if np.isfinite(error):
-            departure[index] = max(0.0, error - max(0.0, median), min(0.0, median) - error)
+        departure[index] = max(0.0, error - max(0.0, median), min(0.0, median) - error)
     return departure, sibling_median
 
 

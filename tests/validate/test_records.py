@@ -27,8 +27,27 @@ def test_an_error_every_record_shares_is_held_against_none(shared):
     errors = shared + np.array([-0.02, 0.01, 0.0, 0.02, -0.01])
     departure, median = departures(errors)
     assert np.all(departure <= 0.04 + 1e-12)  # at most the scatter's range
-    assert departures([np.nan, 0.1])[0][0] != departures([np.nan, 0.1])[0][0]  # NaN stays unjudged
-    assert departures([0.3])[0][0] == pytest.approx(0.3)  # alone: its error itself
+    assert np.isnan(departures([np.nan, 0.1, 0.2])[0][0])  # NaN stays unjudged
+
+
+def test_a_record_is_compared_with_its_nearest_siblings_of_its_group():
+    """A model error that grows with the drop height (0 to 0.6 over 2-11 cm, smooth) blames no
+    drop: each is compared with the drops nearest in height, not with all (against the median of
+    all, the 11 cm drop would lie 0.3 outside). A drop of another payload is no sibling, and a drop
+    with one sibling only is not judged: its error cannot be told from the model's at its height."""
+    heights = np.arange(2, 12) / 100
+    trend = np.linspace(0.0, 0.6, heights.size)
+    assert departures(trend)[0][-1] > 0.25
+    departure, median = departures(trend, coordinate=heights)
+    assert np.all(departure < 0.1)
+    jump = trend.copy()
+    jump[7] += 0.4  # one drop off the smooth trend
+    departure, _ = departures(jump, coordinate=heights)
+    assert np.flatnonzero(departure > 0.25).tolist() == [7]
+    # groups: the two 7.39 kg drops have one sibling each, whatever the 4.33 kg drops show
+    masses = np.array([4.33] * 4 + [7.39] * 2)
+    departure, median = departures([0.0, 0.01, -0.01, 0.02, 0.6, 0.0], groups=masses)
+    assert np.all(np.isnan(departure[4:])) and np.all(departure[:4] < 0.03)
 
 
 def sdof(freq, natural, zeta):

@@ -577,6 +577,11 @@ def test_one_drop_of_another_rope_fails_and_is_named(drops, index):
     assert mixed.why[-1].startswith(f"{foreign_drop.info.id}: ") and "peak compression error +0." in mixed.why[-1]
     # a user may tolerate one such drop, like any threshold
     assert validate_drops(records, isolator=wire_rope(), thresholds={"records_beyond_limit": 1}).passed
+    # with one sibling, which of the two is off cannot be told from a model error that changes with
+    # the height: neither is judged alone (the medians judge them), and a note says so
+    pair = validate_drops([drops[0], foreign_drop], isolator=wire_rope())
+    assert pair.summary["records_beyond_limit"] == 0 and list(pair.metrics["record verdict"]) == ["", ""]
+    assert pair.notes[-1].startswith("2 of 2 drops have fewer than 2 other drops of their top mass")
 
 
 def test_a_white_noise_run_of_another_system_is_named(white_noise_runs):
