@@ -57,6 +57,7 @@ from idkit.fit._params import Transform, central_jacobian, jacobian_statistics, 
 from idkit.fit.iwan_start import iwan_start
 from idkit.fit.loop_objective import BoucWenLoops
 from idkit.fit.loop_objective import boucwen_set_errors, boucwen_set_forces, boucwen_values, check_state
+from idkit.fit.model_form import loop_model_form_reasons
 from idkit.fit.result import BoucWenFitResult, BoucWenFitSettings, StageResult
 from idkit.models import BoucWenModel
 from idkit.observe.quasi_static import as_loop_sets
@@ -298,7 +299,11 @@ def fit_boucwen(
         model=model, stages=tuple(stages), small_errors=small_packed.set_errors(q),
         large_errors=large_packed.set_errors(q), small_names=small_packed.names, large_names=large_packed.names,
         settings=settings, parameters=parameters, conditioning=conditioning, at_bound=at_bound,
-        global_search=global_info, elapsed_s=elapsed, statistics=statistics)
+        global_search=global_info, elapsed_s=elapsed, statistics=statistics,
+        model_form=loop_model_form_reasons(  # the shared model-form check (docs/fitting.md, "Verdicts")
+            [("small", small_sets, small_packed.split(small_packed.forces(q))),
+             ("large", large_sets, large_packed.split(large_packed.forces(q)))],
+            remedy="another model form, docs/fitting.md"))
 
 
 def _report_values(q: dict) -> dict:

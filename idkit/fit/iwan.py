@@ -73,6 +73,7 @@ from idkit.fit._optim import MAX_EVALS, nelder_mead
 from idkit.fit._params import Transform, jacobian_statistics, spec_units, to_lmfit, to_physical_statistics
 from idkit.fit.iwan_start import iwan_start
 from idkit.fit.loop_objective import IwanLoops, check_state, iwan_set_errors, iwan_set_forces
+from idkit.fit.model_form import loop_model_form_reasons
 from idkit.fit.result import IwanFitResult, IwanFitSettings, StageResult, determinacy_reasons
 from idkit.models import IwanModel
 from idkit.models.laws import lowest_spring_stiffness
@@ -311,6 +312,11 @@ def fit_iwan(
                        "simulated over its data")
     parameters, statistics = _iwan_lmfit(model, small_packed, large_packed, x_ref, stiffness_ref, force_ref, units)
     reasons.extend(determinacy_reasons(parameters, statistics))  # the shared verdict (docs/fitting.md, "Verdicts")
+    final = (model.g1, model.g2, model.g3, np.array(model.k, dtype=np.float64), np.array(model.fc, dtype=np.float64))
+    reasons.extend(loop_model_form_reasons(
+        [("small", small_sets, small_packed.split(small_packed.forces(*final))),
+         ("large", large_sets, large_packed.split(large_packed.forces(*final)))],
+        remedy="a higher order (order table), the slip-modulated Iwan or another model form, docs/fitting.md"))
     settings = IwanFitSettings(order=n, backend=backend, points_per_set=points_per_set, max_evals=max_evals,
                                xtol=xtol, ftol=ftol, restarts=restarts, initial_step=initial_step,
                                initial_state=initial_state, seed=int(seed),

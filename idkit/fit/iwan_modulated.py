@@ -55,6 +55,7 @@ from idkit.errors import FitError
 from idkit.fit.compare import ORDER_RULE_FACTOR, LoopModelComparison, compare_loop_models
 from idkit.fit._params import Transform, jacobian_statistics, to_lmfit, to_physical_statistics
 from idkit.fit.iwan import LoopSet, _add_the_step, fit_iwan, prepare_loops
+from idkit.fit.model_form import loop_model_form_reasons
 from idkit.fit.result import IwanFitResult, IwanFitSettings, StageResult, determinacy_reasons
 from idkit.models import IwanModel, ModulatedIwanModel
 
@@ -685,6 +686,11 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
                        f"{1e3 * negative_high:.4g} mm, inside the loops' own deflections ({1e3 * low:.4g} to "
                        f"{1e3 * high:.4g} mm)")
     ns = len(small_sets)
+    final_forces = _model_forces(model, sets, cycled)
+    reasons.extend(loop_model_form_reasons(  # the shared model-form check (docs/fitting.md, "Verdicts")
+        [("small", sets[:ns], final_forces[:ns]), ("large", sets[ns:], final_forces[ns:])],
+        remedy="a higher order (--order auto, --order-table) or another model form, docs/fitting.md"))
+    reasons = list(dict.fromkeys(reasons))
     errors = _errors(model, sets, cycled)
     plain_errors = _errors(ModulatedIwanModel.from_iwan(plain_model), sets, cycled)
     start_errors = _errors(modulated_start, sets, cycled) if modulated_start is not None else plain_errors

@@ -37,6 +37,7 @@ from idkit.fit.iwan import fit_iwan
 from idkit.fit.iwan_start import smallest_branch_secant
 from idkit.fit.static_stiffness import K0_METHODS, k0_with_relaxation
 from idkit.fit.maxwell import fit_maxwell
+from idkit.fit.model_form import FLOOR_MARGIN, MODEL_FORM_PREFIX
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
 from idkit.models import save_model
@@ -626,7 +627,8 @@ def choose_iwan_family(small, large, plain_fits: dict, *, plain_order: int | Non
     orders = sorted(plain_fits)
     plain = plain_fits[orders[0] if plain_order is None else plain_order]
     plain_undetermined = bool(plain.undetermined)
-    if family == "auto" and not floor_check(plain) and not plain_undetermined:
+    misses_the_loops = bool(floor_check(plain)) or any(reason.startswith(MODEL_FORM_PREFIX) for reason in plain.reasons)
+    if family == "auto" and not misses_the_loops and not plain_undetermined:
         return plain, None, None
 
     judged: dict = {}  # order -> (IwanFitResult, accepted), each link judged once
@@ -692,10 +694,6 @@ def _survives_the_largest_drops(model, measurements, isolator) -> tuple[str, ...
     return tuple(reasons)
 
 
-#: A loop fit is not a success when its mean error in a group (small or large loops) is more
-#: than this above the group's noise floor: the issue-10 reach of a model that is right (2
-#: percentage points above what the generating law scores on the same loops).
-FLOOR_MARGIN = 0.02
 
 
 def loop_noise_floor(records) -> dict:
@@ -717,7 +715,9 @@ def loop_noise_floor(records) -> dict:
 
 def _above_the_noise_floor(result, measurements, isolator, split) -> tuple[str, ...]:
     """A reason per loop group whose mean error exceeds its noise floor by more than
-    :data:`FLOOR_MARGIN`; the group's floor is the largest over its records (repetitions)."""
+    :data:`FLOOR_MARGIN`; the group's floor is the largest over its records (repetitions). A
+    group the fit's own check (:mod:`idkit.fit.model_form`, the floor read off its residual)
+    named already is not named again."""
     try:
         records, _ = select_measurements(measurements, kind="quasi_static", isolator=isolator, split=split)
     except DataError:
@@ -728,11 +728,12 @@ def _above_the_noise_floor(result, measurements, isolator, split) -> tuple[str, 
               "modulated": "a higher order: --order auto, --order-table, docs/fitting.md"}.get(
         family, "another model form, docs/fitting.md")
     reasons = []
+    named = tuple(getattr(result, "reasons", ()) or ())
     for group, names, errors in (("small", result.small_names, result.small_errors),
                                  ("large", result.large_names, result.large_errors)):
         known = [floors[name] for name in names if name in floors and math.isfinite(floors[name])]
-        if not known:
-            continue
+        if not known or any(reason.startswith(f"{MODEL_FORM_PREFIX} {group} loops") for reason in named):
+            continue  # the fit's own model-form check named this group already
         floor, error = max(known), float(np.mean(errors))
         if error - floor > FLOOR_MARGIN:
             reasons.append(f"{group}-loop error {100 * error:.3g} % is {100 * (error - floor):.3g} points above the "

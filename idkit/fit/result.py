@@ -724,6 +724,9 @@ class BoucWenFitResult(_LoopFitResult):
         ``k1 .. c`` (:func:`idkit.fit.fit_boucwen`); ``params`` (alias of ``parameters``),
         ``chisqr``, ``redchi``, ``aic``, ``bic``, ``nfev``, ``message``, ``stderr_notes``
         and ``fit_report()`` expose them as lmfit does.
+    model_form : tuple of str
+        Why the model form misses the loops (a group's mean error more than the margin above
+        its noise floor, :func:`idkit.fit.model_form.loop_model_form_reasons`); empty when not.
     """
 
     model: BoucWenModel
@@ -739,6 +742,7 @@ class BoucWenFitResult(_LoopFitResult):
     global_search: dict | None
     elapsed_s: float
     statistics: lmfit.minimizer.MinimizerResult | None = field(default=None, repr=False)
+    model_form: tuple[str, ...] = ()
 
     n_params = 8  # k1, k2, k3, alpha, beta, gamma, n, c (b fixed)
 
@@ -746,10 +750,12 @@ class BoucWenFitResult(_LoopFitResult):
     def reasons(self) -> tuple[str, ...]:
         """Why the fit is not a success: a stage stopped on its evaluation limit (its optimiser status),
         a scaled coordinate sits on a bound of the box (the data do not place it inside), or the
-        data do not determine the parameters (:func:`determinacy_reasons`)."""
+        data do not determine the parameters (:func:`determinacy_reasons`), or the error is more than
+        the margin above the noise floor (``model_form``, :mod:`idkit.fit.model_form`)."""
         bound = ([f"at a bound of the search box (not determined inside it): {', '.join(self.at_bound)}"]
                  if self.at_bound else [])
-        return tuple([*self._stopped_stages(), *bound, *determinacy_reasons(self.parameters, self.statistics)])
+        return tuple([*self._stopped_stages(), *bound, *determinacy_reasons(self.parameters, self.statistics),
+                      *self.model_form])
 
     def report(self) -> str:
         """Readable summary: stages, conditioning, parameters with stderr."""
