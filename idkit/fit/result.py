@@ -38,6 +38,11 @@ __all__ = [
 UNDETERMINED_CORRELATION = 0.999
 
 
+#: Standard errors to either side of a positive parameter's value spanned by its 95 % interval
+#: (two-sided normal quantile): an interval reaching zero leaves the parameter undetermined.
+INTERVAL_Z = 1.96
+
+
 def undetermined_groups(parameters: lmfit.Parameters, threshold: float = UNDETERMINED_CORRELATION
                         ) -> tuple[tuple[str, ...], ...]:
     """Groups of varied parameters linked by ``|correl| >= threshold`` (in parameter order)."""
@@ -73,6 +78,8 @@ def determinacy_reasons(parameters: lmfit.Parameters, statistics, *, excused: tu
       near-singular (smallest singular value below 1e-10 of the largest,
       :func:`idkit.fit._params.gauss_newton_covariance`), its Jacobian column is zero, or the
       Jacobian is not finite (``stderr_notes`` give the fitter's own words);
+    * a positive parameter (search domain ``min >= 0``) whose 95 % interval ``value +- 1.96
+      stderr`` reaches zero (:data:`INTERVAL_Z`): the data fix not even its order of magnitude;
     * parameters determined only in combination (``|correlation| >=``
       :data:`UNDETERMINED_CORRELATION`, :func:`undetermined_groups`).
 
@@ -99,12 +106,28 @@ def determinacy_reasons(parameters: lmfit.Parameters, statistics, *, excused: tu
         notes = tuple(getattr(statistics, "stderr_notes", ()) or ())
         why = "; ".join(notes) if notes else "no finite standard error"
         reasons.append(f"not determined by the data: {', '.join(missing)} ({why})")
+    wide = [name for name in varied if name not in missing and _interval_reaches_zero(parameters[name])]
+    if wide:
+        listed = ", ".join(f"{name} = {parameters[name].value:.4g} +- {parameters[name].stderr:.2g}" for name in wide)
+        reasons.append(f"not determined by the data: {listed} (a positive parameter whose 95 % interval, "
+                       f"+-{INTERVAL_Z:g} standard errors, reaches zero: not even its order of magnitude is fixed)")
     for group in undetermined_groups(parameters):
         group = [name for name in group if name not in excused]
         if len(group) > 1:
             reasons.append(f"determined only in combination: {', '.join(group)} (|correlation| >= "
                            f"{UNDETERMINED_CORRELATION:g}; each value alone is not fixed by the data)")
     return tuple(reasons)
+
+
+def _interval_reaches_zero(par) -> bool:
+    """A varied parameter whose search domain is non-negative (``min >= 0``: a stiffness, a slip
+    force, a rate, an exponent) and whose 95 % interval ``value +- INTERVAL_Z stderr`` reaches
+    zero (``stderr >= value / 1.96``, 51 % of the value). Signed parameters (``g2``, ``g3``, ``c``)
+    are not judged: an interval across zero leaves their sign open, not their existence."""
+    if par.min is None or not par.min >= 0.0 or par.stderr is None:
+        return False
+    value, stderr = float(par.value), float(par.stderr)
+    return np.isfinite(stderr) and value > 0.0 and value - INTERVAL_Z * stderr <= 0.0
 
 
 def _undetermined_lines(groups) -> list[str]:

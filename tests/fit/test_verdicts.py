@@ -99,6 +99,32 @@ def test_the_verdict_names_each_kind_of_undetermined_result():
     assert determinacy_reasons(_parameters([0.1, None]), _Statistics(np.ones(10), 10, 2), excused=("b",)) == ()
 
 
+def test_a_positive_parameter_whose_95_percent_interval_reaches_zero_is_undetermined():
+    from idkit.fit.result import determinacy_reasons
+
+    statistics = _Statistics(np.ones(10), 10, 2)
+    # a = 1, b = 2 (both searched in [0, 10]): b +- 1.0 keeps its interval 0.04-3.96 above zero
+    assert determinacy_reasons(_parameters([0.1, 1.0]), statistics) == ()
+    wide = determinacy_reasons(_parameters([0.1, 1.1]), statistics)  # 2 - 1.96 x 1.1 < 0
+    assert len(wide) == 1 and wide[0].startswith("not determined by the data: b = 2 +- 1.1"), wide
+    signed = to_lmfit(["a", "b"], [1.0, 2.0], units=["-", "-"], lower=[0, -10], upper=[10, 10], vary=[True, True],
+                      stderr=[0.1, 5.0])
+    assert determinacy_reasons(signed, statistics) == ()  # a signed parameter: its sign is open, not its size
+
+
+@pytest.mark.parametrize("seed", [2000, 2001])
+def test_maxwell_element_barely_inside_the_band_is_not_a_success(seed):
+    """Table 7.3 over 1-7 Hz: its 841 1/s element shows only as the start of a rising loss, and
+    the fit returns it with standard errors as large as the values (seed 2001: k_2 = 8080 +- 5600
+    N/m, rate_2 = 292 +- 288 1/s; seed 2000: k_1 +- 63 %, rate_2 +- 102 %), no correlation at
+    0.999 (largest 0.987). Before: a success."""
+    truth = library.get("table_7_3_elastomer")
+    result = fit_maxwell(noisy_frf_sets(truth, seed), k0=truth.k0, order=2, band=(1.0, 7.0))
+    assert not result.success
+    wide = [reason for reason in _named(result, "not determined by the data") if "95 % interval" in reason]
+    assert wide and "rate_2" in wide[0], result.reasons
+
+
 # A truth whose loss factor falls 5 % between 20 and 50 Hz (0.183 -> 0.174), three rates a decade
 # apart; 5 % complex noise puts the error near the noise floor, where the constrained and the
 # free fit differ by less than LOSS_RULE_FACTOR (5.25 % vs 5.01 %)
