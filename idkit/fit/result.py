@@ -480,9 +480,10 @@ def _statistics_lines(statistics) -> list[str]:
 #: Two relaxation rates closer than this ratio are one element split in two.
 DUPLICATE_RATE_RATIO = 1.01
 
-#: A Maxwell fit with the loss-factor constraint imposed whose least-squares optimum of the same
-#: residuals (one Gauss-Newton step, ``statistics.gauss_newton_step``) lies more than this many
-#: standard errors from its parameters is not a success: the constraint moved them, and their
+#: A Maxwell fit whose least-squares optimum of the same residuals (one Gauss-Newton step,
+#: ``statistics.gauss_newton_step``) lies more than this many standard errors from its parameters
+#: is not a success: the loss-factor constraint moved them (when imposed) or the optimiser stopped
+#: short of the optimum (without it; at a converged optimum the step is below 1e-5), and their
 #: standard errors (statistics of an unconstrained minimum) do not describe them. 2: a success must
 #: recover a truth within the 5 standard errors of the recovery tests, and a bias of 2 leaves 3 for
 #: the noise (p = 0.3 % per parameter).
@@ -623,7 +624,9 @@ class MaxwellFitResult(_LmfitStatistics):
         failed; a free parameter sits on its
         search bound (the data do not place it inside the box); two relaxation rates
         coincide within :data:`DUPLICATE_RATE_RATIO` (the elements are one element
-        split in two: a lower order fits as well).
+        split in two: a lower order fits as well); the least-squares optimum lies more than
+        :data:`CONSTRAINT_STEP_LIMIT` standard errors away (the loss constraint binds, or the
+        optimiser stopped short of it).
         """
         reasons = []
         if not self.error < NULL_PREDICTION_ERROR:
@@ -642,12 +645,17 @@ class MaxwellFitResult(_LmfitStatistics):
         if len(close):
             pairs = ", ".join(f"{rates[i]:.4g} and {rates[i + 1]:.4g} 1/s" for i in close)
             reasons.append(f"relaxation rates coincide ({pairs}): redundant elements, a lower order fits as well")
-        step = constraint_step(self.statistics) if self.settings.monotone_loss else None
-        if step is not None and step[1] > CONSTRAINT_STEP_LIMIT:
+        step = constraint_step(self.statistics)
+        if step is not None and step[1] > CONSTRAINT_STEP_LIMIT and self.settings.monotone_loss:
             reasons.append(f"the loss-factor constraint binds: the least-squares optimum of the data lies {step[1]:.3g} "
                            f"standard errors away ({step[0]}; limit {CONSTRAINT_STEP_LIMIT:g}), so the constraint moved "
                            "the parameters and their standard errors do not describe them (monotone_loss=False fits "
                            "without it)")
+        elif step is not None and step[1] > CONSTRAINT_STEP_LIMIT:
+            reasons.append(f"the optimiser stopped short of the least-squares optimum: it lies {step[1]:.3g} standard "
+                           f"errors away ({step[0]}; limit {CONSTRAINT_STEP_LIMIT:g}, one Gauss-Newton step), so the "
+                           "parameters are not the optimum their standard errors describe (a tighter ftol, more "
+                           "max_evals)")
         reasons.extend(determinacy_reasons(self.parameters, self.statistics, excused=self.at_bound))
         return tuple(reasons)
 
