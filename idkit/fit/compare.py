@@ -18,6 +18,7 @@ from idkit.errors import FitError
 from idkit.fit.iwan import fit_iwan
 from idkit.fit.iwan_start import smallest_branch_secant
 from idkit.fit.maxwell import fit_maxwell, fit_voigt
+from idkit.fit.model_form import MODEL_FORM_PREFIX
 from idkit.models import GeneralizedMaxwell
 from idkit.observe.quasi_static import as_loop_sets
 
@@ -100,10 +101,12 @@ def iwan_order_table(small, large, *, orders: Sequence[int] = (1, 2, 3, 4, 5, 6)
     ``smallest_loop_secant [N/m]`` (tip-to-tip secant of the smallest measured loop, the
     data's own stuck-stiffness reading), ``spring_negative_below [m]`` and
     ``spring_negative_above [m]`` (where ``g1 + 2 g2 x + 3 g3 x^2`` turns negative,
-    +-inf if never), ``success``, ``reasons`` and ``recommended``: the lowest order whose mean
-    of small and large error is within :data:`ORDER_RULE_FACTOR` of the best, among the
-    fits that succeeded (an order that stopped at a limit or a bound is not recommended
-    while another succeeds), ``family`` and ``fit`` (``"loops"``: fitted without a valid-range
+    +-inf if never), ``success``, ``reasons``, ``model_form_only`` (not a success only because
+    the model form misses the loops, :mod:`idkit.fit.model_form`) and ``recommended``: the
+    lowest order whose mean of small and large error is within :data:`ORDER_RULE_FACTOR` of the
+    best, among the fits that succeeded (an order that stopped at a limit or a bound is not
+    recommended while another succeeds; when none did, among the ``model_form_only`` ones),
+    ``family`` and ``fit`` (``"loops"``: fitted without a valid-range
     barrier; ``"valid range"``: with one). ``options`` go to :func:`fit_iwan`.
     """
     return iwan_order_fits(small, large, orders=orders, **options)[0]
@@ -135,14 +138,22 @@ def iwan_order_row(result, secant: float) -> dict:
             "stuck_stiffness [N/m]": float(result.model.stuck_stiffness), "smallest_loop_secant [N/m]": secant,
             "spring_negative_below [m]": below, "spring_negative_above [m]": above,
             "success": result.success, "reasons": "; ".join(result.reasons),
+            "model_form_only": bool(result.reasons) and all(reason.startswith(MODEL_FORM_PREFIX)
+                                                            for reason in result.reasons),
             "family": getattr(result.settings, "family", "plain"),
             "fit": "loops" if getattr(result.settings, "valid_range", None) is None else "valid range"}
 
 
 def _rule(table: pd.DataFrame, error: pd.Series) -> int:
     """The order rule: the lowest order whose ``error`` is within :data:`ORDER_RULE_FACTOR` of
-    the best, among the rows that succeeded (all rows when none did)."""
-    candidates = table["success"] if table["success"].any() else pd.Series(True, index=table.index)
+    the best, among the rows that succeeded; when none did, among those whose only reasons are
+    the model-form check's (``model_form_only``: every order of the family misses the loops, and
+    the rule still prefers the orders whose parameters the data determine); else all rows."""
+    candidates = table["success"]
+    if not candidates.any() and "model_form_only" in table and table["model_form_only"].any():
+        candidates = table["model_form_only"].astype(bool)
+    if not candidates.any():
+        candidates = pd.Series(True, index=table.index)
     error = error[candidates]
     return int(table.loc[error.index[error <= ORDER_RULE_FACTOR * error.min()], "order"].min())
 

@@ -119,6 +119,6 @@ def loop_model_form_reasons(groups: Sequence[tuple[str, Sequence, Sequence[np.nd
         if error - floor > FLOOR_MARGIN:
             reasons.append(f"{MODEL_FORM_PREFIX} {name} loops: their error {100 * error:.3g} % is "
                            f"{100 * (error - floor):.3g} points above the noise floor {100 * floor:.2g} % read off "
-                           "the residual (repeated branches, else second differences along each branch; limit "
+                           "the residual (repeated branches, else second differences along each branch, limit "
                            f"{100 * FLOOR_MARGIN:g} points): the residual is systematic, not noise ({remedy})")
     return tuple(reasons)
