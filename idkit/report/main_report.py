@@ -368,7 +368,9 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
                  name="wire rope iwan parameters")
     if data.iwan.order_table is not None:
         secant = float(data.iwan.order_table["smallest_loop_secant [N/m]"].iloc[0])  # one value: in the caption
-        report.table(data.iwan.order_table.drop(columns=["smallest_loop_secant [N/m]"]),
+        # model_form_only: said by the reasons already (the order rule's fallback, docs/fitting.md)
+        report.table(data.iwan.order_table.drop(columns=["smallest_loop_secant [N/m]", "model_form_only"],
+                                                errors="ignore"),
                      caption=f"Iwan order table: the order rule (lowest successful order within "
                              f"{ORDER_RULE_FACTOR:g} x the best mean loop error) among the plain rows; when the plain "
                              "model misses the loops' noise floor by more than 2 points, the family rule adds "
