@@ -183,11 +183,19 @@ _VALIDATION_CAPTIONS = {
 }
 
 
+def _skipped_sentence(entry: ValidationEntry) -> str:
+    """Which held-out records a quick run left out of one validation (idkit.studies.pipeline.quick_subset)."""
+    return (f"Quick run: {len(entry.skipped)} held-out record(s) of this check were skipped (the subset is spread "
+            f"over the test levels and frequencies): {', '.join(entry.skipped)}.")
+
+
 def _validation_section(report: HtmlReport, entry: ValidationEntry, quick: bool) -> None:
     result = entry.result
     report.heading(entry.key)
     verdict, text = validation_sentence(entry.key, result, quick_note=QUICK_NOTE if quick else "")
     report.items([(verdict, text)])
+    if entry.skipped:
+        report.paragraph(_skipped_sentence(entry))
     rows = [{"metric": key, "value": value, "limit": result.thresholds.get(key, np.nan),
              "ok": result.checks.get(key, "")} for key, value in result.summary.items()]
     report.table(pd.DataFrame(rows), caption="metrics (limits are the documented defaults)",
@@ -577,6 +585,7 @@ def _write_report(data: ReportData, report: HtmlReport, folder: Path, started: f
     provenance = {
         "idkit_version": __version__, "seed": data.seed, "quick": data.quick, "data_dir": str(data.data_dir),
         "drop_model": data.drop_model, "data_files_sha256": hashes, "timings_s": timings,
+        "quick_skipped_records": {entry.key: list(entry.skipped) for entry in data.validations if entry.skipped},
         "models": sorted(p.name for p in models_dir.iterdir()),
         "figures": sorted(p.name for p in figures_dir.iterdir()),
         "tables": sorted(p.name for p in tables_dir.iterdir()),

@@ -25,7 +25,8 @@ computes nothing. Stages (each timed):
    :attr:`ReportData.transport` waits for it (that wait is the stage's timing).
 
 ``quick`` keeps the fits and checks but validates on at most :data:`QUICK_HELD_OUT`
-records per check and shrinks the transport study and the global searches.
+records per check, chosen across the test levels by :func:`quick_subset` (the report names the
+records it skipped), and shrinks the transport study and the global searches.
 """
 
 from __future__ import annotations
@@ -68,6 +69,7 @@ __all__ = [
     "ValidationEntry",
     "compute_report_data",
     "identify_parts",
+    "quick_subset",
     "refuse_missing_held_out",
     "refuse_repeated_records",
     "valid_range_of",
@@ -75,7 +77,76 @@ __all__ = [
 
 #: held-out records per validation in quick mode
 QUICK_HELD_OUT = 8
-QUICK_NOTE = f"quick run: at most {QUICK_HELD_OUT} held-out records per validation, smaller study; not the full verdict"
+QUICK_NOTE = (f"quick run: at most {QUICK_HELD_OUT} held-out records per validation, spread over the test levels, "
+              "smaller study; not the full verdict")
+
+
+def _sort_key(value) -> tuple:
+    """None first, then numbers (or tuples of them) in order."""
+    return (value is not None, value if value is not None else 0)
+
+
+def _level_of(measurement) -> tuple:
+    """The test condition of a record besides its frequency and repetition: masses, nominal
+    amplitude (quantity, value), white-noise band and drop height."""
+    info = measurement.info
+    excitation = info.excitation
+    return tuple(_sort_key(value) for value in (
+        info.top_mass_kg, info.intermediate_mass_kg, info.bottom_mass_kg,
+        excitation.amplitude_quantity if excitation is not None else None,
+        excitation.amplitude if excitation is not None else None,
+        excitation.band if excitation is not None else None,
+        info.drop_height_m))
+
+
+def _spread(n: int, k: int) -> list[int]:
+    """``k`` of the indices ``0..n-1`` spread evenly: the middle of each of ``k`` equal strata."""
+    return [int((i + 0.5) * n / k) for i in range(k)]
+
+
+def quick_subset(measurements, limit: int | None) -> tuple[list, list]:
+    """The records a quick validation uses and the ones it skips (deterministic, order-free).
+
+    The records are grouped by test level (masses, nominal amplitude, white-noise band, drop
+    height: everything but frequency and repetition) and the levels sorted by value. The
+    ``limit`` records are shared out over the levels as evenly as their sizes allow (one round
+    at a time; when a round has fewer records left than levels, the levels it serves are spread
+    evenly over the sorted levels); inside a level, sorted by frequency, repetition and id, the
+    chosen records are the middles of equal strata. So a manifest sorted by level (or any
+    other order) gives the same subset, every level is validated when ``limit`` allows, and
+    each level's records span its frequencies.
+
+    Parameters
+    ----------
+    measurements : sequence of measurements
+    limit : int or None
+        At most this many records (None: all).
+
+    Returns
+    -------
+    chosen, skipped : list
+        ``chosen`` in (level, frequency, repetition, id) order; ``skipped`` in manifest order.
+    """
+    records = list(measurements)
+    if limit is None or len(records) <= limit:
+        return records, []
+    levels: dict[tuple, list] = {}
+    for measurement in records:
+        levels.setdefault(_level_of(measurement), []).append(measurement)
+    groups = [sorted(levels[key], key=lambda m: (_sort_key(m.info.excitation.freq if m.info.excitation else None),
+                                                 _sort_key(m.info.repetition), m.info.id))
+              for key in sorted(levels)]
+    counts = [0] * len(groups)
+    left = int(limit)
+    while left > 0:
+        open_levels = [i for i, group in enumerate(groups) if counts[i] < len(group)]
+        served = open_levels if len(open_levels) <= left else [open_levels[j] for j in _spread(len(open_levels), left)]
+        for i in served:
+            counts[i] += 1
+        left -= len(served)
+    chosen = [group[j] for group, count in zip(groups, counts) for j in _spread(len(group), count)]
+    kept = {id(m) for m in chosen}
+    return chosen, [m for m in records if id(m) not in kept]
 
 #: the computing stages, in order (their names label the timings)
 STAGES = (
@@ -101,12 +172,16 @@ class ValidationEntry:
         What was compared: stepped-sine HOSIDFs, white-noise FRFs or drop peaks (it
         chooses the figure).
     result : ValidationResult
+    skipped : tuple of str
+        Ids of the held-out records a quick run left out (:func:`quick_subset`; empty in a
+        full run).
     """
 
     key: str
     isolator: str
     observable: str
     result: ValidationResult
+    skipped: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -307,27 +382,33 @@ def refuse_missing_held_out(sets: dict) -> None:
 def _validations(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell,
                  limit: int | None, drop_model: str = "auto", static_stiffness=None, wire_loop_range=None
                  ) -> tuple[tuple[ValidationEntry, ...], HybridSystem | None, str | None]:
+    skipped: dict[tuple[int, str], tuple[str, ...]] = {}
+
     def held_out(measurement_set, kind, split="validation"):
-        chosen = list(measurement_set.select(kind=kind, split=split))
-        return chosen[:limit] if limit else chosen
+        chosen, left_out = quick_subset(measurement_set.select(kind=kind, split=split), limit)
+        skipped[id(measurement_set), kind] = tuple(m.info.id for m in left_out)
+        return chosen
+
+    def entry(key, isolator, observable, result, measurement_set, kind):
+        return ValidationEntry(key, isolator, observable, result, skipped[id(measurement_set), kind])
 
     wire_rope, elastomer = sets["wire_rope"], sets["elastomer"]
     entries = [
-        ValidationEntry("wire rope sweeps", "wire rope", "sweeps", validate_harmonic(
+        entry("wire rope sweeps", "wire rope", "sweeps", validate_harmonic(
             held_out(wire_rope, "stepped_sine"), isolator=wire_model, identified_range=wire_loop_range,
-            name="wire rope: harmonic sweeps (validation split)")),
-        ValidationEntry("wire rope drops", "wire rope", "drops", validate_drops(
+            name="wire rope: harmonic sweeps (validation split)"), wire_rope, "stepped_sine"),
+        entry("wire rope drops", "wire rope", "drops", validate_drops(
             held_out(wire_rope, "drop"), isolator=wire_model, drop_model=drop_model, identified_range=wire_loop_range,
-            name="wire rope: drops (validation split)")),
-        ValidationEntry("elastomer FRF", "elastomer", "FRF", validate_frf(
+            name="wire rope: drops (validation split)"), wire_rope, "drop"),
+        entry("elastomer FRF", "elastomer", "FRF", validate_frf(
             held_out(elastomer, "white_noise"), isolator=elastomer_model, static_stiffness=static_stiffness,
-            name="elastomer: white-noise FRFs (validation split)")),
-        ValidationEntry("elastomer sweeps", "elastomer", "sweeps", validate_harmonic(
+            name="elastomer: white-noise FRFs (validation split)"), elastomer, "white_noise"),
+        entry("elastomer sweeps", "elastomer", "sweeps", validate_harmonic(
             held_out(elastomer, "stepped_sine"), isolator=elastomer_model,
-            name="elastomer: harmonic sweeps (validation split)")),
-        ValidationEntry("elastomer drops", "elastomer", "drops", validate_drops(
+            name="elastomer: harmonic sweeps (validation split)"), elastomer, "stepped_sine"),
+        entry("elastomer drops", "elastomer", "drops", validate_drops(
             held_out(elastomer, "drop"), isolator=elastomer_model, drop_model=drop_model,
-            name="elastomer: drops (validation split)")),
+            name="elastomer: drops (validation split)"), elastomer, "drop"),
     ]
     hybrid_set = sets.get("hybrid")
     if hybrid_set is None:
@@ -342,10 +423,10 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
     def rerun_drops(**models):
         return validate_drops(hybrid_drops, name="hybrid: drops (all; not fitted)", drop_model=drop_model, **models)
 
-    entries.append(ValidationEntry("hybrid sweeps", "hybrid", "sweeps",
-                                   blind_spots(rerun_sweeps(**components), rerun_sweeps, components)))
-    entries.append(ValidationEntry("hybrid drops", "hybrid", "drops",
-                                   blind_spots(rerun_drops(**components), rerun_drops, components)))
+    entries.append(entry("hybrid sweeps", "hybrid", "sweeps",
+                         blind_spots(rerun_sweeps(**components), rerun_sweeps, components), hybrid_set, "stepped_sine"))
+    entries.append(entry("hybrid drops", "hybrid", "drops",
+                         blind_spots(rerun_drops(**components), rerun_drops, components), hybrid_set, "drop"))
     sweep = next(iter(hybrid_set.select(kind="stepped_sine")))
     hybrid = HybridSystem(sweep.info.top_mass_kg, elastomer_model, sweep.info.intermediate_mass_kg, wire_model)
     return tuple(entries), hybrid, sweep.info.id
@@ -454,7 +535,7 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
                                                         static_stiffness=maxwell.data.static_stiffness,
                                                         wire_loop_range=iwan.loop_amplitude_range)
         rope_drops = list(wire_rope.select(kind="drop", split="validation"))
-        drop_models = wire_rope_drop_models(rope_drops[:QUICK_HELD_OUT] if quick else rope_drops,
+        drop_models = wire_rope_drop_models(quick_subset(rope_drops, QUICK_HELD_OUT if quick else None)[0],
                                             iwan,
                                             valid_range=valid_range) if rope_drops else None
         maps, histories = _figures_data(sets, iwan.model, maxwell.model)

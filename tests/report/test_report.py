@@ -99,6 +99,14 @@ def test_report_names_every_section_and_writes_models(quick_report):
     assert iwan["provenance"]["data"]["files"] and iwan["provenance"]["seed"] == 2026
     provenance = json.loads((quick_report / "provenance.json").read_text())
     assert provenance["seed"] == 2026 and "wire_rope" in provenance["data_files_sha256"]
+    # quick mode: the hybrid sweeps validated span every amplitude level of the bundled manifest
+    # (sorted by level: the first 8 records were all at the lowest), and the skipped ones are named
+    skipped = set(provenance["quick_skipped_records"]["hybrid sweeps"])
+    sweeps = [e for e in json.loads((DATA / "hybrid" / "manifest.json").read_text())["measurements"]
+              if e["kind"] == "stepped_sine"]
+    validated = {e["excitation"]["amplitude"] for e in sweeps if e["id"] not in skipped}
+    assert validated == {e["excitation"]["amplitude"] for e in sweeps}
+    assert len(sweeps) - len(skipped) == 8 and all(i in html for i in sorted(skipped)[:3])
 
 
 @pytest.mark.slow
