@@ -93,7 +93,10 @@ def register(subparsers) -> None:
     init.add_argument("--band", type=opt.real(above=0, unit="Hz"), nargs=2, metavar=("LOW", "HIGH"),
                       help="white-noise band in Hz")
     init.add_argument("--sample-rate", type=opt.real(above=0, unit="Hz"), help="declared sample rate in Hz")
-    init.add_argument("--repetition", type=opt.integer(), help="repetition number")
+    from idkit.io.info import MAX_REPETITION
+
+    init.add_argument("--repetition", type=opt.integer(at_most=MAX_REPETITION, why="exact in every JSON reader"),
+                      help="repetition number (1 to 2^53 - 1)")
     init.add_argument("--split", choices=["fit", "validation"], help="fit or validation split")
     init.add_argument("--notes", help="free text for every entry")
     init.add_argument("--mat-column", action="append", metavar="NAME=SPEC",

@@ -180,6 +180,21 @@ def _cmd_maxwell_table(args) -> int:
     return 1
 
 
+def _check_band_in_records(option: str, band, data, *, isolator, split) -> None:
+    """Refuse a fit band reaching above the Nyquist frequency of a white-noise record it would fit:
+    there the record holds no samples of the response (``--band 1 1e300`` ran the fit over the
+    records' whole 0-1000 Hz, flagged it after minutes, and wrote the model file)."""
+    from idkit.io.selection import select_measurements
+
+    records, _ = select_measurements(data, kind="white_noise", isolator=isolator, split=split)
+    slowest = min(records, key=lambda m: m.sample_rate_hz)
+    nyquist = slowest.sample_rate_hz / 2
+    if band[1] > nyquist:
+        raise opt.OptionError(f"{option}: found F_HIGH {band[1]:g} Hz, above the Nyquist frequency {nyquist:.6g} Hz "
+                              f"of record {slowest.id or slowest.source.where()} ({slowest.sample_rate_hz:.6g} Hz "
+                              f"samples); expected F_LOW < F_HIGH <= {nyquist:.6g} Hz")
+
+
 def _cmd_maxwell(args) -> int:
     from idkit.fit import fit_maxwell_measurements, maxwell_order_table, transmissibility_sets
 
@@ -195,6 +210,7 @@ def _cmd_maxwell(args) -> int:
     opt.check_band("--band", args.band)
     _check_outputs("maxwell", args.output, args.plots, args.dataset)
     data = _load(args.dataset, args)
+    _check_band_in_records("--band", args.band, data, isolator=args.isolator, split=_split(args.split))
     fit = fit_maxwell_measurements(data, order=args.order, k0=args.k0, isolator=args.isolator,
                                    split=_split(args.split), band=tuple(args.band), backend=args.backend,
                                    cross_check=args.cross_check, seed=args.seed, k0_method=args.k0_method)

@@ -7,13 +7,17 @@ from dataclasses import dataclass
 
 from idkit.errors import DataError
 
-__all__ = ["ISOLATORS", "SPLITS", "Excitation", "MeasurementInfo"]
+__all__ = ["ISOLATORS", "MAX_REPETITION", "SPLITS", "Excitation", "MeasurementInfo"]
 
 #: Isolator types idkit models; other free-text names are allowed.
 ISOLATORS: tuple[str, ...] = ("wire_rope", "elastomer", "hybrid")
 
 #: Allowed values of ``split``.
 SPLITS: tuple[str, ...] = ("fit", "validation")
+
+#: Largest repetition number: integers above 2^53 - 1 are not exact in JSON readers that hold
+#: numbers as IEEE doubles (RFC 8259, section 6), so a manifest would not say the same everywhere.
+MAX_REPETITION = 2**53 - 1
 
 #: Quantities a nominal stepped-sine amplitude may have.
 AMPLITUDE_QUANTITIES: tuple[str, ...] = ("velocity", "length", "acceleration", "voltage")
@@ -135,9 +139,12 @@ class MeasurementInfo:
             _check_positive(name, getattr(self, name))
         if self.repetition is not None and (
             not isinstance(self.repetition, int) or isinstance(self.repetition, bool)
-            or self.repetition < 1
+            or not 1 <= self.repetition <= MAX_REPETITION
         ):
-            raise DataError(f"repetition: found {self.repetition!r}, expected an integer >= 1")
+            found = (repr(self.repetition) if not isinstance(self.repetition, int) or self.repetition < 10**20
+                     else f"an integer of {len(str(self.repetition))} digits")
+            raise DataError(f"repetition: found {found}, expected an integer from 1 to 2^53 - 1 = {MAX_REPETITION} "
+                            "(larger ones are not exact in JSON readers)")
         if self.split is not None and self.split not in SPLITS:
             raise DataError(f"split: found {self.split!r}, expected one of {', '.join(SPLITS)}")
         if not isinstance(self.notes, str):

@@ -29,7 +29,7 @@ from idkit.io.columns import KINDS
 from idkit.io.csv_measurement import read_csv_measurement, write_csv_measurement
 from idkit.io.info import Excitation, MeasurementInfo
 from idkit.io.matfile import MatColumn, parse_mat_column, read_mat
-from idkit.io.measurements import Measurement
+from idkit.io.measurements import Measurement, check_excitation_resolved
 from idkit.io.units import SI_UNITS, lookup_unit
 
 __all__ = [
@@ -316,8 +316,11 @@ def read_manifest(folder: str | Path) -> Manifest:
 def _read_entry(folder: Path, entry: ManifestEntry) -> Measurement:
     path = folder / entry.file
     if entry.file.endswith(".mat"):
-        return read_mat(path, entry.kind, columns=dict(entry.mat_columns), info=entry.info)
-    return read_csv_measurement(path, entry.kind, info=entry.info)
+        measurement = read_mat(path, entry.kind, columns=dict(entry.mat_columns), info=entry.info)
+    else:
+        measurement = read_csv_measurement(path, entry.kind, info=entry.info)
+    check_excitation_resolved(measurement)
+    return measurement
 
 
 @dataclass(frozen=True, eq=False)

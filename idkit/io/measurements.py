@@ -132,6 +132,39 @@ def _check_uniform_time(time: np.ndarray, source: Source) -> None:
         )
 
 
+def check_excitation_resolved(measurement) -> None:
+    """Refuse a stated excitation the samples cannot hold (a manifest's ``freq_hz`` or ``band_hz``).
+
+    A stepped-sine frequency must lie below the Nyquist frequency (half the sample rate read off the
+    time column: at or above it the sine aliases or has no resolved phase); a white-noise band may
+    end at it. ``idkit data init --band 1 1e300`` and ``--freq 1e300`` were written as stated.
+
+    Raises
+    ------
+    DataError
+        Naming the file, the stated value and the Nyquist frequency.
+    """
+    rate = measurement.sample_rate_hz
+    excitation = measurement.info.excitation
+    if excitation is None:
+        return
+    if measurement.kind == "stepped_sine" and not excitation.freq < rate / 2:
+        raise DataError(f"{measurement.source.where()}: stepped-sine frequency {excitation.freq:g} Hz (excitation "
+                        f"freq_hz) is not below the Nyquist frequency {rate / 2:.6g} Hz of its {rate:.6g} Hz "
+                        "samples; expected a frequency the record resolves (< sample rate / 2)")
+    if measurement.kind == "white_noise" and excitation.band is not None and \
+            excitation.band[1] > _NYQUIST_SLACK * rate / 2:
+        raise DataError(f"{measurement.source.where()}: white-noise band [{excitation.band[0]:g}, "
+                        f"{excitation.band[1]:g}] Hz (excitation band_hz) reaches above the Nyquist frequency "
+                        f"{rate / 2:.6g} Hz of its {rate:.6g} Hz samples; expected a band the record can hold "
+                        "(HIGH <= sample rate / 2)")
+
+
+#: A white-noise band may end at the Nyquist frequency; the sample rate is read off the median
+#: time step, so its round-off (relative 1e-9 covers time columns written with 10 digits) is allowed.
+_NYQUIST_SLACK = 1.0 + 1e-9
+
+
 @dataclass(frozen=True, eq=False)
 class _SignalMeasurement:
     """Common machinery of the time-series measurements (not public)."""

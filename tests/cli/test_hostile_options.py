@@ -43,7 +43,11 @@ ERRORS = [
     ("init-freq-negative", INIT + ["--freq", "-5"], ["--freq", "found '-5'", "> 0 Hz"]),
     ("init-band-zero", INIT + ["--band", "0", "100"], ["--band", "found '0'"]),
     ("init-sample-rate-nan", INIT + ["--sample-rate", "nan"], ["--sample-rate", "found 'nan'"]),
-    ("init-repetition-zero", INIT + ["--repetition", "0"], ["--repetition", "found '0'", "whole number >= 1"]),
+    ("init-repetition-zero", INIT + ["--repetition", "0"], ["--repetition", "found '0'", "whole number from 1"]),
+    ("init-repetition-1e300", INIT + ["--repetition", "1e300"], ["--repetition", "found '1e300'", "9007199254740991"]),
+    # was fitted over the records' whole 0-1000 Hz for minutes and written as a flagged model
+    ("fit-maxwell-band-above-nyquist", FIT_MAXWELL + ["--band", "1", "1e300"],
+     ["--band", "F_HIGH 1e+300 Hz", "Nyquist frequency 1000 Hz", "expected F_LOW < F_HIGH <= 1000 Hz"]),
     # simulate harmonic: grids given as START STOP COUNT
     ("freq-two-values-log", HARMONIC + ["--freq", "1", "100", "--freq-spacing", "log", "--amplitude", "1e-3"],
      ["--freq", "found 2 value(s)", "expected 3 values: START STOP COUNT"]),

@@ -114,3 +114,44 @@ def test_mat_files_need_their_columns_stated(tmp_path):
     assert manifest.entries[0].id == "ensaio.A.1"
     record = load_measurement_set(tmp_path).measurements[0]
     assert 8e-3 < 0.5 * np.ptp(record.deflection) < 1.1e-2
+
+
+def _write_shaker(path, rate_hz=200.0):
+    """0.5 s of base and top velocities sampled at ``rate_hz`` (Nyquist rate_hz / 2)."""
+    time = np.arange(int(rate_hz) // 2) / rate_hz
+    v_base, v_top = 1e-3 * np.sin(2 * np.pi * 10.0 * time), 2e-3 * np.sin(2 * np.pi * 10.0 * time + 0.3)
+    rows = "\n".join(f"{t!r},{b!r},{v!r}" for t, b, v in zip(time.tolist(), v_base.tolist(), v_top.tolist()))
+    path.write_text(f"time [s],v_base [m/s],v_top [m/s]\n{rows}\n")
+    return path
+
+
+@pytest.mark.parametrize("kind, excitation, accepted", [
+    ("white_noise", {"band_hz": [1.0, 1e300]}, False),   # was written as stated
+    ("white_noise", {"band_hz": [1.0, 250.0]}, False),
+    ("white_noise", {"band_hz": [1.0, 200.0]}, True),   # up to the Nyquist frequency
+    ("stepped_sine", {"freq_hz": 1e300}, False),         # was written as stated
+    ("stepped_sine", {"freq_hz": 200.0}, False),         # at Nyquist a sine has no resolved phase
+    ("stepped_sine", {"freq_hz": 199.0}, True),
+])
+def test_excitation_beyond_the_nyquist_frequency_is_refused(tmp_path, kind, excitation, accepted):
+    _write_shaker(tmp_path / "run.csv", rate_hz=400.0)
+    if accepted:
+        init_manifest(tmp_path, kind=kind, metadata={"excitation": excitation})
+        return
+    with pytest.raises(DataError, match=r"run.csv.*above the Nyquist|run.csv.*not below the Nyquist") as raised:
+        init_manifest(tmp_path, kind=kind, metadata={"excitation": excitation})
+    assert "200 Hz of its 400 Hz samples" in str(raised.value)
+    assert not (tmp_path / "manifest.json").exists()
+
+
+def test_repetition_beyond_json_exact_integers_is_refused(tmp_path):
+    """``--repetition 1e300`` wrote a 301-digit integer into the manifest."""
+    from idkit.io.info import MeasurementInfo
+
+    write_loops(tmp_path / "a.csv")
+    outcome = run_main(["data", "init", tmp_path, "--kind", "quasi_static", "--repetition", "1e300"],
+                       inputs=[tmp_path / "a.csv"], must_not_exist=[tmp_path / "manifest.json"])
+    check(outcome, "error", ["--repetition", "found '1e300'", "9007199254740991"], case="data-init-repetition-1e300")
+    with pytest.raises(DataError, match=r"repetition: found an integer of 301 digits, expected an integer from 1"):
+        MeasurementInfo(repetition=10**300)
+    assert MeasurementInfo(repetition=2**53 - 1).repetition == 2**53 - 1
