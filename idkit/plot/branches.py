@@ -49,7 +49,7 @@ def plot_branch(branch, quantity="ratio", *, hmap=None, ax=None, color=None, lab
     Returns
     -------
     Axes
-        Stable parts solid, unstable parts dashed; folds (circles) and period-doubling points
+        Stable parts solid, neutral ones (undamped) dotted, unstable parts dashed; folds (circles) and period-doubling points
         (diamonds) at their located parameter value, on log axes.
     """
     ax = axes_or_new(ax, figsize=(6.4, 4.4))
@@ -68,14 +68,17 @@ def plot_branch(branch, quantity="ratio", *, hmap=None, ax=None, color=None, lab
     line_color = color
     start = 0
     first = True
-    stable = np.asarray(branch.stable)
+    # solid stable, dotted neutral (undamped: attracts nothing), dashed unstable
+    kinds = list(getattr(branch, "instability", ()) or ())
+    style = ([{"stable": "-", "neutral": ":"}.get(kind, "--") for kind in kinds] if len(kinds) == x.size
+             else ["-" if ok else "--" for ok in np.asarray(branch.stable)])
     # one line per run of equal stability; neighbouring runs share their end point
     while start < x.size:
         stop = start
-        while stop + 1 < x.size and stable[stop + 1] == stable[start]:
+        while stop + 1 < x.size and style[stop + 1] == style[start]:
             stop += 1
         segment = slice(start, min(stop + 2, x.size))
-        (line,) = ax.plot(x[segment], values[segment], "-" if stable[start] else "--", color=line_color,
+        (line,) = ax.plot(x[segment], values[segment], style[start], color=line_color,
                           label=(label or "periodic branch") if first else None)
         line_color = line.get_color()
         first = False

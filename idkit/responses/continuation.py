@@ -40,6 +40,7 @@ from idkit.responses.periodic import (
     conserved_directions,
     orbit_harmonics,
     periodic_response,
+    stability_margin,
 )
 from idkit.simulate._arrays import whole_number
 from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS
@@ -96,7 +97,7 @@ class Branch:
         Periodic state at t = 0, SI units of ``state_names``.
     multipliers : complex (n_points, n_states)
         Floquet multipliers by decreasing modulus, dimensionless.
-    stable : (n_points,) bool, every ``|mu| <= 1 + STABILITY_MARGIN``
+    stable : (n_points,) bool, ``instability == "stable"``
     coefficients, deflection_coefficients : complex (n_points, 2 K + 1)
         Complex amplitudes (m) of the top displacement (absolute; relative to the base) at
         ``m/2`` times the excitation frequency, as :class:`idkit.simulate.HarmonicResponse`.
@@ -109,6 +110,10 @@ class Branch:
         by ``max_points`` inside the range is not a success).
     reason : str
         ``"ok"`` or why the branch stopped early.
+    instability : tuple of str
+        Per point ``"stable"``, ``"neutral"`` (undamped: a multiplier on the unit circle, not
+        stable), ``"period doubling"``, ``"fold"`` or ``"torus"``
+        (:func:`~idkit.responses.periodic.classify_multipliers`).
     """
 
     parameter: str
@@ -128,6 +133,7 @@ class Branch:
     special_points: tuple[SpecialPoint, ...]
     success: bool
     reason: str
+    instability: tuple[str, ...] = ()
 
     @property
     def n_points(self) -> int:
@@ -164,7 +170,7 @@ class Branch:
 
         Columns ``freq [Hz]``, ``amplitude [m]``, ``x1 [m]`` (``x2 [m]``: peak-peak/2 of each
         mass, top first), ``|H1| [-]``, ``|H0.5| [-]``, ``bias [m]``, ``max |mu| [-]``,
-        ``stable``, ``fold`` and ``period_doubling`` (True at the branch point nearest each
+        ``stable``, ``stability`` (:attr:`instability`), ``fold`` and ``period_doubling`` (True at the branch point nearest each
         special point), ``residual [-]``, ``arclength [-]``.
         """
         columns = {"freq [Hz]": self.freq, "amplitude [m]": self.amplitude}
@@ -180,7 +186,7 @@ class Branch:
         columns.update({
             "|H1| [-]": np.abs(self.hosidf(1)), "|H0.5| [-]": np.abs(self.hosidf(0.5)),
             "bias [m]": self.deflection_coefficients[:, 0].real, "max |mu| [-]": np.abs(self.multipliers[:, 0]),
-            "stable": self.stable, "fold": marks["fold"], "period_doubling": marks["period doubling"],
+            "stable": self.stable, "stability": list(self.instability) or [""] * self.n_points, "fold": marks["fold"], "period_doubling": marks["period doubling"],
             "residual [-]": self.residual, "arclength [-]": self.arclength,
         })
         return pd.DataFrame(columns)
@@ -193,7 +199,9 @@ class Branch:
         lines = [
             f"Branch in {self.parameter} at {fixed}: {self.n_points} points, {self.values.min():.4g}-"
             f"{self.values.max():.4g} {unit}, orbits of {self.periods} period(s), {self.steps_per_period} steps/period",
-            f"  stable points: {int(self.stable.sum())}/{self.n_points}; largest closing error "
+            f"  stable points: {int(self.stable.sum())}/{self.n_points}"
+            + (f" ({self.instability.count('neutral')} neutral: undamped)" if "neutral" in self.instability else "")
+            + "; largest closing error "
             f"{np.nanmax(self.residual, initial=0.0):.2g}; {'complete' if self.success else 'stopped: ' + self.reason}",
         ]
         for point in self.special_points:
@@ -470,7 +478,8 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
     multipliers = np.array([np.sort_complex(np.linalg.eigvals(j))[::-1] for j in jacobians])
     order = np.argsort(-np.abs(multipliers), axis=1, kind="stable")
     multipliers = np.take_along_axis(multipliers, order, axis=1)
-    stable = np.array([classify_multipliers(row)[0] for row in multipliers])
+    classes = [classify_multipliers(row, stability_margin(tolerance)) for row in multipliers]
+    stable = np.array([stable for stable, _ in classes], dtype=bool)
     coefficients, deflection, half_range, _, _ = orbit_harmonics(period_map, freq, amplitude, states, steps,
                                                                  n_harmonics)
     steps_taken = np.linalg.norm(np.diff(ys, axis=0), axis=1)
@@ -482,6 +491,7 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
         state_names=period_map.state_names, states=states, multipliers=multipliers, stable=stable,
         coefficients=coefficients, deflection_coefficients=deflection, half_range=half_range,
         residual=np.array(residuals), arclength=arclength, special_points=special, success=success, reason=reason,
+        instability=tuple(kind for _, kind in classes),
     )
 
 

@@ -438,6 +438,10 @@ def _shoot_pending(system, freq, amplitude, steps, n_harmonics) -> list:
             outcome[index] = (first, index)
         elif first.converged[index] and first.instability[index] == "period doubling":
             doubling.append(index)
+        elif first.converged[index] and first.instability[index] == "neutral":
+            outcome[index] = (f"the periodic orbit is neutral (largest multiplier {first.max_multiplier[index]:.6g}, "
+                              "on the unit circle within the stability margin: undamped, it attracts nothing the "
+                              "time integration could settle on)")
         elif first.converged[index]:
             outcome[index] = (f"the periodic orbit is unstable ({first.instability[index]}, "
                               f"largest multiplier {first.max_multiplier[index]:.4g})")

@@ -39,8 +39,13 @@ those conserved quantities; Newton replaces the corresponding (void) equations b
 the conserved quantities of the starting guess", which is what the time integration does.
 
 Floquet multipliers are the eigenvalues of the monodromy matrix ``dPhi/dx`` at the
-solution: stable when every ``|mu| <= 1 + STABILITY_MARGIN``; a real multiplier below -1
-means period doubling (the orbit of twice the period branches off there).
+solution, classified with the margin ``max(STABILITY_MARGIN, tolerance)`` (the coarser Jacobian's
+error times 100, or the closing tolerance the orbit was located to if that is coarser;
+:func:`classify_multipliers`): unstable when a ``|mu|`` exceeds 1 by more (a real multiplier
+below -1 means period doubling: the orbit of twice the period branches off there); neutral when
+none does but one other than the friction-memory multipliers at +1 lies within the margin of the
+unit circle (an undamped system, or one damped by less than the margin per period: the orbit
+attracts nothing a time integration could settle on); stable otherwise.
 """
 
 from __future__ import annotations
@@ -69,12 +74,17 @@ from idkit.simulate._kernel import (
 )
 from idkit.simulate.harmonic import MAX_PERIOD_TABLE, linear_initial_state
 
-__all__ = ["STABILITY_MARGIN", "PeriodicResponse", "period_map", "periodic_response"]
+__all__ = ["STABILITY_MARGIN", "PeriodicResponse", "classify_multipliers", "period_map", "periodic_response",
+           "stability_margin"]
 
 #: Relative finite-difference step of the period-map Jacobian (times each state's scale).
 FD_STEP = 1e-6
-#: A multiplier is unstable when ``|mu| > 1 + STABILITY_MARGIN`` (100x the finite-difference error).
-#: The neutral multipliers of sticking friction memory sit at 1 within that error.
+#: A multiplier is unstable when ``|mu| > 1 + margin`` and neutral when within ``margin`` of the unit
+#: circle, with ``margin = max(STABILITY_MARGIN, tolerance)``: 100x the error of the difference
+#: Jacobian (1e-6; the propagated one is finer, and both must classify an orbit alike), widened to the
+#: closing tolerance the orbit was located to. The multipliers of sticking friction memory sit at +1
+#: within it (a family of orbits, not a neutral direction). A mode decaying by less than 1e-4 a
+#: period needs over 10^4 periods per e-fold: beyond any time run's cap (4000 periods).
 STABILITY_MARGIN = 1e-4
 #: An unstable orbit left along its eigenvector: the growth of the push integrated before shooting again
 #: when a few periods do not reach a stable orbit (``_escape``), and the cap on those periods.
@@ -427,12 +437,28 @@ def shoot(period_map: PeriodMap, freq: float, amplitude: float, guess, steps_per
                  f"(closing error {residual:.2g} of the state scale, tolerance {tolerance:g})", nulls)
 
 
-def classify_multipliers(multipliers) -> tuple[bool, str]:
-    """``(stable, kind)``: kind is "stable", "period doubling" (real multiplier < -1),
-    "fold" (real multiplier > 1) or "torus" (complex pair outside the unit circle)."""
+def stability_margin(tolerance: float = 0.0) -> float:
+    """The margin of :func:`classify_multipliers` for orbits closed to ``tolerance``:
+    ``max(STABILITY_MARGIN, tolerance)``."""
+    return max(STABILITY_MARGIN, float(tolerance))
+
+
+def classify_multipliers(multipliers, margin: float = STABILITY_MARGIN) -> tuple[bool, str]:
+    """``(stable, kind)``: kind is "stable", "neutral", "period doubling" (real multiplier < -1),
+    "fold" (real multiplier > 1) or "torus" (complex pair outside the unit circle).
+
+    Unstable kinds need a ``|mu| > 1 + margin``. "neutral" (not stable): none is, but a multiplier
+    other than +1 (friction memory: a family of orbits, kept by Newton) has ``|mu| >= 1 - margin``:
+    a perturbation along it neither grows nor decays by more than the margin a period (an undamped
+    system: every multiplier on the unit circle), so no time run settles on the orbit.
+    """
     multipliers = np.asarray(multipliers)
-    outside = np.abs(multipliers) > 1.0 + STABILITY_MARGIN
+    modulus = np.abs(multipliers)
+    outside = modulus > 1.0 + margin
     if not outside.any():
+        memory = np.abs(multipliers - 1.0) <= margin
+        if np.any((modulus >= 1.0 - margin) & ~memory):
+            return False, "neutral"
         return True, "stable"
     real = outside & (np.abs(multipliers.imag) <= 1e-6 * np.abs(multipliers))
     if np.any(real & (multipliers.real < 0)):
@@ -498,9 +524,10 @@ class PeriodicResponse:
     multipliers : complex (n_points, n_states)
         Floquet multipliers (eigenvalues of the monodromy matrix over ``periods`` periods), by
         decreasing modulus.
-    stable : (n_points,) bool, every ``|mu| <= 1 + STABILITY_MARGIN``
+    stable : (n_points,) bool, ``instability == "stable"``
     instability : tuple of str
-        ``"stable"``, ``"period doubling"``, ``"fold"`` or ``"torus"`` (see :func:`classify_multipliers`).
+        ``"stable"``, ``"neutral"`` (not stable: undamped, see :func:`classify_multipliers`),
+        ``"period doubling"``, ``"fold"`` or ``"torus"``.
     n_conserved : (n_points,) number of conserved quantities (sticking friction memory) held at the guess
     residual : (n_points,) closing error ``max |Phi(x) - x| / scale`` (dimensionless)
     iterations : (n_points,) Newton iterations
@@ -571,6 +598,10 @@ class PeriodicResponse:
             count = sum(1 for value, ok in zip(self.instability, self.converged) if ok and value == kind)
             if count:
                 lines.append(f"  unstable by {kind}: {count}")
+        count = sum(1 for value, ok in zip(self.instability, self.converged) if ok and value == "neutral")
+        if count:
+            lines.append(f"  neutral (a multiplier on the unit circle within the stability margin: undamped, "
+                         f"no time run settles there): {count}")
         for reason in sorted(set(self.reasons) - {"ok"}):
             lines.append(f"  {self.reasons.count(reason)} x {reason}")
         return "\n".join(lines)
@@ -725,7 +756,7 @@ def _escape(period_map, freq, amplitude, shot, steps, settle_periods, tolerance,
     """
     values, vectors = np.linalg.eig(shot.jacobian)
     real = np.abs(values.imag) <= 1e-6 * np.abs(values)
-    if not np.any(real & (np.abs(values) > 1.0 + STABILITY_MARGIN)):
+    if not np.any(real & (np.abs(values) > 1.0 + stability_margin(tolerance))):
         return None
     index = int(np.argmax(np.where(real, np.abs(values), -np.inf)))
     direction = vectors[:, index].real
@@ -747,7 +778,7 @@ def _escape(period_map, freq, amplitude, shot, steps, settle_periods, tolerance,
             continue
         retry = shoot(period_map, freq, amplitude, settled[0], steps, tolerance=tolerance,
                       max_iterations=max_iterations)
-        if retry.converged and classify_multipliers(np.linalg.eigvals(retry.jacobian))[0]:
+        if retry.converged and classify_multipliers(np.linalg.eigvals(retry.jacobian), stability_margin(tolerance))[0]:
             return retry
     return None
 
@@ -764,6 +795,7 @@ def _solve_points(period_map, freq, amplitude, steps, guesses, flags, n_harmonic
     iterations = np.zeros(n, dtype=np.int64)
     converged = np.zeros(n, dtype=bool)
     reasons = [""] * n
+    margin = stability_margin(tolerance)
     for index in range(n):
         if flags[index] != FLAG_OK:
             reasons[index] = f"time integration before shooting: {FLAG_REASONS[int(flags[index])]}"
@@ -771,7 +803,7 @@ def _solve_points(period_map, freq, amplitude, steps, guesses, flags, n_harmonic
         shot = shoot(period_map, freq[index], amplitude[index], guesses[index], int(steps[index]),
                      tolerance=tolerance, max_iterations=max_iterations)
         if (seek_stable if seek_stable is not None else period_map.periods == 2) and shot.converged \
-                and not classify_multipliers(np.linalg.eigvals(shot.jacobian))[0]:
+                and not classify_multipliers(np.linalg.eigvals(shot.jacobian), margin)[0]:
             shot = _escape(period_map, freq[index], amplitude[index], shot, int(steps[index]), settle_periods,
                            tolerance, max_iterations) or shot
         states[index] = shot.state
@@ -783,7 +815,7 @@ def _solve_points(period_map, freq, amplitude, steps, guesses, flags, n_harmonic
         if shot.converged:
             values = np.linalg.eigvals(shot.jacobian)
             multipliers[index] = values[np.argsort(-np.abs(values), kind="stable")]
-            stable[index], instability[index] = classify_multipliers(values)
+            stable[index], instability[index] = classify_multipliers(values, margin)
     coefficients, deflection, half_range, peak, _ = orbit_harmonics(
         period_map, freq, amplitude, np.where(converged[:, None], states, 0.0), steps, n_harmonics)
     for field in (coefficients, deflection, half_range, peak):
