@@ -632,10 +632,13 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
         Excitation frequency in Hz and base displacement amplitude in m.
     periods : {1, 2}
         Excitation periods of the sought orbit; 2 finds the 1/2 subharmonic (period doubling).
-    initial_states : array_like (n_points, n_states), optional
+    initial_states : array_like (n, n_states), optional
         Starting states at t = 0 (layout: :class:`PeriodMap`); default the linear
         (small-amplitude) steady state. Either is integrated over ``settle_periods`` before
-        Newton starts.
+        Newton starts. The rows broadcast with the points: ``n`` equal to the number of points
+        (one start each), 1 (the same start for every point), or any ``n`` with a single
+        ``(freq, amplitude)``, which is then solved from each start (coexisting orbits); other
+        shapes raise :class:`~idkit.errors.SimulationError` naming them.
     settle_periods : int, default 20
         Excitation periods integrated from the guess before Newton starts.
     steps_per_period : int or array_like, optional
@@ -676,6 +679,21 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
     freq, amplitude = freq.ravel().copy(), amplitude.ravel().copy()
     if freq.size == 0:
         raise SimulationError("freq, amplitude: found no points, expected at least one")
+    if initial_states is not None:
+        # rows of starting states broadcast with the points: one (freq, amplitude) from several
+        # starts (coexisting orbits), or one start for every point
+        guesses = np.atleast_2d(np.asarray(initial_states, dtype=float))
+        rows = guesses.shape[0] if guesses.ndim == 2 else -1
+        if guesses.ndim != 2 or guesses.shape[1] != period_map.size or rows < 1 or not (
+                rows == freq.size or rows == 1 or freq.size == 1):
+            raise SimulationError(
+                f"initial_states: found shape {np.shape(initial_states)} for {freq.size} (freq, amplitude) point(s), "
+                f"expected (n, {period_map.size}) with n = {freq.size} (one start a point), 1 (one start for "
+                f"every point) or any n when a single (freq, amplitude) is given (columns "
+                f"{', '.join(period_map.state_names)})")
+        count = max(rows, freq.size)
+        freq, amplitude = np.resize(freq, count), np.resize(amplitude, count)
+        guesses = np.repeat(guesses, count, axis=0) if rows == 1 and count > 1 else guesses
     if np.any(~np.isfinite(freq)) or np.any(freq <= 0):
         raise SimulationError(f"freq: found {freq[~(freq > 0) | ~np.isfinite(freq)][:1]}, "
                               "expected positive finite frequencies in Hz")
@@ -701,10 +719,6 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
     if initial_states is None:
         guesses, flags = settle(period_map, freq, amplitude, steps, settle_periods)
     else:
-        guesses = np.atleast_2d(np.asarray(initial_states, dtype=float))
-        if guesses.shape != (freq.size, period_map.size):
-            raise SimulationError(f"initial_states: found shape {guesses.shape}, expected "
-                                  f"{(freq.size, period_map.size)} (columns {', '.join(period_map.state_names)})")
         if not np.isfinite(guesses).all():
             row, column = np.argwhere(~np.isfinite(guesses))[0]
             raise SimulationError(f"initial_states: found {guesses[row, column]} in row {row}, column "

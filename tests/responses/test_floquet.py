@@ -7,6 +7,7 @@ period-doubling range found by continuation is where a long time run shows the 1
 import numpy as np
 import pytest
 
+from idkit.errors import SimulationError
 from idkit.models import IwanModel, SDOFSystem, library
 from idkit.responses.continuation import continue_in_frequency
 from idkit.responses.periodic import PeriodMap, periodic_response
@@ -188,3 +189,17 @@ def test_a_subharmonic_far_larger_than_the_unstable_orbit_is_found():
     run = harmonic_response(system, 13.45, 5e-4, tolerance=1e-8, max_periods=40000, start="linear", workers=1)
     assert run.converged[0]
     assert abs(abs(shot.hosidf(0.5)[0]) / abs(run.hosidf(0.5)[0]) - 1) < 1e-6
+
+
+def test_a_scalar_frequency_broadcasts_over_the_starting_states(three_orbits):
+    """One (freq, amplitude) and three starts find the three coexisting orbits (before: refused,
+    'expected shape (1, 3)', and the caller repeated the frequency); other shapes name the rule."""
+    system, orbits = three_orbits
+    again = periodic_response(system, 9.0, BASE, initial_states=orbits.states, settle_periods=0,
+                              steps_per_period=STEPS)
+    assert again.freq.tolist() == [9.0] * 3 and again.converged.all()
+    np.testing.assert_array_equal(again.states, orbits.states)  # the same Newton runs
+    assert len({round(float(x), 9) for x in again.half_range[:, 0]}) == 3
+    with pytest.raises(SimulationError, match=r"initial_states: found shape \(3, 3\) for 2 .*point\(s\), "
+                                              r"expected \(n, 3\) with n = 2"):
+        periodic_response(system, [9.0, 9.1], BASE, initial_states=orbits.states, steps_per_period=STEPS)
