@@ -81,7 +81,12 @@ def impact_velocity_from_height(height: ArrayLike, *, g: float = STANDARD_GRAVIT
     >>> impact_velocity_from_height([0.0, 0.5 / STANDARD_GRAVITY])
     array([-0., -1.])
     """
-    h = np.asarray(height, dtype=float)
+    if isinstance(height, (str, bytes)):
+        raise ParameterError(f"{name}: found {height!r}, expected finite heights >= 0 m")
+    try:
+        h = np.asarray(height, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name}: found {str(height)[:80]!r}, expected finite heights >= 0 m") from None
     bad = ~(np.isfinite(h) & (h >= 0))
     if np.any(bad):
         found = h[bad].ravel()[0] if h.ndim else float(h)

@@ -33,6 +33,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from idkit.errors import SimulationError
+from idkit.responses.linear import _numbers
 from idkit.responses.periodic import periodic_response
 from idkit.simulate import harmonic_response
 
@@ -91,10 +92,16 @@ def parabolic_peak(x: ArrayLike, y: ArrayLike) -> tuple[float, float, int]:
     >>> round(x_peak, 12), index
     (1.3, 1)
     """
-    x = np.asarray(x, dtype=float)
-    y = np.asarray(y, dtype=float)
+    x = _numbers(x, "x", "a 1-D array of abscissae")
+    y = _numbers(y, "y", "a 1-D array of values")
     if x.ndim != 1 or x.shape != y.shape:  # zip-like reads paired the wrong samples
         raise SimulationError(f"x, y: found shapes {x.shape} and {y.shape}, expected two 1-D arrays of one length")
+    # a NaN abscissa gave a NaN peak location, a repeated one a division by zero
+    bad = np.flatnonzero(~np.isfinite(x))
+    bad = bad if bad.size else np.flatnonzero(np.diff(x) <= 0) + 1
+    if bad.size:
+        raise SimulationError(f"x: found {float(x[bad[0]])!r} at index {int(bad[0])}, expected finite, strictly "
+                              "increasing abscissae")
     if not np.any(np.isfinite(y)):
         return float("nan"), float("nan"), -1
     index = int(np.nanargmax(y))

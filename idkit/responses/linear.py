@@ -39,8 +39,21 @@ __all__ = [
 ]
 
 
+def _numbers(value, name: str, what: str, dtype=float) -> np.ndarray:
+    """``value`` as a numpy array of ``dtype``, or a :class:`SimulationError` naming ``name``
+    (a string or an object that is no number raised numpy's bare ValueError/TypeError)."""
+    if isinstance(value, (str, bytes)):
+        raise SimulationError(f"{name}: found {value!r}, expected {what}")
+    try:
+        return np.asarray(value, dtype=dtype)
+    except (TypeError, ValueError):
+        shown = repr(value)
+        raise SimulationError(f"{name}: found {shown[:80] + ('...' if len(shown) > 80 else '')}, "
+                              f"expected {what}") from None
+
+
 def _freq(freq: ArrayLike) -> NDArray[np.float64]:
-    values = np.asarray(freq, dtype=float)
+    values = _numbers(freq, "freq", "positive finite frequencies in Hz")
     if values.size == 0 or not np.all(np.isfinite(values) & (values > 0)):
         raise SimulationError(f"freq: found {values.ravel()[:3]!r}..., expected positive finite frequencies in Hz")
     return values
@@ -73,9 +86,14 @@ def complex_stiffness(model: IsolatorModel, freq: ArrayLike) -> NDArray[np.compl
 
 
 def loss_factor(stiffness: ArrayLike) -> NDArray[np.float64]:
-    """Loss factor ``Im k* / Re k*`` (eq. 4.4) of complex stiffness values, dimensionless."""
-    values = np.asarray(stiffness, dtype=complex)
-    return values.imag / values.real
+    """Loss factor ``Im k* / Re k*`` (eq. 4.4) of complex stiffness values, dimensionless.
+
+    NaN where the storage stiffness ``Re k*`` is 0 and the loss too, +-inf where only the storage is 0
+    (IEEE division, without numpy's warning: the ratio is undefined or unbounded there).
+    """
+    values = _numbers(stiffness, "stiffness", "complex stiffness values in N/m", dtype=complex)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return values.imag / values.real
 
 
 def effective_stiffness(system, freq: ArrayLike) -> NDArray[np.complex128]:

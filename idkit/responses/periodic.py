@@ -61,6 +61,7 @@ from numpy.typing import ArrayLike, NDArray
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.errors import SimulationError
 from idkit.responses._sensitivity import tangent_start, tangent_step
+from idkit.responses.linear import _numbers
 from idkit.simulate import default_steps_per_period
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays, whole_number
 from idkit.simulate._kernel import (
@@ -670,9 +671,10 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
     (True, True)
     """
     period_map = PeriodMap(system, periods, jacobian=jacobian)
+    freq = _numbers(freq, "freq", "positive finite frequencies in Hz")
+    amplitude = _numbers(amplitude, "amplitude", "positive finite amplitudes in m")
     try:
-        freq, amplitude = np.broadcast_arrays(np.atleast_1d(np.asarray(freq, dtype=float)),
-                                              np.atleast_1d(np.asarray(amplitude, dtype=float)))
+        freq, amplitude = np.broadcast_arrays(np.atleast_1d(freq), np.atleast_1d(amplitude))
     except ValueError:
         raise SimulationError(f"freq, amplitude: found shapes {np.shape(freq)} and {np.shape(amplitude)}, "
                               "expected shapes that broadcast together") from None

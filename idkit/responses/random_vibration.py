@@ -49,6 +49,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from idkit.errors import SimulationError
+from idkit.responses.linear import _numbers
 from idkit.models import HybridSystem, SDOFSystem
 from idkit.models.laws import hybrid_displacements, sdof_transmissibility
 from idkit.models.iwan_modulated import lowest_slip_scale
@@ -91,11 +92,14 @@ def flat_input_psds(levels: ArrayLike = FLAT_LEVELS, *, f_lo: float = 0.1,
     >>> sorted(profiles)[0], round(profiles[1e-2].rms(), 4)
     (1e-08, 0.9995)
     """
-    return {float(level): PsdProfile.flat(float(level), f_lo=f_lo, f_hi=f_hi) for level in np.atleast_1d(levels)}
+    values = np.atleast_1d(_numbers(levels, "levels", "PSD levels in (m/s^2)^2/Hz"))
+    return {float(level): PsdProfile.flat(float(level), f_lo=f_lo, f_hi=f_hi) for level in values.ravel()}
 
 
 def is_linear_system(system) -> bool:
     """True when every isolator is linear (no Jenkin/Bouc-Wen part, no ``g2``/``g3``)."""
+    if not isinstance(system, (SDOFSystem, HybridSystem)):
+        raise SimulationError(f"system: found {type(system).__name__}, expected SDOFSystem or HybridSystem")
     for isolator in system.isolators:
         arrays = isolator.kernel_arrays()
         if arrays.poly[1] != 0 or arrays.poly[2] != 0 or arrays.jenkin_stiffness.size or arrays.boucwen[0] != 0:
@@ -116,7 +120,7 @@ def linear_output_psd(system, input_psd, freq: ArrayLike) -> NDArray[np.float64]
         Hz (0 allowed: ``H(0) = 1``). At the resonance of an undamped system ``|H|`` is
         infinite (NaN where ``S_xx`` is 0 there).
     """
-    freq = np.asarray(freq, dtype=float)
+    freq = _numbers(freq, "freq", "frequencies >= 0 in Hz")
     positive = np.where(freq > 0, freq, 1.0)
     with np.errstate(divide="ignore", invalid="ignore"):  # an undamped resonance: see above
         response = np.where(freq > 0, np.asarray(system.transmissibility(positive)), 1.0)

@@ -49,6 +49,7 @@ from idkit.gravity import gravity_acceleration, impact_velocity_from_height
 from idkit.signal.drop import drop_phase_peaks
 from idkit.signal.srs import ShockResponseSpectrum, shock_response_spectrum
 from idkit.errors import SimulationError
+from idkit.responses.linear import _numbers
 from idkit.models import HybridSystem, SDOFSystem
 from idkit.simulate import (
     DEFAULT_CONTACT,
@@ -286,7 +287,7 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
         if velocity.ndim != 1:
             raise SimulationError(f"drop_height: found shape {np.shape(drop_height)}, expected a 1-D array of m")
     else:
-        velocity = np.atleast_1d(np.asarray(impact_velocity, dtype=float))
+        velocity = np.atleast_1d(_numbers(impact_velocity, "impact_velocity", "finite m/s (drop: < 0)"))
         if velocity.ndim != 1 or not np.all(np.isfinite(velocity)):
             raise SimulationError(f"impact_velocity: found {velocity!r}, expected finite m/s (drop: < 0)")
         with np.errstate(over="ignore"):

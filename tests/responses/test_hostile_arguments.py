@@ -1,0 +1,47 @@
+"""Public response functions given what is no number: an idkit error naming the argument (these
+raised numpy's bare ValueError/TypeError or AttributeError), and abscissae that are not finite and
+increasing (a NaN gave a NaN peak, a repeated one a division by zero)."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from idkit.errors import IdkitError
+from idkit.models import SDOFSystem, VoigtModel
+from idkit import responses as R
+
+SYSTEM = SDOFSystem(1.0, VoigtModel(k=(2 * np.pi * 5.0) ** 2, damping=0.5))
+
+
+@pytest.mark.parametrize("name, call, words", [
+    ("complex_stiffness", lambda: R.complex_stiffness(SYSTEM.isolator, "abc"), "freq: found 'abc'"),
+    ("linear_frf", lambda: R.linear_frf(SYSTEM, "abc"), "freq: found 'abc'"),
+    ("stiffness_response", lambda: R.stiffness_response(SYSTEM.isolator, [object()]), "freq: found"),
+    ("loss_factor", lambda: R.loss_factor("abc"), "stiffness: found 'abc'"),
+    ("parabolic_peak", lambda: R.parabolic_peak("abc", "abc"), "x: found 'abc'"),
+    ("flat_input_psds", lambda: R.flat_input_psds("abc"), "levels: found 'abc'"),
+    ("linear_output_psd", lambda: R.linear_output_psd(SYSTEM, R.flat_input_psds([1e-4])[1e-4], "abc"),
+     "freq: found 'abc'"),
+    ("shock_sweep height", lambda: R.shock_sweep(SYSTEM, drop_height="abc"), "drop_height: found 'abc'"),
+    ("shock_sweep velocity", lambda: R.shock_sweep(SYSTEM, impact_velocity=["fast"]), "impact_velocity: found"),
+    ("is_linear_system", lambda: R.is_linear_system("abc"), "system: found str"),
+    ("periodic_response", lambda: R.periodic_response(SYSTEM, "abc", 1e-3), "freq: found 'abc'"),
+    ("parabolic_peak nan x", lambda: R.parabolic_peak([1.0, np.nan, 3.0], [0.0, 1.0, 0.0]),
+     "x: found nan at index 1, expected finite, strictly increasing"),
+    ("parabolic_peak repeated x", lambda: R.parabolic_peak([1.0, 1.0, 1.0], [0.0, 1.0, 0.0]),
+     "x: found 1.0 at index 1, expected finite, strictly increasing"),
+])
+def test_bad_argument_raises_an_idkit_error_naming_it(name, call, words):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no numpy warning on the way
+        with pytest.raises(IdkitError) as raised:
+            call()
+    assert words in str(raised.value)
+
+
+def test_loss_factor_of_zero_storage_is_nan_or_inf_without_a_warning():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        values = R.loss_factor([0j, 1j, 2 + 1j])
+    assert np.isnan(values[0]) and values[1] == np.inf and values[2] == 0.5
