@@ -84,9 +84,16 @@ class TransportSystem:
     r_k: float | None = None
 
 
+#: Highest tuning frequency (Hz): ``omega^2`` at most sqrt(float64 max) = 1.3e154, so that it times any
+#: mass up to 1.3e154 kg stays finite (1e300 Hz ended in a bare OverflowError).
+MAX_TARGET_FREQ = float(np.sqrt(np.sqrt(np.finfo(float).max))) / (2.0 * np.pi)
+
+
 def _omega(target_freq: float) -> float:
-    if not (np.isfinite(target_freq) and target_freq > 0):
-        raise ParameterError(f"target_freq: found {target_freq!r}, expected a positive frequency in Hz")
+    if isinstance(target_freq, (bool, np.bool_)) or not isinstance(target_freq, (int, float, np.integer, np.floating)) \
+            or not (np.isfinite(target_freq) and 0 < target_freq <= MAX_TARGET_FREQ):
+        raise ParameterError(f"target_freq: found {target_freq!r}, expected a positive frequency in Hz, at most "
+                             f"{MAX_TARGET_FREQ:.3g} (omega^2 at most sqrt of the largest float64)")
     return 2.0 * np.pi * float(target_freq)
 
 
@@ -114,6 +121,12 @@ def transport_systems(*, wire_rope: IwanModel | None = None, elastomer: Generali
             and np.isfinite(reference_damping_ratio) and reference_damping_ratio >= 0):
         raise ParameterError(f"reference_damping_ratio: found {reference_damping_ratio!r}, expected a finite "
                              "ratio >= 0")
+    if isinstance(r_k_values, (str, bytes)) or not np.iterable(r_k_values):
+        raise ParameterError(f"r_k_values: found {r_k_values!r}, expected a sequence of positive ratios g1 / |k*_el|")
+    for r_k in r_k_values:
+        if isinstance(r_k, (bool, np.bool_)) or not isinstance(r_k, (int, float, np.integer, np.floating)) \
+                or not (np.isfinite(r_k) and r_k > 0):
+            raise ParameterError(f"r_k: found {r_k!r}, expected positive ratios g1 / |k*_el|")
     systems = []
 
     stiffness = reference_mass * omega**2
@@ -162,8 +175,15 @@ def tuning_table(systems: list[TransportSystem], target_freq: float = 5.0) -> pd
     ``SDOFSystem.mass`` / ``HybridSystem.mass`` holds); ``intermediate mass [kg]``;
     ``stiffness at target [N/m]``; ``r_k [-]`` requested and, for the hybrids, achieved.
     """
+    _omega(target_freq)  # checked: a negative one gave the same |k*| and a NaN a warning and NaN ratios
+    if isinstance(systems, (str, bytes)) or not np.iterable(systems):
+        raise ParameterError(f"systems: found {type(systems).__name__}, expected a list of TransportSystem "
+                             "(transport_systems)")
     rows = []
-    for item in systems:
+    for index, item in enumerate(systems):
+        if not isinstance(item, TransportSystem):
+            raise ParameterError(f"systems[{index}]: found {type(item).__name__}, expected a TransportSystem "
+                                 "(transport_systems)")
         system = item.system
         masses = system.masses
         row = {"system": item.name, "moving mass [kg]": masses[0], "top mass without m_eff [kg]": system.mass,

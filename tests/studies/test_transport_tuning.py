@@ -73,10 +73,28 @@ def test_tuning_table_shows_the_moving_masses_the_thesis_prints():
     (dict(reference_mass=-1.0), "reference_mass: found -1.0"),  # named VoigtModel's k
     (dict(reference_damping_ratio=-0.1), "reference_damping_ratio: found -0.1"),
     (dict(intermediate_fraction=float("nan")), "intermediate_fraction: found nan"),
+    (dict(r_k_values="ab"), "r_k_values: found 'ab'"),             # numpy TypeError from isfinite('a')
+    (dict(r_k_values=(0.4, "x")), "r_k: found 'x'"),
+    (dict(target_freq=1e300), "target_freq: found 1e\\+300"),      # bare OverflowError
 ])
 def test_transport_systems_name_a_bad_argument(arguments, words):
     with pytest.raises(ParameterError, match=words):
         transport_systems(**arguments)
+
+
+@pytest.mark.parametrize("systems, target, words", [
+    (None, -5.0, "target_freq: found -5.0"),   # the same |k*| at -5 Hz: a table as if nothing were wrong
+    (None, float("nan"), "target_freq: found nan"),  # numpy warning and NaN ratios
+    ("abc", 5.0, "systems: found str"),        # AttributeError
+    ([1.0], 5.0, r"systems\[0\]: found float"),
+])
+def test_tuning_table_names_a_bad_argument(systems, target, words):
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ParameterError, match=words):
+            tuning_table(transport_systems() if systems is None else systems, target_freq=target)
 
 
 @pytest.mark.parametrize("arguments, words", [
