@@ -224,6 +224,7 @@ def test_step_sensitivities_agree_with_finite_differences(name, freq, amplitude)
     (dict(max_iterations=np.nan), "max_iterations"),  # TypeError
     (dict(seek_stable="no"), "seek_stable"),  # a truthy string: seeking
     (dict(tolerance=10.0), "tolerance"),  # any orbit "closed"
+    (dict(tolerance=1e-300), "tolerance: found 1e-300.*from 1e-12"),  # 30 iterations, "did not converge" at 2e-14
     (dict(initial_states=[[np.nan, 0.0]]), "initial_states"),  # "time integration before shooting: ..."
     (dict(freq=[]), "no points"),  # ValueError from reshape
     (dict(freq=[5.0, 6.0, 7.0], amplitude=[1e-3, 2e-3]), "broadcast"),  # ValueError from numpy
