@@ -42,6 +42,7 @@ from idkit.responses.periodic import (
     periodic_response,
     stability_margin,
 )
+from idkit.responses.linear import _order
 from idkit.simulate._arrays import whole_number
 from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS
 
@@ -151,6 +152,7 @@ class Branch:
 
     def harmonic(self, order: float) -> NDArray[np.complex128]:
         """Complex amplitude (m) of the top displacement at ``order`` x f (0, 0.5, 1, ...)."""
+        order = _order(order, f"0, 0.5, 1, ..., {(self.coefficients.shape[1] - 1) // 2}")
         index = int(round(2 * order))
         if not (0 <= index < self.coefficients.shape[1]) or abs(2 * order - index) > 1e-9:
             raise SimulationError(f"order: found {order!r}, expected 0, 0.5, 1, ..., "
@@ -163,6 +165,8 @@ class Branch:
 
     def points(self, kind: str) -> tuple[SpecialPoint, ...]:
         """Special points of ``kind`` ("fold" or "period doubling")."""
+        if kind not in ("fold", "period doubling"):  # any other name returned () as if none were found
+            raise SimulationError(f"kind: found {kind!r}, expected 'fold' or 'period doubling'")
         return tuple(point for point in self.special_points if point.kind == kind)
 
     def to_dataframe(self) -> pd.DataFrame:

@@ -33,7 +33,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from idkit.errors import SimulationError
-from idkit.responses.linear import _numbers
+from idkit.responses.linear import _numbers, _order
 from idkit.responses.periodic import periodic_response
 from idkit.simulate import harmonic_response
 
@@ -201,6 +201,7 @@ class HarmonicMap:
 
     def hosidf(self, order: float) -> NDArray[np.complex128]:
         """Complex HOSIDF of ``order`` (0.5, 1, ..., K), shape (n_freq, n_amp), dimensionless."""
+        order = _order(order, f"one of {list(self.orders)}")
         for index, held in enumerate(self.orders):
             if abs(held - order) < 1e-9:
                 return self.hosidf_values[index]
@@ -217,7 +218,8 @@ class HarmonicMap:
 
     def amplitude_index(self, amplitude: float) -> int:
         """Index of the grid amplitude nearest (in log) to ``amplitude`` (m)."""
-        if not (np.isfinite(amplitude) and amplitude > 0):
+        if isinstance(amplitude, (bool, np.bool_)) or not isinstance(amplitude, (int, float, np.integer, np.floating)) \
+                or not (np.isfinite(amplitude) and amplitude > 0):
             raise SimulationError(f"amplitude: found {amplitude!r}, expected a positive value in m")
         return int(np.argmin(np.abs(np.log(self.amplitude / amplitude))))
 

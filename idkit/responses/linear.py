@@ -52,6 +52,15 @@ def _numbers(value, name: str, what: str, dtype=float) -> np.ndarray:
                               f"expected {what}") from None
 
 
+def _order(order, expected: str) -> float:
+    """A harmonic order as a float, or a :class:`SimulationError` (a string, ``None``, ``True`` or NaN
+    raised TypeError/ValueError, or ``True`` was read as order 1)."""
+    if isinstance(order, (bool, np.bool_)) or not isinstance(order, (int, float, np.integer, np.floating)) \
+            or not np.isfinite(order):
+        raise SimulationError(f"order: found {order!r}, expected {expected}")
+    return float(order)
+
+
 def _freq(freq: ArrayLike) -> NDArray[np.float64]:
     values = _numbers(freq, "freq", "positive finite frequencies in Hz")
     if values.size == 0 or not np.all(np.isfinite(values) & (values > 0)):

@@ -61,7 +61,7 @@ from numpy.typing import ArrayLike, NDArray
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.errors import SimulationError
 from idkit.responses._sensitivity import tangent_start, tangent_step
-from idkit.responses.linear import _numbers
+from idkit.responses.linear import _numbers, _order
 from idkit.simulate import default_steps_per_period
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays, whole_number
 from idkit.simulate._kernel import (
@@ -564,6 +564,7 @@ class PeriodicResponse:
 
     def harmonic(self, order: float) -> NDArray[np.complex128]:
         """Complex amplitude (m) of the top displacement at ``order`` x f (0, 0.5, 1, 2, ...)."""
+        order = _order(order, f"0, 0.5, 1, ..., {(self.coefficients.shape[1] - 1) // 2}")
         index = int(round(2 * order))
         if not (0 <= index < self.coefficients.shape[1]) or abs(2 * order - index) > 1e-9:
             raise SimulationError(f"order: found {order!r}, expected 0, 0.5, 1, ..., "

@@ -433,10 +433,12 @@ def compute_chapter_study(name: str, *, quick: bool = False, workers: int | None
     Raises
     ------
     StudyError
-        ``name`` is not one of :data:`STUDY_NAMES`.
+        ``name`` is not one of :data:`STUDY_NAMES`, or ``quick`` is not a bool.
     """
     if name not in STUDY_NAMES:
         raise StudyError(f"study: found {name!r}, expected one of {list(STUDY_NAMES)}")
+    if not isinstance(quick, (bool, np.bool_)):  # quick="no" ran the quick grids (a truthy string)
+        raise StudyError(f"quick: found {quick!r}, expected True or False")
     grid = study_grid(quick)
     tracker = _Progress(progress, _total_work(name, grid))
     started = time.perf_counter()
