@@ -355,8 +355,11 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
         max_periods = SHOOTING_AFTER_PERIODS if shooting else PLAIN_MAX_PERIODS
     freq = _check_axis(freq_axis, "freq_axis", "Hz")
     amplitude = _check_axis(amplitude_axis, "amplitude_axis", "m")
-    if int(n_harmonics) != n_harmonics or n_harmonics < 1:
+    if isinstance(n_harmonics, (bool, np.bool_)) or not isinstance(n_harmonics, (int, float, np.integer, np.floating)) \
+            or not np.isfinite(n_harmonics) or int(n_harmonics) != n_harmonics or n_harmonics < 1:
         raise SimulationError(f"n_harmonics: found {n_harmonics!r}, expected an integer >= 1")
+    if not isinstance(shooting, (bool, np.bool_)):  # shooting="no" shot (a truthy string)
+        raise SimulationError(f"shooting: found {shooting!r}, expected True or False")
     if not (np.isfinite(tolerance) and tolerance > 0):
         raise SimulationError(f"tolerance: found {tolerance!r}, expected a positive relative change")
     grid_freq, grid_amp = np.meshgrid(freq, amplitude, indexing="ij")

@@ -62,6 +62,7 @@ from idkit.signal.psd import (
     welch_psd,
 )
 from idkit.simulate import TimeState, simulate
+from idkit.simulate._arrays import whole_number
 
 __all__ = [
     "FLAT_LEVELS",
@@ -80,6 +81,10 @@ WELCH_OVERLAP = 2.0 / 3.0
 
 FLAT_LEVELS = (1e-8, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2)
 """Flat floor-acceleration levels of SPEC 5 / thesis ch. 8, (m/s^2)^2/Hz over 0.1-100 Hz."""
+
+#: Most floor samples :func:`random_response` synthesizes at once (all realizations, at
+#: ``oversample x fs``): 8e8 bytes; the default 30 x 3200 Hz / 0.05 Hz is 1.9e6.
+MAX_SYNTHESIZED_SAMPLES = 10**8
 
 
 def flat_input_psds(levels: ArrayLike = FLAT_LEVELS, *, f_lo: float = 0.1,
@@ -652,6 +657,13 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         if isinstance(value, bool) or not (isinstance(value, (int, float, np.integer, np.floating))
                                            and np.isfinite(value) and value > 0):
             raise SimulationError(f"{name}: found {value!r}, expected a finite frequency > 0 Hz")
+    n_realizations = whole_number(n_realizations, "n_realizations", 1)  # True was 1, 2.5 taken as 2
+    samples = n_realizations * float(fs) * int(oversample) / float(freq_step)
+    if samples > MAX_SYNTHESIZED_SAMPLES:  # numpy's "Maximum allowed size exceeded" at 1e300
+        raise SimulationError(f"n_realizations, fs, oversample, freq_step: found {n_realizations:.4g} x {float(fs):g} Hz x "
+                              f"{int(oversample)} / {float(freq_step):g} Hz = {samples:.3g} floor samples to "
+                              f"synthesize, expected at most {MAX_SYNTHESIZED_SAMPLES:.0e} "
+                              f"({8 * MAX_SYNTHESIZED_SAMPLES / 2**20:.0f} MiB)")
     if not callable(input_psd):
         raise SimulationError(f"input_psd: found {type(input_psd).__name__}, expected a PsdProfile "
                               "(or a callable psd(freq_Hz) in (m/s^2)^2/Hz)")

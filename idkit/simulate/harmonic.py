@@ -22,6 +22,9 @@ __all__ = ["HarmonicResponse", "harmonic_response", "default_steps_per_period", 
 #: system's resonance takes ``48 f_res / f`` steps a period; without this limit 1e-6 Hz asks
 #: for terabytes (and 1e-20 Hz overflows the step count).
 MAX_PERIOD_TABLE = 2**25
+#: Most integration steps of one point (``max_periods`` x steps per period), as
+#: :func:`idkit.simulate.simulate`'s limit on a time response.
+MAX_POINT_STEPS = 10**8
 
 
 @dataclass(frozen=True)
@@ -233,7 +236,8 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
         Default :func:`default_steps_per_period`.
     min_periods, max_periods : int
         Bounds on the simulated periods; points that hit ``max_periods`` are
-        returned with ``converged = False``.
+        returned with ``converged = False``; ``max_periods`` times the steps per period below
+        :data:`MAX_POINT_STEPS` (1e8).
     progress : callable(done, total), optional
         Called after each chunk of points (progress bars).
     workers : int, optional
@@ -303,6 +307,10 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
             f"{n_harmonics} a period may take at most {MAX_PERIOD_TABLE // (2 * n_coeff)} steps (its Fourier "
             f"tables would not fit in memory): expected a higher frequency, fewer steps per period or "
             f"fewer harmonics")
+    if max_periods * int(steps.max()) >= MAX_POINT_STEPS:  # 1e300 ended in numpy's "int too big to convert"
+        raise SimulationError(f"max_periods: found {max_periods:.4g} periods of up to {int(steps.max())} steps, "
+                              f"{max_periods * int(steps.max()):.3g} steps for a point that never settles; expected "
+                              f"fewer than {MAX_POINT_STEPS:.0e} (the simulator's limit, as for time responses)")
     scale = force_scale(arrays, base_accel)  # each point's own: no point loosens another's tolerance
     min_windows = max(1, int(np.ceil(min_periods / 2)))
     max_windows = max(1, int(np.ceil(max_periods / 2)))

@@ -43,6 +43,7 @@ import numpy as np
 import pandas as pd
 
 from idkit.errors import ParameterError, SimulationError
+from idkit.gravity import STANDARD_GRAVITY
 from idkit.models import GeneralizedMaxwell, HybridSystem, IwanModel, SDOFSystem, VoigtModel, library
 from idkit.responses.random_vibration import FLAT_LEVELS, random_response, settle_records_for
 from idkit.responses.shock import shock_sweep
@@ -154,6 +155,16 @@ def transport_systems(*, wire_rope: IwanModel | None = None, elastomer: Generali
                                        HybridSystem(top, scaled, intermediate_fraction * top, wire_rope), series,
                                        float(r_k)))
     return systems
+
+
+def _reals(values, name: str, what: str) -> np.ndarray:
+    """``values`` as a float array, or a :class:`ParameterError` naming ``name`` (numpy's ValueError before)."""
+    if isinstance(values, (str, bytes)):
+        raise ParameterError(f"{name}: found {values!r}, expected {what}")
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name}: found {str(values)[:80]!r}, expected {what}") from None
 
 
 def _top_mass(moving_mass: float, isolator) -> float:
@@ -362,12 +373,26 @@ def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVEL
     TransportStudy
     """
     systems = transport_systems(wire_rope=wire_rope, elastomer=elastomer, r_k_values=r_k_values)
-    speeds = np.linspace(0.01, 1.0, 40) if speeds is None else np.asarray(speeds, dtype=float)
-    heights = np.linspace(0.005, 0.15, 30) if heights is None else np.asarray(heights, dtype=float)
+    speeds = np.linspace(0.01, 1.0, 40) if speeds is None else _reals(speeds, "speeds", "impact speeds in m/s")
+    heights = np.linspace(0.005, 0.15, 30) if heights is None else _reals(heights, "heights", "drop heights in m")
+    levels = _reals(levels, "levels", "floor PSD levels in (m/s^2)^2/Hz").ravel()
+    # 2.5 realizations ran as 2, a seed 'a' failed in numpy after the tuning
+    if isinstance(n_realizations, (bool, np.bool_)) or not isinstance(n_realizations, (int, np.integer, float,
+                                                                                          np.floating)) \
+            or not np.isfinite(n_realizations) or n_realizations != int(n_realizations) or n_realizations < 1:
+        raise ParameterError(f"n_realizations: found {n_realizations!r}, expected a whole number >= 1")
+    n_realizations = int(n_realizations)
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ParameterError(f"seed: found {seed!r}, expected an integer >= 0")
     # checked before the first simulation, not after minutes of random vibration
     if speeds.ndim != 1 or speeds.size == 0 or not np.all(np.isfinite(speeds) & (speeds >= 0)):
         raise ParameterError(f"speeds: found {speeds!r:.80}, expected a non-empty 1-D array of impact speeds "
                              "|v0| >= 0 m/s (a negative one would be an upward impact)")
+    with np.errstate(over="ignore"):
+        too_fast = ~np.isfinite(speeds**2 / (2.0 * STANDARD_GRAVITY))
+    if too_fast.any():  # refused by shock_sweep only after the random vibration
+        raise ParameterError(f"speeds: found {float(speeds[too_fast][0])!r} m/s, whose drop height v0^2 / (2 g) "
+                             f"overflows float64; expected speeds below {np.sqrt(2.0 * STANDARD_GRAVITY) * np.sqrt(np.finfo(float).max):.3g} m/s")
     if heights.ndim != 1 or heights.size == 0 or not np.all(np.isfinite(heights) & (heights >= 0)):
         raise ParameterError(f"heights: found {heights!r:.80}, expected a non-empty 1-D array of drop heights "
                              ">= 0 m")

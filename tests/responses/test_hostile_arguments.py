@@ -45,3 +45,21 @@ def test_loss_factor_of_zero_storage_is_nan_or_inf_without_a_warning():
         warnings.simplefilter("error")
         values = R.loss_factor([0j, 1j, 2 + 1j])
     assert np.isnan(values[0]) and values[1] == np.inf and values[2] == 0.5
+
+
+@pytest.mark.parametrize("call, words", [
+    # numpy's "Maximum allowed size exceeded" / "int too big to convert"
+    (lambda: R.random_response(SYSTEM, R.flat_input_psds([1e-4])[1e-4], seed=1, n_realizations=1, fs=1e300),
+     "floor samples to synthesize, expected at most 1e+08"),
+    (lambda: R.random_response(SYSTEM, R.flat_input_psds([1e-4])[1e-4], seed=1, n_realizations=1e300),
+     "found 1e+300 x 800 Hz"),
+    (lambda: R.random_response(SYSTEM, R.flat_input_psds([1e-4])[1e-4], seed=1, n_realizations=True),
+     "n_realizations: found True"),  # ran one realization
+    (lambda: R.harmonic_map(SYSTEM, [5.0], [1e-3], max_periods=1e300), "max_periods: found 1e+300 periods"),
+    (lambda: R.harmonic_map(SYSTEM, [5.0], [1e-3], shooting="no"), "shooting: found 'no'"),  # shot
+    (lambda: R.harmonic_map(SYSTEM, [5.0], [1e-3], n_harmonics=True), "n_harmonics: found True"),  # 1 harmonic
+])
+def test_absurd_sizes_and_flags_are_refused_naming_them(call, words):
+    with pytest.raises(IdkitError) as raised:
+        call()
+    assert words in str(raised.value)

@@ -102,6 +102,10 @@ def test_tuning_table_names_a_bad_argument(systems, target, words):
     (dict(heights=[np.nan]), "heights: found"),
     (dict(levels=()), "levels: found none"),    # ran a study without random vibration
     (dict(levels=(1e-4, -1e-4)), "level must be positive"),  # after the first level's runs
+    (dict(levels="ab"), "levels: found 'ab'"),          # numpy ValueError
+    (dict(n_realizations=2.5), "n_realizations: found 2.5"),  # ran 2
+    (dict(seed="a"), "seed: found 'a'"),                # numpy ValueError after the tuning
+    (dict(speeds=[1e300]), "speeds: found 1e\\+300 m/s"),  # refused by shock_sweep after the random vibration
 ])
 def test_transport_study_checks_its_arguments_before_simulating(arguments, words, monkeypatch):
     import idkit.studies.transport as transport
