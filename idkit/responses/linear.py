@@ -228,7 +228,8 @@ def linear_resonance(system, *, f_min: float = 1e-2, f_max: float = 1e4, n_grid:
     >>> round(resonance.freq, 3), round(resonance.damping_ratio_half_power, 4)
     (5.0, 0.01)
     """
-    if not (0 < f_min < f_max < np.inf):
+    if any(isinstance(f, (bool, np.bool_)) or not isinstance(f, (int, float, np.integer, np.floating))
+           for f in (f_min, f_max)) or not (0 < f_min < f_max < np.inf):  # f_min="a": TypeError before
         raise SimulationError(f"f_min, f_max: found {f_min!r}, {f_max!r}, expected 0 < f_min < f_max in Hz")
     if isinstance(n_grid, bool) or not (isinstance(n_grid, (int, np.integer)) and n_grid >= 3):
         raise SimulationError(f"n_grid: found {n_grid!r}, expected a whole number >= 3 (a peak needs a sample "

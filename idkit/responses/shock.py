@@ -278,6 +278,8 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
         raise SimulationError("shock_sweep: give exactly one of impact_velocity (m/s) and drop_height (m)")
     if drop_model not in ("conditioned", "rig"):
         raise SimulationError(f"drop_model: found {drop_model!r}, expected 'conditioned' or 'rig'")
+    if not isinstance(relaxation, (bool, np.bool_)):  # relaxation="no" relaxed (a truthy string)
+        raise SimulationError(f"relaxation: found {relaxation!r}, expected True or False")
     if drop_model == "rig":
         return _rig_sweep(system, impact_velocity=impact_velocity, drop_height=drop_height, duration=duration,
                           time_step=time_step, bottom_mass=bottom_mass, contact=contact, workers=workers,

@@ -63,3 +63,10 @@ def test_absurd_sizes_and_flags_are_refused_naming_them(call, words):
     with pytest.raises(IdkitError) as raised:
         call()
     assert words in str(raised.value)
+
+
+def test_linear_resonance_band_and_shock_relaxation_flag_are_checked():
+    with pytest.raises(IdkitError, match=r"f_min, f_max: found 'a', 10"):  # TypeError before
+        R.linear_resonance(SYSTEM, f_min="a", f_max=10)
+    with pytest.raises(IdkitError, match=r"relaxation: found 'no', expected True or False"):  # relaxed before
+        R.shock_sweep(SYSTEM, drop_height=[0.1], relaxation="no")
