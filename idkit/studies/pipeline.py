@@ -77,8 +77,8 @@ __all__ = [
 
 #: held-out records per validation in quick mode
 QUICK_HELD_OUT = 8
-QUICK_NOTE = (f"quick run: at most {QUICK_HELD_OUT} held-out records per validation, spread over the test levels, "
-              "smaller study; not the full verdict")
+QUICK_NOTE = (f"quick run: at most {QUICK_HELD_OUT} held-out records per validation, from the lowest to the highest "
+              "test level, smaller study; not the full verdict")
 
 
 def _sort_key(value) -> tuple:
@@ -104,17 +104,36 @@ def _spread(n: int, k: int) -> list[int]:
     return [int((i + 0.5) * n / k) for i in range(k)]
 
 
+def _ends_first(n: int, k: int) -> list[int]:
+    """``k`` of the indices ``0..n-1`` spread evenly from the first to the last (both when k >= 2)."""
+    return [0] if k == 1 else sorted({int(round(i * (n - 1) / (k - 1))) for i in range(k)})
+
+
+#: A stepped-sine level is judged by its resonance only with at least this many frequencies
+#: (:func:`idkit.validate.validate_harmonic` skips smaller groups, and a sweep check without any
+#: resonance is INCONCLUSIVE).
+SWEEP_POINTS_PER_LEVEL = 3
+
+
+def _measured_ratio(measurement) -> float:
+    """Top over base velocity, RMS (a stepped-sine record's measured transmissibility, for its peak)."""
+    base = float(np.std(measurement.v_base))
+    return float(np.std(measurement.v_top)) / base if base > 0 else 0.0
+
+
 def quick_subset(measurements, limit: int | None) -> tuple[list, list]:
     """The records a quick validation uses and the ones it skips (deterministic, order-free).
 
     The records are grouped by test level (masses, nominal amplitude, white-noise band, drop
-    height: everything but frequency and repetition) and the levels sorted by value. The
-    ``limit`` records are shared out over the levels as evenly as their sizes allow (one round
-    at a time; when a round has fewer records left than levels, the levels it serves are spread
-    evenly over the sorted levels); inside a level, sorted by frequency, repetition and id, the
-    chosen records are the middles of equal strata. So a manifest sorted by level (or any
-    other order) gives the same subset, every level is validated when ``limit`` allows, and
-    each level's records span its frequencies.
+    height: everything but frequency and repetition), the levels sorted by value. Stepped-sine
+    levels need :data:`SWEEP_POINTS_PER_LEVEL` (3) records to be judged by their resonance, other
+    kinds one. As many levels as ``limit`` allows at that (``limit // 3`` sweep levels, ``limit``
+    others) are chosen spread evenly from the lowest level to the highest (both ends when two
+    or more), and ``limit`` is shared out over them as evenly as their sizes allow. Inside a
+    level, sorted by frequency, repetition and id, a sweep keeps the contiguous frequencies
+    centred on its measured peak (largest RMS top over base velocity), so the level's resonance
+    is bracketed; other kinds keep the middles of equal strata. So a manifest sorted by level
+    (or any other order) gives the same subset, and the extreme levels are always validated.
 
     Parameters
     ----------
@@ -136,15 +155,25 @@ def quick_subset(measurements, limit: int | None) -> tuple[list, list]:
     groups = [sorted(levels[key], key=lambda m: (_sort_key(m.info.excitation.freq if m.info.excitation else None),
                                                  _sort_key(m.info.repetition), m.info.id))
               for key in sorted(levels)]
+    sweep = all(m.kind == "stepped_sine" for m in records)
+    need = SWEEP_POINTS_PER_LEVEL if sweep else 1
+    groups = [groups[i] for i in _ends_first(len(groups), max(1, min(len(groups), int(limit) // need)))]
     counts = [0] * len(groups)
     left = int(limit)
-    while left > 0:
+    while left > 0 and any(count < len(group) for count, group in zip(counts, groups)):
         open_levels = [i for i, group in enumerate(groups) if counts[i] < len(group)]
         served = open_levels if len(open_levels) <= left else [open_levels[j] for j in _spread(len(open_levels), left)]
         for i in served:
             counts[i] += 1
         left -= len(served)
-    chosen = [group[j] for group, count in zip(groups, counts) for j in _spread(len(group), count)]
+    chosen = []
+    for group, count in zip(groups, counts):
+        if sweep:
+            peak = max(range(len(group)), key=lambda j: _measured_ratio(group[j]))
+            first = min(max(peak - count // 2, 0), len(group) - count)
+            chosen += group[first:first + count]
+        else:
+            chosen += [group[j] for j in _spread(len(group), count)]
     kept = {id(m) for m in chosen}
     return chosen, [m for m in records if id(m) not in kept]
 

@@ -99,14 +99,16 @@ def test_report_names_every_section_and_writes_models(quick_report):
     assert iwan["provenance"]["data"]["files"] and iwan["provenance"]["seed"] == 2026
     provenance = json.loads((quick_report / "provenance.json").read_text())
     assert provenance["seed"] == 2026 and "wire_rope" in provenance["data_files_sha256"]
-    # quick mode: the hybrid sweeps validated span every amplitude level of the bundled manifest
-    # (sorted by level: the first 8 records were all at the lowest), and the skipped ones are named
+    # quick mode: the hybrid sweeps validated are the lowest and the highest amplitude level of the
+    # bundled manifest, enough points each to judge a resonance (sorted by level, the first 8 records
+    # were the lowest level's 3-11 Hz points), and the skipped ones are named
     skipped = set(provenance["quick_skipped_records"]["hybrid sweeps"])
     sweeps = [e for e in json.loads((DATA / "hybrid" / "manifest.json").read_text())["measurements"]
               if e["kind"] == "stepped_sine"]
-    validated = {e["excitation"]["amplitude"] for e in sweeps if e["id"] not in skipped}
-    assert validated == {e["excitation"]["amplitude"] for e in sweeps}
-    assert len(sweeps) - len(skipped) == 8 and all(i in html for i in sorted(skipped)[:3])
+    validated = [e["excitation"]["amplitude"] for e in sweeps if e["id"] not in skipped]
+    levels = sorted({e["excitation"]["amplitude"] for e in sweeps})
+    assert sorted(set(validated)) == [levels[0], levels[-1]] and min(map(validated.count, set(validated))) >= 3
+    assert len(validated) == 8 and all(i in html for i in sorted(skipped)[:3])
 
 
 @pytest.mark.slow
