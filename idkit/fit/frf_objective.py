@@ -3,7 +3,9 @@
 * :func:`as_transmissibility_sets` - the one coercion of loose FRF inputs;
 * :func:`check_band`, :func:`band_points` - the band of a fit and the points inside it;
 * :func:`mean_squared_relative_error` - ``mean |H_model - H_meas|^2 / |H_meas|^2`` of one set;
-* :func:`maxwell_objective` - objective (7.5) of a given model on sets of several top masses.
+* :func:`maxwell_objective` - objective (7.5) of a given model on sets of several top masses;
+* :func:`frf_noise_floor`, :func:`frf_model_form_reasons` - what the H1's random error alone
+  scores under (7.5), and the verdict on a fit whose error the noise does not explain.
 
 :func:`idkit.fit.fit_maxwell` minimises the same objective (its condensed, analytic-gradient
 form), :func:`idkit.fit.maxwell_error_landscape` maps it over a grid.
@@ -24,7 +26,14 @@ from idkit.observe.white_noise import TransmissibilitySet
 from idkit.signal.frf import mean_squared_relative_error
 
 __all__ = ["as_transmissibility_sets", "check_band", "band_points", "mean_squared_relative_error",
-           "maxwell_objective"]
+           "maxwell_objective", "FRF_MODEL_FORM_LIMIT", "frf_noise_floor", "frf_model_form_reasons"]
+
+#: Largest part of a set's error (7.5) that its measurement noise does not explain,
+#: ``sqrt(error^2 - floor^2)``, for a transmissibility fit to be a success: the FRF validation's
+#: limit on a held-out run's error (7.5) (``idkit.validate.frf.FRF_THRESHOLDS["max_frf_error"]``,
+#: 0.15). A fit that misses its own runs by more than that, beyond their noise, would fail the
+#: validation on a repetition of them, so its model form (or order) does not describe the data.
+FRF_MODEL_FORM_LIMIT = 0.15
 
 
 def as_transmissibility_sets(frfs) -> list[TransmissibilitySet]:
@@ -150,3 +159,48 @@ def maxwell_objective(model: GeneralizedMaxwell | VoigtModel, frfs, *, band=(1.0
         h_model = sdof_transmissibility(local.complex_stiffness(f_in), item.mass + model.m_eff, 2 * np.pi * f_in)
         squares.append(mean_squared_relative_error(h_model, h_in))
     return math.sqrt(float(np.mean(squares)))
+
+
+def frf_noise_floor(item: TransmissibilitySet, band) -> float:
+    """What an exactly right model scores under (7.5) on one H1 from its random error alone (fraction).
+
+    ``floor = sqrt(mean_band 2 epsilon^2)`` with ``epsilon`` the normalized random error of the
+    H1 (:attr:`TransmissibilitySet.random_error`, ``sqrt(1 - gamma^2) / (|gamma| sqrt(2 n_d))``,
+    Bendat & Piersol 9.90): the error (7.5) is complex, and the standard deviation of the H1's
+    phase (radians) equals that of its relative magnitude (9.91), so ``E |dH / H|^2 = 2
+    epsilon^2``. With 50 % overlapping Hann segments the ``n_d`` averages are not independent and
+    the floor reads 10-20 % low; it does not contain the bias of the estimate (a resonance the
+    window cannot resolve, :func:`idkit.signal.frf.window_peak_bias`). NaN when the set carries no
+    random error (a given table).
+    """
+    if item.random_error is None:
+        return math.nan
+    freq = np.asarray(item.freq, dtype=float)
+    epsilon = np.asarray(item.random_error, dtype=float)
+    inside = (freq >= band[0]) & (freq <= band[1])
+    if epsilon.shape != freq.shape or not inside.any() or not np.all(np.isfinite(epsilon[inside])):
+        return math.nan
+    return math.sqrt(float(np.mean(2.0 * epsilon[inside] ** 2)))
+
+
+def frf_model_form_reasons(set_names, set_errors, set_floors, *,
+                           limit: float = FRF_MODEL_FORM_LIMIT) -> tuple[str, ...]:
+    """One reason per set whose error (7.5) the noise does not explain by more than ``limit``.
+
+    The unexplained part is ``sqrt(max(error^2 - floor^2, 0))`` (noise and model error add in
+    quadrature); a set without a floor (NaN: no coherence known) is judged on its whole error.
+    """
+    reasons = []
+    for name, error, floor in zip(set_names, set_errors, set_floors):
+        known = math.isfinite(floor)
+        unexplained = math.sqrt(max(error**2 - (floor**2 if known else 0.0), 0.0))
+        if unexplained > limit:
+            source = (f"the noise floor {100 * floor:.3g} % (the H1's random error from its coherence and averages) "
+                      "explains" if known else "no noise floor is known (no coherence), so the noise explains")
+            reasons.append(
+                f"the model form misses {name}: its error (7.5) {100 * error:.3g} % is not noise: {source} at most "
+                f"{100 * (floor if known else 0.0):.3g} %, leaving {100 * unexplained:.3g} % (sqrt(error^2 - floor^2)) "
+                f"above the {100 * limit:g} % a held-out run may miss by (FRF validation max_frf_error): a higher order "
+                "or another model form; or, where a resonance is narrower than the H1's resolution, longer white-noise "
+                "records (docs/fitting.md)")
+    return tuple(reasons)

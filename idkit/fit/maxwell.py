@@ -54,7 +54,14 @@ import scipy.stats
 from idkit.errors import FitError
 from idkit.fit._optim import INFEASIBLE, constrained_global_search, sqp
 from idkit.fit._params import Transform, jacobian_statistics, spec_units, to_lmfit, to_physical_statistics
-from idkit.fit.frf_objective import as_transmissibility_sets, band_points, check_band, maxwell_objective
+from idkit.fit.frf_objective import (
+    as_transmissibility_sets,
+    band_points,
+    check_band,
+    frf_model_form_reasons,
+    frf_noise_floor,
+    maxwell_objective,
+)
 from idkit.fit.result import (
     CONSTRAINT_STEP_LIMIT,
     CrossCheck,
@@ -164,6 +171,9 @@ class _Problem:
     """
 
     data = ""
+    #: Per set: the noise floor of the error (7.5) (:func:`~idkit.fit.frf_objective.frf_noise_floor`),
+    #: NaN when unknown; None when the observation has no model-form check (stiffness tables).
+    set_floors = None
 
     def __init__(self, law, *, omega, measured, mass, weights, set_index, set_names, transforms: list[Transform],
                  loss_omega, monotone_loss: bool, static_offset=None):
@@ -457,8 +467,11 @@ def _solve(problem: _Problem, *, start, band, backend, max_evals, ftol, cross_ch
         loss_grid_points=0 if problem.loss_s is None else int(problem.loss_s.size), max_evals=int(max_evals),
         ftol=float(ftol), seed=int(seed), global_method=global_method if cross_check else None,
         global_max_evals=int(global_max_evals) if cross_check else None, **settings_extra)
+    floors = problem.set_floors
+    model_form = () if floors is None else frf_model_form_reasons(problem.set_names, set_errors, floors)
     return MaxwellFitResult(
         model=model, error=error, set_errors=set_errors, set_names=tuple(problem.set_names),
+        set_floors=floors, model_form_reasons=model_form,
         sqp_error=sqp_error, at_bound=at_bound, evaluations=run.evaluations, message=run.message, source=source,
         status=run.status,
         cross_check=check, settings=settings, parameters=parameters, elapsed_s=elapsed, statistics=statistics)
@@ -567,10 +580,12 @@ def _frf_problem(frfs, *, model, order, k0, band, stiffness_bounds, rate_bounds,
         loss_omega, monotone_loss = None, False  # a Voigt loss factor omega d / k always increases
     omega, measured, mass, set_index, weights = _stack(parts)
     law = _MaxwellLaw(order, float(k0), with_m_eff=True) if model == "maxwell" else _VoigtLaw(with_m_eff=True)
-    return _TransmissibilityProblem(law, omega=omega, measured=measured, mass=mass, weights=weights,
-                                    set_index=set_index, set_names=[item.name for item in sets], transforms=transforms,
-                                    loss_omega=loss_omega, monotone_loss=monotone_loss,
-                                    static_offset=np.concatenate(offsets)), band
+    problem = _TransmissibilityProblem(law, omega=omega, measured=measured, mass=mass, weights=weights,
+                                       set_index=set_index, set_names=[item.name for item in sets],
+                                       transforms=transforms, loss_omega=loss_omega, monotone_loss=monotone_loss,
+                                       static_offset=np.concatenate(offsets))
+    problem.set_floors = np.array([frf_noise_floor(item, band) for item in sets])
+    return problem, band
 
 
 def fit_maxwell(

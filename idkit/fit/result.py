@@ -602,6 +602,8 @@ class MaxwellFitResult(_LmfitStatistics):
     elapsed_s: float
     statistics: lmfit.minimizer.MinimizerResult | None = field(default=None, repr=False)
     status: str = "converged"
+    set_floors: np.ndarray | None = None
+    model_form_reasons: tuple[str, ...] = ()
 
     @property
     def nfev(self) -> int:
@@ -626,7 +628,9 @@ class MaxwellFitResult(_LmfitStatistics):
         coincide within :data:`DUPLICATE_RATE_RATIO` (the elements are one element
         split in two: a lower order fits as well); the least-squares optimum lies more than
         :data:`CONSTRAINT_STEP_LIMIT` standard errors away (the loss constraint binds, or the
-        optimiser stopped short of it).
+        optimiser stopped short of it); a transmissibility set's error exceeds its noise floor by
+        more than a held-out run may miss (``model_form_reasons``,
+        :func:`idkit.fit.frf_objective.frf_model_form_reasons`).
         """
         reasons = []
         if not self.error < NULL_PREDICTION_ERROR:
@@ -657,6 +661,7 @@ class MaxwellFitResult(_LmfitStatistics):
                            "parameters are not the optimum their standard errors describe (a tighter ftol, more "
                            "max_evals)")
         reasons.extend(determinacy_reasons(self.parameters, self.statistics, excused=self.at_bound))
+        reasons.extend(self.model_form_reasons)
         return tuple(reasons)
 
     @property
@@ -680,6 +685,9 @@ class MaxwellFitResult(_LmfitStatistics):
             f"loss factor non-decreasing constraint: {s.monotone_loss}"
             + (f" ({s.loss_rule})" if s.loss_rule else ""),
             "    per set [%]: " + ", ".join(f"{n}: {100 * e:.2f}" for n, e in zip(self.set_names, self.set_errors)),
+            *(["    noise floor per set [%] (H1 random error): " + ", ".join(
+                f"{n}: {100 * f:.2f}" for n, f in zip(self.set_names, self.set_floors))]
+              if self.set_floors is not None else []),
             f"    success {self.success}",
             *(f"    not a success: {reason}" for reason in self.reasons),
         ]

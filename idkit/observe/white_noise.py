@@ -218,6 +218,11 @@ class TransmissibilitySet:
         Tangent static stiffness (N/m) at the deflection the top mass's weight causes,
         read off the quasi-static loops (:func:`~idkit.observe.quasi_static.static_operating_point`);
         small-amplitude motion around that preload sees it in place of ``k0``. None: ``k0``.
+    random_error : ndarray or None
+        Normalized random error of the H1 estimate at each frequency,
+        ``sqrt(1 - gamma^2) / (|gamma| sqrt(2 n_d))`` (:attr:`~idkit.signal.frf.FrfEstimate.random_error`,
+        from the coherence and the number of averages); None when unknown (a given table).
+        The Maxwell fit reads its noise floor off it (:func:`idkit.fit.frf_objective.frf_noise_floor`).
     """
 
     mass: float
@@ -225,6 +230,7 @@ class TransmissibilitySet:
     transmissibility: np.ndarray
     name: str = ""
     static_stiffness: float | None = None
+    random_error: np.ndarray | None = None
 
 
 def transmissibility_sets(
@@ -278,5 +284,6 @@ def transmissibility_sets(
             frf = frf_from_white_noise(record, band=(low, high), resolution_hz=resolution_hz, overlap=overlap)
         except DataError as problem:
             raise FitError(f"{record.source.where()}: {problem}") from None
-        sets.append(TransmissibilitySet(float(mass), frf.freq, frf.h1, name))
+        sets.append(TransmissibilitySet(float(mass), frf.freq, frf.h1, name,
+                                        random_error=np.asarray(frf.estimate.random_error, dtype=float)))
     return tuple(sets), provenance
