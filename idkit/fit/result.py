@@ -547,6 +547,39 @@ class CrossCheck:
 NULL_PREDICTION_ERROR = 1.0
 
 
+def _elements_outside_the_band(model, at_bound, band) -> list[str]:
+    """What a Maxwell element on a search bound stands for when it relaxes outside the fitted band.
+
+    An element ``k s / (s + rate)`` with ``rate`` above the band's top angular frequency
+    ``w = 2 pi f_high`` is nearly a dashpot ``c = k / rate`` there (it departs from one by
+    ``|1 - 1 / (1 + i w / rate)|`` at the top); one with ``rate`` below ``2 pi f_low`` is nearly
+    a spring ``k`` in parallel with ``k0``. The data then set that one combination, not ``k`` and
+    ``rate`` each, and the search runs along it to a bound (a broad-spectrum elastomer fitted
+    with more elements than its band resolves). Only elements with a parameter in ``at_bound``.
+    """
+    k, rate = getattr(model, "k", None), getattr(model, "rate", None)
+    if k is None or rate is None:
+        return []
+    omega_low, omega_high = (2 * np.pi * float(f) for f in band)
+    notes = []
+    for i, (k_i, rate_i) in enumerate(zip(np.asarray(k, dtype=float), np.asarray(rate, dtype=float)), start=1):
+        if f"k_{i}" not in at_bound and f"rate_{i}" not in at_bound:
+            continue
+        if rate_i > omega_high:
+            departure = abs(1 - 1 / (1 + 1j * omega_high / rate_i))
+            notes.append(f"element {i} relaxes at {rate_i:.4g} 1/s, above the band's top 2 pi x {band[1]:g} Hz = "
+                         f"{omega_high:.4g} rad/s: over the band it is nearly a dashpot c = k_{i} / rate_{i} = "
+                         f"{k_i / rate_i:.4g} N s/m (within {100 * departure:.2g} % at the top), so the data set "
+                         f"that ratio and not k_{i} and rate_{i} each (a lower order, or the band extended upward)")
+        elif rate_i < omega_low:
+            departure = abs(1 - 1 / (1 + rate_i / (1j * omega_low)))
+            notes.append(f"element {i} relaxes at {rate_i:.4g} 1/s, below the band's bottom 2 pi x {band[0]:g} Hz "
+                         f"= {omega_low:.4g} rad/s: over the band it is nearly a spring k_{i} = {k_i:.4g} N/m beside "
+                         f"k0 (within {100 * departure:.2g} % at the bottom), so the data set k0 + k_{i} and not "
+                         f"rate_{i} (a lower order, or the band extended downward)")
+    return notes
+
+
 @dataclass(frozen=True)
 class MaxwellFitResult(_LmfitStatistics):
     """Result of :func:`idkit.fit.fit_maxwell`, :func:`fit_voigt` or :func:`fit_complex_stiffness`.
@@ -643,7 +676,9 @@ class MaxwellFitResult(_LmfitStatistics):
         elif self.status in ("max_evals", "failed"):
             reasons.append(f"the optimiser stopped without converging: {self.message}")
         if self.at_bound:
-            reasons.append(f"at a search bound (not determined inside the box): {', '.join(self.at_bound)}")
+            reasons.append(f"at a search bound (not determined inside the box): {', '.join(self.at_bound)}"
+                           + "".join(f"; {note}" for note in _elements_outside_the_band(self.model, self.at_bound,
+                                                                                     self.settings.band)))
         rates = np.sort(np.asarray(getattr(self.model, "rate", ()), dtype=float))
         close = np.flatnonzero(rates[1:] / rates[:-1] < DUPLICATE_RATE_RATIO) if rates.size > 1 else []
         if len(close):

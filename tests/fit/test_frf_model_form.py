@@ -101,3 +101,27 @@ def test_noise_floor_is_what_a_right_model_scores_on_a_welch_h1(seed):
     exact = sdof_transmissibility(truth.complex_stiffness(estimate.freq), 2.0, 2 * np.pi * estimate.freq)
     error = math.sqrt(float(np.mean(np.abs(exact - estimate.h1) ** 2 / np.abs(estimate.h1) ** 2)))
     assert 0.85 < error / floor < 1.5, (error, floor)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize("case", ["dashpot", "spring"])
+def test_an_element_on_a_bound_outside_the_band_says_what_it_stands_for(seed, case):
+    """An element relaxing above the band's top acts there as a dashpot c = k / rate, one below its
+    bottom as a spring beside k0: the data set that one combination and the search runs along it
+    to a bound. The reason says so and reads the combination, which matches the truth's to within
+    the departure it states (the element is only nearly a dashpot / spring at the band edge)."""
+    far = {"dashpot": 2e4, "spring": 0.3}[case]  # 1/s: 32x above 2 pi 100 Hz, 21x below 2 pi 1 Hz
+    far_k = {"dashpot": 50000.0, "spring": 3000.0}[case]
+    truth = GeneralizedMaxwell(k0=1000.0, k=[8000.0, far_k], rate=[40.0, far], m_eff=0.05)
+    result = fit_maxwell(_sets(truth, seed, 0.01), k0=truth.k0, order=2)
+    assert not result.success and result.at_bound
+    (reason,) = [r for r in result.reasons if r.startswith("at a search bound")]
+    element = int(np.argmin(np.abs(np.log(result.model.rate / far)))) + 1
+    departure = float(reason.split("(within ")[1].split(" %")[0]) / 100
+    if case == "dashpot":
+        assert f"element {element} relaxes" in reason and "nearly a dashpot" in reason
+        read = result.model.k[element - 1] / result.model.rate[element - 1]
+        assert abs(read / (far_k / far) - 1) < departure, (read, reason)
+    else:
+        assert f"element {element} relaxes" in reason and "nearly a spring" in reason
+        assert abs(result.model.k[element - 1] / far_k - 1) < departure, (result.model.k, reason)
