@@ -119,6 +119,34 @@ class IsolatorModel(ABC):
         return f"{type(self).__name__}({body})"
 
 
+#: Largest |frequency| in Hz a model takes: its angular frequency ``2 pi f`` is a finite float64.
+MAX_FREQUENCY = float(np.finfo(np.float64).max) / (2.0 * np.pi)
+
+
+def _as_frequency(freq, name: str = "freq") -> np.ndarray:
+    """``freq`` as a float array of finite frequencies in Hz, else a :class:`ParameterError` naming ``name``.
+
+    NaN and infinite frequencies made numpy warn inside the complex stiffness (``complex_stiffness(nan)``:
+    RuntimeWarning "invalid value") and gave NaN; text, booleans and complex numbers are not frequencies.
+    """
+    raw = np.asarray(freq) if not isinstance(freq, (str, bytes)) else np.asarray([freq])
+    if raw.dtype.kind not in "iuf":
+        if raw.dtype.kind == "O":
+            try:
+                raw = np.asarray(freq, dtype=float)
+            except (TypeError, ValueError):
+                pass
+        if raw.dtype.kind not in "iuf":
+            raise ParameterError(f"{name}: found {freq!r}, expected real frequencies in Hz")
+    values = raw.astype(float, copy=False)
+    bad = ~(np.abs(values) <= MAX_FREQUENCY)
+    if bad.any():
+        first = float(values[bad].flat[0])
+        raise ParameterError(f"{name}: found {first!r}, expected finite frequencies in Hz, |f| <= {MAX_FREQUENCY:.4g} "
+                             "(2 pi f a finite float64)")
+    return values
+
+
 def _as_deflection(deflection, name: str = "deflection") -> np.ndarray:
     array = np.asarray(deflection, dtype=float)
     if array.ndim != 1 or array.size == 0:

@@ -18,6 +18,7 @@ from idkit.models.base import (
     IsolatorArrays,
     IsolatorModel,
     _as_deflection,
+    _as_frequency,
     _as_time,
     _velocity,
 )
@@ -242,7 +243,7 @@ class BoucWenModel(IsolatorModel):
         return total
 
     def small_amplitude_stiffness(self, freq) -> np.ndarray:
-        omega = 2.0 * np.pi * np.asarray(freq, dtype=float)
+        omega = 2.0 * np.pi * _as_frequency(freq)
         return (self.k1 + self.alpha) + 1j * omega * self.c_visc
 
     def kernel_arrays(self) -> IsolatorArrays:

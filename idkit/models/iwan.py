@@ -19,6 +19,7 @@ from idkit.models.base import (
     IsolatorArrays,
     IsolatorModel,
     _as_deflection,
+    _as_frequency,
     _as_time,
     _velocity,
 )
@@ -188,7 +189,7 @@ class IwanModel(IsolatorModel):
         return total
 
     def small_amplitude_stiffness(self, freq) -> np.ndarray:
-        omega = 2.0 * np.pi * np.asarray(freq, dtype=float)
+        omega = 2.0 * np.pi * _as_frequency(freq)
         return self.stuck_stiffness + 1j * omega * self._c_visc
 
     def kernel_arrays(self) -> IsolatorArrays:

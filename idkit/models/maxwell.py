@@ -25,6 +25,7 @@ from idkit.models.base import (
     IsolatorArrays,
     IsolatorModel,
     _as_deflection,
+    _as_frequency,
     _as_time,
     _velocity,
 )
@@ -290,7 +291,7 @@ class GeneralizedMaxwell(IsolatorModel):
         For a modulus model the same law gives the complex modulus in Pa (also
         :meth:`complex_modulus`).
         """
-        s = 2j * np.pi * np.asarray(freq, dtype=float)
+        s = 2j * np.pi * _as_frequency(freq)
         return self._k0 + np.sum(self._k * s[..., None] / (s[..., None] + self._rate), axis=-1)
 
     def loss_factor(self, freq) -> np.ndarray:
@@ -386,7 +387,7 @@ class VoigtModel(IsolatorModel):
 
     def complex_stiffness(self, freq) -> np.ndarray:
         """``k + i omega d`` in N/m at ``freq`` in Hz."""
-        return self._k + 2j * np.pi * np.asarray(freq, dtype=float) * self._damping
+        return self._k + 2j * np.pi * _as_frequency(freq) * self._damping
 
     def loss_factor(self, freq) -> np.ndarray:
         """Loss factor ``omega d / k``."""

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from idkit.errors import ParameterError
-from idkit.models.base import IsolatorModel
+from idkit.models.base import IsolatorModel, _as_frequency
 from idkit.models.iwan import IwanModel
 from idkit.models.laws import hybrid_transmissibility, sdof_transmissibility
 from idkit.params import ParamSpec
@@ -73,7 +73,8 @@ class SDOFSystem:
 
         Exact for linear isolators; for hysteretic ones it is the all-stuck limit.
         """
-        omega = 2.0 * np.pi * np.asarray(freq, dtype=float)
+        freq = _as_frequency(freq)
+        omega = 2.0 * np.pi * freq
         return sdof_transmissibility(self.isolator.small_amplitude_stiffness(freq), self.moving_mass, omega)
 
     def to_dict(self) -> dict:
@@ -127,13 +128,15 @@ class HybridSystem:
 
     def transmissibility(self, freq) -> np.ndarray:
         """Small-amplitude transmissibility top/base (stuck wire rope, linear elastomer)."""
-        omega = 2.0 * np.pi * np.asarray(freq, dtype=float)
+        freq = _as_frequency(freq)
+        omega = 2.0 * np.pi * freq
         m_top, m_in = self.masses
         return hybrid_transmissibility(self.upper.small_amplitude_stiffness(freq),
                                        self.lower.small_amplitude_stiffness(freq), m_top, m_in, omega)
 
     def series_stiffness(self, freq) -> np.ndarray:
         """Small-amplitude series stiffness ``1 / (1/k_upper + 1/k_lower)`` in N/m."""
+        freq = _as_frequency(freq)
         return 1.0 / (1.0 / self.upper.small_amplitude_stiffness(freq)
                       + 1.0 / self.lower.small_amplitude_stiffness(freq))
 

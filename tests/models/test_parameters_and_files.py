@@ -2,6 +2,7 @@
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -21,6 +22,7 @@ from idkit.models import (
 )
 
 GOOD_IWAN = dict(g1=3e3, k=[3e3, 3e3], fc=[8.3, 14.6])
+GOOD_BOUCWEN = dict(k1=3e4, k2=1e6, k3=0.0, alpha=1e5, beta=8e4, gamma=2e4, n=2)
 
 
 @pytest.mark.parametrize(
@@ -119,3 +121,40 @@ def test_hybrid_small_amplitude_transmissibility_is_series_of_parts():
     k_el = library.get("table_b1_medium").complex_stiffness(0.01)
     assert stiff == pytest.approx(1 / (1 / k_wr + 1 / k_el), rel=1e-6)
     assert isinstance(system, HybridSystem)
+
+
+_FREQ_CALLS = {
+    "maxwell complex_stiffness": lambda f: library.get("table_7_3_elastomer").complex_stiffness(f),
+    "maxwell loss_factor": lambda f: library.get("table_b1_medium").loss_factor(f),
+    "voigt complex_stiffness": lambda f: VoigtModel(k=1e4, damping=20.0).complex_stiffness(f),
+    "voigt damping_ratio": lambda f: VoigtModel(k=1e4, damping=20.0).damping_ratio(f),
+    "iwan small_amplitude_stiffness": lambda f: IwanModel(**GOOD_IWAN).small_amplitude_stiffness(f),
+    "boucwen small_amplitude_stiffness": lambda f: BoucWenModel(**GOOD_BOUCWEN).small_amplitude_stiffness(f),
+    "sdof transmissibility": lambda f: library.get("system_a1_symmetric").transmissibility(f),
+    "hybrid transmissibility": lambda f: library.get("hybrid_asymmetric").transmissibility(f),
+    "hybrid series_stiffness": lambda f: library.get("hybrid_asymmetric").series_stiffness(f),
+}
+
+
+@pytest.mark.parametrize("call", _FREQ_CALLS.values(), ids=_FREQ_CALLS.keys())
+@pytest.mark.parametrize("freq, found", [
+    (math.nan, "found nan"), ([1.0, math.inf], "found inf"), (-math.inf, "found -inf"), (1e308, "found 1e+308"),
+    ("abc", "found 'abc'"), (True, "found True"), (1j, "found 1j"),
+])
+def test_model_frequencies_that_are_no_finite_number_are_refused_naming_freq(call, freq, found):
+    # complex_stiffness(nan) and transmissibility(nan) made numpy warn (an error in the tests) and gave
+    # NaN; 1e308 Hz overflowed 2 pi f; text, booleans and complex numbers are no frequencies
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ParameterError, match=re.escape(f"freq: {found}")) as raised:
+            call(freq)
+    assert "expected" in str(raised.value) and "Hz" in str(raised.value)
+
+
+def test_model_frequencies_accept_finite_numbers_and_arrays():
+    elastomer = library.get("table_7_3_elastomer")
+    np.testing.assert_array_equal(elastomer.complex_stiffness([1, 2.5]),
+                                  elastomer.complex_stiffness(np.array([1.0, 2.5])))
+    assert abs(library.get("system_a1_symmetric").transmissibility(0.0)) == pytest.approx(1.0)
