@@ -86,10 +86,18 @@ FLAT_LEVELS = (1e-8, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2)
 #: ``oversample x fs``): 8e8 bytes; the default 30 x 3200 Hz / 0.05 Hz is 1.9e6.
 MAX_SYNTHESIZED_SAMPLES = 10**8
 
+#: Highest frequency (Hz) of a flat input PSD: the Nyquist frequency ``1 / (2 x 1e-9 s)`` of the
+#: smallest time step idkit integrates with (``idkit.cli.options.MIN_TIME_STEP``); a floor band
+#: above it can be neither synthesized nor simulated (``f_hi=1e300`` was accepted).
+MAX_PSD_FREQ = 5e8
+
 
 def flat_input_psds(levels: ArrayLike = FLAT_LEVELS, *, f_lo: float = 0.1,
                     f_hi: float = 100.0) -> dict[float, PsdProfile]:
     """The flat input PSDs of SPEC 5 as profiles, keyed by level in (m/s^2)^2/Hz.
+
+    ``f_lo < f_hi`` in Hz, each > 0 and at most :data:`MAX_PSD_FREQ` (5e8 Hz); anything else
+    raises :class:`~idkit.errors.SimulationError` naming the argument.
 
     Examples
     --------
@@ -97,6 +105,14 @@ def flat_input_psds(levels: ArrayLike = FLAT_LEVELS, *, f_lo: float = 0.1,
     >>> sorted(profiles)[0], round(profiles[1e-2].rms(), 4)
     (1e-08, 0.9995)
     """
+    for name, value in (("f_lo", f_lo), ("f_hi", f_hi)):
+        if isinstance(value, (bool, np.bool_)) or not (isinstance(value, (int, float, np.integer, np.floating))
+                                                      and 0 < value <= MAX_PSD_FREQ):
+            raise SimulationError(f"{name}: found {value!r}, expected a frequency > 0 and at most "
+                                  f"{MAX_PSD_FREQ:g} Hz (the Nyquist frequency of a 1e-9 s step, the smallest "
+                                  "idkit integrates with)")
+    if not f_lo < f_hi:
+        raise SimulationError(f"f_lo, f_hi: found {f_lo!r} and {f_hi!r} Hz, expected f_lo < f_hi")
     values = np.atleast_1d(_numbers(levels, "levels", "PSD levels in (m/s^2)^2/Hz"))
     return {float(level): PsdProfile.flat(float(level), f_lo=f_lo, f_hi=f_hi) for level in values.ravel()}
 

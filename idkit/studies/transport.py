@@ -104,6 +104,8 @@ def transport_systems(*, wire_rope: IwanModel | None = None, elastomer: Generali
     """Build the reference, elastomer, wire-rope and hybrid systems tuned to ``target_freq`` (Hz).
 
     Defaults: the identified parts of the study (Table 7.1 wire rope, Table 7.3 elastomer).
+    ``intermediate_fraction``: the hybrids' intermediate mass as a fraction of their top mass,
+    0 < fraction < 1 (the tuning counts the top mass alone).
     """
     wire_rope = wire_rope if wire_rope is not None else library.get("table_7_1_wire_rope")
     elastomer = elastomer if elastomer is not None else library.get("table_7_3_elastomer")
@@ -117,6 +119,10 @@ def transport_systems(*, wire_rope: IwanModel | None = None, elastomer: Generali
         if isinstance(value, bool) or not (isinstance(value, (int, float, np.integer, np.floating))
                                            and np.isfinite(value) and value > 0):
             raise ParameterError(f"{name}: found {value!r}, expected a finite number > 0")
+    if not intermediate_fraction < 1:  # 1e300 built a 1.4e301 kg intermediate mass
+        raise ParameterError(f"intermediate_fraction: found {intermediate_fraction!r}, expected a fraction of the "
+                             "top mass below 1 (the hybrids are tuned to target_freq on the top mass alone, the "
+                             "intermediate mass small beside it: thesis 5.1, 1 % in the study)")
     if isinstance(reference_damping_ratio, bool) or not (
             isinstance(reference_damping_ratio, (int, float, np.integer, np.floating))
             and np.isfinite(reference_damping_ratio) and reference_damping_ratio >= 0):

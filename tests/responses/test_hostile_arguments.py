@@ -70,3 +70,28 @@ def test_linear_resonance_band_and_shock_relaxation_flag_are_checked():
         R.linear_resonance(SYSTEM, f_min="a", f_max=10)
     with pytest.raises(IdkitError, match=r"relaxation: found 'no', expected True or False"):  # relaxed before
         R.shock_sweep(SYSTEM, drop_height=[0.1], relaxation="no")
+
+
+@pytest.mark.parametrize("arguments, words", [
+    (dict(f_hi=1e300), "f_hi: found 1e+300, expected a frequency > 0 and at most 5e+08 Hz"),  # was taken
+    (dict(f_hi=float("inf")), "f_hi: found inf"),
+    (dict(f_lo=float("nan")), "f_lo: found nan"),       # a DataError naming no argument
+    (dict(f_lo=0.0), "f_lo: found 0.0"),
+    (dict(f_lo=-1.0), "f_lo: found -1.0"),
+    (dict(f_lo="0.1"), "f_lo: found '0.1'"),
+    (dict(f_hi=True), "f_hi: found True"),
+    (dict(f_lo=100.0, f_hi=10.0), "f_lo, f_hi: found 100.0 and 10.0 Hz, expected f_lo < f_hi"),
+])
+def test_flat_input_psds_refuses_a_band_out_of_range(arguments, words):
+    with pytest.raises(IdkitError) as raised:
+        R.flat_input_psds([1e-4], **arguments)
+    assert words in str(raised.value)
+
+
+def test_flat_input_psds_band_limit_is_the_nyquist_frequency_of_the_smallest_step():
+    from idkit.cli.options import MIN_TIME_STEP
+    from idkit.responses.random_vibration import MAX_PSD_FREQ
+
+    assert MAX_PSD_FREQ == pytest.approx(0.5 / MIN_TIME_STEP, rel=1e-15)
+    profile = R.flat_input_psds([1e-4], f_lo=1.0, f_hi=MAX_PSD_FREQ)[1e-4]
+    assert profile.rms() == pytest.approx(np.sqrt(1e-4 * (MAX_PSD_FREQ - 1.0)), rel=1e-12)

@@ -73,6 +73,9 @@ def test_tuning_table_shows_the_moving_masses_the_thesis_prints():
     (dict(reference_mass=-1.0), "reference_mass: found -1.0"),  # named VoigtModel's k
     (dict(reference_damping_ratio=-0.1), "reference_damping_ratio: found -0.1"),
     (dict(intermediate_fraction=float("nan")), "intermediate_fraction: found nan"),
+    (dict(intermediate_fraction=1e300), "intermediate_fraction: found 1e\\+300, expected a fraction of the top mass "
+                                        "below 1"),  # a 1.4e301 kg intermediate mass was built
+    (dict(intermediate_fraction=1.0), "intermediate_fraction: found 1.0"),
     (dict(r_k_values="ab"), "r_k_values: found 'ab'"),             # numpy TypeError from isfinite('a')
     (dict(r_k_values=(0.4, "x")), "r_k: found 'x'"),
     (dict(target_freq=1e300), "target_freq: found 1e\\+300"),      # bare OverflowError
@@ -117,3 +120,8 @@ def test_transport_study_checks_its_arguments_before_simulating(arguments, words
     monkeypatch.setattr(transport, "shock_sweep", no_simulation)
     with pytest.raises((ParameterError, DataError), match=words):
         transport.compute_transport_study(**(dict(n_realizations=1) | arguments))
+
+
+def test_an_intermediate_fraction_below_one_is_taken():
+    hybrid = transport_systems(r_k_values=(0.4,), intermediate_fraction=0.5)[-1].system
+    assert hybrid.intermediate_mass == pytest.approx(0.5 * hybrid.mass, rel=1e-12)
