@@ -168,8 +168,10 @@ def register(commands) -> None:
                           type=opt.real(at_least=opt.MIN_TOLERANCE, below=1, why="a relative change; smaller "
                                         "than round-off is never met"),
                           help="steady-state tolerance, relative (1e-12 to below 1, default 1e-3)")
-    harmonic.add_argument("--max-points", type=opt.integer(), default=opt.DEFAULT_MAX_POINTS,
-                          help=f"refuse grids of more points (default {opt.DEFAULT_MAX_POINTS})")
+    harmonic.add_argument("--max-points", default=opt.DEFAULT_MAX_POINTS,
+                          type=opt.integer(at_most=opt.MAX_GRID_POINTS, why="a larger grid does not fit in memory"),
+                          help=f"refuse grids of more points (default {opt.DEFAULT_MAX_POINTS}, "
+                               f"at most {opt.MAX_GRID_POINTS:.0e})")
     harmonic.add_argument("-o", "--output", help="CSV or JSON file (default: print a table)")
     harmonic.add_argument("--quiet", action="store_true")
     harmonic.set_defaults(handler=_cmd_simulate_harmonic)
@@ -190,8 +192,10 @@ def register(commands) -> None:
                                     "of steps duration/time_step too large"),
                       help=f"integration step in s (at least {opt.MIN_TIME_STEP:g}; default: 2000 per period of "
                            "the small-amplitude resonance, see idkit.responses.shock)")
-    drop.add_argument("--max-samples", type=opt.integer(), default=opt.DEFAULT_MAX_SAMPLES,
-                      help=f"refuse drops x steps above this (default {opt.DEFAULT_MAX_SAMPLES})")
+    drop.add_argument("--max-samples", default=opt.DEFAULT_MAX_SAMPLES,
+                      type=opt.integer(at_most=opt.MAX_DROP_SAMPLES, why="larger records do not fit in memory"),
+                      help=f"refuse drops x steps above this (default {opt.DEFAULT_MAX_SAMPLES}, "
+                           f"at most {opt.MAX_DROP_SAMPLES:.0e})")
     drop.add_argument("--gravity", action="store_true", help="include gravity")
     drop.add_argument("-o", "--output", help="CSV or JSON file (default: print a table)")
     drop.set_defaults(handler=_cmd_simulate_drop)

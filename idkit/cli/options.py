@@ -26,7 +26,14 @@ Limits and why (also in README, "Command line"):
   points (``--max-points`` raises it); ``simulate drop`` refuses more than
   :data:`DEFAULT_MAX_SAMPLES` (10^7) stored samples, drops x (steps + 1), about
   80 MB per recorded signal and degree of freedom (``--max-samples`` raises it).
-  Both are counted from the options before anything is allocated.
+  Both are counted from the options before anything is allocated. The limits themselves are
+  capped: ``--max-points`` at :data:`MAX_GRID_POINTS` (10^8; each point holds its harmonic
+  coefficients, state and table row, at least 350 bytes at the default 3 harmonics, so 10^8
+  points need over 35 GB, beyond the 24 GiB machines idkit runs on), ``--max-samples`` at
+  :data:`MAX_DROP_SAMPLES` (10^9; each stored sample is at least 7 float64 records per degree of
+  freedom: position, velocity, acceleration, force, displacement, relative velocity,
+  deflection, 56 bytes, so 10^9 samples need 56 GB). A larger limit could never be used
+  (``--max-points 1e300`` was taken).
 * ``fit maxwell --k0``: :data:`MIN_K0` (1e-12 N/m) to :data:`MAX_K0` (1.3e153 N/m): the element
   stiffnesses are searched in 0.1-10 k0; a narrower span is "min == max" to lmfit, a larger one
   overflows when squared.
@@ -51,7 +58,7 @@ __all__ = [
     "IdkitArgumentParser", "OptionError", "real", "integer", "Axis", "parse_axis", "check_grid_size",
     "check_band", "check_valid_range", "check_drop", "seed", "workers",
     "MAX_ORDER", "MAX_DMA_ORDER", "MAX_EVALS", "MAX_HARMONICS", "MIN_TOLERANCE", "MIN_TIME_STEP", "MAX_STEPS",
-    "DEFAULT_MAX_POINTS", "DEFAULT_MAX_SAMPLES", "MAX_WORKERS", "MAX_SEED", "SMALLEST_NORMAL", "MIN_K0", "MAX_K0",
+    "DEFAULT_MAX_POINTS", "DEFAULT_MAX_SAMPLES", "MAX_GRID_POINTS", "MAX_DROP_SAMPLES", "MAX_WORKERS", "MAX_SEED", "SMALLEST_NORMAL", "MIN_K0", "MAX_K0",
 ]
 
 MAX_ORDER = 12
@@ -64,6 +71,10 @@ MIN_TIME_STEP = 1e-9
 MAX_STEPS = 10**8
 DEFAULT_MAX_POINTS = 10**6
 DEFAULT_MAX_SAMPLES = 10**7
+#: Highest ``--max-points``: 10^8 points of >= 350 bytes each exceed a 24 GiB machine (module docstring).
+MAX_GRID_POINTS = 10**8
+#: Highest ``--max-samples``: 10^9 samples of >= 56 bytes each exceed a 24 GiB machine (module docstring).
+MAX_DROP_SAMPLES = 10**9
 MAX_WORKERS = 256
 MAX_SEED = 2**32 - 1
 #: ``fit maxwell --k0`` (N/m): the element stiffnesses are searched in 0.1 k0 .. 10 k0 and the order
@@ -245,7 +256,10 @@ def check_grid_size(axes, max_points: int, *, limit_option: str = "--max-points"
         # 1e300 points printed as an int were 301 digits
         sizes = " x ".join(f"{axis.size if axis.size < 10**9 else f'{axis.size:.4g}'} ({axis.option})" for axis in axes)
         raise OptionError(f"{' and '.join(a.option for a in axes)}: the grid has {sizes} = {total:.4g} points, "
-                          f"expected at most {limit_option} {max_points} (raise {limit_option} to run it)")
+                          f"expected at most {limit_option} {max_points} " + (
+                              f"(raise {limit_option} to run it)" if total <= MAX_GRID_POINTS else
+                              f"(beyond the largest {limit_option}, {MAX_GRID_POINTS:.0e}, whose grid "
+                              "would not fit in memory)"))
     return total
 
 
@@ -279,8 +293,10 @@ def check_drop(n_drops: int, duration: float, time_step: float, max_samples: int
     if samples > max_samples:
         raise OptionError(f"--duration {duration:g} s / --time-step {time_step:g} s for {n_drops} drop(s): "
                           f"{samples:.4g} samples to store, expected at most --max-samples {max_samples} "
-                          f"(about {8 * samples / 2**20:.0f} MiB per signal and degree of freedom; "
-                          f"raise --max-samples to run it)")
+                          f"(about {8 * samples / 2**20:.0f} MiB per signal and degree of freedom; " + (
+                              "raise --max-samples to run it)" if samples <= MAX_DROP_SAMPLES else
+                              f"beyond the largest --max-samples, {MAX_DROP_SAMPLES:.0e}, whose records would "
+                              "not fit in memory)"))
     return samples
 
 
