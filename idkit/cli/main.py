@@ -54,10 +54,13 @@ def _write_table(frame, output):
     print(f"wrote {output}", file=sys.stderr)
 
 
-def _failed_points(frame, what: str) -> int:
+def _failed_points(frame, what: str, valid=None) -> int:
     """Exit status of a simulated table (written in every case): 1 when a point's ``status`` is
-    not ``ok`` (a step that did not converge, a run that never settled), else 0."""
-    failed = frame.loc[frame["status"] != "ok", "status"]
+    not ``ok`` (a step that did not converge, a run that never settled), else 0. ``valid``
+    (a boolean column) replaces that test: drops are valid by their flag, so a drop that cannot
+    move (status :data:`idkit.responses.shock.NO_MOTION`) is not a failure."""
+    bad = frame["status"] != "ok" if valid is None else ~valid
+    failed = frame.loc[bad, "status"]
     if failed.empty:
         return 0
     print(f"idkit: {len(failed)} of {len(frame)} {what} not valid (see the status column), e.g. "
@@ -137,7 +140,7 @@ def _cmd_simulate_drop(args):
                             gravity=args.gravity)
     table = sweep.to_dataframe()
     _write_table(table, args.output)
-    return _failed_points(table, "drops")
+    return _failed_points(table, "drops", valid=table["flag"] == 0)
 
 
 def register(commands) -> None:
@@ -177,8 +180,9 @@ def register(commands) -> None:
     harmonic.set_defaults(handler=_cmd_simulate_harmonic)
 
     drop = kinds.add_parser("drop", help="conditioned free fall (base fixed)",
-                            epilog="exit status (the table is written in every case): 0 every drop is ok; "
-                                   "1 a drop is not (its status says why)")
+                            epilog="exit status (the table is written in every case): 0 every drop is valid "
+                                   "(one that cannot move, speed 0 without --gravity, says 'no motion' in its "
+                                   "status, its peaks NaN); 1 a drop is not (its status says why)")
     drop.add_argument("model", help="model file (JSON)")
     drop.add_argument("--mass", type=opt.real(above=0, unit="kg"), help="top mass in kg (isolator model files)")
     drop.add_argument("--velocity", type=opt.real(at_least=0, unit="m/s", why="a speed; idkit sets the sign "

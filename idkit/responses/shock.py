@@ -62,7 +62,13 @@ from idkit.simulate import (
 )
 from idkit.simulate.harmonic import RESONANCE_BAND_HZ
 
-__all__ = ["ShockSweep", "shock_sweep", "default_shock_grid"]
+__all__ = ["ShockSweep", "shock_sweep", "default_shock_grid", "NO_MOTION"]
+
+#: Status of a conditioned drop that cannot move: no impact speed, no gravity, no initial
+#: deflection. Its run is valid (flag 0) but has no compression or tension phase, so its peaks
+#: are NaN (``drop_height=[0.0]`` without gravity said "ok" beside NaN peaks).
+NO_MOTION = ("no motion: v0 = 0 without gravity or initial deflection, the mass stays at rest "
+             "(no compression or tension phase: peaks NaN)")
 
 
 def _internal_frequency(system) -> float:
@@ -129,7 +135,8 @@ class ShockSweep:
     top_acceleration : ndarray, shape (n, n_records)
         Absolute top-mass acceleration records, m/s^2 (NaN after a flag).
     flags : ndarray of int, shape (n,); reasons : tuple of str
-        Simulator validity flags and their text.
+        Simulator validity flags and their text; a valid drop that cannot move (``v0 = 0``
+        without gravity or relaxation) has flag 0 and the reason :data:`NO_MOTION`.
     duration, time_step : float
         s.
     gravity : float
@@ -248,7 +255,8 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
     impact_velocity : array_like, shape (n,), optional
         ``v0`` in m/s, negative downward (a positive value throws the mass upward, i.e.
         starts in tension: useful for symmetry checks; 0 sets the mass down without speed,
-        which only moves under ``gravity``). Give this or ``drop_height``.
+        which only moves under ``gravity`` or ``relaxation``: otherwise its status is
+        :data:`NO_MOTION` and its peaks NaN). Give this or ``drop_height``.
     drop_height : array_like, shape (n,), optional
         Heights in m, ``v0 = -sqrt(2 g h)`` (:func:`idkit.gravity.impact_velocity_from_height`).
     duration, time_step : float, optional
@@ -320,6 +328,8 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
                              np.where(np.fmax(compression, -np.inf) >= np.fmax(tension, -np.inf),
                                       "compression", "tension"))
     names = ("isolator",) if n_isolators == 1 else ("upper", "lower")
+    still = ok & (velocity == 0) & (g == 0.0) & (not np.any(initial))  # nothing can move: no phase
+    reasons = tuple(NO_MOTION if at_rest else reason for at_rest, reason in zip(still, response.reasons))
     return ShockSweep(
         impact_velocity=velocity, drop_height=velocity**2 / (2.0 * STANDARD_GRAVITY), rest_shock_level=rest,
         peak_acceleration_compression=compression, peak_acceleration_tension=tension,
@@ -328,7 +338,7 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
         peak_compression=np.where(ok[:, None], each.compression, np.nan),
         peak_tension=np.where(ok[:, None], each.tension, np.nan),
         isolator_names=names, time=response.time, top_acceleration=accel,
-        flags=np.asarray(response.flags, dtype=np.int64), reasons=tuple(response.reasons), duration=duration,
+        flags=np.asarray(response.flags, dtype=np.int64), reasons=reasons, duration=duration,
         time_step=time_step, gravity=g, relaxation=bool(relaxation), initial_deflection=initial,
     )
 

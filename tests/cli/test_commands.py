@@ -98,3 +98,17 @@ def test_every_command_module_is_registered(capsys):
                 parser.parse_args([name, "--help"])
             assert stop.value.code == 0, f"idkit {name} ({info.name}.py) is not registered"
     capsys.readouterr()
+
+
+def test_simulate_drop_from_height_zero_says_nothing_moves(tmp_path, capsys):
+    # --height 0 without --gravity wrote NaN peaks under status "ok"; the drop is valid (exit 0)
+    # and its status says why its peaks are NaN
+    model_file = tmp_path / "system.json"
+    assert main(["library", "system_b1_medium", "-o", str(model_file)]) == 0
+    out_csv = tmp_path / "drops.csv"
+    assert main(["simulate", "drop", str(model_file), "--height", "0", "0.01", "--duration", "0.05",
+                 "--time-step", "1e-4", "-o", str(out_csv)]) == 0
+    table = pd.read_csv(out_csv)
+    assert table["status"][0].startswith("no motion: v0 = 0 without gravity") and table["status"][1] == "ok"
+    assert pd.isna(table["rest_shock_level [m/s^2]"][0]) and table["rest_shock_level [m/s^2]"][1] > 0
+    assert (table["flag"] == 0).all()

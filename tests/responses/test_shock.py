@@ -125,3 +125,31 @@ def test_the_default_drop_grid_refuses_a_resonance_it_has_not_located(mass):
         shock_sweep(system, drop_height=[0.05])
     # given a grid, it runs
     assert shock_sweep(system, drop_height=[0.05], duration=1e-3, time_step=1e-5).drop_height.size == 1
+
+
+@pytest.mark.parametrize("arguments, gravity, moves", [
+    (dict(drop_height=[0.0, 0.02]), False, [False, True]),
+    (dict(impact_velocity=[0.0, -0.3]), False, [False, True]),
+    (dict(drop_height=[0.0]), True, [True]),       # set down under gravity: it compresses
+])
+def test_a_drop_that_cannot_move_says_so_instead_of_ok(arguments, gravity, moves):
+    # drop_height=[0.0] without gravity reported NaN peaks with status "ok"; nothing can move
+    # (no speed, no weight, no initial deflection), so the status says why the peaks are NaN
+    from idkit.responses.shock import NO_MOTION
+
+    system = SDOFSystem(1.0, VoigtModel(k=(2 * np.pi * 5.0) ** 2, damping=1.0))
+    sweep = shock_sweep(system, duration=0.2, time_step=1e-3, gravity=gravity, **arguments)
+    assert sweep.ok.all()  # the runs are valid
+    for index, moving in enumerate(moves):
+        if moving:
+            assert sweep.reasons[index] == "ok" and sweep.rest_shock_level[index] > 0
+        else:
+            assert sweep.reasons[index] == NO_MOTION
+            assert np.isnan(sweep.rest_shock_level[index]) and sweep.travel_compression[index] == 0.0
+    assert list(sweep.to_dataframe()["status"]) == list(sweep.reasons)
+
+
+def test_relaxation_moves_a_drop_without_speed_or_gravity():
+    system = SDOFSystem(1.0, VoigtModel(k=(2 * np.pi * 5.0) ** 2, damping=1.0))
+    sweep = shock_sweep(system, impact_velocity=[0.0], duration=0.2, time_step=1e-3, relaxation=True)
+    assert sweep.reasons == ("ok",) and sweep.rest_shock_level[0] > 0
