@@ -313,7 +313,8 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
     g = gravity_acceleration(gravity)
     n_isolators = len(system.isolators)
     initial = relaxation_deflection(system) if relaxation else np.zeros(n_isolators)
-    response = free_fall(system, impact_velocity=velocity, duration=duration, time_step=time_step, gravity=g,
+    given = {"impact_velocity": velocity} if drop_height is None else {"drop_height": np.atleast_1d(drop_height)}
+    response = free_fall(system, **given, duration=duration, time_step=time_step, gravity=g,
                          initial_deflection=initial if relaxation else None, workers=workers, executor=executor)
     accel = response.acceleration[:, 0, :]
     ok = response.flags == 0

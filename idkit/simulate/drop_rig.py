@@ -189,6 +189,10 @@ def rig_time_step(system, bottom_mass: float, contact: ContactModel = DEFAULT_CO
     return min(step, contact.period(bottom_mass) / STEPS_PER_CONTACT_PERIOD)
 
 
+#: Most steps of one rig drop (fall and record), the simulator's limit (``free_fall``: 1e8).
+MAX_RIG_STEPS = 1e8
+
+
 def drop_rig(system, *, bottom_mass: float, drop_height, contact: ContactModel = DEFAULT_CONTACT,
              duration: float | None = None, before: float = 0.0, time_step: float | None = None,
              workers: int | None = None, executor=None) -> DropRigResponse:
@@ -246,7 +250,16 @@ def drop_rig(system, *, bottom_mass: float, drop_height, contact: ContactModel =
     for j in range(n - 2, -1, -1):
         q0[:, j] = q0[:, j + 1] + static[j]
     # steps: the fall (with margin for the bottom mass, pushed down by the relaxing isolator) and the record
-    n_steps = np.ceil((1.05 * fall + duration) / h).astype(np.int64) + 2
+    raw = (1.05 * fall + duration) / h
+    steps = raw + 2
+    if not np.all(steps < MAX_RIG_STEPS):  # drop_height=1e300: a 4.5e149 s fall cast to int64 (numpy warning)
+        worst = int(np.argmax(steps))
+        fall_max = max(((MAX_RIG_STEPS - 3) * h - duration) / 1.05, 0.0)
+        raise SimulationError(
+            f"drop_height: found {heights[worst]:.4g} m, whose fall of {fall[worst]:.4g} s and record of {duration:.4g} s "
+            f"take {steps[worst]:.4g} steps of {h:.4g} s; expected fewer than {MAX_RIG_STEPS:.0e} (the simulator's "
+            f"limit), a height below {STANDARD_GRAVITY * fall_max**2 / 2:.4g} m at this step")
+    n_steps = np.ceil(raw).astype(np.int64) + 2
     batch = heights.size
     jforce0 = np.broadcast_to(jforce, (batch, *jforce.shape)).copy()
     mstate0 = np.broadcast_to(mstate, (batch, *mstate.shape)).copy()

@@ -11,7 +11,14 @@ from idkit.errors import SimulationError
 from idkit.models.laws import kernel_array
 from idkit.models.base import IsolatorModel
 from idkit.gravity import gravity_acceleration, impact_velocity_from_height
-from idkit.simulate._arrays import STANDARD_GRAVITY, force_scale, resolve_system, system_arrays, whole_number
+from idkit.simulate._arrays import (
+    MAX_FORCE_SCALE,
+    STANDARD_GRAVITY,
+    force_scale,
+    resolve_system,
+    system_arrays,
+    whole_number,
+)
 from idkit.simulate._kernel import FLAG_REASONS, time_kernel
 from idkit.simulate._parallel import run_chunked
 from idkit.simulate._structured import structure_of
@@ -386,12 +393,49 @@ def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float
     if duration / time_step >= 1e8:
         raise SimulationError(f"free_fall: found duration={duration!r} / time_step={time_step!r} = "
                               f"{duration / time_step:.3g} steps, expected fewer than 1e8")
+    arrays = system_arrays(system)
+    _check_impact_force(arrays, v0, time_step, drop_height)
     n_steps = _steps_covering(duration, time_step)
     time = np.arange(n_steps + 1) * time_step
-    ndof = system_arrays(system).ndof
+    ndof = arrays.ndof
     velocities = np.repeat(v0[:, None], ndof, axis=1)
     return simulate(system, time, initial_velocity=velocities, initial_deflection=initial_deflection,
                     gravity=gravity, record_every=record_every, workers=workers, executor=executor)
+
+
+def _check_impact_force(arrays, v0, time_step: float, drop_height) -> None:
+    """Refuse an impact whose arrest within one step gives forces beyond :data:`MAX_FORCE_SCALE`.
+
+    The rule of every simulation (:func:`~idkit.simulate._arrays.force_scale`): total mass times an
+    acceleration scale, plus the slip forces, must stay below ``sqrt`` of the largest float64, or
+    the residual norm of a step can overflow. A base motion's scale is its largest velocity change
+    over a step divided by the step; an impact's is ``|v0| / time_step``, the mass stopped within
+    one step. ``drop_height=1e300`` (4.4e150 m/s) ran "ok" with 1e148 m of travel.
+    """
+    mass, slip = float(arrays.masses.sum()), float(arrays.jfc.sum())
+    with np.errstate(over="ignore"):
+        if not mass * STANDARD_GRAVITY + slip < MAX_FORCE_SCALE:
+            return  # the system itself is refused by force_scale, naming its masses
+    speed = np.abs(v0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        forces = mass * (speed / time_step + STANDARD_GRAVITY) + slip
+    bad = np.isfinite(speed) & ~(forces < MAX_FORCE_SCALE)
+    if not bad.any():
+        return
+    index = int(np.flatnonzero(bad)[0])
+    limit = max((MAX_FORCE_SCALE - slip) / mass - STANDARD_GRAVITY, 0.0) * time_step
+    if drop_height is None:
+        found = f"impact_velocity: found {float(v0[index]):.4g} m/s"
+    else:
+        found = (f"drop_height: found {float(np.ravel(drop_height)[index]):.4g} m "
+                 f"(impact at {float(speed[index]):.4g} m/s)")
+    with np.errstate(over="ignore"):
+        height = limit**2 / (2.0 * STANDARD_GRAVITY)
+    raise SimulationError(
+        f"{found}: stopped within one time step of {time_step:.4g} s, the masses {mass:.4g} kg meet forces "
+        f"of {float(forces[index]):.4g} N, whose squares overflow float64 in the integrator's residual norm; "
+        f"expected |v0| below {limit:.4g} m/s (a drop height below {height:.4g} m) at this step, forces below "
+        f"{MAX_FORCE_SCALE:.4g} N (the limit of every simulation)")
 
 
 def _steps_covering(duration: float, time_step: float) -> int:

@@ -133,6 +133,10 @@ ERRORS = [
     ("height-minus-inf", DROP + ["--height", "-inf"], ["--height", "found '-inf'", "finite"]),
     ("velocity-negative", DROP + ["--velocity", "-1"], ["--velocity", "found '-1'", "a speed"]),
     ("velocity-inf", DROP + ["--velocity", "inf"], ["--velocity", "found 'inf'", "finite"]),
+    # 4.4e150 m/s ran "ok" with 1e148 m of travel: the impact passes the force-scale rule
+    ("height-1e300", DROP + ["--height", "1e300"], ["drop_height: found 1e+300 m", "expected |v0| below",
+                                                    "forces below 1.341e+154 N"]),
+    ("velocity-1e152", DROP + ["--velocity", "1e152"], ["impact_velocity: found -1e+152 m/s", "expected |v0| below"]),
     ("time-step-1e-12", DROP + ["--velocity", "1", "--time-step", "1e-12"],
      ["--time-step", "found '1e-12'", ">= 1e-09 s", "number of steps"]),
     ("time-step-negative-exponent", DROP + ["--velocity", "1", "--time-step", "-1e-12"],

@@ -153,3 +153,38 @@ def test_relaxation_moves_a_drop_without_speed_or_gravity():
     system = SDOFSystem(1.0, VoigtModel(k=(2 * np.pi * 5.0) ** 2, damping=1.0))
     sweep = shock_sweep(system, impact_velocity=[0.0], duration=0.2, time_step=1e-3, relaxation=True)
     assert sweep.reasons == ("ok",) and sweep.rest_shock_level[0] > 0
+
+
+def test_an_impact_whose_arrest_overflows_the_force_scale_is_refused_from_a_height_or_a_speed():
+    # drop_height=[1e300] (4.4e150 m/s) ran "ok" with 1e148 m of travel; the impact now passes the
+    # force-scale rule of every simulation: mass x |v0| / time_step (stopped within one step) below
+    # sqrt(largest float64) = 1.34e154 N, here |v0| < 1.34e154 x 1e-4 s / 1 kg = 1.34e150 m/s
+    import warnings
+
+    system = SDOFSystem(1.0, VoigtModel(k=(2 * np.pi * 5.0) ** 2, damping=1.0))
+    grid = dict(duration=0.2, time_step=1e-4)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(SimulationError, match=r"drop_height: found 1e\+300 m \(impact at 4.429e\+150 m/s\).*"
+                                                  r"expected \|v0\| below 1.341e\+150 m/s"):
+            shock_sweep(system, drop_height=[0.1, 1e300], **grid)
+        with pytest.raises(SimulationError, match=r"impact_velocity: found -1e\+152 m/s.*forces below 1.341e\+154 N"):
+            shock_sweep(system, impact_velocity=[-1e152], **grid)
+        # below the bound the linear system's answer scales exactly with the speed
+        sweep = shock_sweep(system, impact_velocity=[-1.0, -1e149], **grid)
+    assert sweep.reasons == ("ok", "ok")
+    assert sweep.rest_shock_level[1] / 1e149 == pytest.approx(sweep.rest_shock_level[0], rel=1e-9)
+
+
+def test_a_rig_drop_whose_fall_exceeds_the_simulator_steps_is_refused():
+    # drop_rig(drop_height=[1e300]): a 4.5e149 s fall cast to int64 steps (numpy RuntimeWarning)
+    import warnings
+
+    from idkit.simulate import drop_rig
+
+    system = SDOFSystem(1.0, VoigtModel(k=(2 * np.pi * 5.0) ** 2, damping=1.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(SimulationError, match=r"drop_height: found 1e\+300 m, whose fall of 4.516e\+149 s.*"
+                                                  r"expected fewer than 1e\+08"):
+            drop_rig(system, bottom_mass=5.0, drop_height=[1e300], duration=0.1, time_step=1e-3)
