@@ -23,15 +23,15 @@ __all__ = ["validate_harmonic", "HARMONIC_THRESHOLDS", "MAX_UNSETTLED_FRACTION"]
 #: were left out and the sweep passed on the rest.)
 MAX_UNSETTLED_FRACTION = 0.0
 
-#: Default limits: RMS of 20 log10(|H1 sim| / |H1 meas|) over the grid (dB), the largest
-#: relative error of the resonance frequency per amplitude level, and of the peak magnitude;
-#: and the fraction of points the simulator flagged (the model left its valid range at a
-#: measured point: it cannot be simulated where the data were taken), as for the drops.
 #: Standard errors of a point's measured H1 (from the residuals of its harmonic fits) added to its
 #: own magnitude and phase limits: by noise alone one of 100 points exceeds 4 of them with a
 #: chance of 0.6 % (normal errors).
 NOISE_STANDARD_ERRORS = 4.0
 
+#: Default limits: RMS of 20 log10(|H1 sim| / |H1 meas|) over the grid (dB), the largest
+#: relative error of the resonance frequency per amplitude level, and of the peak magnitude;
+#: the fraction of points the simulator flagged (the model left its valid range at a
+#: measured point: it cannot be simulated where the data were taken), as for the drops; and
 #: ``records_beyond_limit``: settled points beyond their own magnitude or phase limit
 #: (:func:`idkit.validate.records.sweep_point_envelope`).
 HARMONIC_THRESHOLDS = {
