@@ -24,6 +24,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from scipy import signal as sps
 
+from idkit.checks import Real, Samples, Whole, accepts
 from idkit.errors import DataError
 from idkit.signal.harmonics import resonance_peak
 
@@ -87,6 +88,9 @@ class FrfEstimate:
         )
 
 
+@accepts(base=Samples(unit="m/s"), top=Samples(unit="m/s"), fs=Real(unit="Hz", gt=0),
+         nperseg=Whole(ge=8, meaning="samples per Welch segment"), overlap=Real(ge=0, lt=1),
+         f_lo=Real(unit="Hz", ge=0), f_hi=Real(unit="Hz", gt=0, optional=True), error=DataError)
 def estimate_frf(
     base: ArrayLike,
     top: ArrayLike,
@@ -136,24 +140,11 @@ def estimate_frf(
     >>> bool(np.allclose(est.h1, 2.0)), bool(np.allclose(est.coherence, 1.0))
     (True, True)
     """
-    x = np.asarray(base, dtype=float)
-    y = np.asarray(top, dtype=float)
-    if x.ndim != 1 or x.shape != y.shape:
-        raise DataError(
-            f"base and top must be 1-D of equal length; found shapes {x.shape} and {y.shape}"
-        )
-    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
-        raise DataError("base and top must be finite; found NaN or inf")
-    if not (np.isfinite(fs) and fs > 0):
-        raise DataError(f"fs must be a positive sample rate in Hz; found {fs!r}")
-    if int(nperseg) != nperseg or nperseg < 8 or nperseg > x.size:
-        raise DataError(
-            f"nperseg must be an integer between 8 and the record length {x.size}; "
-            f"found {nperseg!r}"
-        )
-    nperseg = int(nperseg)
-    if not (0 <= overlap < 1):
-        raise DataError(f"overlap must be a fraction in [0, 1); found {overlap!r}")
+    x, y = base, top
+    if x.shape != y.shape:
+        raise DataError(f"base and top must be of equal length; found shapes {x.shape} and {y.shape}")
+    if nperseg > x.size:
+        raise DataError(f"nperseg: found {nperseg}, expected at most the record length {x.size}")
     noverlap = int(round(overlap * nperseg))
     nyquist = fs / 2
     f_hi = nyquist if f_hi is None else f_hi

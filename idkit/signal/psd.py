@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import integrate
 from scipy import signal as sps
 
+from idkit.checks import Real, Samples, Seed, Whole, accepts
 from idkit.errors import DataError
 
 __all__ = [
@@ -160,6 +161,8 @@ class PsdProfile:
         )
 
 
+@accepts(seed=Seed(), fs=Real(unit="Hz", gt=0), freq_step=Real(unit="Hz", gt=0),
+         n_realizations=Whole(ge=1), error=DataError)
 def synthesize_random(
     psd: Callable[[NDArray[np.float64]], ArrayLike],
     *,
@@ -209,8 +212,6 @@ def synthesize_random(
     >>> signals.shape
     (30, 16000)
     """
-    if not (np.isfinite(fs) and fs > 0 and np.isfinite(freq_step) and freq_step > 0):
-        raise DataError(f"fs and freq_step must be positive Hz; found {fs=!r}, {freq_step=!r}")
     ratio = fs / freq_step
     n_samples = int(round(ratio))
     if abs(ratio - n_samples) > 1e-9 * ratio or n_samples < 4:
@@ -218,11 +219,6 @@ def synthesize_random(
             f"fs / freq_step must be an integer number of samples >= 4; found {fs:g} / "
             f"{freq_step:g} = {ratio:.6g}"
         )
-    if int(n_realizations) != n_realizations or n_realizations < 1:
-        raise DataError(f"n_realizations must be a positive integer; found {n_realizations!r}")
-    if not isinstance(seed, (np.random.SeedSequence, np.random.Generator)) and (
-            isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0):
-        raise DataError(f"seed: found {seed!r}, expected an integer >= 0, a SeedSequence or a Generator")
     if not callable(psd):
         raise DataError(f"psd: found {type(psd).__name__}, expected a callable psd(freq_Hz) such as a PsdProfile")
     if isinstance(psd, PsdProfile) and psd.freq[-1] > fs / 2:
@@ -277,6 +273,8 @@ class PsdEstimate:
         return pd.DataFrame({"freq [Hz]": self.freq, "psd": self.psd})
 
 
+@accepts(signals=Samples(ndim=(1, 2), min_size=8), fs=Real(unit="Hz", gt=0),
+         nperseg=Whole(ge=2, optional=True), overlap=Real(ge=0, lt=1), error=DataError)
 def welch_psd(
     signals: ArrayLike,
     *,
@@ -313,26 +311,12 @@ def welch_psd(
     >>> estimate.nperseg, estimate.n_segments
     (1998, 22)
     """
-    values = np.asarray(signals, dtype=float)
-    if values.ndim == 1:
-        values = values[None, :]
-    if values.ndim != 2 or values.shape[1] < 8:
-        raise DataError(
-            f"signals must have shape (n_samples,) or (n_realizations, n_samples) with "
-            f"n_samples >= 8; found {np.shape(signals)}"
-        )
-    if not np.all(np.isfinite(values)):
-        raise DataError("signals must be finite; found NaN or inf")
-    if not (np.isfinite(fs) and fs > 0):
-        raise DataError(f"fs must be a positive sample rate in Hz; found {fs!r}")
+    values = signals if signals.ndim == 2 else signals[None, :]
     n_samples = values.shape[1]
     if nperseg is None:
         nperseg = max(3 * (n_samples // 24), 3)
-    if int(nperseg) != nperseg or not 2 <= nperseg <= n_samples:
-        raise DataError(f"nperseg must be an integer in [2, {n_samples}]; found {nperseg!r}")
-    nperseg = int(nperseg)
-    if not (0 <= overlap < 1):
-        raise DataError(f"overlap must be a fraction in [0, 1); found {overlap!r}")
+    if nperseg > n_samples:
+        raise DataError(f"nperseg: found {nperseg}, expected at most the record length {n_samples}")
     noverlap = int(round(overlap * nperseg))
     freq, density = sps.welch(
         values, fs=fs, window="hann", nperseg=nperseg, noverlap=noverlap, detrend="constant",

@@ -1,0 +1,343 @@
+"""Declared argument contracts: each public argument's kind, unit, range and meaning, stated once.
+
+A public function declares its arguments with :func:`accepts`; the declaration is checked when
+the function is called, before its body runs, and the body receives the coerced values (a
+``float``, an ``int``, a read-only float64 array). Inner layers trust what a public function
+hands them, so a value is checked once, at the boundary it enters through.
+
+Every refusal reads ``name: found X, expected Y`` and is raised as the error class the function
+declares (``DataError`` for signals and records, ``ParameterError`` for model and option values,
+``SimulationError`` for simulator inputs), so callers catch idkit's family or ``ValueError``.
+
+>>> from idkit.errors import DataError
+>>> @accepts(fs=Real(unit="Hz", gt=0), error=DataError)
+... def nyquist(*, fs):
+...     return fs / 2
+>>> nyquist(fs=100)
+50.0
+>>> nyquist(fs=True)
+Traceback (most recent call last):
+...
+idkit.errors.DataError: fs: found True (bool), expected a real number > 0 Hz
+
+Each spec also lists values it must refuse (:meth:`Spec.bad_values`); the test suite feeds them
+to every declared argument of every declared function (:data:`DECLARED`), so a new argument is
+covered by declaring it.
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+from idkit.errors import ParameterError
+
+__all__ = ["Spec", "Real", "Whole", "Choice", "Flag", "Samples", "Seed", "accepts", "refuse", "DECLARED",
+           "Contract"]
+
+#: Values that ``float()`` converts but that are not numbers.
+_NOT_NUMBERS = (bool, np.bool_, str, bytes)
+
+
+class _Refused(Exception):
+    """Raised by a spec's ``coerce``: what was found and what was expected."""
+
+    def __init__(self, found: str, expected: str):
+        super().__init__(found, expected)
+        self.found, self.expected = found, expected
+
+
+def refuse(name: str, value: Any, expected: str, error: type[Exception] = ParameterError) -> Exception:
+    """The one refusal message, ``name: found X, expected Y``, as an exception to raise."""
+    found = value if isinstance(value, str) and value.startswith("<") else _found(value)
+    return error(f"{name}: found {found}, expected {expected}")
+
+
+def _found(value: Any) -> str:
+    if isinstance(value, (bool, np.bool_)):
+        return f"{value!r} (bool)"
+    if isinstance(value, np.ndarray):
+        return f"an array of shape {value.shape}"
+    return repr(value)
+
+
+class Spec:
+    """One argument's contract. Subclasses define :meth:`coerce`, :meth:`expected` and
+    :meth:`bad_values`."""
+
+    optional: bool = False
+
+    def coerce(self, value: Any) -> Any:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def expected(self) -> str:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def bad_values(self) -> list:
+        """Values this spec must refuse (used by the table-driven refusal test)."""
+        return [] if self.optional else [None]
+
+    def check(self, value: Any, name: str, error: type[Exception] = ParameterError) -> Any:
+        """``value`` coerced, or ``error`` naming ``name``, the value and the expectation."""
+        if value is None and self.optional:
+            return None
+        try:
+            return self.coerce(value)
+        except _Refused as refusal:
+            raise error(f"{name}: found {refusal.found}, expected {refusal.expected}") from None
+
+    def parse(self, text: str) -> Any:
+        """An argparse ``type=``: ``text`` read as a number and checked (``ValueError`` on refusal)."""
+        try:
+            number = float(text)
+        except ValueError:
+            raise ValueError(f"found {text!r}, expected {self.expected()}") from None
+        try:
+            return self.coerce(int(number) if isinstance(self, Whole) and number.is_integer() else number)
+        except _Refused as refusal:
+            raise ValueError(f"found {text!r}, expected {refusal.expected}") from None
+
+
+def _bounds(gt, ge, lt, le, unit: str) -> str:
+    parts = [f"{symbol} {bound:g}" for symbol, bound in ((">", gt), (">=", ge), ("<", lt), ("<=", le))
+             if bound is not None]
+    text = " and ".join(parts)
+    return f"{text} {unit}".rstrip() if unit not in ("", "-") else text
+
+
+def _number(value: Any, expected: str) -> float:
+    if isinstance(value, _NOT_NUMBERS):  # float() would take True as 1 and "8" as 8
+        raise _Refused(_found(value), expected)
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise _Refused(_found(value), expected) from None
+    if not math.isfinite(number):
+        raise _Refused(repr(number), expected)
+    return number
+
+
+@dataclass(frozen=True)
+class Real(Spec):
+    """A finite real number in ``unit``, with optional open (``gt``, ``lt``) or closed (``ge``,
+    ``le``) bounds; ``None`` accepted when ``optional``."""
+
+    unit: str = "-"
+    gt: float | None = None
+    ge: float | None = None
+    lt: float | None = None
+    le: float | None = None
+    meaning: str = ""
+    optional: bool = False
+
+    def expected(self) -> str:
+        bounds = _bounds(self.gt, self.ge, self.lt, self.le, self.unit)
+        unit = "" if bounds or self.unit in ("", "-") else f" in {self.unit}"
+        text = f"a real number {bounds}".rstrip() + unit
+        return f"{text} ({self.meaning})" if self.meaning else text
+
+    def coerce(self, value: Any) -> float:
+        number = _number(value, self.expected())
+        if ((self.gt is not None and not number > self.gt) or (self.ge is not None and not number >= self.ge)
+                or (self.lt is not None and not number < self.lt) or (self.le is not None and not number <= self.le)):
+            raise _Refused(f"{number:g}", self.expected())
+        return number
+
+    def bad_values(self) -> list:
+        bad = super().bad_values() + [math.nan, math.inf, True, "abc"]
+        low = self.gt if self.gt is not None else self.ge
+        high = self.lt if self.lt is not None else self.le
+        if low is not None:
+            bad.append(low if self.gt is not None else low - max(1.0, abs(low)))
+        if high is not None:
+            bad.append(high if self.lt is not None else high + max(1.0, abs(high)))
+        return bad
+
+
+@dataclass(frozen=True)
+class Whole(Spec):
+    """A whole number (``2.5`` refused, never truncated; ``1e3`` read as 1000) within ``[ge, le]``."""
+
+    ge: int | None = None
+    le: int | None = None
+    meaning: str = ""
+    optional: bool = False
+
+    def expected(self) -> str:
+        text = f"a whole number {_bounds(None, self.ge, None, self.le, '')}".rstrip()
+        return f"{text} ({self.meaning})" if self.meaning else text
+
+    def coerce(self, value: Any) -> int:
+        if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)):
+            number = int(value)
+        else:
+            real = _number(value, self.expected())
+            if not real.is_integer():
+                raise _Refused(_found(value), self.expected())
+            number = int(real)
+        if (self.ge is not None and number < self.ge) or (self.le is not None and number > self.le):
+            raise _Refused(repr(number), self.expected())
+        return number
+
+    def bad_values(self) -> list:
+        bad = super().bad_values() + [2.5, math.nan, True, "3"]
+        if self.ge is not None:
+            bad.append(self.ge - 1)
+        if self.le is not None:
+            bad.append(self.le + 1)
+        return bad
+
+
+@dataclass(frozen=True)
+class Choice(Spec):
+    """One of a fixed set of values (compared with ``==``; text is not case-folded)."""
+
+    options: tuple = ()
+    optional: bool = False
+
+    def expected(self) -> str:
+        return "one of " + ", ".join(repr(option) for option in self.options)
+
+    def coerce(self, value: Any) -> Any:
+        if isinstance(value, (str, bool, int, float, type(None))) and value in self.options:
+            return value
+        raise _Refused(_found(value), self.expected())
+
+    def bad_values(self) -> list:
+        return super().bad_values() + ["no-such-option", 3.5]
+
+
+@dataclass(frozen=True)
+class Flag(Spec):
+    """``True`` or ``False`` (numpy booleans accepted; ``1`` and ``"yes"`` refused)."""
+
+    def expected(self) -> str:
+        return "True or False"
+
+    def coerce(self, value: Any) -> bool:
+        if isinstance(value, (bool, np.bool_)):
+            return bool(value)
+        raise _Refused(_found(value), self.expected())
+
+    def bad_values(self) -> list:
+        return super().bad_values() + [1, "yes"]
+
+
+@dataclass(frozen=True)
+class Samples(Spec):
+    """A record of real samples: a float64 array of ``ndim`` dimensions with at least
+    ``min_size`` samples along its last axis, finite unless ``finite`` is false. Returned as
+    a read-only float64 array (a view of the caller's when it already is one: never altered)."""
+
+    unit: str = "-"
+    ndim: tuple[int, ...] = (1,)
+    min_size: int = 1
+    finite: bool = True
+    optional: bool = False
+
+    def expected(self) -> str:
+        shape = " or ".join(f"{n}-D" for n in self.ndim)
+        finite = "finite " if self.finite else ""
+        unit = f" in {self.unit}" if self.unit not in ("", "-") else ""
+        return f"a {shape} array of at least {self.min_size} {finite}real samples{unit}"
+
+    def coerce(self, value: Any) -> np.ndarray:
+        if isinstance(value, (str, bytes, bool, np.bool_)) or value is None:
+            raise _Refused(_found(value), self.expected())
+        try:
+            array = np.asarray(value)
+        except (TypeError, ValueError):
+            raise _Refused(f"<{type(value).__name__}>", self.expected()) from None
+        if array.dtype.kind not in "iuf" or array.ndim not in self.ndim:
+            raise _Refused(f"an array of shape {array.shape} and dtype {array.dtype}", self.expected())
+        array = array.astype(np.float64, copy=False)
+        if array.shape[-1] < self.min_size:
+            raise _Refused(f"{array.shape[-1]} samples", self.expected())
+        if self.finite and not np.all(np.isfinite(array)):
+            raise _Refused("NaN or inf", self.expected())
+        view = array.view()
+        view.setflags(write=False)
+        return view
+
+    def bad_values(self) -> list:
+        bad = super().bad_values() + ["abc", np.zeros((self.min_size, 2, 2)), np.zeros(max(self.min_size - 1, 0))]
+        if self.finite:
+            bad.append(np.full(self.min_size, np.nan))
+        return bad
+
+
+@dataclass(frozen=True)
+class Seed(Spec):
+    """A random seed: a whole number in [0, 2^32 - 1] (the range numpy and nlopt accept), a
+    ``numpy.random.SeedSequence`` or a ``numpy.random.Generator``."""
+
+    optional: bool = False
+
+    def expected(self) -> str:
+        return "an integer in [0, 4294967295], a SeedSequence or a Generator"
+
+    def coerce(self, value: Any) -> Any:
+        if isinstance(value, (np.random.SeedSequence, np.random.Generator)):
+            return value
+        if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)) \
+                and 0 <= value <= 2**32 - 1:
+            return int(value)
+        raise _Refused(_found(value), self.expected())
+
+    def bad_values(self) -> list:
+        return super().bad_values() + [-1, 2**32, 1.5, True, "1"]
+
+
+@dataclass(frozen=True)
+class Contract:
+    """What :func:`accepts` recorded of one function (the checked function, as callers see it):
+    its declared arguments and error class."""
+
+    function: Callable
+    specs: dict = field(default_factory=dict)
+    error: type[Exception] = ParameterError
+
+    @property
+    def name(self) -> str:
+        return f"{self.function.__module__}.{self.function.__qualname__}"
+
+
+#: Every function declared with :func:`accepts`, in import order (read by the refusal tests).
+DECLARED: list[Contract] = []
+
+
+def accepts(*, error: type[Exception] = ParameterError, **specs: Spec) -> Callable:
+    """Declare the contracts of a function's arguments (module docstring).
+
+    The arguments given are checked in declaration order against their specs and replaced by
+    the coerced values; an argument left at its default is not checked (defaults are trusted).
+    Checking happens before the call binds all arguments, so a bad value is named even when
+    other arguments are missing.
+    """
+
+    def decorate(function: Callable) -> Callable:
+        signature = inspect.signature(function)
+        unknown = set(specs) - set(signature.parameters)
+        if unknown:
+            raise TypeError(f"accepts: {function.__qualname__} has no argument {sorted(unknown)}")
+
+        @functools.wraps(function)
+        def checked(*args, **kwargs):
+            bound = signature.bind_partial(*args, **kwargs)
+            given = bound.arguments
+            for name, spec in specs.items():
+                if name in given:
+                    given[name] = spec.check(given[name], name, error)
+            return function(*bound.args, **bound.kwargs)
+
+        contract = Contract(checked, dict(specs), error)
+        checked.contract = contract
+        DECLARED.append(contract)
+        return checked
+
+    return decorate
