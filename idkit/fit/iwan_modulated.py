@@ -55,6 +55,8 @@ from idkit.errors import FitError
 from idkit.fit.compare import ORDER_RULE_FACTOR, LoopModelComparison, compare_loop_models
 from idkit.fit._params import Transform, jacobian_statistics, to_lmfit, to_physical_statistics
 from idkit.fit.iwan import LoopSet, _add_the_step, fit_iwan, prepare_loops
+from idkit.fit.loop_objective import (cycled_flags, modulated_errors, modulated_forces, modulated_set_errors,
+                                     modulated_set_forces)
 from idkit.fit.model_form import loop_model_form_reasons
 from idkit.fit.result import IwanFitResult, IwanFitSettings, StageResult, determinacy_reasons
 from idkit.models import IwanModel, ModulatedIwanModel
@@ -101,39 +103,6 @@ def _modulation_chi2(parameters) -> float:
 _LOG_BOX = math.log(1e3)  # k_i, fc_i, g1 searched within x/1000 .. x*1000 of the plain fit
 _STIFFNESS_MARGIN = 0.01  # share of g1 the valid-range barrier keeps the local stiffness above
 _BOUND_MARGIN = 1e-3  # of the internal range: a value closer than this to a bound is "on" it
-
-
-@numba.njit(cache=True)
-def _set_forces(x, g1, g2, g3, k, fc, a, b, length, cycled, out):
-    """Force (N) along one set ``x`` (m) from the virgin or the cycled start state."""
-    n = k.shape[0]
-    state = np.empty(n)
-    t0 = math.tanh(x[0] / length)
-    scale0 = 1.0 - a * t0 + b * t0 * t0
-    for i in range(n):  # monotone loading from the unloaded state to the first point
-        state[i] = min(max(k[i] * x[0], -scale0 * fc[i]), scale0 * fc[i])
-    passes = 2 if cycled else 1
-    for p in range(passes):
-        if p == 1:  # back from the last point to the first (one linear step), then score
-            step = x[0] - x[x.shape[0] - 1]
-            for i in range(n):
-                state[i] = min(max(state[i] + k[i] * step, -scale0 * fc[i]), scale0 * fc[i])
-        for s in range(x.shape[0]):
-            y = x[s]
-            t = math.tanh(y / length)
-            scale = 1.0 - a * t + b * t * t
-            total = y * (g1 + y * (g2 + y * g3))
-            for i in range(n):
-                if s > 0:
-                    trial = state[i] + k[i] * (y - x[s - 1])
-                    limit = scale * fc[i]
-                    if trial > limit:
-                        trial = limit
-                    elif trial < -limit:
-                        trial = -limit
-                    state[i] = trial
-                total += state[i]
-            out[s] = total
 
 
 @numba.njit(cache=True, inline="always")
@@ -263,45 +232,6 @@ def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycl
         if shortfall > 0.0:
             jacobian[last, 3 + 2 * n] = 10.0 if a > 0.0 else -10.0
             jacobian[last, 4 + 2 * n] = -10.0 if b < 0.0 else 0.0
-
-
-def _model_forces(model: ModulatedIwanModel, sets: Sequence[LoopSet], cycled: Sequence[bool]) -> list[np.ndarray]:
-    forces = []
-    for loop_set, is_cycled in zip(sets, cycled):
-        out = np.empty(loop_set.deflection.size)
-        _set_forces(loop_set.deflection, model.g1, model.g2, model.g3, np.ascontiguousarray(model.k, float),
-                    np.ascontiguousarray(model.fc, float), model.slip_modulation, model.slip_growth,
-                    model.slip_length, bool(is_cycled), out)
-        forces.append(out)
-    return forces
-
-
-def _errors(model, sets, cycled) -> np.ndarray:
-    return np.array([np.sqrt(np.sum((f - s.force) ** 2) / np.sum(s.force**2))
-                     for f, s in zip(_model_forces(model, sets, cycled), sets)])
-
-
-def modulated_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> np.ndarray:
-    """Error (7.1) as a fraction of ``model`` (plain or modulated Iwan) on each prepared set."""
-    if not isinstance(model, ModulatedIwanModel):
-        model = ModulatedIwanModel.from_iwan(model)
-    return _errors(model, sets, _cycled_flags(sets, initial_state))
-
-
-def modulated_set_forces(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> list[np.ndarray]:
-    """Force (N) of ``model`` (plain or modulated Iwan) along each prepared set, from the start
-    state the fit uses."""
-    if not isinstance(model, ModulatedIwanModel):
-        model = ModulatedIwanModel.from_iwan(model)
-    return _model_forces(model, sets, _cycled_flags(sets, initial_state))
-
-
-def _cycled_flags(sets, initial_state: str) -> list[bool]:
-    if initial_state not in ("auto", "cycled", "virgin"):
-        raise FitError(f"initial_state: found {initial_state!r}, expected 'auto', 'cycled' or 'virgin'")
-    if initial_state == "auto":
-        return [not s.starts_unloaded for s in sets]
-    return [initial_state == "cycled"] * len(sets)
 
 
 @dataclass(frozen=True)
@@ -543,7 +473,7 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
     else:
         raise FitError(f"plain: found {type(plain).__name__}, expected an IwanFitResult or an IwanModel")
     sets = small_sets + large_sets
-    cycled = _cycled_flags(sets, initial_state)
+    cycled = cycled_flags(sets, initial_state)
     norms = [math.sqrt(float(np.sum(s.force**2))) for s in sets]
     n = plain_model.order
     x_ref = max(float(np.max(np.abs(s.deflection))) for s in large_sets)
@@ -566,7 +496,7 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
     f_all = np.ascontiguousarray(np.concatenate([s.force for s in sets]), dtype=float)
     offsets = np.concatenate([[0], np.cumsum([s.deflection.size for s in sets])]).astype(np.int64)
     inv_norms = 1.0 / np.asarray(norms, dtype=float)
-    cycled_flags = np.asarray(cycled, dtype=np.bool_)
+    cycled_array = np.asarray(cycled, dtype=np.bool_)
     width = 6 + 2 * n
     rows = x_all.size + grid.size + 1  # data, spring barrier, slip-scale barrier
     cache: dict = {}
@@ -577,7 +507,7 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
             residual = np.empty(rows)
             jacobian = np.empty((rows, width)) if want_jacobian else np.empty((0, width))
             _stage_residuals(np.ascontiguousarray(u, dtype=float), n, g1_ref, x_ref, x_all, f_all, offsets,
-                             inv_norms, cycled_flags, grid, want_jacobian, residual, jacobian)
+                             inv_norms, cycled_array, grid, want_jacobian, residual, jacobian)
             cache.clear()
             cache.update(key=key, residual=residual)
             if want_jacobian:
@@ -686,14 +616,14 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
                        f"{1e3 * negative_high:.4g} mm, inside the loops' own deflections ({1e3 * low:.4g} to "
                        f"{1e3 * high:.4g} mm)")
     ns = len(small_sets)
-    final_forces = _model_forces(model, sets, cycled)
+    final_forces = modulated_forces(model, sets, cycled)
     reasons.extend(loop_model_form_reasons(  # the shared model-form check (docs/fitting.md, "Verdicts")
         [("small", sets[:ns], final_forces[:ns]), ("large", sets[ns:], final_forces[ns:])],
         remedy="a higher order (--order auto, --order-table) or another model form, docs/fitting.md"))
     reasons = list(dict.fromkeys(reasons))
-    errors = _errors(model, sets, cycled)
-    plain_errors = _errors(ModulatedIwanModel.from_iwan(plain_model), sets, cycled)
-    start_errors = _errors(modulated_start, sets, cycled) if modulated_start is not None else plain_errors
+    errors = modulated_errors(model, sets, cycled)
+    plain_errors = modulated_errors(ModulatedIwanModel.from_iwan(plain_model), sets, cycled)
+    start_errors = modulated_errors(modulated_start, sets, cycled) if modulated_start is not None else plain_errors
     return ModulatedIwanFitResult(
         model=model, plain_model=plain_model, plain=plain_result, small_errors=errors[:ns], large_errors=errors[ns:],
         plain_small_errors=plain_errors[:ns], plain_large_errors=plain_errors[ns:],

@@ -30,11 +30,13 @@ import numpy as np
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.errors import FitError
 from idkit.models import BoucWenModel, IwanModel, ModulatedIwanModel
-from idkit.models.laws import boucwen_z_step, jenkin_step, polynomial_spring_force
+from idkit.models.laws import (boucwen_z_step, jenkin_step, polynomial_spring_force, scaled_jenkin_step,
+                               slip_scale)
 from idkit.observe.quasi_static import LoopSet
 
 __all__ = ["START_STATES", "check_state", "set_start_state", "PackedLoops", "IwanLoops", "BoucWenLoops",
-           "iwan_set_errors", "iwan_set_forces", "boucwen_set_errors", "boucwen_set_forces"]
+           "iwan_set_errors", "iwan_set_forces", "boucwen_set_errors", "boucwen_set_forces", "cycled_flags",
+           "modulated_forces", "modulated_errors", "modulated_set_errors", "modulated_set_forces"]
 
 START_STATES = ("auto", "cycled", "virgin")
 _H_LAMBDA = 1.0  # RK4 sub-step times the stiffness of the z equation (see _max_substep)
@@ -203,11 +205,9 @@ def iwan_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_state:
         One error per set.
 
     A :class:`~idkit.models.ModulatedIwanModel` is scored with its slip modulation
-    (:func:`idkit.fit.iwan_modulated.modulated_set_errors`), never as the plain model.
+    (:func:`modulated_set_errors`), never as the plain model.
     """
     if isinstance(model, ModulatedIwanModel):
-        from idkit.fit.iwan_modulated import modulated_set_errors
-
         return modulated_set_errors(model, sets, initial_state=initial_state)
     return IwanLoops(list(sets), check_state(initial_state)).set_errors(*_iwan_args(model))
 
@@ -227,11 +227,72 @@ def iwan_set_forces(model: IwanModel, sets: Sequence[LoopSet], *, initial_state:
         One force array per set (a modulated model with its slip modulation).
     """
     if isinstance(model, ModulatedIwanModel):
-        from idkit.fit.iwan_modulated import modulated_set_forces
-
         return modulated_set_forces(model, sets, initial_state=initial_state)
     packed = IwanLoops(list(sets), check_state(initial_state))
     return packed.split(packed.forces(*_iwan_args(model)))
+
+
+# --------------------------------------------------------------------------- slip-modulated Iwan
+
+
+@numba.njit(cache=True)
+def _modulated_set_forces(x, g1, g2, g3, k, fc, a, b, length, cycled, out):
+    """Force (N) of the slip-modulated Iwan model along one set ``x`` (m), from the virgin or the
+    cycled start state, written to ``out``."""
+    state = np.zeros(k.shape[0])
+    scale0 = slip_scale(x[0], a, b, length)
+    scaled_jenkin_step(state, k, fc, scale0, x[0])  # monotone loading from the unloaded state
+    passes = 2 if cycled else 1
+    for p in range(passes):
+        if p == 1:  # back from the last point to the first (one linear step), then score
+            scaled_jenkin_step(state, k, fc, scale0, x[0] - x[x.shape[0] - 1])
+        for s in range(x.shape[0]):
+            y = x[s]
+            if s > 0:
+                scaled_jenkin_step(state, k, fc, slip_scale(y, a, b, length), y - x[s - 1])
+            total = polynomial_spring_force(y, g1, g2, g3)
+            for i in range(state.shape[0]):
+                total += state[i]
+            out[s] = total
+
+
+def cycled_flags(sets: Sequence[LoopSet], initial_state: str) -> list[bool]:
+    """Whether each set starts from the cycled state (``initial_state`` as in :func:`check_state`)."""
+    check_state(initial_state)
+    return [set_start_state(loop_set, initial_state) == "cycled" for loop_set in sets]
+
+
+def modulated_forces(model: ModulatedIwanModel, sets: Sequence[LoopSet], cycled: Sequence[bool]) -> list[np.ndarray]:
+    """Force (N) of ``model`` along each set, each from the start state ``cycled`` gives."""
+    forces = []
+    for loop_set, is_cycled in zip(sets, cycled):
+        out = np.empty(loop_set.deflection.size)
+        _modulated_set_forces(loop_set.deflection, model.g1, model.g2, model.g3, np.ascontiguousarray(model.k, float),
+                              np.ascontiguousarray(model.fc, float), model.slip_modulation, model.slip_growth,
+                              model.slip_length, bool(is_cycled), out)
+        forces.append(out)
+    return forces
+
+
+def modulated_errors(model: ModulatedIwanModel, sets: Sequence[LoopSet], cycled: Sequence[bool]) -> np.ndarray:
+    """Error (7.1) as a fraction of ``model`` on each set, each from the start state ``cycled`` gives."""
+    return np.array([np.sqrt(np.sum((f - s.force) ** 2) / np.sum(s.force**2))
+                     for f, s in zip(modulated_forces(model, sets, cycled), sets)])
+
+
+def modulated_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> np.ndarray:
+    """Error (7.1) as a fraction of ``model`` (plain or modulated Iwan) on each prepared set."""
+    if not isinstance(model, ModulatedIwanModel):
+        model = ModulatedIwanModel.from_iwan(model)
+    return modulated_errors(model, sets, cycled_flags(sets, initial_state))
+
+
+def modulated_set_forces(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> list[np.ndarray]:
+    """Force (N) of ``model`` (plain or modulated Iwan) along each prepared set, from the start
+    state the fit uses."""
+    if not isinstance(model, ModulatedIwanModel):
+        model = ModulatedIwanModel.from_iwan(model)
+    return modulated_forces(model, sets, cycled_flags(sets, initial_state))
 
 
 # --------------------------------------------------------------------------- Bouc-Wen

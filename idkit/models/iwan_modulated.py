@@ -51,7 +51,8 @@ import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (befor
 from idkit.errors import ParameterError
 from idkit.models.base import IsolatorArrays, _as_deflection, _as_time, _velocity
 from idkit.models.iwan import IwanModel
-from idkit.models.laws import kernel_array
+from idkit.models import laws
+from idkit.models.laws import kernel_array, scaled_jenkin_step
 from idkit.params import ParamSpec
 
 __all__ = ["ModulatedIwanModel", "lowest_slip_scale", "modulated_stop_operator", "slip_scale"]
@@ -62,14 +63,6 @@ SLIP_GROWTH_SPEC = ParamSpec("slip_growth", "-", -1.0, math.inf,
                              "symmetric slip-force modulation b of s(y) = 1 - a t + b t^2, t = tanh(y / y_ref)")
 SLIP_LENGTH_SPEC = ParamSpec("slip_length", "m", 0.0, math.inf,
                              "deflection scale y_ref of the slip-force modulation", True)
-
-
-@numba.njit(cache=True, inline="always")
-def _scale(y, modulation, growth, length):
-    if modulation == 0.0 and growth == 0.0:
-        return 1.0
-    t = math.tanh(y / length)
-    return 1.0 - modulation * t + growth * t * t
 
 
 def slip_scale(deflection, modulation: float, length: float, growth: float = 0.0) -> np.ndarray:
@@ -116,19 +109,15 @@ def modulated_stop_operator(deflection, stiffness, friction_force, modulation, l
     n_samples = deflection.shape[0]
     n_elements = stiffness.shape[0]
     forces = np.empty((n_samples, n_elements))
+    state = np.empty(n_elements)
     for j in range(n_elements):
-        forces[0, j] = initial_force[j]
+        state[j] = initial_force[j]
+        forces[0, j] = state[j]
     for i in range(1, n_samples):
-        step = deflection[i] - deflection[i - 1]
-        scale = _scale(deflection[i], modulation, growth, length)
+        scaled_jenkin_step(state, stiffness, friction_force, laws.slip_scale(deflection[i], modulation, growth, length),
+                           deflection[i] - deflection[i - 1])
         for j in range(n_elements):
-            trial = forces[i - 1, j] + stiffness[j] * step
-            limit = friction_force[j] * scale
-            if trial > limit:
-                trial = limit
-            elif trial < -limit:
-                trial = -limit
-            forces[i, j] = trial
+            forces[i, j] = state[j]
     return forces
 
 

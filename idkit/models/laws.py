@@ -5,6 +5,8 @@ simulator in :mod:`idkit.simulate` uses the same update rules inside its step.
 
 * Jenkin elements: :func:`jenkin_step` (one deflection step of parallel elements, the
   stop operator ``F <- clip(F + k dx, -Fc, Fc)``) and :func:`stop_operator` (a history);
+* the slip-modulated Iwan model: :func:`slip_scale` ``s(y) = 1 - a t + b t^2`` and
+  :func:`scaled_jenkin_step`, the stop operator with limits ``s(y) Fc``;
 * the Iwan parallel spring: :func:`polynomial_spring_force` ``x (g1 + x (g2 + x g3))``,
   :func:`polynomial_spring_stiffness` ``g1 + 2 g2 x + 3 g3 x^2`` and
   :func:`lowest_spring_stiffness` over an interval;
@@ -101,6 +103,45 @@ def jenkin_step(state, stiffness, friction_force, step):
         state[j] = trial
         total += trial
     return total
+
+
+@numba.njit(cache=True, inline="always")
+def slip_scale(deflection, modulation, growth, length):
+    """Slip-force scale ``s(y) = 1 - a t + b t^2``, ``t = tanh(y / y_ref)`` (dimensionless) of
+    the slip-modulated Iwan model at deflection ``y`` in m; exactly 1 when ``a = b = 0``.
+
+    Examples
+    --------
+    >>> round(slip_scale(0.01, 0.3, 0.0, 0.005), 4), slip_scale(0.01, 0.0, 0.0, 0.005)
+    (0.7108, 1.0)
+    """
+    if modulation == 0.0 and growth == 0.0:
+        return 1.0
+    t = math.tanh(deflection / length)
+    return 1.0 - modulation * t + growth * t * t
+
+
+@numba.njit(cache=True, inline="always")
+def scaled_jenkin_step(state, stiffness, friction_force, scale, step):
+    """Advance parallel Jenkin elements whose slip forces are scaled by ``scale`` (the slip
+    scale at the new deflection) by one deflection step, in place: ``F <- clip(F + k step,
+    -scale Fc, scale Fc)``. :func:`jenkin_step` is the case ``scale = 1``.
+
+    Examples
+    --------
+    >>> state = np.array([0.0, 0.0])
+    >>> scaled_jenkin_step(state, np.array([1e3, 2e3]), np.array([1.0, 5.0]), 0.5, 2e-3)
+    >>> state.tolist()
+    [0.5, 2.5]
+    """
+    for j in range(state.shape[0]):
+        trial = state[j] + stiffness[j] * step
+        limit = scale * friction_force[j]
+        if trial > limit:
+            trial = limit
+        elif trial < -limit:
+            trial = -limit
+        state[j] = trial
 
 
 @numba.njit(cache=True)
