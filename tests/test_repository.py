@@ -262,3 +262,45 @@ def test_readme_python_example_runs(monkeypatch):
     check = namespace["check"]
     unsettled = check.summary["points_not_converged"] > MAX_UNSETTLED_FRACTION * len(check.metrics)
     assert check.verdict == ("INCONCLUSIVE" if unsettled else "PASS"), check.report()
+
+
+def _module_imports() -> dict[str, set[str]]:
+    """idkit module -> the idkit modules it imports, at module level or inside functions."""
+    package = ROOT / "idkit"
+    modules = {}
+    for path in package.rglob("*.py"):
+        parts = path.relative_to(ROOT).with_suffix("").parts
+        modules[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    graph = {}
+    for name, path in modules.items():
+        targets = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level == 0 and (node.module or "").startswith("idkit"):
+                targets |= {node.module} | {f"{node.module}.{alias.name}" for alias in node.names}
+            elif isinstance(node, ast.Import):
+                targets |= {alias.name for alias in node.names}
+        graph[name] = {t for t in targets if t in modules and t != name and not name.startswith(t + ".")}
+    return graph
+
+
+def test_no_import_cycle_between_modules_lazy_imports_included():
+    """A function-level import hides a cycle from the interpreter, not from the reader: no module
+    may reach itself through the imports of others (a package's own ``__init__`` excepted)."""
+    graph = _module_imports()
+    done, path, cycles = set(), [], []
+
+    def visit(name):
+        if name in path:
+            cycles.append(path[path.index(name):] + [name])
+            return
+        if name in done:
+            return
+        path.append(name)
+        for target in sorted(graph[name]):
+            visit(target)
+        path.pop()
+        done.add(name)
+
+    for name in sorted(graph):
+        visit(name)
+    assert not cycles, cycles[:3]
