@@ -83,10 +83,9 @@ __all__ = ["fit_iwan", "iwan_start", "iwan_set_errors", "iwan_set_forces", "Loop
 
 _BACKENDS = ("nlopt", "scipy")
 
-#: Default evaluation limit of a stage per free parameter (at least 10000). With 1500 the
-#: orders 5 and 6 of a rope whose slip spreads over the whole loop (truth "b") stopped at
-#: the limit in stages 1 and 2; with 4000 they converge (order 6: 25523 / 58801 / 8627
-#: evaluations for stages 1-3, stage 2 over its starts) and an order-6 fit still takes ~1 s.
+#: Default evaluation limit of a stage per free parameter (at least 10000): enough for the
+#: high orders of a rope whose slip spreads over the whole loop to converge in every stage
+#: (docs/fitting.md).
 EVALUATIONS_PER_PARAMETER = 4000
 
 
@@ -273,9 +272,8 @@ def fit_iwan(
                     best = run
         if best.status == MAX_EVALS:
             # one continuation from the best point with a fresh simplex and budget: a stage of
-            # 13-15 parameters can stop at its limit while still descending (truth "b" rope,
-            # order 6: one ulp of the forces moved stage 2 from converged to the limit, which
-            # flipped the order rule and the verdict); still at the limit -> not a success
+            # 13-15 parameters can stop at its limit while still descending, and whether it does
+            # must not hang on an ulp of the data; still at the limit -> not a success
             more = nelder_mead(objective, best.x, **search)
             evaluations += more.evaluations
             if more.value <= best.value:

@@ -680,19 +680,15 @@ def fit_modulated_orders(small, large, first: IwanFitResult | IwanModel, *, max_
     chain stops after ``max_order``, at the first fit ``accept(fit)`` is true for, or when
     ``patience`` orders in a row have not lowered the best mean of small and large error by
     the order rule's factor (:data:`~idkit.fit.compare.ORDER_RULE_FACTOR`): the order rule
-    would not pick them, and elements that do not help leave the loops as they are (the
-    real MR-damper cycles: 10.87, 10.83, 10.91 % at orders 1-3; the chain to order 6 took
-    31 s, stopping after order 3 takes 9 s). ``patience=None`` never stops early.
+    would not pick them, and elements that do not help leave the loops as they are.
+    ``patience=None`` never stops early.
 
     Why a chain and not a start from the plain fit of each order: the plain fits of the
     higher orders carry elements that slip only at the tips of the largest loops, traded
-    against ``g1`` (:attr:`~idkit.fit.IwanFitResult.undetermined`); one ulp on the forces moves
-    them to another local minimum, and a modulation stage started there follows (truth "b":
-    1.94 / 0.79 % at order 4, or 2.08 / 1.05 % with ``g1`` and ``k_4`` undetermined, one ulp
-    apart). Each link of the chain starts from a fit that is itself a smooth function of the
-    data, so the whole chain is (both truths: every order within 1e-9 under one ulp), and it
-    reaches as low or lower errors (truth "b" order 4: 1.30 / 1.25 %; truth "a": 1.80 / 0.80 %
-    as before).
+    against ``g1`` (:attr:`~idkit.fit.IwanFitResult.undetermined`); one ulp on the forces can
+    move them to another local minimum, and a modulation stage started there would follow.
+    Each link of the chain starts from a fit that is itself a smooth function of the data, so
+    the whole chain is too, and it reaches errors as low or lower (docs/fitting.md).
     """
     small_sets = _prepare(small, "small", points_per_set)
     large_sets = _prepare(large, "large", points_per_set)

@@ -150,7 +150,7 @@ class StiffnessResponse:
         return np.angle(self.stiffness)
 
     def to_dataframe(self) -> pd.DataFrame:
-        """Columns ``freq_Hz``, ``storage_N_m``, ``loss_N_m``, ``magnitude_N_m``, ``loss_factor``."""
+        """Columns ``freq [Hz]``, ``storage [N/m]``, ``loss [N/m]``, ``magnitude [N/m]``, ``loss_factor``."""
         return pd.DataFrame({
             "freq [Hz]": self.freq, "storage [N/m]": self.stiffness.real, "loss [N/m]": self.stiffness.imag,
             "magnitude [N/m]": self.magnitude, "loss_factor": self.loss_factor,
@@ -294,7 +294,8 @@ class LinearFrf:
     resonance: LinearResonance
 
     def to_dataframe(self) -> pd.DataFrame:
-        """Columns ``freq_Hz``, ``H_magnitude``, ``H_phase_deg``, ``stiffness_*`` and per-isolator ones."""
+        """Columns ``freq [Hz]``, ``H_magnitude [-]``, ``H_phase [deg]``, ``stiffness_magnitude [N/m]``,
+        ``loss_factor [-]`` and the same two per isolator (``isolator_<i>_...``)."""
         columns = {
             "freq [Hz]": self.freq,
             "H_magnitude [-]": np.abs(self.transmissibility),

@@ -76,7 +76,7 @@ class FrfEstimate:
         return np.sqrt(1.0 - gamma2) / (np.sqrt(gamma2) * np.sqrt(2.0 * self.n_segments))
 
     def to_dataframe(self) -> pd.DataFrame:
-        """One row per frequency: freq_Hz, h1, h2 (complex), coherence, random_error."""
+        """One row per frequency: ``freq [Hz]``, ``h1``, ``h2`` (complex), ``coherence``, ``random_error``."""
         return pd.DataFrame(
             {
                 "freq [Hz]": self.freq,

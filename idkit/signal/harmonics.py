@@ -435,7 +435,7 @@ class InputFlatness:
     freq_of_min: float
 
     def to_dataframe(self) -> pd.DataFrame:
-        """One row per sweep point: freq_Hz, amplitude, amplitude relative to the maximum."""
+        """One row per sweep point: ``freq [Hz]``, ``amplitude``, ``relative_to_max`` (amplitude over the largest)."""
         return pd.DataFrame(
             {
                 "freq [Hz]": self.freq,

@@ -154,7 +154,7 @@ class PsdProfile:
         return float(np.sqrt(self.mean_square()))
 
     def to_dataframe(self) -> pd.DataFrame:
-        """Breakpoint table: freq_Hz, level, slope of the segment starting there (dB/oct)."""
+        """Breakpoint table: ``freq [Hz]``, ``level``, ``slope [dB/octave]`` of the segment starting there."""
         slopes = np.append(self.slopes_db_per_octave, np.nan)
         return pd.DataFrame(
             {"freq [Hz]": self.freq, "level": self.level, "slope [dB/octave]": slopes}
@@ -269,7 +269,7 @@ class PsdEstimate:
     noverlap: int
 
     def to_dataframe(self) -> pd.DataFrame:
-        """One row per frequency: freq_Hz, psd."""
+        """One row per frequency: ``freq [Hz]``, ``psd``."""
         return pd.DataFrame({"freq [Hz]": self.freq, "psd": self.psd})
 
 

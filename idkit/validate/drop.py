@@ -63,8 +63,8 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
     the same phase rule from its first floor contact (``impact_velocity`` and ``relaxation`` are
     then not used: the fall itself sets both). ``"conditioned"`` is the thesis's free fall from
     impact. The default ``"auto"`` takes the rig when every measurement gives
-    ``bottom_mass_kg`` and ``drop_height_m`` (on the bundled held-out drops it cuts the median
-    peak errors from 0.12-0.33 to 0.01-0.09, docs/validation.md), else the conditioned fall;
+    ``bottom_mass_kg`` and ``drop_height_m`` (the rig's own masses and fall, docs/validation.md),
+    else the conditioned fall;
     ``relaxation=True`` or ``impact_velocity="measured"`` ask for the conditioned reading and
     keep it. The summary says which model was used (``drop_model``) and, for the rig, the contact.
 

@@ -18,9 +18,8 @@ __all__ = ["validate_harmonic", "HARMONIC_THRESHOLDS", "MAX_UNSETTLED_FRACTION"]
 
 #: Largest share of measured points whose simulation may fail to reach steady state
 #: (or go invalid) before the verdict is INCONCLUSIVE: such points are left out of
-#: every metric, so none may be missing from a PASS. (It was a tenth of the grid: two of
-#: 24 points of a lightly damped rope, near its resonance where settling is slowest,
-#: were left out and the sweep passed on the rest.)
+#: every metric, so none may be missing from a PASS (the unsettled points of a lightly damped
+#: isolator lie near its resonance, where the verdict matters most).
 MAX_UNSETTLED_FRACTION = 0.0
 
 #: Standard errors of a point's measured H1 (from the residuals of its harmonic fits) added to its

@@ -126,8 +126,10 @@ def _bundled(name, kind):
     if not (DATA / name / "manifest.json").exists():
         pytest.skip("bundled data/ not generated")
     manifest = read_manifest(DATA / name)
-    return [read_csv_measurement(DATA / name / e.file, e.kind, info=e.info)
-            for e in manifest.entries if e.kind == kind]
+    records = [read_csv_measurement(DATA / name / e.file, e.kind, info=e.info)
+               for e in manifest.entries if e.kind == kind]
+    assert records, f"data/{name} holds no {kind} record: the checks below would pass on nothing"
+    return records
 
 
 def test_quasi_static_processing_of_the_bundled_wire_rope_finds_the_programmed_loops():
