@@ -65,6 +65,6 @@ def blind_spots(result: ValidationResult, rerun: Callable[..., ValidationResult]
             wrong = scaled(model, group, factor)
             if wrong is None:
                 continue
-            if rerun(**{**components, keyword: wrong}).verdict == "PASS":
+            if rerun(**{**components, keyword: wrong}).passed:
                 missed.append(f"{type(model).__name__} ({keyword}) {label}")
     return dataclasses.replace(result, cannot_see=tuple(missed))

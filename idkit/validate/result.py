@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from enum import StrEnum
 
 import numpy as np
 import pandas as pd
@@ -11,10 +12,27 @@ import pandas as pd
 from idkit.errors import ValidationError
 from idkit.validate.records import RECORD_METRIC
 
-__all__ = ["ValidationResult", "check_thresholds", "VERDICTS"]
+__all__ = ["ValidationResult", "check_thresholds", "Verdict", "VERDICTS"]
 
-#: The three verdicts, from best to worst trust in the model.
-VERDICTS = ("PASS", "INCONCLUSIVE", "FAIL")
+
+class Verdict(StrEnum):
+    """A judgement idkit prints: a validation's (PASS, INCONCLUSIVE, FAIL, from best to worst trust
+    in the model) or a fit's that is not a success (FLAGGED). A ``str``, so it prints and compares
+    as its word; decisions test it against the members, never against text."""
+
+    PASS = "PASS"
+    INCONCLUSIVE = "INCONCLUSIVE"
+    FAIL = "FAIL"
+    FLAGGED = "FLAGGED"
+
+    @classmethod
+    def of_fit(cls, success: bool) -> Verdict:
+        """PASS for a fit that is a success, else FLAGGED."""
+        return cls.PASS if success else cls.FLAGGED
+
+
+#: The three validation verdicts, from best to worst trust in the model.
+VERDICTS = (Verdict.PASS, Verdict.INCONCLUSIVE, Verdict.FAIL)
 
 
 def check_thresholds(defaults: dict[str, float], thresholds: dict[str, float] | None) -> dict[str, float]:
@@ -104,13 +122,12 @@ class ValidationResult:
         return tuple(key for key in self.thresholds if np.isnan(self.summary[key]))
 
     @property
-    def verdict(self) -> str:
-        """``"FAIL"`` if a metric exceeds its limit (an infinite error does); else
-        ``"INCONCLUSIVE"`` if a metric could not be computed or :attr:`inconclusive`
-        names a reason; else ``"PASS"``."""
+    def verdict(self) -> Verdict:
+        """FAIL if a metric exceeds its limit (an infinite error does); else INCONCLUSIVE if a
+        metric could not be computed or :attr:`inconclusive` names a reason; else PASS."""
         if any(not ok and key not in self.unmeasured for key, ok in self.checks.items()):
-            return "FAIL"
-        return "INCONCLUSIVE" if self.inconclusive or self.unmeasured else "PASS"
+            return Verdict.FAIL
+        return Verdict.INCONCLUSIVE if self.inconclusive or self.unmeasured else Verdict.PASS
 
     @property
     def why(self) -> tuple[str, ...]:
@@ -129,8 +146,8 @@ class ValidationResult:
 
     @property
     def passed(self) -> bool:
-        """True only for the verdict ``"PASS"``."""
-        return self.verdict == "PASS"
+        """True only for the verdict PASS."""
+        return self.verdict is Verdict.PASS
 
     def report(self) -> str:
         """Readable summary: the verdict, why it is inconclusive if it is, each metric against its limit."""
