@@ -29,7 +29,7 @@ LAYERS = {
     "report": {"models", "simulate", "io", "signal", "observe", "responses", "synth", "fit", "validate", "studies",
                "plot", "report"},
 }
-CORE = {"errors", "checks", "params", "atomic", "inputfiles", "gravity", "forked", "exit_status", "_numba_cache"}
+CORE = {"errors", "checks", "limits", "params", "atomic", "inputfiles", "gravity", "forked", "exit_status", "_numba_cache"}
 
 
 def readme_commands():

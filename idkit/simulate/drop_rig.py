@@ -43,6 +43,7 @@ import numpy as np
 
 from idkit.errors import SimulationError
 from idkit.gravity import STANDARD_GRAVITY
+from idkit.limits import MAX_STEPS
 from idkit.models.laws import kernel_array
 from idkit.simulate._arrays import resolve_system, system_arrays
 from idkit.simulate._kernel import FLAG_REASONS, run_drop_batch
@@ -189,8 +190,8 @@ def rig_time_step(system, bottom_mass: float, contact: ContactModel = DEFAULT_CO
     return min(step, contact.period(bottom_mass) / STEPS_PER_CONTACT_PERIOD)
 
 
-#: Most steps of one rig drop (fall and record), the simulator's limit (``free_fall``: 1e8).
-MAX_RIG_STEPS = 1e8
+#: Most steps of one rig drop (fall and record): the simulator's limit.
+MAX_RIG_STEPS = MAX_STEPS
 
 
 def drop_rig(system, *, bottom_mass: float, drop_height, contact: ContactModel = DEFAULT_CONTACT,
@@ -252,7 +253,7 @@ def drop_rig(system, *, bottom_mass: float, drop_height, contact: ContactModel =
     # steps: the fall (with margin for the bottom mass, pushed down by the relaxing isolator) and the record
     raw = (1.05 * fall + duration) / h
     steps = raw + 2
-    if not np.all(steps < MAX_RIG_STEPS):  # drop_height=1e300: a 4.5e149 s fall cast to int64 (numpy warning)
+    if not np.all(steps < MAX_RIG_STEPS):  # checked before the step counts are cast to int64
         worst = int(np.argmax(steps))
         fall_max = max(((MAX_RIG_STEPS - 3) * h - duration) / 1.05, 0.0)
         raise SimulationError(
