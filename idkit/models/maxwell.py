@@ -45,7 +45,20 @@ def _check_quantity(quantity: object, model: str) -> str:
     return str(quantity)
 
 
-class GeneralizedMaxwell(IsolatorModel):
+class _Viscoelastic:
+    """What every linear viscoelastic model derives from its complex stiffness ``k*(f)``."""
+
+    def loss_factor(self, freq) -> np.ndarray:
+        """Loss factor ``Im k* / Re k*`` at ``freq`` in Hz (eq. 4.4)."""
+        stiffness = self.complex_stiffness(freq)
+        return stiffness.imag / stiffness.real
+
+    def damping_ratio(self, freq) -> np.ndarray:
+        """Equivalent damping ratio ``eta / 2`` at ``freq`` in Hz (eq. 4.5)."""
+        return 0.5 * self.loss_factor(freq)
+
+
+class GeneralizedMaxwell(_Viscoelastic, IsolatorModel):
     """Generalized Maxwell model of order ``n``.
 
     Parameters
@@ -294,15 +307,6 @@ class GeneralizedMaxwell(IsolatorModel):
         s = 2j * np.pi * _as_frequency(freq)
         return self._k0 + np.sum(self._k * s[..., None] / (s[..., None] + self._rate), axis=-1)
 
-    def loss_factor(self, freq) -> np.ndarray:
-        """Loss factor ``Im k* / Re k*`` at ``freq`` in Hz (eq. 4.4)."""
-        stiffness = self.complex_stiffness(freq)
-        return stiffness.imag / stiffness.real
-
-    def damping_ratio(self, freq) -> np.ndarray:
-        """Equivalent damping ratio ``eta / 2`` at ``freq`` in Hz (eq. 4.5)."""
-        return 0.5 * self.loss_factor(freq)
-
     small_amplitude_stiffness = complex_stiffness
 
     def complex_modulus(self, freq) -> np.ndarray:
@@ -345,7 +349,7 @@ class GeneralizedMaxwell(IsolatorModel):
         )
 
 
-class VoigtModel(IsolatorModel):
+class VoigtModel(_Viscoelastic, IsolatorModel):
     """Voigt (Kelvin-Voigt, viscous) model: spring ``k`` N/m parallel to dashpot ``damping`` N s/m."""
 
     kind = "voigt"
@@ -389,23 +393,7 @@ class VoigtModel(IsolatorModel):
         """``k + i omega d`` in N/m at ``freq`` in Hz."""
         return self._k + 2j * np.pi * _as_frequency(freq) * self._damping
 
-    def loss_factor(self, freq) -> np.ndarray:
-        """Loss factor ``omega d / k``."""
-        stiffness = self.complex_stiffness(freq)
-        return stiffness.imag / stiffness.real
-
-    def damping_ratio(self, freq) -> np.ndarray:
-        """Equivalent damping ratio ``eta / 2``."""
-        return 0.5 * self.loss_factor(freq)
-
     small_amplitude_stiffness = complex_stiffness
-
-    def complex_modulus(self, freq) -> np.ndarray:
-        """Complex modulus ``E0 + sum E_i s / (s + rate_i)`` in Pa (modulus models only)."""
-        if self._quantity != "modulus":
-            raise ParameterError(f"{type(self).__name__}.complex_modulus: the model is a stiffness (N/m); "
-                                 "expected a modulus model (Pa); use complex_stiffness")
-        return self.complex_stiffness(freq)
 
     def force(self, deflection, time=None) -> np.ndarray:
         """Force ``k x + d xdot`` in N; ``time`` (s) is required for the viscous part."""
