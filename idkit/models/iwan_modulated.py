@@ -44,15 +44,13 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
-import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.errors import ParameterError
 from idkit.models.base import IsolatorArrays, _as_deflection, _as_time, _velocity
 from idkit.models.iwan import IwanModel
 from idkit.models import laws
-from idkit.models.laws import kernel_array, scaled_jenkin_step
+from idkit.models.laws import kernel_array
 from idkit.params import ParamSpec
 
 __all__ = ["ModulatedIwanModel", "lowest_slip_scale", "modulated_stop_operator", "slip_scale"]
@@ -99,26 +97,11 @@ def lowest_slip_scale(modulation: float, growth: float, extent: float = 1.0) -> 
     return min(candidates)
 
 
-@numba.njit(cache=True)
 def modulated_stop_operator(deflection, stiffness, friction_force, modulation, length, initial_force, growth=0.0):
-    """Jenkin forces (N) with slip forces ``s(y) fc_i`` along a deflection history (m).
-
-    The update of the module docstring at every sample, limits taken at the new sample; the
-    first sample holds ``initial_force``. Shape ``(n_samples, n_elements)``.
-    """
-    n_samples = deflection.shape[0]
-    n_elements = stiffness.shape[0]
-    forces = np.empty((n_samples, n_elements))
-    state = np.empty(n_elements)
-    for j in range(n_elements):
-        state[j] = initial_force[j]
-        forces[0, j] = state[j]
-    for i in range(1, n_samples):
-        scaled_jenkin_step(state, stiffness, friction_force, laws.slip_scale(deflection[i], modulation, growth, length),
-                           deflection[i] - deflection[i - 1])
-        for j in range(n_elements):
-            forces[i, j] = state[j]
-    return forces
+    """Jenkin forces (N) with slip forces ``s(y) fc_i`` along a deflection history (m): the stop
+    operator :func:`idkit.models.laws.stop_operator` with the slip modulation, limits taken at
+    the new sample; the first sample holds ``initial_force``. Shape ``(n_samples, n_elements)``."""
+    return laws.stop_operator(deflection, stiffness, friction_force, initial_force, modulation, growth, length)
 
 
 class ModulatedIwanModel(IwanModel):

@@ -36,39 +36,6 @@ def kernel_array(values) -> np.ndarray:
 
 
 @numba.njit(cache=True)
-def stop_operator(deflection, stiffness, friction_force, initial_force):
-    """Forces of parallel Jenkin elements along a deflection history (SPEC 1.1).
-
-    Parameters
-    ----------
-    deflection : ndarray, shape (n_samples,)
-        Deflection history in m. The first sample is the reference state.
-    stiffness, friction_force : ndarray, shape (n_elements,)
-        Spring stiffness in N/m and Coulomb slip force in N of each element.
-    initial_force : ndarray, shape (n_elements,)
-        Element forces in N at the first sample.
-
-    Returns
-    -------
-    ndarray, shape (n_samples, n_elements)
-        Element forces in N. Exact for deflection piecewise linear between samples:
-        ``F <- clip(F + k * dx, -Fc, Fc)``.
-    """
-    n_samples = deflection.shape[0]
-    n_elements = stiffness.shape[0]
-    forces = np.empty((n_samples, n_elements))
-    state = np.empty(n_elements)
-    for j in range(n_elements):
-        state[j] = initial_force[j]
-        forces[0, j] = state[j]
-    for i in range(1, n_samples):
-        jenkin_step(state, stiffness, friction_force, deflection[i] - deflection[i - 1])
-        for j in range(n_elements):
-            forces[i, j] = state[j]
-    return forces
-
-
-@numba.njit(cache=True)
 def jenkin_step(state, stiffness, friction_force, step):
     """Advance parallel Jenkin elements by one deflection step, in place (SPEC 1.1).
 
@@ -142,6 +109,43 @@ def scaled_jenkin_step(state, stiffness, friction_force, scale, step):
         elif trial < -limit:
             trial = -limit
         state[j] = trial
+
+
+@numba.njit(cache=True)
+def stop_operator(deflection, stiffness, friction_force, initial_force, modulation=0.0, growth=0.0, length=1.0):
+    """Forces of parallel Jenkin elements along a deflection history (SPEC 1.1).
+
+    Parameters
+    ----------
+    deflection : ndarray, shape (n_samples,)
+        Deflection history in m. The first sample is the reference state.
+    stiffness, friction_force : ndarray, shape (n_elements,)
+        Spring stiffness in N/m and Coulomb slip force in N of each element.
+    initial_force : ndarray, shape (n_elements,)
+        Element forces in N at the first sample.
+    modulation, growth, length : float, optional
+        Slip modulation ``a``, ``b`` and ``y_ref`` (m) of the slip-modulated Iwan model: the slip
+        forces are ``s(y) Fc`` (:func:`slip_scale`) at each new sample; the defaults leave them ``Fc``.
+
+    Returns
+    -------
+    ndarray, shape (n_samples, n_elements)
+        Element forces in N. Exact for deflection piecewise linear between samples:
+        ``F <- clip(F + k * dx, -s Fc, s Fc)``.
+    """
+    n_samples = deflection.shape[0]
+    n_elements = stiffness.shape[0]
+    forces = np.empty((n_samples, n_elements))
+    state = np.empty(n_elements)
+    for j in range(n_elements):
+        state[j] = initial_force[j]
+        forces[0, j] = state[j]
+    for i in range(1, n_samples):
+        scaled_jenkin_step(state, stiffness, friction_force, slip_scale(deflection[i], modulation, growth, length),
+                           deflection[i] - deflection[i - 1])
+        for j in range(n_elements):
+            forces[i, j] = state[j]
+    return forces
 
 
 @numba.njit(cache=True)
