@@ -106,9 +106,9 @@ def smallwood_coefficients(
     return b, a
 
 
-#: Below this ``|x| = w_n T`` the phi functions come from their power series (``|x|^n / (n + 2)!``
-#: is below 1e-17 of the sum after :data:`_SERIES_TERMS` terms); above it their closed forms
-#: subtract numbers at most a few times larger than the result.
+#: Below this ``|x| = w_n T`` the phi functions come from their power series (the first term
+#: left out, ``|x|^20 / 22!``, is below 1e-21); above it their closed forms subtract numbers
+#: at most a few times larger than the result.
 _SERIES_RADIUS = 1.0
 _SERIES_TERMS = 20
 
@@ -118,9 +118,10 @@ def _phi_functions(x: NDArray[np.complex128]) -> tuple[NDArray[np.complex128], N
     x = np.asarray(x, dtype=complex)
     small = np.abs(x) < _SERIES_RADIUS
     phi2 = np.empty_like(x)
-    series = np.zeros(int(small.sum()), dtype=complex)
+    inner = x[small]
+    series = np.zeros_like(inner)
     for n in range(_SERIES_TERMS - 1, -1, -1):  # Horner: sum x^n / (n + 2)!
-        series = series * x[small] + 1.0 / factorial(n + 2)
+        series = series * inner + 1.0 / factorial(n + 2)
     phi2[small] = series
     large = x[~small]
     phi1_large = np.expm1(large) / large
