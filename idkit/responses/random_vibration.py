@@ -25,7 +25,16 @@ Start-up: the synthesized records are periodic (their lines are multiples of
 ``freq_step``), so the drive runs ``settle_records`` records (a fraction allowed) before the
 analysed record (plus the overlap); the first ones let the start-from-rest transient
 decay (one record = 20 s = about 7 time constants of a 5 Hz resonance with 1 % damping; use
-more for lighter damping).
+more for lighter damping). A run still not periodic then (``settle_until``) is continued
+from its exact end state by further periods of the *same* realization: this is periodic
+random excitation (a random-phase multisine repeated until the transient has gone, one
+period analysed, realizations averaged). The estimate is the PSD of each realization's
+periodic steady state, averaged over realizations: its statistics come from the
+realizations, and a settled run returns to its state after one record, which is what the
+settling error measures. Continuing with fresh input of the same PSD instead would make
+the drive non-periodic: the analysed window would hold part of a new transient, the
+third-shifted segments would no longer cancel the Hann cross terms (the linear estimate
+would gain random scatter), and no state would be expected to recur.
 
 For linear systems the output PSD is also ``|H|^2 S_xx`` (:func:`linear_output_psd`) with
 ``H`` the transmissibility; for hysteretic systems that is the all-stuck (small-amplitude)
@@ -61,7 +70,7 @@ from idkit.signal.psd import (
     synthesize_random,
     welch_psd,
 )
-from idkit.simulate import TimeState, simulate
+from idkit.simulate import simulate
 from idkit.simulate._arrays import whole_number
 
 __all__ = [
@@ -181,6 +190,9 @@ class RandomResponse:
         Records each analysed run was continued by past ``settle_records`` because it had not
         settled (``settle_until``); its analysed record is then its last one. Empty for
         ``method="frequency"``.
+    settle_until : float or None
+        The settling error the runs were continued to reach (None: not continued);
+        :attr:`unsettled_runs` lists those that did not reach it within ``max_extra_records``.
     """
 
     input_profile: object
@@ -204,6 +216,15 @@ class RandomResponse:
     method: str = "time"
     settling_error: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
     extra_records: NDArray[np.int64] = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    settle_until: float | None = None
+
+    @property
+    def unsettled_runs(self) -> NDArray[np.int64]:
+        """Analysed runs (indices into :attr:`settling_error`) whose settling error is still above
+        :attr:`settle_until` after their continuation: the cap ``max_extra_records`` was reached."""
+        if self.settle_until is None:
+            return np.zeros(0, dtype=np.int64)
+        return np.flatnonzero(np.asarray(self.settling_error) > self.settle_until)
 
     @property
     def input_cumulative_rms(self) -> NDArray[np.float64]:
@@ -234,9 +255,15 @@ class RandomResponse:
         kind = "linear" if self.is_linear else "small-amplitude"
         runs = ("frequency domain" if self.method.startswith("frequency")
                 else f"{self.n_realizations} realizations, seed {self.seed}")
-        return (f"random response ({runs}): input RMS "
+        text = (f"random response ({runs}): input RMS "
                 f"{self.input_rms:.4g} m/s^2, output RMS {self.output_rms:.4g} m/s^2, {kind} |H|^2 S_xx RMS "
                 f"{self.linear_output_rms:.4g} m/s^2")
+        unsettled = self.unsettled_runs
+        if unsettled.size:
+            text += (f"; {unsettled.size} of {self.n_realizations} runs not settled to {self.settle_until:g} after "
+                     f"{int(np.max(self.extra_records))} extra records (settling error up to "
+                     f"{float(np.max(self.settling_error)):.3g})")
+        return text
 
 
 def settle_records_for(system, *, freq_step: float = 0.05, time_constants: float = 5.0,
@@ -406,8 +433,7 @@ def _continue_until_settled(system, signals, response, *, first: int, analysed: 
     reasons = list(response.reasons)
     starts = np.full(n_runs, first, dtype=np.int64)
     extra = np.zeros(n_runs, dtype=np.int64)
-    state = {name: np.array(getattr(response.final_state, name)) for name in
-             ("displacement", "velocity", "jenkin_force", "maxwell_elongation", "boucwen_z")}
+    state = response.final_state
     ok = flags == 0
     errors = np.full(n_runs, np.inf)
     errors[ok] = _settling_error(velocity[ok], acceleration[ok], first, record)
@@ -421,15 +447,13 @@ def _continue_until_settled(system, signals, response, *, first: int, analysed: 
         segment = np.roll(signals[pending], -offset, axis=1)
         drive = np.concatenate([segment, segment[:, :1]], axis=1)  # one record and its closing sample
         continued = simulate(system, grid, base_acceleration=drive, record_every=step, workers=workers,
-                             executor=executor, initial_state=TimeState(**{name: values[pending] for name, values
-                                                                           in state.items()}))
+                             executor=executor, initial_state=state.take(pending))
         length = velocity.shape[2]
         velocity = np.concatenate([velocity, np.full(velocity.shape[:2] + (record,), np.nan)], axis=2)
         acceleration = np.concatenate([acceleration, np.full(acceleration.shape[:2] + (record,), np.nan)], axis=2)
         velocity[pending, :, length:] = continued.velocity[:, :, 1:]
         acceleration[pending, :, length:] = continued.acceleration[:, :, 1:]
-        for name in state:
-            state[name][pending] = getattr(continued.final_state, name)
+        state = state.replace_runs(pending, continued.final_state)
         starts[pending] += record
         extra[pending] += 1
         for index, run in enumerate(pending):
@@ -646,9 +670,14 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
     settle_until : float, optional
         Continue every run whose settling error (:attr:`RandomResponse.settling_error`) is
         above this after ``settle_records``, one record at a time from its own state
-        (:class:`idkit.simulate.TimeState`), until it is at or below it or has run
-        ``max_extra_records`` more records; each run is then analysed on its last record
-        (:attr:`RandomResponse.extra_records`). Default: no continuation.
+        (:class:`idkit.simulate.TimeState`: the continued run is the uninterrupted one, bit
+        for bit), driven by the same periodic realization, phase-continuous (module
+        docstring: the estimate is that of the periodic steady state, which a fresh input
+        would restart), until it is at or below it or has run ``max_extra_records`` more
+        records; each run is then analysed on its last record
+        (:attr:`RandomResponse.extra_records`); those still above are listed by
+        :attr:`RandomResponse.unsettled_runs` and in :meth:`RandomResponse.report`. Default:
+        no continuation.
     max_extra_records : int, default 8
         Cap of the continuation, records per run.
     workers, executor : see :func:`idkit.simulate.harmonic_response`.
@@ -771,4 +800,5 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         oversample=int(oversample), nperseg=input_estimate.nperseg, noverlap=input_estimate.noverlap, settle_records=float(settle_records),
         flags=np.asarray(flags, dtype=np.int64), reasons=tuple(reasons),
         settling_error=settling, extra_records=extra[ok],
+        settle_until=None if settle_until is None else float(settle_until),
     )

@@ -26,6 +26,7 @@ from idkit.simulate.harmonic import (
     small_amplitude_resonance,
 )
 from idkit.simulate.time_response import (
+    IntegratorState,
     TimeResponse,
     TimeState,
     free_fall,
@@ -36,7 +37,7 @@ from idkit.simulate.time_response import (
 )
 
 __all__ = [
-    "BaseMotion", "TimeResponse", "TimeState", "simulate", "free_fall", "static_deflection", "initial_states", "relaxation_deflection",
+    "BaseMotion", "IntegratorState", "TimeResponse", "TimeState", "simulate", "free_fall", "static_deflection", "initial_states", "relaxation_deflection",
     "HarmonicResponse", "harmonic_response", "default_steps_per_period", "small_amplitude_resonance",
     "STANDARD_GRAVITY", "solve_ivp_reference", "harmonic_reference", "ReferenceResponse", "ReferenceHarmonic",
     "moreau_coulomb_spring", "MoreauResponse", "drop_rig", "DropRigResponse", "ContactModel", "DEFAULT_CONTACT",

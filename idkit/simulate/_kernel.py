@@ -416,7 +416,7 @@ def _time_kernel(structure):
     """The compiled :func:`run_time_batch` of one structure (:mod:`idkit.simulate._structured`)."""
 
     def run_time_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, h, base_disp, base_vel, gravity,
-                       q0, v0, jforce0, mstate0, bwz0, record_every, force_scale):
+                       q0, v0, jforce0, mstate0, bwz0, record_every, force_scale, a0):
         """Simulate a batch on a common time grid; record every ``record_every`` steps.
 
         Parameters (arrays are float64)
@@ -429,14 +429,17 @@ def _time_kernel(structure):
         force_scale : (batch,) each run's force magnitude (N) for its convergence tests
             (:func:`idkit.simulate._arrays.force_scale`): a run's records do not depend on the
             other runs of the batch.
+        a0 : (batch, ndof) initial absolute accelerations (m/s^2) of a continued run (the
+            integrator's own, ``end_a`` of the run it continues); a NaN row: from equilibrium.
 
         Returns
         -------
         q, v, a, force : (batch, ndof, n_records) absolute records and isolator forces;
         flags, flag_step : (batch,);
-        end_q, end_v : (batch, ndof) absolute displacement (m) and velocity (m/s) after the last
-        step, end_jforce (batch, ndof, nj), end_mstate (batch, ndof, nm), end_bwz (batch, ndof):
-        the internal states there, in the layout of the inputs (NaN for a flagged run)
+        end_q, end_v, end_a : (batch, ndof) absolute displacement (m), velocity (m/s) and
+        acceleration (m/s^2) after the last step, end_jforce (batch, ndof, nj), end_mstate
+        (batch, ndof, nm), end_bwz (batch, ndof): the internal states there, in the layout of
+        the inputs (NaN for a flagged run)
         """
         batch = q0.shape[0]
         ndof = masses.shape[0]
@@ -452,6 +455,7 @@ def _time_kernel(structure):
         flag_step = np.full(batch, -1, dtype=np.int64)
         end_q = np.full((batch, ndof), np.nan)
         end_v = np.full((batch, ndof), np.nan)
+        end_a = np.full((batch, ndof), np.nan)
         end_jforce = np.full((batch, ndof, jforce0.shape[2]), np.nan)
         end_mstate = np.full((batch, ndof, mstate0.shape[2]), np.nan)
         end_bwz = np.full((batch, ndof), np.nan)
@@ -466,6 +470,9 @@ def _time_kernel(structure):
                 state[2 + d] = v0[b, d]
             S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
             _initial_acceleration(ndof, masses, state, gravity, base_disp[row, 0], base_vel[row, 0], P, S)
+            if not math.isnan(a0[b, 0]):  # a continued run: the trapezoidal rule's own accelerations
+                for d in range(ndof):
+                    state[4 + d] = a0[b, d]
             _isolator_forces_now(ndof, state, base_disp[row, 0], base_vel[row, 0], P, S, frc)
             for d in range(ndof):
                 rec_q[b, d, 0] = state[d]
@@ -509,12 +516,13 @@ def _time_kernel(structure):
                 for d in range(ndof):
                     end_q[b, d] = state[d]
                     end_v[b, d] = state[2 + d]
+                    end_a[b, d] = state[4 + d]
                     for i in range(jforce0.shape[2]):
                         end_jforce[b, d, i] = S[d, 0, i]
                     for i in range(mstate0.shape[2]):
                         end_mstate[b, d, i] = S[d, 1, i]
                     end_bwz[b, d] = S[d, 2, 0]
-        return rec_q, rec_v, rec_a, rec_f, flags, flag_step, end_q, end_v, end_jforce, end_mstate, end_bwz
+        return rec_q, rec_v, rec_a, rec_f, flags, flag_step, end_q, end_v, end_a, end_jforce, end_mstate, end_bwz
 
     return _compiled_per_structure(run_time_batch, structure)
 

@@ -146,7 +146,9 @@ def integrate_acceleration(acceleration, time_step: float, initial_displacement=
     ``acceleration`` may be 1-D (n,) or 2-D (batch, n); integration runs along the last axis.
     ``v_i = v_0 + sum_{j<i} h/2 (a_j + a_{j+1})`` and ``x_i = x_0 + sum_{j<i} h/2 (v_j + v_{j+1})``
     (the Newmark average-acceleration update ``x+ = x + h v + h^2/4 (a + a+)``), summed
-    in order in one compiled pass per row.
+    in order in one compiled pass per row, starting from ``v_0`` and ``x_0``: integrating
+    the second part of a record from the first part's last values gives the same numbers,
+    bit for bit, as integrating the whole record.
     """
     a = np.asarray(acceleration, dtype=float)
     h = float(time_step)
@@ -165,15 +167,15 @@ def _trapezoid_rows(a, h, x0, v0, displacement, velocity):
         n = a.shape[1]
         if n == 0:
             continue
-        sum_v = 0.0
-        sum_x = 0.0
-        velocity[row, 0] = 0.0 + v0[row]
-        displacement[row, 0] = 0.0 + x0[row]
+        sum_v = v0[row]
+        sum_x = x0[row]
+        velocity[row, 0] = sum_v
+        displacement[row, 0] = sum_x
         for i in range(1, n):
             sum_v += half * (a[row, i] + a[row, i - 1])
-            velocity[row, i] = sum_v + v0[row]
+            velocity[row, i] = sum_v
             sum_x += half * (velocity[row, i] + velocity[row, i - 1])
-            displacement[row, i] = sum_x + x0[row]
+            displacement[row, i] = sum_x
 
 
 def _column(value):

@@ -24,7 +24,49 @@ from idkit.simulate._parallel import run_chunked
 from idkit.simulate._structured import structure_of
 from idkit.simulate.base_motion import BaseMotion, integrate_acceleration
 
-__all__ = ["TimeResponse", "TimeState", "simulate", "free_fall", "static_deflection", "initial_states", "relaxation_deflection"]
+__all__ = ["IntegratorState", "TimeResponse", "TimeState", "simulate", "free_fall", "static_deflection", "initial_states", "relaxation_deflection"]
+
+
+@dataclass(frozen=True)
+class IntegratorState:
+    """The integrator's own numbers at the end of a batch of runs (absolute frame).
+
+    What :func:`simulate` needs, beyond a :class:`TimeState`'s relative state, to continue a
+    run as the very same run: the trapezoidal rule carries the accelerations from step to
+    step (restarting them from equilibrium changes them at the solver's tolerance), the
+    deflections are differences of absolute coordinates (another frame rounds them
+    differently), and the Newton tolerances scale with the run's force magnitude. With them
+    a continued run repeats the uninterrupted one bit for bit (a hysteretic run can amplify
+    a last-digit difference to 1e-7 over a record).
+
+    Attributes
+    ----------
+    position, velocity, acceleration : (batch, ndof) absolute mass displacement (m), velocity
+        (m/s) and acceleration (m/s^2), top first
+    base_displacement, base_velocity : (batch,) absolute base displacement (m) and velocity (m/s)
+    time_step : float
+        The step of the run, s.
+    force_scale : (batch,) N, each run's force magnitude for its convergence tests
+    jenkin_force, maxwell_elongation, boucwen_z : the internal states as the run left them
+        (a :class:`TimeState` whose own fields differ from these was changed since, and is
+        continued from its fields alone)
+    """
+
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    base_displacement: np.ndarray
+    base_velocity: np.ndarray
+    time_step: float
+    force_scale: np.ndarray
+    jenkin_force: np.ndarray
+    maxwell_elongation: np.ndarray
+    boucwen_z: np.ndarray
+
+    def take(self, runs) -> "IntegratorState":
+        """The numbers of some runs (an index array or a boolean mask over the batch)."""
+        return IntegratorState(**{name: (value if name == "time_step" else np.asarray(value)[runs])
+                                  for name, value in vars(self).items()})
 
 
 @dataclass(frozen=True)
@@ -34,8 +76,10 @@ class TimeState:
     Positions and velocities are relative to the base: the equations of motion only see
     deflections and deflection rates (and a constant gravity), so a run continued from this
     state by :func:`simulate` with a base that starts at rest again is the same physical run
-    (the base's own displacement and velocity at the cut drop out), equal to an uninterrupted
-    run up to round-off.
+    (the base's own displacement and velocity at the cut drop out). The ``final_state`` of a
+    :func:`simulate` run also holds the integrator's own numbers (``integrator``), with which
+    a continuation driven by the following base-acceleration samples equals the uninterrupted
+    run bit for bit.
 
     Attributes
     ----------
@@ -44,6 +88,9 @@ class TimeState:
     jenkin_force : (batch, ndof, n_j) N; maxwell_elongation : (batch, ndof, n_m) m;
     boucwen_z : (batch, ndof) N. Rows of an isolator without such parts are zero; a run that
         was flagged carries NaN.
+    integrator : IntegratorState or None
+        The integrator's numbers where these fields were taken (None for a state built by
+        hand). A run whose fields were changed since is continued from the fields alone.
     """
 
     displacement: np.ndarray
@@ -51,6 +98,7 @@ class TimeState:
     jenkin_force: np.ndarray
     maxwell_elongation: np.ndarray
     boucwen_z: np.ndarray
+    integrator: IntegratorState | None = field(default=None, repr=False, compare=False)
 
     def __len__(self) -> int:
         return int(self.displacement.shape[0])
@@ -58,7 +106,30 @@ class TimeState:
     def take(self, runs) -> "TimeState":
         """The state of some runs (an index array or a boolean mask over the batch)."""
         return TimeState(*(np.asarray(values)[runs] for values in (
-            self.displacement, self.velocity, self.jenkin_force, self.maxwell_elongation, self.boucwen_z)))
+            self.displacement, self.velocity, self.jenkin_force, self.maxwell_elongation, self.boucwen_z)),
+            integrator=None if self.integrator is None else self.integrator.take(runs))
+
+    def replace_runs(self, runs, other: "TimeState") -> "TimeState":
+        """This state with the runs ``runs`` (indices) replaced by ``other``'s, in order (a
+        batch continued in parts). The integrator's numbers are kept where both have them."""
+        runs = np.asarray(runs)
+
+        def merged(mine, theirs):
+            values = np.array(mine, copy=True)
+            values[runs] = theirs
+            return values
+
+        fields = [merged(getattr(self, name), getattr(other, name)) for name in _STATE_FIELDS]
+        integrator = None
+        if self.integrator is not None and other.integrator is not None \
+                and self.integrator.time_step == other.integrator.time_step:
+            integrator = IntegratorState(**{
+                name: (value if name == "time_step" else merged(value, getattr(other.integrator, name)))
+                for name, value in vars(self.integrator).items()})
+        return TimeState(*fields, integrator=integrator)
+
+
+_STATE_FIELDS = ("displacement", "velocity", "jenkin_force", "maxwell_elongation", "boucwen_z")
 
 
 @dataclass(frozen=True)
@@ -200,7 +271,7 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     base_acceleration : array_like, shape (batch, n_steps + 1), optional
         Sampled base accelerations in m/s^2, one row per run (e.g. random
         realizations); overrides ``base``. Integrated with the integrator's rule
-        from zero base displacement and velocity.
+        from zero base displacement and velocity (a continued run: see ``initial_state``).
     initial_velocity : array_like, shape (batch, ndof) or (ndof,), optional
         Absolute initial velocities of the masses in m/s, top first (drops: ``v0 < 0``).
         Default: at rest.
@@ -210,7 +281,14 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     initial_state : TimeState, optional
         Continue runs from a state (``final_state`` of an earlier response of the same system):
         relative displacements, velocities and every internal state. Excludes
-        ``initial_velocity`` and ``initial_deflection``.
+        ``initial_velocity`` and ``initial_deflection``. A ``final_state`` also carries the
+        integrator's own numbers (:class:`IntegratorState`): a run continued with them is the
+        same run, bit for bit, when the base continues where it was (``base_acceleration``:
+        integrated from the base's displacement and velocity where the run ended; a
+        ``base`` motion: when it is there at ``time[0]``), the grid's spacing is the run's step
+        (within the 1e-9 allowed, the run's own step is taken) and the run's force scale is
+        at least this part's (it is the larger of the two). A run whose state fields were
+        changed since continues from them alone, its accelerations from equilibrium.
     gravity : bool or float
         Include gravity (True: 9.80665 m/s^2, or a value in m/s^2) acting downward.
     record_every : int
@@ -231,6 +309,15 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     h = float(steps.mean())
     if not (h > 0 and np.allclose(steps, h, rtol=1e-9, atol=0)):
         raise SimulationError("time: found a non-uniform or non-increasing grid, expected uniform spacing")
+    if initial_state is not None:
+        if initial_velocity is not None or initial_deflection is not None:
+            raise SimulationError("simulate: found initial_state with initial_velocity or initial_deflection, "
+                                  "expected initial_state alone (it holds both)")
+        _check_state(initial_state, arrays)
+    integrator = None if initial_state is None else initial_state.integrator
+    if integrator is not None and abs(h - integrator.time_step) <= 1e-9 * h:
+        h = integrator.time_step  # the continued run's own step (the grid's, within its 1e-9 tolerance)
+    accel = None
     if base_acceleration is not None:
         accel = np.atleast_2d(np.asarray(base_acceleration, dtype=float))
         if accel.shape[1] != t.size:
@@ -240,15 +327,11 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
         if not np.all(np.isfinite(accel)):
             bad = np.argwhere(~np.isfinite(accel))[0]
             raise SimulationError(f"base_acceleration: found a non-finite sample at run {bad[0]}, index {bad[1]}")
-        base_disp, base_vel = integrate_acceleration(accel, h)
+        batch_sizes = {accel.shape[0]}
     else:
         base_disp, base_vel = (values[None, :] for values in (base or BaseMotion.at_rest()).on_grid(t))
-    batch_sizes = {base_disp.shape[0]}
+        batch_sizes = {base_disp.shape[0]}
     if initial_state is not None:
-        if initial_velocity is not None or initial_deflection is not None:
-            raise SimulationError("simulate: found initial_state with initial_velocity or initial_deflection, "
-                                  "expected initial_state alone (it holds both)")
-        _check_state(initial_state, arrays)
         batch_sizes.add(len(initial_state))
     v_abs = np.zeros((1, ndof)) if initial_velocity is None else np.atleast_2d(np.asarray(initial_velocity, float))
     y0 = np.zeros((1, ndof)) if initial_deflection is None else np.atleast_2d(np.asarray(initial_deflection, float))
@@ -265,6 +348,16 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     if len(batch_sizes) > 1:
         raise SimulationError(f"batch sizes differ between inputs: {sorted(batch_sizes)}")
     batch = batch_sizes.pop() if batch_sizes else 1
+    # runs continued from the integrator's own numbers (their state unchanged since)
+    exact = np.zeros(batch, dtype=bool) if integrator is None else _unchanged_runs(initial_state)
+    if accel is not None:
+        if exact.any():  # each continued run's base goes on from where it was
+            accel = np.broadcast_to(accel, (batch, t.size))
+            base_disp, base_vel = integrate_acceleration(
+                accel, h, np.where(exact, integrator.base_displacement, 0.0),
+                np.where(exact, integrator.base_velocity, 0.0))
+        else:
+            base_disp, base_vel = integrate_acceleration(accel, h)
     v_abs = kernel_array(np.broadcast_to(v_abs, (batch, ndof)))
     y0 = np.broadcast_to(y0, (batch, ndof))
     x_base0 = np.broadcast_to(base_disp[:, :1], (batch, 1))
@@ -273,15 +366,23 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     jforce0 = np.empty((batch, ndof, arrays.jk.shape[1]))
     mstate0 = np.empty((batch, ndof, arrays.mk.shape[1]))
     bwz0 = np.empty((batch, ndof))
+    a0 = np.full((batch, ndof), np.nan)  # NaN: accelerations from equilibrium
     if initial_state is None:
         for b in range(batch):
             jforce0[b], mstate0[b], bwz0[b] = initial_states(system, y0[b])
     else:
         q0 = x_base0 + initial_state.displacement
-        v_abs = kernel_array(initial_state.velocity + base_vel[:, :1])
+        v_abs = kernel_array(initial_state.velocity + np.broadcast_to(base_vel[:, :1], (batch, 1)))
         jforce0[:] = initial_state.jenkin_force
         mstate0[:] = initial_state.maxwell_elongation
         bwz0[:] = initial_state.boucwen_z
+        if exact.any():
+            a0[exact] = integrator.acceleration[exact]
+            # the same absolute frame where the base is where the run left it
+            same_frame = exact & (np.broadcast_to(base_disp[:, 0], (batch,)) == integrator.base_displacement) \
+                & (np.broadcast_to(base_vel[:, 0], (batch,)) == integrator.base_velocity)
+            q0[same_frame] = integrator.position[same_frame]
+            v_abs[same_frame] = integrator.velocity[same_frame]
     g = gravity_acceleration(gravity)
     record_every = whole_number(record_every, "record_every", 1)
     # each run's own acceleration scale (a shared base: the same for all), so that no run's
@@ -293,16 +394,18 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     base_vel = kernel_array(base_vel)
     q0 = kernel_array(q0)
     scale = np.broadcast_to(force_scale(arrays, accel_scale), (batch,)).copy()
+    if exact.any():  # a run's scale covers all of it: the larger of its parts'
+        scale[exact] = np.maximum(scale[exact], integrator.force_scale[exact])
     run_time_batch = time_kernel(structure_of(arrays))
 
     def task(part: slice):
         rows = part if base_disp.shape[0] > 1 else slice(0, 1)
         return run_time_batch(
             *kernel_arrays, h, base_disp[rows], base_vel[rows], g, q0[part], v_abs[part], jforce0[part],
-            mstate0[part], bwz0[part], int(record_every), scale[part],
+            mstate0[part], bwz0[part], int(record_every), scale[part], a0[part],
         )
 
-    (rec_q, rec_v, rec_a, rec_f, flags, flag_step, end_q, end_v, end_jforce, end_mstate,
+    (rec_q, rec_v, rec_a, rec_f, flags, flag_step, end_q, end_v, end_a, end_jforce, end_mstate,
      end_bwz) = run_chunked(task, batch, workers=workers, executor=executor)
     n_records = rec_q.shape[2]
     record_time = t[:: int(record_every)][:n_records]
@@ -315,13 +418,31 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     else:
         deflection = np.stack([displacement[:, 0] - displacement[:, 1], displacement[:, 1]], axis=1)
     flag_time = np.where(flag_step >= 0, t[0] + flag_step * h, np.nan)
-    final_state = TimeState(displacement=end_q - base_disp[:, -1:], velocity=end_v - base_vel[:, -1:],
-                            jenkin_force=end_jforce, maxwell_elongation=end_mstate, boucwen_z=end_bwz)
+    end_base_disp = np.broadcast_to(base_disp[:, -1], (batch,)).copy()
+    end_base_vel = np.broadcast_to(base_vel[:, -1], (batch,)).copy()
+    final_state = TimeState(
+        displacement=end_q - end_base_disp[:, None], velocity=end_v - end_base_vel[:, None], jenkin_force=end_jforce,
+        maxwell_elongation=end_mstate, boucwen_z=end_bwz,
+        integrator=IntegratorState(position=end_q, velocity=end_v, acceleration=end_a, base_displacement=end_base_disp,
+                                   base_velocity=end_base_vel, time_step=h, force_scale=scale.copy(),
+                                   jenkin_force=end_jforce.copy(), maxwell_elongation=end_mstate.copy(),
+                                   boucwen_z=end_bwz.copy()))
     return TimeResponse(
         time=record_time, displacement=displacement, velocity=velocity, acceleration=rec_a,
         deflection=deflection, isolator_force=rec_f, flags=flags, flag_time=flag_time,
         reasons=tuple(FLAG_REASONS[int(f)] for f in flags), final_state=final_state,
     )
+
+
+def _unchanged_runs(state: TimeState) -> np.ndarray:
+    """Per run: its fields are still those its :class:`IntegratorState` was taken with."""
+    integrator = state.integrator
+    same = (np.asarray(state.displacement) == integrator.position - integrator.base_displacement[:, None]).all(axis=1)
+    same &= (np.asarray(state.velocity) == integrator.velocity - integrator.base_velocity[:, None]).all(axis=1)
+    for name in ("jenkin_force", "maxwell_elongation", "boucwen_z"):
+        values = np.asarray(getattr(state, name)) == getattr(integrator, name)
+        same &= values.reshape(len(state), -1).all(axis=1)
+    return same
 
 
 def _check_state(state: TimeState, arrays) -> None:
@@ -343,6 +464,24 @@ def _check_state(state: TimeState, arrays) -> None:
             run = int(np.argwhere(~np.isfinite(values))[0][0])
             raise SimulationError(f"initial_state.{name}: found a non-finite value in run {run} "
                                   "(a flagged run cannot be continued)")
+    integrator = state.integrator
+    if integrator is None:
+        return
+    if not isinstance(integrator, IntegratorState):
+        raise SimulationError(f"initial_state.integrator: found {type(integrator).__name__}, expected an "
+                              "IntegratorState or None")
+    expected = {"position": (batch, ndof), "velocity": (batch, ndof), "acceleration": (batch, ndof),
+                "base_displacement": (batch,), "base_velocity": (batch,), "force_scale": (batch,),
+                "jenkin_force": (batch, ndof, arrays.jk.shape[1]),
+                "maxwell_elongation": (batch, ndof, arrays.mk.shape[1]), "boucwen_z": (batch, ndof)}
+    for name, shape in expected.items():
+        values = np.asarray(getattr(integrator, name))
+        if values.shape != shape or not np.all(np.isfinite(values)):
+            raise SimulationError(f"initial_state.integrator.{name}: found shape {values.shape}, expected {shape} "
+                                  "with finite values (the integrator part of a final_state of this system)")
+    if not (np.isfinite(integrator.time_step) and integrator.time_step > 0):
+        raise SimulationError(f"initial_state.integrator.time_step: found {integrator.time_step!r}, expected a "
+                              "step > 0 s")
 
 
 def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float, time_step: float,
