@@ -36,7 +36,13 @@ class IsolatorArrays:
     part may be empty. ``boucwen`` is ``[active, k1, k2, k3, alpha, beta, gamma, n, b, c]``.
     ``slip_modulation`` is ``[a, y_ref, b]``: the Jenkin slip forces are scaled by
     ``1 - a t + b t^2``, ``t = tanh(x / y_ref)`` (:mod:`idkit.models.iwan_modulated`; ``a = b =
-    0``: constant).
+    0``: constant). ``clearance`` (m) puts every Jenkin element behind a clearance of that
+    half-width; ``jenkin_friction`` then holds the widened limits ``fc_i + k_i gap`` of the
+    elements' virtual forces (:mod:`idkit.models.clearance`). ``slip_rate`` is ``[r, v_ref]``:
+    the slip forces are ``fc_i (1 + r tanh(|v| / v_ref))`` at the deflection rate ``v``
+    (:mod:`idkit.models.rate_dependent`; ``r = 0``: constant). ``pinching`` is ``[pinch,
+    width, shift]`` (-, N, N) of the Bouc-Wen ``z`` law (:mod:`idkit.models.boucwen_pinched`;
+    ``pinch = 0``: none).
     """
 
     poly: np.ndarray  # (3,) g1 [N/m], g2 [N/m^2], g3 [N/m^3]
@@ -47,6 +53,9 @@ class IsolatorArrays:
     maxwell_rate: np.ndarray  # (n_m,) 1/s
     boucwen: np.ndarray  # (10,)
     slip_modulation: np.ndarray = field(default_factory=lambda: np.zeros(3))  # (3,) a [-], y_ref [m], b [-]
+    clearance: float = 0.0  # m, half-width of the clearance before every Jenkin element
+    slip_rate: np.ndarray = field(default_factory=lambda: np.zeros(2))  # (2,) r [-], v_ref [m/s]
+    pinching: np.ndarray = field(default_factory=lambda: np.zeros(3))  # (3,) pinch [-], width [N], shift [N]
 
 
 class IsolatorModel(ABC):

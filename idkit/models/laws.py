@@ -10,7 +10,11 @@ simulator in :mod:`idkit.simulate` uses the same update rules inside its step.
 * the Iwan parallel spring: :func:`polynomial_spring_force` ``x (g1 + x (g2 + x g3))``,
   :func:`polynomial_spring_stiffness` ``g1 + 2 g2 x + 3 g3 x^2`` and
   :func:`lowest_spring_stiffness` over an interval;
-* Maxwell element states and the Bouc-Wen ``z`` equation;
+* Maxwell element states and the Bouc-Wen ``z`` equation, with the Baber-Noori pinching factor
+  (:func:`pinching_factor`, :func:`pinched_boucwen_z_step`);
+* the clearance in series with a Jenkin element (:func:`dead_zone` applied to a stop operator of
+  widened limits, :func:`clearance_jenkin_forces`) and the rate-dependent slip force
+  (:func:`rate_dependent_slip_force`, :func:`rate_dependent_stop_operator`): docs/elements.md;
 * small-amplitude transmissibilities: :func:`sdof_transmissibility`
   ``k* / (k* - m omega^2)`` and :func:`hybrid_transmissibility` (two masses in series).
 """
@@ -442,3 +446,177 @@ def stiffness_from_transmissibility(transmissibility, moving_mass, omega):
     with np.errstate(divide="ignore", invalid="ignore"):
         value = np.asarray(moving_mass) * np.asarray(omega) ** 2 * h / (h - 1.0)
     return np.where(h == 1.0, np.nan + 0j, value)
+
+
+def dead_zone(force, width):
+    """``sign(F) max(|F| - width, 0)``: the force (N) a clearance passes on (docs/elements.md).
+
+    A clearance of half-width ``gap`` (m) in series with a Jenkin element of stiffness ``k``
+    (N/m) and slip force ``fc`` (N) is a Jenkin element of slip force ``fc + k gap`` whose
+    force ``F_v`` (the *virtual* force, ``k`` times the travel from the middle of the
+    clearance) is passed on through this dead zone of width ``k gap``: the contact carries
+    nothing while the travel lies within the clearance.
+
+    Examples
+    --------
+    >>> dead_zone(np.array([-5.0, -1.0, 0.5, 3.0]), 2.0)
+    array([-3.,  0.,  0.,  1.])
+    """
+    force = np.asarray(force, dtype=float)
+    return np.where(force > width, force - width, np.where(force < -width, force + width, 0.0))
+
+
+def clearance_jenkin_forces(deflection, stiffness, friction_force, gap, initial_virtual_force):
+    """Forces (N) of parallel Jenkin elements, each behind a clearance of half-width ``gap`` (m).
+
+    Parameters
+    ----------
+    deflection : ndarray, shape (n_samples,)
+        Deflection history in m.
+    stiffness, friction_force : ndarray, shape (n_elements,)
+        Contact-and-element stiffness ``k_i`` in N/m and slip force ``fc_i`` in N.
+    gap : float
+        Half-width of the clearance in m (>= 0; 0 is the plain stop operator).
+    initial_virtual_force : ndarray, shape (n_elements,)
+        Virtual forces ``k_i e_i`` in N at the first sample (``e_i`` the travel from the middle of
+        the clearance; 0: centred in the clearance).
+
+    Returns
+    -------
+    ndarray, shape (n_samples, n_elements)
+        Element forces in N: :func:`dead_zone` of width ``k_i gap`` of the stop operator with slip
+        forces ``fc_i + k_i gap`` (exact for a deflection piecewise linear between samples).
+
+    Examples
+    --------
+    >>> x = np.array([0.0, 2e-3, 5e-3, 3e-3, 1e-3, -2e-3])
+    >>> clearance_jenkin_forces(x, np.array([1e3]), np.array([2.0]), 1e-3, np.zeros(1))[:, 0].round(6)
+    array([ 0.,  1.,  2.,  0.,  0., -2.])
+    """
+    stiffness = np.asarray(stiffness, dtype=float)
+    dead = stiffness * float(gap)
+    virtual = stop_operator(kernel_array(deflection), kernel_array(stiffness),
+                            kernel_array(np.asarray(friction_force, dtype=float) + dead),
+                            kernel_array(initial_virtual_force))
+    return dead_zone(virtual, dead)
+
+
+def rate_dependent_slip_force(speed, friction_force, rate_gain, slip_speed):
+    """Slip force ``fc(v) = fc (1 + r tanh(|v| / v_ref))`` in N at deflection rates ``v`` (m/s).
+
+    ``fc`` (N) is the slip force at rest, ``fc0`` of ``fc0 + fc1 tanh(|v| / v_ref)``; ``r =
+    fc1 / fc0`` (``rate_gain``, > -1: the slip force rises with speed for ``r > 0``, falls towards
+    ``fc (1 + r)`` for ``r < 0``, a Stribeck-like drop); ``v_ref`` (``slip_speed``, m/s) the
+    speed over which it changes.
+
+    Examples
+    --------
+    >>> float(rate_dependent_slip_force(0.0, 10.0, 0.5, 0.1)), round(float(rate_dependent_slip_force(-1.0, 10.0, 0.5, 0.1)), 4)
+    (10.0, 15.0)
+    """
+    return friction_force * (1.0 + rate_gain * np.tanh(np.abs(speed) / slip_speed))
+
+
+@numba.njit(cache=True)
+def rate_dependent_stop_operator(deflection, time, stiffness, friction_force, rate_gain, slip_speed, initial_force):
+    """Jenkin forces (N) with slip forces ``fc_i (1 + r tanh(|v| / v_ref))`` along a history.
+
+    ``v`` is the deflection rate of each step, ``(x_i - x_{i-1}) / (t_i - t_{i-1})`` (exact for a
+    deflection linear in time between samples: the sliding speed of a slipping element). Each step
+    is the stop operator ``F <- clip(F + k dx, -fc(v), fc(v))``. Shape ``(n_samples, n_elements)``;
+    ``deflection`` in m, ``time`` in s (strictly increasing), ``initial_force`` in N.
+    """
+    n_samples = deflection.shape[0]
+    n_elements = stiffness.shape[0]
+    forces = np.empty((n_samples, n_elements))
+    for j in range(n_elements):
+        forces[0, j] = initial_force[j]
+    for i in range(1, n_samples):
+        step = deflection[i] - deflection[i - 1]
+        scale = 1.0 + rate_gain * math.tanh(abs(step / (time[i] - time[i - 1])) / slip_speed)
+        for j in range(n_elements):
+            trial = forces[i - 1, j] + stiffness[j] * step
+            limit = friction_force[j] * scale
+            if trial > limit:
+                trial = limit
+            elif trial < -limit:
+                trial = -limit
+            forces[i, j] = trial
+    return forces
+
+
+@numba.njit(cache=True)
+def pinching_factor(z, direction, pinch, width, shift):
+    """Baber-Noori pinching factor ``h = 1 - pinch exp(-((z sgn(dx) - shift) / width)^2)`` (-).
+
+    ``z``, ``width`` and ``shift`` in N (``width > 0``); ``direction`` the sign of the deflection
+    step. ``pinch = 0`` gives exactly 1.0.
+
+    Examples
+    --------
+    >>> pinching_factor(0.0, 1.0, 0.8, 2.0, 0.0), pinching_factor(3.0, 1.0, 0.0, 2.0, 0.0)
+    (0.19999999999999996, 1.0)
+    """
+    if pinch == 0.0:
+        return 1.0
+    u = (z * direction - shift) / width
+    return 1.0 - pinch * math.exp(-u * u)
+
+
+@numba.njit(cache=True)
+def pinched_boucwen_z_step(z, dx, alpha, beta, gamma, exponent, pinch, width, shift, n_substeps):
+    """Advance a pinched Bouc-Wen ``z`` (N) over a deflection step ``dx`` (m) (docs/elements.md).
+
+    ``dz/dx = h(z) (alpha - (gamma + beta sgn(dx z)) |z|^n)`` with the pinching factor ``h``
+    (:func:`pinching_factor`), by ``n_substeps`` classical Runge-Kutta steps in ``x``; ``pinch =
+    0`` gives the numbers of :func:`boucwen_z_step`. Returns the new ``z`` and ``dz/dx`` there.
+    """
+    if dx == 0.0:
+        direction = 0.0
+    else:
+        direction = 1.0 if dx > 0.0 else -1.0
+    sub = dx / n_substeps
+    for _ in range(n_substeps):
+        z1 = z
+        k1 = pinching_factor(z1, direction, pinch, width, shift) * _boucwen_slope(z1, direction, alpha, beta, gamma,
+                                                                                  exponent)
+        z2 = z + 0.5 * sub * k1
+        k2 = pinching_factor(z2, direction, pinch, width, shift) * _boucwen_slope(z2, direction, alpha, beta, gamma,
+                                                                                  exponent)
+        z3 = z + 0.5 * sub * k2
+        k3 = pinching_factor(z3, direction, pinch, width, shift) * _boucwen_slope(z3, direction, alpha, beta, gamma,
+                                                                                  exponent)
+        z4 = z + sub * k3
+        k4 = pinching_factor(z4, direction, pinch, width, shift) * _boucwen_slope(z4, direction, alpha, beta, gamma,
+                                                                                  exponent)
+        z = z + sub * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0
+    return z, pinching_factor(z, direction, pinch, width, shift) * _boucwen_slope(z, direction, alpha, beta, gamma,
+                                                                                    exponent)
+
+
+@numba.njit(cache=True)
+def pinched_substeps(dx, alpha, beta, gamma, exponent, pinch, width, minimum):
+    """Sub-steps of :func:`pinched_boucwen_z_step`: those of :func:`boucwen_substeps`, and with
+    pinching enough that ``z`` crosses at most a quarter of the pinching ``width`` (N) in one
+    (``z`` moves by at most about ``alpha |dx|`` over the step), so that RK4 resolves the dip."""
+    count = boucwen_substeps(dx, alpha, beta, gamma, exponent, minimum)
+    if pinch != 0.0 and width > 0.0:
+        needed = math.ceil(min(4.0 * alpha * abs(dx) / width, float(BOUCWEN_MAX_SUBSTEPS)))
+        count = max(count, np.int64(needed))
+    return count
+
+
+@numba.njit(cache=True)
+def pinched_boucwen_z_history(deflection, alpha, beta, gamma, exponent, pinch, width, shift, initial_z, n_substeps):
+    """Pinched Bouc-Wen ``z`` in N along a deflection history in m (:func:`pinched_boucwen_z_step`,
+    at least ``n_substeps`` sub-steps a sample, :func:`pinched_substeps`)."""
+    n_samples = deflection.shape[0]
+    z_history = np.empty(n_samples)
+    z_history[0] = initial_z
+    z = initial_z
+    for i in range(1, n_samples):
+        dx = deflection[i] - deflection[i - 1]
+        z, _ = pinched_boucwen_z_step(z, dx, alpha, beta, gamma, exponent, pinch, width, shift,
+                                      pinched_substeps(dx, alpha, beta, gamma, exponent, pinch, width, n_substeps))
+        z_history[i] = z
+    return z_history

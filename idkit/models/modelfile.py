@@ -10,7 +10,8 @@ Schema (``format_version`` 1)::
       "provenance": {...}          # optional, free-form (fitters: data hashes, settings, seed)
     }
 
-``model.kind`` is one of ``iwan``, ``iwan_modulated``, ``bouc_wen``, ``generalized_maxwell``, ``voigt``
+``model.kind`` is one of ``iwan``, ``iwan_modulated``, ``iwan_clearance``, ``iwan_rate``, ``bouc_wen``,
+``bouc_wen_pinched``, ``generalized_maxwell``, ``voigt``
 (isolators, with ``params`` by declared name in SI units) or ``sdof``
 (``mass``, ``isolator``), ``hybrid`` (``mass``, ``intermediate_mass``, ``upper``,
 ``lower``), ``coulomb_spring``. ``units`` is required in every isolator entry, with
@@ -33,6 +34,9 @@ from idkit.inputfiles import load_json, read_input_bytes
 from idkit.models.boucwen import BoucWenModel
 from idkit.models.iwan import IwanModel
 from idkit.models.iwan_modulated import ModulatedIwanModel
+from idkit.models.boucwen_pinched import PinchedBoucWenModel
+from idkit.models.clearance import ClearanceIwanModel
+from idkit.models.rate_dependent import RateDependentIwanModel
 from idkit.models.maxwell import GeneralizedMaxwell, VoigtModel
 from idkit.models.systems import CoulombSpringSystem, HybridSystem, SDOFSystem
 
@@ -40,7 +44,8 @@ __all__ = ["save_model", "load_model", "model_to_dict", "model_from_dict", "FORM
 
 FORMAT = "idkit-model"
 FORMAT_VERSION = 1
-_ISOLATORS = {cls.kind: cls for cls in (IwanModel, ModulatedIwanModel, BoucWenModel, GeneralizedMaxwell, VoigtModel)}
+_ISOLATORS = {cls.kind: cls for cls in (IwanModel, ModulatedIwanModel, ClearanceIwanModel, RateDependentIwanModel,
+                                        BoucWenModel, PinchedBoucWenModel, GeneralizedMaxwell, VoigtModel)}
 
 
 _ISOLATOR_KEYS = ("kind", "params", "units")
