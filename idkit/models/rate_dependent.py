@@ -104,23 +104,24 @@ class RateDependentIwanModel(IwanModel):
                    slip_rate_gain=gain, slip_speed=speed)
 
     def jenkin_forces(self, deflection, initial_forces=None, *, time=None) -> np.ndarray:
-        """Forces in N of every Jenkin element, shape ``(n_samples, order)``; needs ``time`` (s)."""
+        """Forces in N of every Jenkin element, shape ``(n_samples, order)``, at sample times ``time``
+        (s); ``time=None``: the quasi-static limit (vanishing rate, slip forces ``fc_i``)."""
         x = _as_deflection(deflection)
-        if time is None:
-            raise ParameterError("RateDependentIwanModel: time: found None, expected the sample times in s "
-                                 "(the slip forces follow the deflection rate)")
-        t = _as_time(time, x.size)
         start = np.zeros(self.order) if initial_forces is None else np.asarray(initial_forces, float)
+        if time is None:
+            return self.plain().jenkin_forces(x, start)
+        t = _as_time(time, x.size)
         return rate_dependent_stop_operator(kernel_array(x), kernel_array(t), kernel_array(self.k),
                                             kernel_array(self.fc), float(self._gain), float(self._speed),
                                             kernel_array(start))
 
     def force(self, deflection, time=None, initial_forces=None) -> np.ndarray:
-        """Isolator force in N along a deflection history in m at sample times ``time`` in s
-        (required: the slip forces follow the deflection rate)."""
+        """Isolator force in N along a deflection history in m at sample times ``time`` in s (the
+        slip forces follow the deflection rate); without ``time`` the quasi-static limit (vanishing
+        rate: slip forces ``fc_i``, no viscous force), as :meth:`IwanModel.force`."""
         x = _as_deflection(deflection)
         total = self.spring_force(x) + self.jenkin_forces(x, initial_forces, time=time).sum(axis=1)
-        if self.c_visc:
+        if time is not None and self.c_visc:
             total = total + self.c_visc * _velocity(x, _as_time(time, x.size))
         return total
 

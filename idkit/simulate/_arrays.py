@@ -22,12 +22,20 @@ class SystemArrays:
     jfc: np.ndarray
     mk: np.ndarray  # (ndof, nm)
     mrate: np.ndarray
-    bw: np.ndarray  # (ndof, 10)
-    sm: np.ndarray  # (ndof, 3) slip modulation a [-], y_ref [m], b [-]
+    bw: np.ndarray  # (ndof, 13) Bouc-Wen [active, k1, k2, k3, alpha, beta, gamma, n, b, c], pinching
+    #                 [pinch, width N, shift N] (idkit.models.boucwen_pinched)
+    sm: np.ndarray  # (ndof, 6) slip laws: modulation a [-], y_ref [m], b [-]; clearance gap [m];
+    #                 rate dependence r [-], v_ref [m/s] (idkit.models.clearance, rate_dependent)
 
     @property
     def ndof(self) -> int:
         return int(self.masses.size)
+
+    @property
+    def slip_limits_vary(self) -> np.ndarray:
+        """Per isolator: its Jenkin elements are not the plain stop operator of constant limits
+        (slip modulation, clearance or rate-dependent slip forces), shape ``(ndof,)``."""
+        return (self.sm[:, 0] != 0.0) | (self.sm[:, 2] != 0.0) | (self.sm[:, 3] != 0.0) | (self.sm[:, 4] != 0.0)
 
     def as_tuple(self):
         return (self.masses, self.poly, self.cvisc, self.jk, self.jfc, self.mk, self.mrate, self.bw, self.sm)
@@ -66,8 +74,9 @@ def system_arrays(system) -> SystemArrays:
         poly=np.array([p.poly for p in parts], dtype=float),
         cvisc=np.array([p.c_visc for p in parts], dtype=float),
         jk=jk, jfc=jfc, mk=mk, mrate=mrate,
-        bw=np.array([p.boucwen for p in parts], dtype=float),
-        sm=np.array([p.slip_modulation for p in parts], dtype=float).reshape(ndof, 3),
+        bw=np.array([np.concatenate([p.boucwen, p.pinching]) for p in parts], dtype=float).reshape(ndof, 13),
+        sm=np.array([np.concatenate([p.slip_modulation, [p.clearance], p.slip_rate]) for p in parts],
+                    dtype=float).reshape(ndof, 6),
     )
 
 

@@ -32,7 +32,7 @@ import numba
 import numpy as np
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
-from idkit.models.laws import boucwen_substeps, boucwen_z_step
+from idkit.models.laws import boucwen_substeps, boucwen_z_step, pinched_boucwen_z_step, pinched_substeps
 from idkit.simulate._structured import (
     GENERIC,
     HYBRID,
@@ -44,6 +44,7 @@ from idkit.simulate._structured import (
     commit_jenkin,
     commit_maxwell,
     jenkin_elements,
+    jenkin_kind,
     step_hybrid,
     step_sdof,
 )
@@ -66,7 +67,8 @@ _BW_SUBSTEPS = 4
 
 # Packed layout. Parameters P[j, row, i] of isolator j (0 below the top mass):
 #   row 0: g1, g2, g3, c_visc, mgsum, n_jenkin, n_maxwell, Bouc-Wen[10] (columns 0..16),
-#          slip modulation a, y_ref, 1 / y_ref, b (columns 17, 18, 19, 20)
+#          slip modulation a, y_ref, 1 / y_ref, b (columns 17, 18, 19, 20), clearance gap (21),
+#          rate-dependent slip r, 1 / v_ref (22, 23), Bouc-Wen pinching pinch, width, shift (24-26)
 #   row 1: Jenkin stiffness, row 2: Jenkin slip force,
 #   row 3: Maxwell stiffness, row 4: exp(-rate h), row 5: (1 - exp(-rate h)) / (rate h)
 # States S[j, row, i]: row 0 Jenkin forces, row 1 Maxwell elongations,
@@ -78,8 +80,9 @@ _BW_SUBSTEPS = 4
 #   (``_nrt=False``: an array argument otherwise costs an atomic increment and decrement per
 #   call) and with NumPy's error model (a division by zero gives inf/NaN, caught as a failed
 #   Newton iteration or a non-finite state, instead of raising).
-_P_WIDTH = 21
+_P_WIDTH = 27
 _MGSUM, _NJ, _NM, _BW, _SM = 4, 5, 6, 7, 17
+_GAP, _RATE, _PINCH = 21, 22, 24
 
 
 @numba.njit(cache=True)
@@ -120,6 +123,13 @@ def _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h):
         packed[j, 0, _SM + 1] = sm[j, 1]
         packed[j, 0, _SM + 2] = 1.0 / sm[j, 1] if sm[j, 1] > 0.0 else 0.0  # the steps multiply by 1 / y_ref
         packed[j, 0, _SM + 3] = sm[j, 2]
+        if sm.shape[1] >= 6:
+            packed[j, 0, _GAP] = sm[j, 3]
+            packed[j, 0, _RATE] = sm[j, 4]
+            packed[j, 0, _RATE + 1] = 1.0 / sm[j, 5] if sm[j, 5] > 0.0 else 0.0
+        if bw.shape[1] >= 13:
+            for i in range(3):
+                packed[j, 0, _PINCH + i] = bw[j, 10 + i]
     return packed
 
 
@@ -154,10 +164,11 @@ def _isolator_force(j, y, dy, vrel, h, P, S):
     g3 = P[j, 0, 2]
     force = y * (g1 + y * (g2 + y * g3)) + P[j, 0, 3] * vrel
     tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
-    # the Jenkin elements: slip forces scaled by s(y) when the isolator's slip is modulated
-    # (without modulation the plain stop operator: the same numbers as s = 1, slope 0)
-    kind = 3 if P[j, 0, _SM] != 0.0 or P[j, 0, _SM + 3] != 0.0 else 1
-    force, tangent = jenkin_elements(kind, j, y, dy, P, S, force, tangent)
+    # the Jenkin elements: slip forces scaled by s(y) when the isolator's slip is modulated, behind a
+    # clearance, or following the deflection rate (otherwise the plain stop operator: the same
+    # numbers as s = 1, slope 0)
+    kind = jenkin_kind(j, P)
+    force, tangent = jenkin_elements(kind, j, y, dy, vrel, h, P, S, force, tangent)
     # Maxwell elements are affine in dy within a step: sum k_i u_i = mbase + mgsum dy
     # with mbase = sum k_i e_i u_i (start of step) and mgsum = sum k_i g_i.
     force += S[j, 2, 1] + P[j, 0, _MGSUM] * dy
@@ -171,8 +182,16 @@ def _isolator_force(j, y, dy, vrel, h, P, S):
         # at least _BW_SUBSTEPS, more where the step is long against z's relaxation length (np.int64:
         # the same compiled functions as the model's history; a bare constant is typed as a literal)
         alpha, beta, gamma, exponent = P[j, 0, _BW + 4], P[j, 0, _BW + 5], P[j, 0, _BW + 6], P[j, 0, _BW + 7]
-        z, dz = boucwen_z_step(S[j, 2, 0], dy, alpha, beta, gamma, exponent,
-                               boucwen_substeps(dy, alpha, beta, gamma, exponent, np.int64(_BW_SUBSTEPS)))
+        pinch = P[j, 0, _PINCH]
+        if pinch != 0.0:
+            width = P[j, 0, _PINCH + 1]
+            z, dz = pinched_boucwen_z_step(S[j, 2, 0], dy, alpha, beta, gamma, exponent, pinch, width,
+                                           P[j, 0, _PINCH + 2],
+                                           pinched_substeps(dy, alpha, beta, gamma, exponent, pinch, width,
+                                                            np.int64(_BW_SUBSTEPS)))
+        else:
+            z, dz = boucwen_z_step(S[j, 2, 0], dy, alpha, beta, gamma, exponent,
+                                   boucwen_substeps(dy, alpha, beta, gamma, exponent, np.int64(_BW_SUBSTEPS)))
         factor = b_base ** (b_exp * y)
         bw_force = factor * (y * (k1 + k2 * abs(y) + k3 * y * y) + z)
         force += bw_force
@@ -371,8 +390,14 @@ def _isolator_forces_now(ndof, state, xb, vb, P, S, out):
             y = state[j] - xb
             vr = state[2 + j] - vb
         f = y * (P[j, 0, 0] + y * (P[j, 0, 1] + y * P[j, 0, 2])) + P[j, 0, 3] * vr
+        gap = P[j, 0, _GAP]
         for i in range(int(P[j, 0, _NJ])):
-            f += S[j, 0, i]
+            if gap > 0.0:  # a clearance passes on the virtual force less its dead zone
+                dead = P[j, 1, i] * gap
+                virtual = S[j, 0, i]
+                f += virtual - dead if virtual > dead else virtual + dead if virtual < -dead else 0.0
+            else:
+                f += S[j, 0, i]
         for i in range(int(P[j, 0, _NM])):
             f += P[j, 3, i] * S[j, 1, i]
         if P[j, 0, _BW] != 0.0:

@@ -17,7 +17,8 @@ structure each and carry only its parts:
 They perform the same floating-point operations as the generic step in the same order on the
 parts the structure has (the generic step's absent parts add exact zeros), so both paths give
 the same records to round-off; ``tests/simulate/test_structured_kernel.py`` runs both on the
-same inputs. Any other structure (Bouc-Wen, mixed isolators) runs the generic
+same inputs. Any other structure (Bouc-Wen, pinched Bouc-Wen, clearance or rate-dependent Jenkin elements,
+mixed isolators) runs the generic
 step. A driver is compiled once per structure (:func:`idkit.simulate._kernel.time_kernel`):
 the structure is a constant of the driver, so numba prunes the other branches before typing
 and the kernel compiles only the code it runs.
@@ -52,10 +53,13 @@ _FLAG_NO_CONVERGENCE = 3
 _NEWTON_MAX_ITER = 60
 _RES_TOL = 1e-13
 _MGSUM, _NJ, _NM, _BW, _SM = 4, 5, 6, 7, 17
+_GAP, _RATE = 21, 22
 
 _IWAN = 1
 _MAXWELL = 2
 _IWAN_MODULATED = 3
+_IWAN_CLEARANCE = 4
+_IWAN_RATE = 5
 # rows of the state block S[j, row, i] (idkit.simulate._kernel._pack_states) holding Jenkin forces
 _COMMITTED = 0
 _TRIAL = 3
@@ -71,7 +75,8 @@ def structure_of(arrays) -> int:
         jenkin = bool((arrays.jk[j] > 0.0).any())  # the method: a third of np.any's call overhead
         maxwell = bool((arrays.mk[j] > 0.0).any())
         modulated = arrays.sm[j, 0] != 0.0 or arrays.sm[j, 2] != 0.0
-        if arrays.bw[j, 0] != 0.0 or (jenkin and maxwell) or (modulated and maxwell):
+        other_slip_law = arrays.sm.shape[1] >= 6 and (arrays.sm[j, 3] != 0.0 or arrays.sm[j, 4] != 0.0)
+        if arrays.bw[j, 0] != 0.0 or (jenkin and maxwell) or (modulated and maxwell) or other_slip_law:
             return GENERIC
         kinds.append(_MAXWELL if maxwell else _IWAN_MODULATED if modulated else _IWAN)
     if arrays.ndof == 1:
@@ -84,19 +89,84 @@ def structure_of(arrays) -> int:
 
 
 @numba.njit(cache=True, inline="always")
-def jenkin_elements(kind, j, y, dy, P, S, force, tangent):
+def jenkin_kind(j, P):
+    """The slip law of isolator ``j``'s Jenkin elements read off its packed parameters: 3 modulated,
+    4 behind a clearance, 5 rate-dependent, else 1 (constant slip forces)."""
+    if P[j, 0, _SM] != 0.0 or P[j, 0, _SM + 3] != 0.0:
+        return 3
+    if P[j, 0, _GAP] != 0.0:
+        return 4
+    if P[j, 0, _RATE] != 0.0:
+        return 5
+    return 1
+
+
+@numba.njit(cache=True, inline="always")
+def jenkin_elements(kind, j, y, dy, vrel, h, P, S, force, tangent):
     """Add the Jenkin elements of isolator ``j`` to its ``force`` (N) and ``tangent`` (N/m);
     the one copy of the stop operator every step uses (the specialised steps with a constant
-    ``kind``, the generic step with ``kind`` read off the isolator's slip modulation).
+    ``kind``, the generic step with ``kind`` read off the isolator, :func:`jenkin_kind`).
 
     ``kind`` 1: constant slip forces; 3 (:data:`_IWAN_MODULATED`): slip forces ``s(y) fc`` with
     ``s(y) = 1 - a t + b t^2``, ``t = tanh(y / y_ref)``, at the end-of-step deflection, an element force above the
-    shrunken limit clipped to it, and the limit's slope in the tangent of a slipping element.
-    The trial's element forces are kept in ``S[j, 3]`` (:data:`_TRIAL`); a step commits them
-    by a copy once it has converged (:func:`commit_jenkin`: its last evaluation is at the
-    converged point).
+    shrunken limit clipped to it, and the limit's slope in the tangent of a slipping element;
+    4 (:data:`_IWAN_CLEARANCE`): each element behind a clearance of half-width ``gap``: the
+    stop operator runs on the virtual force (limits ``fc + k gap``, packed so) and passes on its
+    dead zone of width ``k gap`` (:func:`idkit.models.laws.dead_zone`), tangent ``k`` only while
+    in contact and sticking; 5 (:data:`_IWAN_RATE`): slip forces ``fc (1 + r tanh(|v| / v_ref))``
+    at the end-of-step deflection rate ``vrel`` (m/s), whose derivative along the step is ``2 / h``
+    (trapezoidal rule), in the tangent of a slipping element.
+    The trial's element forces (virtual ones behind a clearance) are kept in ``S[j, 3]``
+    (:data:`_TRIAL`); a step commits them by a copy once it has converged (:func:`commit_jenkin`:
+    its last evaluation is at the converged point).
     """
-    if kind == 3:
+    if kind == 4:
+        gap = P[j, 0, _GAP]
+        for i in range(int(P[j, 0, _NJ])):
+            stiffness = P[j, 1, i]
+            trial = S[j, 0, i] + stiffness * dy
+            limit = P[j, 2, i]
+            sticking = True
+            if trial > limit:
+                trial = limit
+                sticking = False
+            elif trial < -limit:
+                trial = -limit
+                sticking = False
+            S[j, _TRIAL, i] = trial
+            dead = stiffness * gap
+            if trial > dead:
+                force += trial - dead
+            elif trial < -dead:
+                force += trial + dead
+            else:
+                sticking = False  # within the clearance: no force, no stiffness
+            if sticking:
+                tangent += stiffness
+    elif kind == 5:
+        gain = P[j, 0, _RATE]
+        inverse_speed = P[j, 0, _RATE + 1]  # 1 / v_ref, packed once
+        x = abs(vrel) * inverse_speed
+        e = math.exp(-2.0 * x)
+        th = (1.0 - e) / (1.0 + e)  # tanh(x), x >= 0, as the modulated law computes it
+        slip_scale = 1.0 + gain * th
+        slip_slope = gain * (1.0 - th * th) * inverse_speed * (2.0 / h)
+        if vrel < 0.0:
+            slip_slope = -slip_slope
+        for i in range(int(P[j, 0, _NJ])):
+            trial = S[j, 0, i] + P[j, 1, i] * dy
+            limit = P[j, 2, i] * slip_scale
+            if trial > limit:
+                trial = limit
+                tangent += P[j, 2, i] * slip_slope
+            elif trial < -limit:
+                trial = -limit
+                tangent -= P[j, 2, i] * slip_slope
+            else:
+                tangent += P[j, 1, i]
+            force += trial
+            S[j, _TRIAL, i] = trial
+    elif kind == 3:
         # tanh(x) = (1 - e) / (1 + e) with e = exp(-2 |x|): within 2.3e-16 of libm's tanh, at a
         # third of its cost (4 against 14 ns, measured); it runs at every Newton evaluation
         inverse_length = P[j, 0, _SM + 2]  # 1 / y_ref, packed once
@@ -147,7 +217,7 @@ def _part_force(kind, j, y, dy, vrel, h, P, S):
     force = y * (g1 + y * (g2 + y * g3)) + P[j, 0, 3] * vrel
     tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
     if kind == 1 or kind == 3:  # _IWAN, _IWAN_MODULATED (literals: numba prunes the other branches)
-        force, tangent = jenkin_elements(kind, j, y, dy, P, S, force, tangent)
+        force, tangent = jenkin_elements(kind, j, y, dy, vrel, h, P, S, force, tangent)
     else:
         force += S[j, 2, 1] + P[j, 0, _MGSUM] * dy
         tangent += P[j, 0, _MGSUM]

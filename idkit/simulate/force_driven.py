@@ -4,7 +4,8 @@ The system of the Noel & Schoukens hysteretic benchmark (2016), written with
 idkit's modified Bouc-Wen force (SPEC 1.3, :class:`~idkit.models.BoucWenModel`):
 
 ``m x'' + b^(c x) (k1 x + k2 sgn(x) x^2 + k3 x^3 + z) + c_visc x' = u(t)``,
-``z' = x' (alpha - (gamma + beta sgn(x' z)) |z|^n)``.
+``z' = x' (alpha - (gamma + beta sgn(x' z)) |z|^n)``, times the pinching factor of a
+:class:`~idkit.models.PinchedBoucWenModel` (:func:`idkit.models.laws.pinching_factor`).
 
 The benchmark's own law ``m y'' + c y' + k y + z = u``,
 ``z' = alpha y' - beta_B (gamma_B |y'| |z|^(nu-1) z + delta_B y' |z|^nu)`` is the
@@ -48,7 +49,8 @@ from scipy.interpolate import CubicSpline
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.errors import ParameterError, SimulationError
 from idkit.models.boucwen import BoucWenModel
-from idkit.models.laws import kernel_array
+from idkit.models.boucwen_pinched import PinchedBoucWenModel
+from idkit.models.laws import kernel_array, pinching_factor
 
 __all__ = [
     "INTERPOLATIONS",
@@ -211,7 +213,9 @@ class ForceDrivenResponse:
 
 
 def force_driven_rates(model: BoucWenModel, mass_kg: float) -> np.ndarray:
-    """Kernel parameter vector ``[m, c_visc, k1, k2, k3, alpha, beta, gamma, n, c ln b]``.
+    """Kernel parameter vector ``[m, c_visc, k1, k2, k3, alpha, beta, gamma, n, c ln b, pinch,
+    width, shift]`` (the last three the pinching of a :class:`~idkit.models.PinchedBoucWenModel`,
+    width and shift in N; zeros without pinching).
 
     Parameters
     ----------
@@ -223,7 +227,7 @@ def force_driven_rates(model: BoucWenModel, mass_kg: float) -> np.ndarray:
     Returns
     -------
     numpy.ndarray
-        The 10 numbers the compiled kernel reads (SI).
+        The 13 numbers the compiled kernel reads (SI).
 
     Examples
     --------
@@ -233,8 +237,9 @@ def force_driven_rates(model: BoucWenModel, mass_kg: float) -> np.ndarray:
     mass = float(mass_kg)
     if not (math.isfinite(mass) and mass > 0.0):
         raise ParameterError(f"mass_kg: found {mass_kg!r}, expected a positive finite mass in kg")
+    pinching = model.pinching() if isinstance(model, PinchedBoucWenModel) else (0.0, 0.0, 0.0)
     return np.array([mass, model.c_visc, model.k1, model.k2, model.k3, model.alpha, model.beta, model.gamma,
-                     model.n, model.c * math.log(model.b)])
+                     model.n, model.c * math.log(model.b), *pinching])
 
 
 def simulate_force_driven(model: BoucWenModel, mass_kg: float, force, sample_rate_hz: float | None = None, *,
@@ -307,6 +312,8 @@ def _rates(x, v, z, u, p):
         sign = 0.0
     magnitude = abs(z) if p[8] == 1.0 else abs(z) ** p[8]          # the power is the costly part
     z_rate = v * (p[5] - (p[7] + p[6] * sign) * magnitude)
+    if p[10] != 0.0:  # Baber-Noori pinching (idkit.models.boucwen_pinched)
+        z_rate *= pinching_factor(z, 1.0 if v > 0.0 else -1.0 if v < 0.0 else 0.0, p[10], p[11], p[12])
     elastic = x * (p[2] + p[3] * abs(x) + p[4] * x * x)
     restoring = math.exp(p[9] * x) * (elastic + z) + p[1] * v
     return v, (u - restoring) / p[0], z_rate

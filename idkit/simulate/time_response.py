@@ -250,7 +250,7 @@ def initial_states(system, deflections):
     mstate = np.zeros_like(arrays.mk)
     bwz = np.zeros(arrays.ndof)
     for j, isolator in enumerate(system.isolators):
-        if isolator.kind == "bouc_wen" and deflections[j] != 0:
+        if isolator.kind in ("bouc_wen", "bouc_wen_pinched") and deflections[j] != 0:
             bwz[j] = isolator.hysteretic_force(np.linspace(0.0, deflections[j], 257))[-1]
     return jforce, mstate, bwz
 
