@@ -224,10 +224,12 @@ class PeriodMap:
         if jacobian == "exact" and self.boucwen.size:
             raise SimulationError("jacobian: found 'exact' for a system with Bouc-Wen elements, expected "
                                   "'finite differences' (z is not differentiated through its sub-steps)")
-        modulated = bool(np.any(arrays.sm[:, 0] != 0.0) or np.any(arrays.sm[:, 2] != 0.0))  # slip limits that follow the deflection
+        # slip limits that follow the deflection or its rate, or elements behind a clearance
+        modulated = bool(np.any(arrays.slip_limits_vary))
         if jacobian == "exact" and modulated:
-            raise SimulationError("jacobian: found 'exact' for a system with modulated slip forces, expected "
-                                  "'finite differences' (the exact sensitivities assume constant slip limits)")
+            raise SimulationError("jacobian: found 'exact' for a system with modulated, rate-dependent or clearance "
+                                  "slip elements, expected 'finite differences' (the exact sensitivities assume the "
+                                  "plain stop operator)")
         self.jacobian_method = ("finite differences" if jacobian == "finite differences" or self.boucwen.size
                                 or modulated else "exact")
         nj, nm = arrays.jk.shape[1], arrays.mk.shape[1]
