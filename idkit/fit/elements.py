@@ -26,7 +26,9 @@ by the chain rule. Verdict (``success``, ``reasons``), the rule every idkit fitt
 (:func:`idkit.fit.result.determinacy_reasons`): not a success when the least squares did not
 converge, when a parameter ends on a search bound, or when a varied parameter is not determined
 by the data (no standard error, a positive parameter whose 95 % interval reaches zero, or
-parameters determined only in combination); ``undetermined`` names those parameters. A parallel
+parameters determined only in combination; ``undetermined`` names them), or when the records'
+mean error is more than 2 points above their noise floor read off the residual (the model-form
+rule of :mod:`idkit.fit.model_form`: the element misses the records). A parallel
 stiffness (``g1``, ``k1``) found at zero is not a failure: it is fixed at 0 (the element alone
 explains the data) and said so in ``notes``.
 """
@@ -43,6 +45,7 @@ import scipy.optimize
 
 from idkit.errors import FitError, IdkitError
 from idkit.fit._params import jacobian_statistics, to_lmfit
+from idkit.fit.model_form import FLOOR_MARGIN, MODEL_FORM_PREFIX, residual_floor
 from idkit.fit.result import determinacy_reasons
 from idkit.models import ClearanceIwanModel, PinchedBoucWenModel, RateDependentIwanModel
 from idkit.models.base import IsolatorModel
@@ -226,6 +229,34 @@ def _errors(model, family: _Family, records) -> dict:
     return values
 
 
+def _reversals(deflection: np.ndarray) -> np.ndarray:
+    """Sample indices of the record's ends and of every reversal of the deflection."""
+    step = np.sign(np.diff(deflection))
+    moving = np.flatnonzero(step != 0.0)
+    turns = moving[1:][step[moving[1:]] != step[moving[:-1]]]
+    return np.unique(np.concatenate([[0], turns, [deflection.size - 1]]))
+
+
+def _model_form_reasons(model, family: _Family, records, errors: dict) -> list[str]:
+    """The shared model-form rule (:mod:`idkit.fit.model_form`): not a success when the records'
+    mean error is more than :data:`~idkit.fit.model_form.FLOOR_MARGIN` above their mean noise
+    floor read off the residual (repeated branches, else second differences between reversals)."""
+    floors = []
+    for record in records:
+        predicted = model.force(record.deflection, time=record.time if family.needs_time else None)
+        floor = residual_floor(record.force, predicted, _reversals(record.deflection), record.deflection)
+        if math.isfinite(floor):
+            floors.append(floor)
+    if not floors:
+        return []
+    error, floor = float(np.mean(list(errors.values()))), float(np.mean(floors))
+    if error - floor <= FLOOR_MARGIN:
+        return []
+    return [f"{MODEL_FORM_PREFIX} records: their mean error {100 * error:.3g} % is {100 * (error - floor):.3g} "
+            f"points above the noise floor {100 * floor:.2g} % read off the residual (limit {100 * FLOOR_MARGIN:g} "
+            "points): the residual is systematic, not noise (another element, docs/elements.md)"]
+
+
 def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray], max_nfev: int) -> ElementFitResult:
     """Least squares from each start, then the statistics and the verdict at the best."""
     begin = _time.perf_counter()
@@ -299,13 +330,15 @@ def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray
         parameters[name].correl = correl.get(name)
     determinacy = determinacy_reasons(parameters, statistics)
     reasons.extend(determinacy)
+    errors = _errors(model, family, records)
+    reasons.extend(_model_form_reasons(model, family, records, errors))
     undetermined = [name for name in varied
                     if not math.isfinite(stderr.get(name, math.nan))
                     or any(name in reason for reason in determinacy)]
     return ElementFitResult(
         family=family.name, model=model, params=physical,
         stderr={name: stderr.get(name, math.nan) for name in varied}, varied=varied, undetermined=undetermined,
-        reasons=list(dict.fromkeys(reasons)), notes=notes, errors=_errors(model, family, records),
+        reasons=list(dict.fromkeys(reasons)), notes=notes, errors=errors,
         evaluations=evaluations, elapsed_s=_time.perf_counter() - begin, internal=u)
 
 
