@@ -14,7 +14,9 @@ Each takes ``histories``: a sequence of records with attributes ``name`` (str), 
 ``deflection`` (m) and ``force`` (N), the deflection any history (sinusoids, random, earthquake
 records). The model is evaluated along each record from the unloaded state at its first sample
 (rate-independent elements from the deflection alone, the rate-dependent one with the rate
-``dx/dt`` of each sample step). The objective is the sum over records of the squared force
+``dx/dt`` of each sample step); a record that begins loaded and ends where it began (a periodic
+test cut at any phase) is evaluated from its cycled state instead (``initial_state``). The
+objective is the sum over records of the squared force
 error, each record divided by its RMS force and the square root of its length (every record
 weighs alike, whatever its length and force level); it is minimised by scipy's bounded
 trust-region least squares from a few starts (or from ``start=``, a previous result of the same
@@ -45,10 +47,12 @@ import scipy.optimize
 
 from idkit.errors import FitError, IdkitError
 from idkit.fit._params import jacobian_statistics, to_lmfit
-from idkit.fit.model_form import FLOOR_MARGIN, MODEL_FORM_PREFIX, residual_floor
+from idkit.fit.model_form import FLOOR_MARGIN, MODEL_FORM_PREFIX, REPEAT_TOLERANCE, residual_floor
 from idkit.fit.result import determinacy_reasons
 from idkit.models import ClearanceIwanModel, PinchedBoucWenModel, RateDependentIwanModel
 from idkit.models.base import IsolatorModel
+from idkit.observe.quasi_static import UNLOADED_FRACTION
+from idkit.signal.cycles import noise_level
 
 __all__ = ["ElementFitResult", "ElementHistory", "fit_clearance_jenkin", "fit_pinched_boucwen",
            "fit_rate_dependent_jenkin", "ELEMENT_FITTERS"]
@@ -98,6 +102,8 @@ class ElementFitResult:
         Residual evaluations of the least squares, all starts.
     elapsed_s : float
         Wall time of the fit in s.
+    start_states : dict of str to str
+        ``"unloaded"`` or ``"cycled"``: the state each record was evaluated from.
     """
 
     family: str
@@ -112,6 +118,7 @@ class ElementFitResult:
     evaluations: int
     elapsed_s: float
     internal: np.ndarray = field(repr=False)
+    start_states: dict = field(default_factory=dict)
 
     @property
     def success(self) -> bool:
@@ -201,7 +208,43 @@ def _checked_histories(histories) -> list[ElementHistory]:
     return checked
 
 
-def _residual_function(family: _Family, records: list[ElementHistory]):
+START_STATES = ("auto", "unloaded", "cycled")
+
+
+def _start_states(records: list[ElementHistory], initial_state: str) -> list[bool]:
+    """Per record: start from the cycled state (True) or unloaded (False). ``"auto"``: unloaded when
+    the record begins within :data:`~idkit.observe.quasi_static.UNLOADED_FRACTION` of its peaks in
+    deflection and force (the loop fits' rule; the force's threshold plus three standard deviations
+    of the record's noise, :func:`idkit.signal.cycles.noise_level`), else cycled when it is closed (it ends within
+    2 % of its range of where it began, so running it twice continues it), else unloaded."""
+    if initial_state not in START_STATES:
+        raise FitError(f"initial_state: found {initial_state!r}, expected one of {START_STATES}")
+    flags = []
+    for record in records:
+        x, f = record.deflection, record.force
+        closed = abs(x[-1] - x[0]) <= REPEAT_TOLERANCE * np.ptp(x)
+        if initial_state == "cycled" and not closed:
+            raise FitError(f"initial_state 'cycled': record {record.name!r} ends {abs(x[-1] - x[0]):.3g} m from where "
+                           f"it began, expected a closed record (within {100 * REPEAT_TOLERANCE:g} % of its range)")
+        # the loop fits' rule, the force's threshold widened by three standard deviations of the
+        # record's own noise (a zeroed sensor reads its noise at rest)
+        unloaded = (abs(x[0]) <= UNLOADED_FRACTION * np.max(np.abs(x))
+                    and abs(f[0]) <= UNLOADED_FRACTION * np.max(np.abs(f)) + 3.0 * noise_level(f))
+        flags.append(initial_state == "cycled" or (initial_state == "auto" and not unloaded and closed))
+    return flags
+
+
+def _predict(model, family: _Family, record: ElementHistory, cycled: bool) -> np.ndarray:
+    """The model's force (N) along a record, from the unloaded state at its first sample, or cycled:
+    the record run twice (its second pass starts where the first ended), the second pass kept."""
+    if not cycled:
+        return model.force(record.deflection, time=record.time if family.needs_time else None)
+    x = np.concatenate([record.deflection, record.deflection[1:]])
+    t = np.concatenate([record.time, record.time[1:] - record.time[0] + record.time[-1]])
+    return model.force(x, time=t if family.needs_time else None)[record.deflection.size - 1:]
+
+
+def _residual_function(family: _Family, records: list[ElementHistory], cycled: list[bool]):
     """``residuals(u)``: per sample ``(F_model - F) / (rms(F) sqrt(n))`` of every record, stacked."""
     weights = [1.0 / (math.sqrt(float(np.mean(r.force**2))) * math.sqrt(r.force.size)) for r in records]
     total = sum(r.force.size for r in records)
@@ -212,19 +255,18 @@ def _residual_function(family: _Family, records: list[ElementHistory]):
         except IdkitError:
             return np.full(total, _PENALTY_RESIDUAL)
         parts = []
-        for record, weight in zip(records, weights):
-            predicted = model.force(record.deflection, time=record.time if family.needs_time else None)
-            parts.append((predicted - record.force) * weight)
+        for record, weight, state in zip(records, weights, cycled):
+            parts.append((_predict(model, family, record, state) - record.force) * weight)
         stacked = np.concatenate(parts)
         return np.where(np.isfinite(stacked), stacked, _PENALTY_RESIDUAL)
 
     return residuals
 
 
-def _errors(model, family: _Family, records) -> dict:
+def _errors(model, family: _Family, records, cycled) -> dict:
     values = {}
-    for record in records:
-        predicted = model.force(record.deflection, time=record.time if family.needs_time else None)
+    for record, state in zip(records, cycled):
+        predicted = _predict(model, family, record, state)
         values[record.name] = float(np.sqrt(np.mean((predicted - record.force) ** 2) / np.mean(record.force**2)))
     return values
 
@@ -237,13 +279,13 @@ def _reversals(deflection: np.ndarray) -> np.ndarray:
     return np.unique(np.concatenate([[0], turns, [deflection.size - 1]]))
 
 
-def _model_form_reasons(model, family: _Family, records, errors: dict) -> list[str]:
+def _model_form_reasons(model, family: _Family, records, cycled, errors: dict) -> list[str]:
     """The shared model-form rule (:mod:`idkit.fit.model_form`): not a success when the records'
     mean error is more than :data:`~idkit.fit.model_form.FLOOR_MARGIN` above their mean noise
     floor read off the residual (repeated branches, else second differences between reversals)."""
     floors = []
-    for record in records:
-        predicted = model.force(record.deflection, time=record.time if family.needs_time else None)
+    for record, state in zip(records, cycled):
+        predicted = _predict(model, family, record, state)
         floor = residual_floor(record.force, predicted, _reversals(record.deflection), record.deflection)
         if math.isfinite(floor):
             floors.append(floor)
@@ -257,10 +299,12 @@ def _model_form_reasons(model, family: _Family, records, errors: dict) -> list[s
             "points): the residual is systematic, not noise (another element, docs/elements.md)"]
 
 
-def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray], max_nfev: int) -> ElementFitResult:
+def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray], max_nfev: int,
+         initial_state: str) -> ElementFitResult:
     """Least squares from each start, then the statistics and the verdict at the best."""
     begin = _time.perf_counter()
-    residuals = _residual_function(family, records)
+    cycled = _start_states(records, initial_state)
+    residuals = _residual_function(family, records, cycled)
     best, evaluations = None, 0
     for u0 in starts:
         u0 = np.clip(np.asarray(u0, dtype=float), family.lower + 1e-9, family.upper - 1e-9)
@@ -330,8 +374,8 @@ def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray
         parameters[name].correl = correl.get(name)
     determinacy = determinacy_reasons(parameters, statistics)
     reasons.extend(determinacy)
-    errors = _errors(model, family, records)
-    reasons.extend(_model_form_reasons(model, family, records, errors))
+    errors = _errors(model, family, records, cycled)
+    reasons.extend(_model_form_reasons(model, family, records, cycled, errors))
     undetermined = [name for name in varied
                     if not math.isfinite(stderr.get(name, math.nan))
                     or any(name in reason for reason in determinacy)]
@@ -339,7 +383,8 @@ def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray
         family=family.name, model=model, params=physical,
         stderr={name: stderr.get(name, math.nan) for name in varied}, varied=varied, undetermined=undetermined,
         reasons=list(dict.fromkeys(reasons)), notes=notes, errors=errors,
-        evaluations=evaluations, elapsed_s=_time.perf_counter() - begin, internal=u)
+        evaluations=evaluations, elapsed_s=_time.perf_counter() - begin, internal=u,
+        start_states={record.name: "cycled" if state else "unloaded" for record, state in zip(records, cycled)})
 
 
 def _scales(records):
@@ -361,7 +406,7 @@ def _warm(start, family_name: str, family: _Family):
 
 
 def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 0,
-                         max_nfev: int = 400) -> ElementFitResult:
+                         max_nfev: int = 400, initial_state: str = "auto") -> ElementFitResult:
     """Fit a Jenkin element acting through a clearance, with a parallel spring, to force records.
 
     ``F = g1 x + dead_zone(V, k gap)``, ``V`` the virtual force of a Jenkin element of stiffness
@@ -377,6 +422,11 @@ def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, se
         Seeds the jitter of the starts (the search is otherwise deterministic).
     max_nfev : int
         Residual evaluations per start.
+    initial_state : {"auto", "unloaded", "cycled"}
+        State each record is evaluated from: unloaded at its first sample, or cycled (a closed
+        record run twice, the second pass kept: the steady cycle of a periodic test cut at any
+        phase). ``"auto"``: unloaded when the record begins near zero deflection and force, else
+        cycled when it is closed, else unloaded (module docstring).
 
     Returns
     -------
@@ -404,11 +454,11 @@ def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, se
         starts = [np.array([gap * x_small / amplitude, k0 + math.log(ratio), math.log(0.8 * force), 0.02])
                   * (1.0 + 0.01 * rng.standard_normal(4))
                   for gap in (0.1, 0.4) for ratio in (10.0, 100.0)]
-    return _fit(family, records, starts, max_nfev)
+    return _fit(family, records, starts, max_nfev, initial_state)
 
 
 def fit_rate_dependent_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 0,
-                              max_nfev: int = 400) -> ElementFitResult:
+                              max_nfev: int = 400, initial_state: str = "auto") -> ElementFitResult:
     """Fit a Jenkin element with slip force ``fc (1 + r tanh(|v| / v_ref))`` and a parallel spring.
 
     :class:`~idkit.models.RateDependentIwanModel` of order 1; the records' sample times give
@@ -440,11 +490,11 @@ def fit_rate_dependent_jenkin(histories, *, start: ElementFitResult | None = Non
         starts = [np.array([k0 + math.log(20.0), math.log(0.7 * force), gain, math.log(share * speed), 0.02])
                   + 0.01 * rng.standard_normal(5)
                   for gain in (0.2, 1.0) for share in (0.1, 0.5)]
-    return _fit(family, records, starts, max_nfev)
+    return _fit(family, records, starts, max_nfev, initial_state)
 
 
 def fit_pinched_boucwen(histories, *, start: ElementFitResult | None = None, seed: int = 0,
-                        max_nfev: int = 400) -> ElementFitResult:
+                        max_nfev: int = 400, initial_state: str = "auto") -> ElementFitResult:
     """Fit the pinched Bouc-Wen model (``k2 = k3 = 0``, ``b = 1``, ``c = 0``, no viscous part).
 
     Internally ``alpha`` (N/m), the saturated force ``z_u`` (N), the share ``s = beta / (beta +
@@ -479,7 +529,7 @@ def fit_pinched_boucwen(histories, *, start: ElementFitResult | None = None, see
         starts = [np.array([0.1, a0 + math.log(ratio), math.log(0.7 * force), 0.5, 0.0, pinch, math.log(0.3), 0.0])
                   + 0.01 * rng.standard_normal(8)
                   for ratio in (5.0, 30.0) for pinch in (0.4, 0.8)]
-    return _fit(family, records, starts, max_nfev)
+    return _fit(family, records, starts, max_nfev, initial_state)
 
 
 #: The families of this module by name, for the model-choice registry (``idkit fit auto``).
