@@ -13,8 +13,10 @@ Scheme (documented in ``docs/simulator.md``):
   ``s(y) Fc`` at the end-of-step deflection, ``s(y) = 1 - a t + b t^2``, ``t = tanh(y / y_ref)``, an element
   force above a shrunken limit is clipped to it: :mod:`idkit.models.iwan_modulated`) and the
   Maxwell exponential
-  update ``u <- e u + g dy`` with ``e = exp(-rate h)``, ``g = (1 - e) / (rate h)``.
-  Bouc-Wen's ``z`` is advanced by Runge-Kutta sub-steps in deflection.
+  update ``u <- e u + g dy`` with ``e = exp(-rate h)``, ``g = (1 - e) / (rate h)``. Behind a
+  clearance the stop operator runs on the elements' virtual forces and passes on their dead zone;
+  rate-dependent slip forces are taken at the end-of-step deflection rate (docs/elements.md).
+  Bouc-Wen's ``z`` (pinched or not) is advanced by Runge-Kutta sub-steps in deflection.
 * The implicit equation of each step is solved by Newton's method with the
   consistent tangent and backtracking (the residual is monotone while every
   local stiffness is non-negative).
