@@ -20,7 +20,9 @@ objective is the sum over records of the squared force
 error, each record divided by its RMS force and the square root of its length (every record
 weighs alike, whatever its length and force level); it is minimised by scipy's bounded
 trust-region least squares from a few starts (or from ``start=``, a previous result of the same
-family: warm starting, e.g. the folds of a cross-validation).
+family: warm starting, e.g. the folds of a cross-validation); records longer than
+:data:`SEARCH_SAMPLES` are thinned for the starts' search and the best start is polished on the
+full records.
 
 Standard errors come from the Jacobian of the residuals at the optimum with one noise variance
 per record (:func:`idkit.fit._params.jacobian_statistics`), mapped to the model's parameters
@@ -55,13 +57,17 @@ from idkit.observe.quasi_static import UNLOADED_FRACTION
 from idkit.signal.cycles import noise_level
 
 __all__ = ["ElementFitResult", "ElementHistory", "fit_clearance_jenkin", "fit_pinched_boucwen",
-           "fit_rate_dependent_jenkin", "ELEMENT_FITTERS"]
+           "fit_rate_dependent_jenkin", "ELEMENT_FITTERS", "SEARCH_SAMPLES"]
 
 #: Residual value of a record sample where the model cannot be evaluated (parameters outside the
 #: model's domain, a non-finite force): large against the normalised residuals (order 1).
 _PENALTY_RESIDUAL = 1e3
 #: A parameter within this share of its search interval from a bound is "on its bound".
 _BOUND_MARGIN = 1e-4
+#: Samples per record the starts search on (longer records are thinned for the search, then the
+#: best start is polished on the full records): the search costs the same for any record length,
+#: the polish a few iterations of the full records (figures in docs/elements.md).
+SEARCH_SAMPLES = 1000
 
 
 @dataclass(frozen=True)
@@ -300,28 +306,38 @@ def _model_form_reasons(model, family: _Family, records, cycled, errors: dict) -
 
 
 def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray], max_nfev: int,
-         initial_state: str) -> ElementFitResult:
+         initial_state: str, statistics: bool) -> ElementFitResult:
     """Least squares from each start, then the statistics and the verdict at the best."""
     begin = _time.perf_counter()
     cycled = _start_states(records, initial_state)
     residuals = _residual_function(family, records, cycled)
+    # the starts search on records thinned to at most SEARCH_SAMPLES samples each (every k-th
+    # sample: the deflection path stays the same to within a thinned step), then the best is
+    # polished on the full records, which alone give the result and its statistics
+    stride = max(1, max(math.ceil(r.force.size / SEARCH_SAMPLES) for r in records))
+    thinned = records if stride == 1 else [
+        ElementHistory(r.name, r.time[::stride], r.deflection[::stride], r.force[::stride]) for r in records]
+    search = residuals if stride == 1 else _residual_function(family, thinned, cycled)
     best, evaluations = None, 0
     for u0 in starts:
         u0 = np.clip(np.asarray(u0, dtype=float), family.lower + 1e-9, family.upper - 1e-9)
-        solution = scipy.optimize.least_squares(residuals, u0, bounds=(family.lower, family.upper), method="trf",
+        solution = scipy.optimize.least_squares(search, u0, bounds=(family.lower, family.upper), method="trf",
                                                 x_scale="jac", max_nfev=max_nfev, xtol=1e-10, ftol=1e-10)
         evaluations += int(solution.nfev)
         if best is None or solution.cost < best.cost:
             best = solution
+    if stride > 1 and statistics:  # from near the optimum: a few iterations, to the statistics' precision
+        best = scipy.optimize.least_squares(residuals, best.x, bounds=(family.lower, family.upper), method="trf",
+                                            x_scale="jac", max_nfev=max_nfev, xtol=1e-8, ftol=1e-8)
+        evaluations += int(best.nfev)
     u = best.x.copy()
     span = family.upper - family.lower
     at_bound = (u - family.lower < _BOUND_MARGIN * span) | (family.upper - u < _BOUND_MARGIN * span)
     free = np.ones(u.size, dtype=bool)
     notes = []
     reasons = []
-    if family.parallel_index is not None and at_bound[family.parallel_index] \
-            and u[family.parallel_index] - family.lower[family.parallel_index] < _BOUND_MARGIN * span[family.parallel_index]:
-        index = family.parallel_index
+    index = family.parallel_index
+    if index is not None and at_bound[index] and u[index] - family.lower[index] < _BOUND_MARGIN * span[index]:
         u[index] = family.lower[index]  # exactly 0: the element alone explains the data
         free[index] = False
         at_bound[index] = False
@@ -346,11 +362,17 @@ def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray
         return residuals(full)
 
     sizes = [r.force.size for r in records]
-    statistics = jacobian_statistics(free_residuals, u[free], free_names, step=1e-6, group_sizes=sizes,
-                                     method="Jacobian of the per-sample force residuals at the least-squares optimum")
+    stats = None
+    if statistics:
+        stats = jacobian_statistics(free_residuals, u[free], free_names, step=1e-6, group_sizes=sizes,
+                                    method="Jacobian of the per-sample force residuals at the least-squares optimum")
+    else:
+        notes.append("statistics=False: no standard errors, determinacy not judged; parameters from the records "
+                     f"thinned to every {stride}. sample" if stride > 1 else
+                     "statistics=False: no standard errors, determinacy not judged")
     # chain rule to the model's parameters: d physical / d internal by central differences of the map
     stderr, correl = {}, {}
-    if statistics.covar is not None and np.all(np.isfinite(statistics.covar)):
+    if stats is not None and stats.covar is not None and np.all(np.isfinite(stats.covar)):
         step = 1e-7
         columns = []
         for i in np.flatnonzero(free):
@@ -360,7 +382,7 @@ def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray
             p_up, p_down = family.build(up).params(), family.build(down).params()
             columns.append([(p_up[name] - p_down[name]) / (2.0 * step) for name in varied])
         mapping = np.array(columns).T  # (varied, free)
-        covariance = mapping @ statistics.covar @ mapping.T
+        covariance = mapping @ stats.covar @ mapping.T
         sigma = np.sqrt(np.clip(np.diag(covariance), 0.0, None))
         for a, name in enumerate(varied):
             stderr[name] = float(sigma[a])
@@ -372,13 +394,12 @@ def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray
                           vary=[True] * len(varied), stderr=[stderr.get(n) for n in varied])
     for name in varied:
         parameters[name].correl = correl.get(name)
-    determinacy = determinacy_reasons(parameters, statistics)
+    determinacy = determinacy_reasons(parameters, stats) if statistics else ()
     reasons.extend(determinacy)
     errors = _errors(model, family, records, cycled)
     reasons.extend(_model_form_reasons(model, family, records, cycled, errors))
-    undetermined = [name for name in varied
-                    if not math.isfinite(stderr.get(name, math.nan))
-                    or any(name in reason for reason in determinacy)]
+    undetermined = [name for name in varied if statistics and (not math.isfinite(stderr.get(name, math.nan))
+                                                                or any(name in reason for reason in determinacy))]
     return ElementFitResult(
         family=family.name, model=model, params=physical,
         stderr={name: stderr.get(name, math.nan) for name in varied}, varied=varied, undetermined=undetermined,
@@ -406,7 +427,8 @@ def _warm(start, family_name: str, family: _Family):
 
 
 def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 0,
-                         max_nfev: int = 400, initial_state: str = "auto") -> ElementFitResult:
+                         max_nfev: int = 400, initial_state: str = "auto",
+        statistics: bool = True) -> ElementFitResult:
     """Fit a Jenkin element acting through a clearance, with a parallel spring, to force records.
 
     ``F = g1 x + dead_zone(V, k gap)``, ``V`` the virtual force of a Jenkin element of stiffness
@@ -427,6 +449,11 @@ def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, se
         record run twice, the second pass kept: the steady cycle of a periodic test cut at any
         phase). ``"auto"``: unloaded when the record begins near zero deflection and force, else
         cycled when it is closed, else unloaded (module docstring).
+    statistics : bool
+        False: no standard errors and no determinacy verdict (``stderr`` NaN, ``undetermined``
+        empty), and long records are not polished at full length after the thinned search:
+        for the folds of a cross-validation, warm started from the full fit (a fold of ten
+        20,000-sample pinched Bouc-Wen records then costs a few evaluations of thinned records).
 
     Returns
     -------
@@ -454,11 +481,12 @@ def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, se
         starts = [np.array([gap * x_small / amplitude, k0 + math.log(ratio), math.log(0.8 * force), 0.02])
                   * (1.0 + 0.01 * rng.standard_normal(4))
                   for gap in (0.1, 0.4) for ratio in (10.0, 100.0)]
-    return _fit(family, records, starts, max_nfev, initial_state)
+    return _fit(family, records, starts, max_nfev, initial_state, statistics)
 
 
 def fit_rate_dependent_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 0,
-                              max_nfev: int = 400, initial_state: str = "auto") -> ElementFitResult:
+                              max_nfev: int = 400, initial_state: str = "auto",
+        statistics: bool = True) -> ElementFitResult:
     """Fit a Jenkin element with slip force ``fc (1 + r tanh(|v| / v_ref))`` and a parallel spring.
 
     :class:`~idkit.models.RateDependentIwanModel` of order 1; the records' sample times give
@@ -490,11 +518,12 @@ def fit_rate_dependent_jenkin(histories, *, start: ElementFitResult | None = Non
         starts = [np.array([k0 + math.log(20.0), math.log(0.7 * force), gain, math.log(share * speed), 0.02])
                   + 0.01 * rng.standard_normal(5)
                   for gain in (0.2, 1.0) for share in (0.1, 0.5)]
-    return _fit(family, records, starts, max_nfev, initial_state)
+    return _fit(family, records, starts, max_nfev, initial_state, statistics)
 
 
 def fit_pinched_boucwen(histories, *, start: ElementFitResult | None = None, seed: int = 0,
-                        max_nfev: int = 400, initial_state: str = "auto") -> ElementFitResult:
+                        max_nfev: int = 400, initial_state: str = "auto",
+        statistics: bool = True) -> ElementFitResult:
     """Fit the pinched Bouc-Wen model (``k2 = k3 = 0``, ``b = 1``, ``c = 0``, no viscous part).
 
     Internally ``alpha`` (N/m), the saturated force ``z_u`` (N), the share ``s = beta / (beta +
@@ -529,7 +558,7 @@ def fit_pinched_boucwen(histories, *, start: ElementFitResult | None = None, see
         starts = [np.array([0.1, a0 + math.log(ratio), math.log(0.7 * force), 0.5, 0.0, pinch, math.log(0.3), 0.0])
                   + 0.01 * rng.standard_normal(8)
                   for ratio in (5.0, 30.0) for pinch in (0.4, 0.8)]
-    return _fit(family, records, starts, max_nfev, initial_state)
+    return _fit(family, records, starts, max_nfev, initial_state, statistics)
 
 
 #: The families of this module by name, for the model-choice registry (``idkit fit auto``).

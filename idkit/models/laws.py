@@ -511,8 +511,8 @@ def rate_dependent_slip_force(speed, friction_force, rate_gain, slip_speed):
 
     Examples
     --------
-    >>> float(rate_dependent_slip_force(0.0, 10.0, 0.5, 0.1)), round(float(rate_dependent_slip_force(-1.0, 10.0, 0.5, 0.1)), 4)
-    (10.0, 15.0)
+    >>> [round(float(rate_dependent_slip_force(v, 10.0, 0.5, 0.1)), 4) for v in (0.0, -1.0)]
+    [10.0, 15.0]
     """
     return friction_force * (1.0 + rate_gain * np.tanh(np.abs(speed) / slip_speed))
 

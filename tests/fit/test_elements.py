@@ -125,3 +125,23 @@ def test_a_record_cut_mid_cycle_is_fitted_from_its_cycled_state():
         assert abs(cycled.params[name] - truth.params()[name]) < Z_LIMIT * cycled.stderr[name]
     unloaded = fit_clearance_jenkin([record], initial_state="unloaded")
     assert unloaded.error > cycled.error
+
+
+def test_thinned_search_and_folds(monkeypatch):
+    """Records longer than SEARCH_SAMPLES are searched thinned and polished at full length: the
+    same optimum as the full search (within 0.05 standard errors: the polish stops at the
+    statistics' precision, ftol 1e-8). A fold (``statistics=False``, warm started) gives a model
+    and errors but no standard errors."""
+    import idkit.fit.elements as elements
+
+    fit, truth, amplitudes, freqs = CASES["clearance"]
+    records = _records(truth, amplitudes, freqs, seed=2)
+    full = fit(records)
+    monkeypatch.setattr(elements, "SEARCH_SAMPLES", 60)  # 201-sample records: every 4th sample
+    thinned = fit(records)
+    assert thinned.success, thinned.reasons
+    for name in full.varied:
+        assert thinned.params[name] == pytest.approx(full.params[name], abs=0.05 * full.stderr[name])
+    fold = fit(records[1:], start=full, statistics=False)
+    assert all(math.isnan(value) for value in fold.stderr.values()) and fold.undetermined == []
+    assert fold.params["gap"] == pytest.approx(truth.gap, rel=0.05)
