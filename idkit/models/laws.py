@@ -529,19 +529,16 @@ def rate_dependent_stop_operator(deflection, time, stiffness, friction_force, ra
     n_samples = deflection.shape[0]
     n_elements = stiffness.shape[0]
     forces = np.empty((n_samples, n_elements))
+    state = np.empty(n_elements)
     for j in range(n_elements):
-        forces[0, j] = initial_force[j]
+        state[j] = initial_force[j]
+        forces[0, j] = state[j]
     for i in range(1, n_samples):
         step = deflection[i] - deflection[i - 1]
-        scale = 1.0 + rate_gain * math.tanh(abs(step / (time[i] - time[i - 1])) / slip_speed)
+        scaled_jenkin_step(state, stiffness, friction_force,
+                           1.0 + rate_gain * math.tanh(abs(step / (time[i] - time[i - 1])) / slip_speed), step)
         for j in range(n_elements):
-            trial = forces[i - 1, j] + stiffness[j] * step
-            limit = friction_force[j] * scale
-            if trial > limit:
-                trial = limit
-            elif trial < -limit:
-                trial = -limit
-            forces[i, j] = trial
+            forces[i, j] = state[j]
     return forces
 
 
