@@ -31,13 +31,13 @@ def _poly_slope(P, j, y):
 
 
 @numba.njit(cache=True)
-def tangent_start(ndof, masses, P, state, tangent, nj, nm):
+def tangent_start(ndof, masses, P, state, tangent, nj, nm, columns):
     """Identity on the independent initial values; acceleration rows from equilibrium at t = 0
-    (``a0 = -f0 / m0``, ``a1 = (f0 - f1) / m1``, base at rest at zero)."""
+    (``a0 = -f0 / m0``, ``a1 = (f0 - f1) / m1``, base at rest at zero). Only the ``columns``
+    of real elements are carried (the others, padding of the parameter arrays, stay zero)."""
     row_a = 2 * ndof
     row_f = 3 * ndof
     row_u = 3 * ndof + ndof * nj
-    n_cols = tangent.shape[1]
     tangent[:, :] = 0.0
     for d in range(ndof):
         tangent[d, d] = 1.0
@@ -49,7 +49,7 @@ def tangent_start(ndof, masses, P, state, tangent, nj, nm):
         y = state[0] - state[1] if (ndof == 2 and j == 0) else state[j]
         slope[j] = _poly_slope(P, j, y)
     df = np.zeros(2)
-    for c in range(n_cols):
+    for c in columns:
         for j in range(ndof):
             if ndof == 2 and j == 0:
                 dy = tangent[0, c] - tangent[1, c]
@@ -69,24 +69,25 @@ def tangent_start(ndof, masses, P, state, tangent, nj, nm):
 
 
 @numba.njit(cache=True)
-def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h, tangent, nj, nm):
+def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h, tangent, nj, nm, columns, work,
+                 stuck):
     """Carry the tangent over one converged step.
 
     ``state`` holds the new positions (``[q0, q1, ...]``), ``old_q`` and ``old_force`` the
     positions (m) and Jenkin forces (N) before the step, ``base_old``/``base_new`` the base
-    displacement (m) at its ends, ``h`` the step (s).
+    displacement (m) at its ends, ``h`` the step (s). ``columns``: those carried (as
+    :func:`tangent_start`); ``work`` (8, 2) and ``stuck`` (2, max(nj, 1)): scratch of the caller's,
+    so that a step allocates nothing.
     """
     m0 = masses[0]
     m1 = masses[1] if ndof == 2 else 1.0
     row_a = 2 * ndof
     row_f = 3 * ndof
     row_u = 3 * ndof + ndof * nj
-    n_cols = tangent.shape[1]
     c2 = 2.0 / h
     c4 = c2 * c2
-    slope = np.zeros(2)
-    stiff = np.zeros(2)  # d f / d(dy): stuck Jenkin stiffnesses + Maxwell gains
-    stuck = np.zeros((2, max(nj, 1)))
+    slope = work[0]
+    stiff = work[1]  # d f / d(dy): stuck Jenkin stiffnesses + Maxwell gains
     for j in range(ndof):
         if ndof == 2 and j == 0:
             y = state[0] - state[1]
@@ -101,6 +102,7 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
         total = P[j, 0, 4]
         for i in range(int(P[j, 0, 5])):
             trial = old_force[j, i] + P[j, 1, i] * step_dy
+            stuck[j, i] = 0.0
             if -P[j, 2, i] <= trial <= P[j, 2, i]:  # the kernel's stick test
                 stuck[j, i] = 1.0
                 total += P[j, 1, i]
@@ -113,13 +115,13 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
         j01 = -t0
         j11 = c4 * m1 + t0 + slope[1] + P[1, 0, 3] * c2 + stiff[1]
     det = j00 * j11 - j01 * j01
-    dq = np.zeros(2)
-    dqn = np.zeros(2)
-    dvn = np.zeros(2)
-    dan = np.zeros(2)
-    ddy = np.zeros(2)
-    df = np.zeros(2)
-    for c in range(n_cols):
+    dq = work[2]
+    dqn = work[3]
+    dvn = work[4]
+    dan = work[5]
+    ddy = work[6]
+    df = work[7]
+    for c in columns:
         for d in range(ndof):
             dqn[d] = tangent[d, c]
             dvn[d] = tangent[ndof + d, c]
