@@ -34,7 +34,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from idkit.errors import SimulationError
 from idkit.responses.linear import _numbers, _order
-from idkit.responses.periodic import PeriodMap, classify_multipliers, monodromy, periodic_response, stability_margin
+from idkit.responses.periodic import (
+    STABILITY_MARGIN,
+    PeriodMap,
+    classify_multipliers,
+    monodromy,
+    periodic_response,
+    stability_margin,
+)
 from idkit.simulate import harmonic_response
 from idkit.simulate._kernel import FLAG_REASONS
 
@@ -124,6 +131,10 @@ def parabolic_peak(x: ArrayLike, y: ArrayLike) -> tuple[float, float, int]:
     return float(vertex), float(y1 + slope_at_x1 * shift + curvature * shift**2), index
 
 
+#: Stability of the orbits a settled map point may show (:attr:`HarmonicMap.stability`).
+SETTLED_KINDS = ("stable", "neutral", "period-2", "jumped")
+
+
 @dataclass(frozen=True)
 class HarmonicMap:
     """Steady-state harmonic response over a (frequency x amplitude) grid.
@@ -194,6 +205,22 @@ class HarmonicMap:
     shooting: NDArray[np.bool_] | None = None
     stability: NDArray[np.str_] | None = None
     multiplier: NDArray[np.complex128] | None = None
+
+    def __post_init__(self):
+        # the map's invariant: a settled point shows an orbit a long run stays on
+        if self.stability is None:
+            return
+        settled = np.asarray(self.converged, dtype=bool) & (np.asarray(self.flags) == 0)
+        kinds = np.isin(self.stability, SETTLED_KINDS)
+        growing = np.abs(self.multiplier) > 1.0 + STABILITY_MARGIN
+        bad = np.argwhere(settled & (~kinds | growing))
+        if bad.size:
+            row, column = bad[0]
+            raise SimulationError(
+                f"HarmonicMap: the point {self.freq[row]:g} Hz, {self.amplitude[column]:g} m is settled but its orbit "
+                f"is {self.stability[row, column] or 'not classified'} (multiplier "
+                f"{abs(self.multiplier[row, column]):.6g}); expected a settled point on a stable orbit "
+                f"({', '.join(SETTLED_KINDS)}, every |multiplier| <= 1 + {STABILITY_MARGIN:g})")
 
     @property
     def shape(self) -> tuple[int, int]:
