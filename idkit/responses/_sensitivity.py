@@ -68,7 +68,7 @@ def tangent_start(ndof, masses, P, state, tangent, nj, nm, columns):
             tangent[row_a + 1, c] = (df[0] - df[1]) / masses[1]
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, _nrt=False)
 def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h, tangent, nj, nm, columns, work,
                  stuck):
     """Carry the tangent over one converged step.
@@ -76,8 +76,10 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
     ``state`` holds the new positions (``[q0, q1, ...]``), ``old_q`` and ``old_force`` the
     positions (m) and Jenkin forces (N) before the step, ``base_old``/``base_new`` the base
     displacement (m) at its ends, ``h`` the step (s). ``columns``: those carried (as
-    :func:`tangent_start`); ``work`` (8, 2) and ``stuck`` (2, max(nj, 1)): scratch of the caller's,
-    so that a step allocates nothing.
+    :func:`tangent_start`); ``work`` (8, 2) and ``stuck`` (2, max(nj, 1)): scratch of the caller's
+    (rows: slopes, stiffnesses, then the position, old position, velocity, acceleration,
+    deflection and force derivatives), so that a step allocates nothing and, compiled without
+    reference counting, takes no atomic operation per call.
     """
     m0 = masses[0]
     m1 = masses[1] if ndof == 2 else 1.0
@@ -86,8 +88,6 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
     row_u = 3 * ndof + ndof * nj
     c2 = 2.0 / h
     c4 = c2 * c2
-    slope = work[0]
-    stiff = work[1]  # d f / d(dy): stuck Jenkin stiffnesses + Maxwell gains
     for j in range(ndof):
         if ndof == 2 and j == 0:
             y = state[0] - state[1]
@@ -98,7 +98,7 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
         else:
             y = state[0] - base_new
             step_dy = (state[0] - old_q[0]) - (base_new - base_old)
-        slope[j] = _poly_slope(P, j, y)
+        work[0, j] = _poly_slope(P, j, y)
         total = P[j, 0, 4]
         for i in range(int(P[j, 0, 5])):
             trial = old_force[j, i] + P[j, 1, i] * step_dy
@@ -106,59 +106,57 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
             if -P[j, 2, i] <= trial <= P[j, 2, i]:  # the kernel's stick test
                 stuck[j, i] = 1.0
                 total += P[j, 1, i]
-        stiff[j] = total
-    t0 = slope[0] + P[0, 0, 3] * c2 + stiff[0]
+        work[1, j] = total
+    t0 = work[0, 0] + P[0, 0, 3] * c2 + work[1, 0]
     j00 = c4 * m0 + t0
     j01 = 0.0
     j11 = 1.0
     if ndof == 2:
         j01 = -t0
-        j11 = c4 * m1 + t0 + slope[1] + P[1, 0, 3] * c2 + stiff[1]
+        j11 = c4 * m1 + t0 + work[0, 1] + P[1, 0, 3] * c2 + work[1, 1]
     det = j00 * j11 - j01 * j01
-    dq = work[2]
-    dqn = work[3]
-    dvn = work[4]
-    dan = work[5]
-    ddy = work[6]
-    df = work[7]
+    n_jenkin0 = int(P[0, 0, 5])
+    n_maxwell0 = int(P[0, 0, 6])
+    n_jenkin1 = int(P[ndof - 1, 0, 5])
+    n_maxwell1 = int(P[ndof - 1, 0, 6])
     for c in columns:
         for d in range(ndof):
-            dqn[d] = tangent[d, c]
-            dvn[d] = tangent[ndof + d, c]
-            dan[d] = tangent[row_a + d, c]
+            work[3, d] = tangent[d, c]
+            work[4, d] = tangent[ndof + d, c]
+            work[5, d] = tangent[row_a + d, c]
         # change of the residual M a + f by the old values, new positions held
         for j in range(ndof):
             if ndof == 2 and j == 0:
-                ddy[j] = -(dqn[0] - dqn[1])
-                dvrel = -(c2 * dqn[0] + dvn[0]) + (c2 * dqn[1] + dvn[1])
+                work[6, j] = -(work[3, 0] - work[3, 1])
+                dvrel = -(c2 * work[3, 0] + work[4, 0]) + (c2 * work[3, 1] + work[4, 1])
             else:
-                ddy[j] = -dqn[j]
-                dvrel = -(c2 * dqn[j] + dvn[j])
-            value = P[j, 0, 3] * dvrel + stiff[j] * ddy[j]
-            for i in range(int(P[j, 0, 5])):
+                work[6, j] = -work[3, j]
+                dvrel = -(c2 * work[3, j] + work[4, j])
+            value = P[j, 0, 3] * dvrel + work[1, j] * work[6, j]
+            for i in range(n_jenkin0 if j == 0 else n_jenkin1):
                 value += stuck[j, i] * tangent[row_f + j * nj + i, c]
-            for i in range(int(P[j, 0, 6])):
+            for i in range(n_maxwell0 if j == 0 else n_maxwell1):
                 value += P[j, 3, i] * P[j, 4, i] * tangent[row_u + j * nm + i, c]
-            df[j] = value
-        r0 = -m0 * (c4 * dqn[0] + 2.0 * c2 * dvn[0] + dan[0]) + df[0]
+            work[7, j] = value
+        r0 = -m0 * (c4 * work[3, 0] + 2.0 * c2 * work[4, 0] + work[5, 0]) + work[7, 0]
         if ndof == 2:
-            r1 = -m1 * (c4 * dqn[1] + 2.0 * c2 * dvn[1] + dan[1]) - df[0] + df[1]
-            dq[0] = -(j11 * r0 - j01 * r1) / det
-            dq[1] = -(j00 * r1 - j01 * r0) / det
+            r1 = -m1 * (c4 * work[3, 1] + 2.0 * c2 * work[4, 1] + work[5, 1]) - work[7, 0] + work[7, 1]
+            work[2, 0] = -(j11 * r0 - j01 * r1) / det
+            work[2, 1] = -(j00 * r1 - j01 * r0) / det
         else:
-            dq[0] = -r0 / j00
+            work[2, 0] = -r0 / j00
         for d in range(ndof):
-            tangent[d, c] = dq[d]
-            tangent[ndof + d, c] = c2 * (dq[d] - dqn[d]) - dvn[d]
-            tangent[row_a + d, c] = c4 * (dq[d] - dqn[d]) - 2.0 * c2 * dvn[d] - dan[d]
+            tangent[d, c] = work[2, d]
+            tangent[ndof + d, c] = c2 * (work[2, d] - work[3, d]) - work[4, d]
+            tangent[row_a + d, c] = c4 * (work[2, d] - work[3, d]) - 2.0 * c2 * work[4, d] - work[5, d]
         for j in range(ndof):
             if ndof == 2 and j == 0:
-                ddy[j] = (dq[0] - dq[1]) - (dqn[0] - dqn[1])
+                work[6, j] = (work[2, 0] - work[2, 1]) - (work[3, 0] - work[3, 1])
             else:
-                ddy[j] = dq[j] - dqn[j]
-            for i in range(int(P[j, 0, 5])):
+                work[6, j] = work[2, j] - work[3, j]
+            for i in range(n_jenkin0 if j == 0 else n_jenkin1):
                 index = row_f + j * nj + i
-                tangent[index, c] = stuck[j, i] * (tangent[index, c] + P[j, 1, i] * ddy[j])
-            for i in range(int(P[j, 0, 6])):
+                tangent[index, c] = stuck[j, i] * (tangent[index, c] + P[j, 1, i] * work[6, j])
+            for i in range(n_maxwell0 if j == 0 else n_maxwell1):
                 index = row_u + j * nm + i
-                tangent[index, c] = P[j, 4, i] * tangent[index, c] + P[j, 5, i] * ddy[j]
+                tangent[index, c] = P[j, 4, i] * tangent[index, c] + P[j, 5, i] * work[6, j]

@@ -308,7 +308,7 @@ class PeriodMap:
         freq, amplitude, steps = (np.ascontiguousarray(np.broadcast_to(value, (batch,)))
                                   for value in (np.asarray(freq, dtype=float), np.asarray(amplitude, dtype=float),
                                                 np.asarray(steps_per_period, dtype=np.int64)))
-        scale = np.array([force_scale(self.arrays, a * (2 * np.pi * f) ** 2) for f, a in zip(freq, amplitude)])
+        scale = np.atleast_1d(force_scale(self.arrays, amplitude * (2 * np.pi * freq) ** 2))
         n_periods = self.periods if n_periods is None else int(n_periods)
         q, v, jforce, mstate, bwz = (np.ascontiguousarray(value) for value in self.unpack(states))
         q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents = _run_periods(
