@@ -467,6 +467,10 @@ SUBHARMONIC_TOLERANCES = 10
 #: An unstable orbit is left by pushing the masses this fraction of the state scale along its
 #: unstable eigenvector; the run then spans the periods the push needs to grow to the scale.
 CARRY_PUSH = 1e-2
+#: At most this many periods of growth: a multiplier closer to the unit circle (|mu|^4000 < 100,
+#: |mu| < 1.00115) is pushed further, ``|mu|^-4000`` of the scale, so that it still grows to the
+#: scale within them.
+CARRY_PERIODS = 4000
 
 
 @dataclass
@@ -587,9 +591,11 @@ def _carry(system, one, points, steps, orders, tolerance, workers, states, multi
         values, vectors = np.linalg.eig(jacobians[row])
         direction = vectors[:, int(np.argmax(np.abs(values)))].real
         direction = direction / np.max(np.abs(direction))
-        pushed[k] = one.push(states[row], CARRY_PUSH * direction[:2 * one.ndof] * scale[k, :2 * one.ndof])
-        growth_periods[k] = np.log(1.0 / CARRY_PUSH) / np.log(np.abs(multipliers[row][0]))
-    min_periods = int(min(PLAIN_MAX_PERIODS, 2 * np.ceil(np.max(growth_periods) / 2)))
+        growth = float(np.abs(multipliers[row][0]))
+        size = max(CARRY_PUSH, growth ** -CARRY_PERIODS)
+        pushed[k] = one.push(states[row], size * direction[:2 * one.ndof] * scale[k, :2 * one.ndof])
+        growth_periods[k] = np.log(1.0 / size) / np.log(growth)
+    min_periods = int(min(CARRY_PERIODS, 2 * np.ceil(np.max(growth_periods) / 2)))
     runs = harmonic_response(system, freq, amplitude, n_harmonics=len(orders) - 1, tolerance=tolerance,
                              steps_per_period=steps[indices], min_periods=max(8, min_periods),
                              max_periods=min_periods + SHOOTING_AFTER_PERIODS, workers=workers,
@@ -603,9 +609,13 @@ def _carry(system, one, points, steps, orders, tolerance, workers, states, multi
     for k in np.flatnonzero(~settled & (np.asarray(runs.flags) == 0)):
         end = one.pack(*(values[k:k + 1] for values in runs.end_states))
         doubled = np.abs(runs.harmonic(0.5)[k]) > SUBHARMONIC_TOLERANCES * tolerance * np.abs(runs.harmonic(1)[k])
-        orbit = periodic_response(system, freq[k], amplitude[k], periods=2 if doubled else 1, initial_states=end,
-                                  settle_periods=0, steps_per_period=steps[indices[k]],
-                                  n_harmonics=len(orders) - 1, seek_stable=False)
+        for periods in ((2,) if doubled else (1, 2)):  # back on the unstable period-1 orbit: the other
+            orbit = periodic_response(system, freq[k], amplitude[k], periods=periods, initial_states=end,
+                                      settle_periods=0, steps_per_period=steps[indices[k]],
+                                      n_harmonics=len(orders) - 1, seek_stable=False)
+            doubled = periods == 2
+            if orbit.converged[0] and orbit.stable[0]:
+                break
         if orbit.converged[0]:
             points.take_orbit(indices[k], orbit, 0, orders)
             if not orbit.stable[0]:

@@ -107,3 +107,17 @@ def test_a_map_refuses_a_settled_point_on_an_unstable_orbit():
         HarmonicMap(**fields, stability=np.full(shape, "unstable"), multiplier=np.full(shape, -1.01 + 0j))
     with pytest.raises(SimulationError, match="multiplier"):
         HarmonicMap(**fields, stability=np.full(shape, "stable"), multiplier=np.full(shape, -1.01 + 0j))
+
+
+def test_a_slowly_growing_doubling_at_the_tongue_edge_is_carried_to_the_subharmonic():
+    """Table A.1 rope, 10.66 Hz, 1 mm, the edge of the period-doubling tongue: the period-1 orbit's
+    multiplier is about -1.0008, so a 1e-2 push would need 5800 periods to grow to the orbit's scale;
+    it is pushed |mu|^-4000 of the scale instead and reaches the 1/2 subharmonic that a long run
+    from rest reaches (|H1/2| / |H1| 2.8155), within three map tolerances as above."""
+    system = library.get("system_a1_asymmetric")
+    result = harmonic_map(system, [10.66], [1e-3], workers=1)
+    run = harmonic_response(system, 10.66, 1e-3, tolerance=1e-7, max_periods=60000, start="rest", workers=1)
+    assert run.converged[0] and result.stability[0, 0] == "period-2", result.reasons
+    long_ratio = abs(run.hosidf(0.5)[0]) / abs(run.hosidf(1)[0])
+    assert long_ratio > 1
+    assert abs(result.magnitude(0.5)[0, 0] / result.magnitude(1)[0, 0] - long_ratio) < 3 * MAP_TOLERANCE
