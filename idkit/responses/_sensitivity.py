@@ -12,8 +12,8 @@ the kernel's branch is taken). Bouc-Wen ``z`` (Runge-Kutta sub-steps) is not dif
 here: systems with Bouc-Wen elements use finite differences.
 
 Tangent layout (rows): ``q (ndof), v (ndof), a (ndof), F (ndof x nj), u (ndof x nm)``;
-columns: the independent initial values ``q, v, F, u`` (the initial acceleration follows from
-equilibrium). The functions here never call the step itself: the period-map kernel
+columns: the independent initial values ``q, v, F, u`` of real elements (the initial
+acceleration follows from equilibrium; see :func:`tangent_start`). The functions here never call the step itself: the period-map kernel
 (:func:`idkit.responses.periodic._run_periods`) calls them around it.
 """
 
@@ -33,23 +33,22 @@ def _poly_slope(P, j, y):
 @numba.njit(cache=True)
 def tangent_start(ndof, masses, P, state, tangent, nj, nm, columns):
     """Identity on the independent initial values; acceleration rows from equilibrium at t = 0
-    (``a0 = -f0 / m0``, ``a1 = (f0 - f1) / m1``, base at rest at zero). Only the ``columns``
-    of real elements are carried (the others, padding of the parameter arrays, stay zero)."""
+    (``a0 = -f0 / m0``, ``a1 = (f0 - f1) / m1``, base at rest at zero). Column ``k`` of
+    ``tangent`` is the derivative by the initial value ``columns[k]`` of the layout above
+    (``q, v, F, u`` of real elements only: the padding of the parameter arrays is left out)."""
     row_a = 2 * ndof
     row_f = 3 * ndof
     row_u = 3 * ndof + ndof * nj
     tangent[:, :] = 0.0
-    for d in range(ndof):
-        tangent[d, d] = 1.0
-        tangent[ndof + d, ndof + d] = 1.0
-    for k in range(ndof * (nj + nm)):
-        tangent[row_f + k, 2 * ndof + k] = 1.0
+    for k in range(columns.shape[0]):
+        column = columns[k]
+        tangent[column if column < 2 * ndof else row_f + column - 2 * ndof, k] = 1.0
     slope = np.zeros(2)
     for j in range(ndof):
         y = state[0] - state[1] if (ndof == 2 and j == 0) else state[j]
         slope[j] = _poly_slope(P, j, y)
     df = np.zeros(2)
-    for c in columns:
+    for c in range(columns.shape[0]):
         for j in range(ndof):
             if ndof == 2 and j == 0:
                 dy = tangent[0, c] - tangent[1, c]
@@ -69,17 +68,17 @@ def tangent_start(ndof, masses, P, state, tangent, nj, nm, columns):
 
 
 @numba.njit(cache=True, _nrt=False)
-def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h, tangent, nj, nm, columns, work,
-                 stuck):
+def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h, tangent, nj, nm, work, stuck,
+                 lanes):
     """Carry the tangent over one converged step.
 
     ``state`` holds the new positions (``[q0, q1, ...]``), ``old_q`` and ``old_force`` the
     positions (m) and Jenkin forces (N) before the step, ``base_old``/``base_new`` the base
-    displacement (m) at its ends, ``h`` the step (s). ``columns``: those carried (as
-    :func:`tangent_start`); ``work`` (8, 2) and ``stuck`` (2, max(nj, 1)): scratch of the caller's
-    (rows: slopes, stiffnesses, then the position, old position, velocity, acceleration,
-    deflection and force derivatives), so that a step allocates nothing and, compiled without
-    reference counting, takes no atomic operation per call.
+    displacement (m) at its ends, ``h`` the step (s); the columns of ``tangent`` as
+    :func:`tangent_start` made them. ``work`` (2, 2), ``stuck`` (2, max(nj, 1)) and ``lanes``
+    (6, columns): scratch of the caller's (slopes and stiffnesses of the isolators, which Jenkin
+    elements stick, per-column derivatives), so that a step allocates nothing and, compiled
+    without reference counting, takes no atomic operation per call.
     """
     m0 = masses[0]
     m1 = masses[1] if ndof == 2 else 1.0
@@ -119,44 +118,60 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
     n_maxwell0 = int(P[0, 0, 6])
     n_jenkin1 = int(P[ndof - 1, 0, 5])
     n_maxwell1 = int(P[ndof - 1, 0, 6])
-    for c in columns:
-        for d in range(ndof):
-            work[3, d] = tangent[d, c]
-            work[4, d] = tangent[ndof + d, c]
-            work[5, d] = tangent[row_a + d, c]
-        # change of the residual M a + f by the old values, new positions held
-        for j in range(ndof):
+    # column by column the same arithmetic, written row by row over all the columns at once (the
+    # inner loops run along contiguous memory); lanes: derivatives of the isolator forces by the old
+    # values (0, 1), the new positions (2, 3), the new deflection increments (4, 5)
+    n = tangent.shape[1]
+    for j in range(ndof):
+        force = lanes[j]
+        for c in range(n):
             if ndof == 2 and j == 0:
-                work[6, j] = -(work[3, 0] - work[3, 1])
-                dvrel = -(c2 * work[3, 0] + work[4, 0]) + (c2 * work[3, 1] + work[4, 1])
+                ddy = -(tangent[0, c] - tangent[1, c])
+                dvrel = -(c2 * tangent[0, c] + tangent[ndof, c]) + (c2 * tangent[1, c] + tangent[ndof + 1, c])
             else:
-                work[6, j] = -work[3, j]
-                dvrel = -(c2 * work[3, j] + work[4, j])
-            value = P[j, 0, 3] * dvrel + work[1, j] * work[6, j]
-            for i in range(n_jenkin0 if j == 0 else n_jenkin1):
-                value += stuck[j, i] * tangent[row_f + j * nj + i, c]
-            for i in range(n_maxwell0 if j == 0 else n_maxwell1):
-                value += P[j, 3, i] * P[j, 4, i] * tangent[row_u + j * nm + i, c]
-            work[7, j] = value
-        r0 = -m0 * (c4 * work[3, 0] + 2.0 * c2 * work[4, 0] + work[5, 0]) + work[7, 0]
+                ddy = -tangent[j, c]
+                dvrel = -(c2 * tangent[j, c] + tangent[ndof + j, c])
+            force[c] = P[j, 0, 3] * dvrel + work[1, j] * ddy
+        for i in range(n_jenkin0 if j == 0 else n_jenkin1):
+            weight = stuck[j, i]
+            index = row_f + j * nj + i
+            for c in range(n):
+                force[c] += weight * tangent[index, c]
+        for i in range(n_maxwell0 if j == 0 else n_maxwell1):
+            weight = P[j, 3, i] * P[j, 4, i]
+            index = row_u + j * nm + i
+            for c in range(n):
+                force[c] += weight * tangent[index, c]
+    for c in range(n):
+        r0 = -m0 * (c4 * tangent[0, c] + 2.0 * c2 * tangent[ndof, c] + tangent[row_a, c]) + lanes[0, c]
         if ndof == 2:
-            r1 = -m1 * (c4 * work[3, 1] + 2.0 * c2 * work[4, 1] + work[5, 1]) - work[7, 0] + work[7, 1]
-            work[2, 0] = -(j11 * r0 - j01 * r1) / det
-            work[2, 1] = -(j00 * r1 - j01 * r0) / det
+            r1 = -m1 * (c4 * tangent[1, c] + 2.0 * c2 * tangent[3, c] + tangent[row_a + 1, c]) - lanes[0, c] \
+                + lanes[1, c]
+            lanes[2, c] = -(j11 * r0 - j01 * r1) / det
+            lanes[3, c] = -(j00 * r1 - j01 * r0) / det
+            lanes[4, c] = (lanes[2, c] - lanes[3, c]) - (tangent[0, c] - tangent[1, c])
+            lanes[5, c] = lanes[3, c] - tangent[1, c]
         else:
-            work[2, 0] = -r0 / j00
+            lanes[2, c] = -r0 / j00
+            lanes[4, c] = lanes[2, c] - tangent[0, c]
         for d in range(ndof):
-            tangent[d, c] = work[2, d]
-            tangent[ndof + d, c] = c2 * (work[2, d] - work[3, d]) - work[4, d]
-            tangent[row_a + d, c] = c4 * (work[2, d] - work[3, d]) - 2.0 * c2 * work[4, d] - work[5, d]
-        for j in range(ndof):
-            if ndof == 2 and j == 0:
-                work[6, j] = (work[2, 0] - work[2, 1]) - (work[3, 0] - work[3, 1])
-            else:
-                work[6, j] = work[2, j] - work[3, j]
-            for i in range(n_jenkin0 if j == 0 else n_jenkin1):
-                index = row_f + j * nj + i
-                tangent[index, c] = stuck[j, i] * (tangent[index, c] + P[j, 1, i] * work[6, j])
-            for i in range(n_maxwell0 if j == 0 else n_maxwell1):
-                index = row_u + j * nm + i
-                tangent[index, c] = P[j, 4, i] * tangent[index, c] + P[j, 5, i] * work[6, j]
+            new = lanes[2 + d, c]
+            old = tangent[d, c]
+            velocity = tangent[ndof + d, c]
+            tangent[row_a + d, c] = c4 * (new - old) - 2.0 * c2 * velocity - tangent[row_a + d, c]
+            tangent[ndof + d, c] = c2 * (new - old) - velocity
+            tangent[d, c] = new
+    for j in range(ndof):
+        increment = lanes[4 + j]
+        for i in range(n_jenkin0 if j == 0 else n_jenkin1):
+            weight = stuck[j, i]
+            stiffness = P[j, 1, i]
+            index = row_f + j * nj + i
+            for c in range(n):
+                tangent[index, c] = weight * (tangent[index, c] + stiffness * increment[c])
+        for i in range(n_maxwell0 if j == 0 else n_maxwell1):
+            decay = P[j, 4, i]
+            gain = P[j, 5, i]
+            index = row_u + j * nm + i
+            for c in range(n):
+                tangent[index, c] = decay * tangent[index, c] + gain * increment[c]

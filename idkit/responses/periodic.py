@@ -110,8 +110,8 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitud
     end states ``(q, v, jforce, mstate, bwz)``, ``flags``, over the first ``n_record`` steps the
     absolute mass displacements (m) and top acceleration (m/s^2) at each step start, and, if
     ``with_tangent``, the derivative of the end state with respect to the start
-    (:mod:`idkit.responses._sensitivity`; no Bouc-Wen; only the tangent ``columns`` of real
-    elements are carried, the others are zero), else an empty array.
+    (:mod:`idkit.responses._sensitivity`; no Bouc-Wen; one column per entry of ``columns``, the
+    initial values of real elements), else an empty array.
     """
     batch = freq.shape[0]
     ndof = masses.shape[0]
@@ -128,11 +128,12 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitud
     rec_a = np.full((batch, n_record), np.nan)
     flags = np.zeros(batch, dtype=np.int64)
     n_rows = 3 * ndof + ndof * (nj + nm) if with_tangent else 0
-    n_cols = 2 * ndof + ndof * (nj + nm) if with_tangent else 0
+    n_cols = columns.shape[0] if with_tangent else 0
     tangents = np.zeros((batch, n_rows, n_cols))
     old_q = np.zeros(2)
     old_force = np.zeros((ndof, max(nj, 1)))
-    work = np.zeros((8, 2))
+    work = np.zeros((2, 2))
+    lanes = np.zeros((6, max(n_cols, 1)))
     stuck = np.zeros((2, max(nj, 1)))
     for b in range(batch):
         omega = 2.0 * math.pi * freq[b]
@@ -172,8 +173,8 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitud
             if flag != FLAG_OK:
                 break
             if with_tangent:
-                tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangent, nj, nm, columns,
-                             work, stuck)
+                tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangent, nj, nm, work,
+                             stuck, lanes)
         flags[b] = flag
         if flag == FLAG_OK:
             for d in range(ndof):
@@ -238,7 +239,8 @@ class PeriodMap:
         nj, nm = arrays.jk.shape[1], arrays.mk.shape[1]
         jenkin_flat = [j * nj + i for j, i in self.jenkin]
         maxwell_flat = [j * nm + i for j, i in self.maxwell]
-        # rows and columns of the compiled tangent (see idkit.responses._sensitivity) in packed order
+        # rows of the compiled tangent in packed order, and the initial values its columns follow
+        # (see idkit.responses._sensitivity)
         self._tangent_rows = np.array(list(range(2 * ndof)) + [3 * ndof + k for k in jenkin_flat]
                                       + [3 * ndof + ndof * nj + k for k in maxwell_flat], dtype=int)
         self._tangent_columns = np.array(list(range(2 * ndof)) + [2 * ndof + k for k in jenkin_flat]
@@ -362,7 +364,7 @@ class PeriodMap:
         central differences of ``ln(parameter)`` (step :data:`FD_STEP`)."""
         end, flags, tangents = self.run(freq, amplitude, state[None], steps_per_period, with_tangent=True)
         phi, flag = end[0], int(flags[0])
-        jacobian = tangents[0][np.ix_(self._tangent_rows, self._tangent_columns)] * scale[None, :] / scale[:, None]
+        jacobian = tangents[0][self._tangent_rows] * scale[None, :] / scale[:, None]
         derivative = None
         if parameter is not None and flag == FLAG_OK:
             factors = np.exp([FD_STEP, -FD_STEP])
@@ -881,7 +883,7 @@ def monodromy(period_map: PeriodMap, freq, amplitude, states, steps_per_period, 
                                                   with_tangent=True)
             return end, flags, tangents
         end, flags, tangents = run_chunked(task, n, workers=workers)
-        jacobian = tangents[:, period_map._tangent_rows][:, :, period_map._tangent_columns]
+        jacobian = tangents[:, period_map._tangent_rows]
         jacobian = jacobian * scale[:, None, :] / scale[:, :, None]
     else:
         members = np.repeat(states[:, None, :], 2 * size + 1, axis=1)
