@@ -10,18 +10,33 @@ and reduced per point to
   ``k X_k / X_b1`` (magnitude and phase; order 1 of a linear system = transmissibility),
 - the bias (mean isolator deflection over the last window, m).
 
-Steady-state criterion (the simulator's, ``docs/simulator.md``): over consecutive windows
+The points of one frequency form a chain up the amplitude axis: the first starts from
+``start``, every next one from the steady state of the amplitude below it, scaled to its own
+amplitude (``chained``; chains are never split between workers, so the map does not depend on
+them). Steady-state criterion (the simulator's, ``docs/simulator.md``): over consecutive windows
 of two excitation periods, the largest change of any Fourier coefficient relative to the
 first harmonic, and its geometric extrapolation ``change r / (1 - r)``, are both below
 ``tolerance``. Points that reach ``max_periods`` without meeting it (lightly damped wire ropes
 far from resonance, where a 5 Hz free oscillation outlives thousands of excitation periods) are
 settled by shooting (:mod:`idkit.responses.periodic`: Newton on the period map of the same
-integrator, from 20 periods of the linear start; a period-doubling unstable orbit is replaced by
-the stable 1/2 subharmonic); they are marked in :attr:`HarmonicMap.shooting`. Points shooting
-does not close are run on to the plain grid's 4000 periods (default cap only). Points that
-still fail keep their last window's values, ``converged = False`` and a reason naming both
-attempts. Points where the model left its valid range (negative local stiffness, non-finite
-state) carry a non-zero ``flag`` and a reason.
+integrator, from 20 periods of the linear start); they are marked in
+:attr:`HarmonicMap.shooting`. Points shooting does not close are run on to the plain grid's
+4000 periods (default cap only). Points that still fail keep their last window's values,
+``converged = False`` and a reason naming both attempts. Points where the model left its valid
+range (negative local stiffness, non-finite state) carry a non-zero ``flag`` and a reason.
+
+Stability: the orbit of every settled point is classified by its Floquet multipliers over one
+period (:func:`idkit.responses.periodic.monodromy`: the Jacobian propagated through the steps
+from the run's end state; :func:`~idkit.responses.periodic.classify_multipliers`). The window
+test cannot see an instability that grows by less than the tolerance a period, so a run can
+settle on an unstable orbit (Table A.1 rope, 10.65 Hz, 1.41 mm: period doubling, multiplier
+-1.003). Such a point is carried to what a long run reaches: pushed along its unstable
+eigenvector (:data:`CARRY_PUSH` of the state scale, more for a multiplier so close to the unit
+circle that it would not grow within :data:`CARRY_PERIODS`), run until the push has grown to the
+scale and then to steady state (or shot from where the run is, period 2 where the 1/2
+subharmonic has grown). :attr:`HarmonicMap.stability` says which: ``stable``, ``neutral``,
+``period-2``, ``jumped`` (another period-1 orbit, after a fold or a torus), or ``unstable`` (no
+stable orbit reached; then not converged).
 """
 
 from __future__ import annotations
@@ -347,7 +362,7 @@ class HarmonicMap:
 def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_harmonics: int = 3,
                  tolerance: float = 1e-3, workers: int | None = None, executor=None, progress=None,
                  steps_per_period=None, max_periods: int | None = None, start: str = "linear",
-                 shooting: bool = True) -> HarmonicMap:
+                 shooting: bool = True, chained: bool = True) -> HarmonicMap:
     """Steady-state harmonic response on a frequency x amplitude grid (SPEC 5).
 
     Parameters
@@ -387,6 +402,13 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
     shooting : bool, default True
         Settle the points that reach ``max_periods`` by shooting (module docstring); False
         leaves them unconverged, as a plain grid of time integrations.
+    chained : bool, default True
+        Start every point after the first of each frequency from the steady state of the
+        amplitude below it, scaled to its own amplitude (an amplitude sweep: fewer periods a
+        point); False starts every point from ``start``. Where sticking friction makes the
+        orbits a family (a lightly damped rope near its stuck resonance) the start selects the
+        member, so the two can differ by more than the tolerance there (Table A.1, 5.43 Hz,
+        0.17-0.57 mm: |H1| up to 8 %, as long runs from rest and from the linear start do).
 
     Returns
     -------
@@ -409,6 +431,8 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
         raise SimulationError(f"n_harmonics: found {n_harmonics!r}, expected an integer >= 1")
     if not isinstance(shooting, (bool, np.bool_)):  # shooting="no" shot (a truthy string)
         raise SimulationError(f"shooting: found {shooting!r}, expected True or False")
+    if not isinstance(chained, (bool, np.bool_)):
+        raise SimulationError(f"chained: found {chained!r}, expected True or False")
     if not (np.isfinite(tolerance) and tolerance > 0):
         raise SimulationError(f"tolerance: found {tolerance!r}, expected a positive relative change")
     grid_freq, grid_amp = np.meshgrid(freq, amplitude, indexing="ij")
@@ -417,7 +441,7 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
     response = harmonic_response(
         system, grid_freq.ravel(), grid_amp.ravel(), n_harmonics=int(n_harmonics), tolerance=tolerance,
         steps_per_period=steps_per_period, max_periods=max_periods, progress=progress, workers=workers,
-        executor=executor, start=start, chain_length=amplitude.size,
+        executor=executor, start=start, chain_length=amplitude.size if chained else 1,
     )
     shape = grid_freq.shape
     orders = (0.5,) + tuple(float(k) for k in range(1, int(n_harmonics) + 1))
