@@ -19,13 +19,14 @@ spread).
    slope of fixed 8- and 24-period runs; the tangent step: one classification batch).
 2. solve_ivp over the whole map, one core: ``harmonic_reference`` (BDF, rtol 1e-6, tanh
    smoothing 1e-4) on a seeded sample of the standard map's points for the periods the map
-   spent there (from rest, its only start), extrapolated to the map by the periods (seconds
-   per period of the sample times the map's periods), against the 1-worker map.
+   spent there (from rest, its only start), extrapolated to the map by the periods (CPU seconds
+   per period of the sample times the map's periods), against the 1-worker map's CPU time (on a
+   shared machine CPU time is the one-core figure; wall time counts the other processes' turns).
 3. Kernel compile time: the first call of each simulation entry point in a fresh
    process whose numba cache (``NUMBA_CACHE_DIR``) is an empty temporary folder, minus
    the same call repeated (warm).
 
-Nothing here is asserted; the numbers go in docs/simulator.md.
+Nothing here is asserted; the numbers go in docs/periodic.md (maps) and docs/simulator.md.
 """
 
 from __future__ import annotations
@@ -116,7 +117,7 @@ def map_rows(name, repeat):
     results = {}
     for workers in (1, 2):
         result, walls, cpus = repeated(lambda workers=workers: the_map(system, workers), repeat)
-        results[workers] = (result, walls)
+        results[workers] = (result, walls, cpus)
         kinds = ", ".join(f"{kind} {int((result.stability == kind).sum())}" for kind in np.unique(result.stability))
         print(f"{workers:8d} {min_median(walls)} {min_median(cpus)}  {int(result.valid.sum())}/1500  {kinds}")
     result = results[1][0]
@@ -127,10 +128,10 @@ def map_rows(name, repeat):
     print(f"  kernel floor: time runs {run_steps:.3g} steps x {ns_step:.1f} ns + classification "
           f"{tangent_steps:.3g} tangent steps x {ns_tangent:.1f} ns = {kernel_floor:.4f} s of one core")
     for workers in (1, 2):
-        walls = results[workers][1]
+        walls, cpus = results[workers][1], results[workers][2]
         print(f"  {workers} worker(s): wall min {min(walls):.4f} s = {min(walls) / (kernel_floor / workers):.2f} x "
-              f"the floor over {workers} core(s)")
-    return system, result, min(results[1][1])
+              f"the floor over {workers} core(s); CPU min {min(cpus):.4f} s = {min(cpus) / kernel_floor:.2f} x the floor")
+    return system, result, min(results[1][2])
 
 
 def reference_ratio(system, result, map_seconds, sample, seed):
@@ -153,7 +154,7 @@ def reference_ratio(system, result, map_seconds, sample, seed):
     estimate = seconds / spent * float(periods.sum())
     print(f"  solve_ivp: {seconds / spent * 1e3:.2f} ms per period over the sample; the map's "
           f"{periods.sum():.0f} periods -> {estimate:.1f} s of one core (extrapolated)")
-    print(f"  ratio to the 1-worker map ({map_seconds:.4f} s): {estimate / map_seconds:.0f}x")
+    print(f"  ratio to the 1-worker map ({map_seconds:.4f} s of CPU, min): {estimate / map_seconds:.0f}x")
 
 
 def compile_times():
