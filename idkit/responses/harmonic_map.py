@@ -200,8 +200,8 @@ class HarmonicMap:
     multiplier : ndarray of complex, shape (n_freq, n_amp), optional
         Largest Floquet multiplier of the orbit shown, over its own period (two periods for
         ``"period-2"``), other than the friction-memory multipliers at +1 (NaN if none, or not
-        classified); for ``"period-2"`` and ``"jumped"`` points the unstable orbit's
-        multiplier is named in :attr:`reasons`.
+        classified). An ``"unstable"`` point's :attr:`reasons` name the multiplier of the orbit
+        it left.
     """
 
     freq: NDArray[np.float64]
