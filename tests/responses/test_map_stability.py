@@ -121,3 +121,22 @@ def test_a_slowly_growing_doubling_at_the_tongue_edge_is_carried_to_the_subharmo
     long_ratio = abs(run.hosidf(0.5)[0]) / abs(run.hosidf(1)[0])
     assert long_ratio > 1
     assert abs(result.magnitude(0.5)[0, 0] / result.magnitude(1)[0, 0] - long_ratio) < 3 * MAP_TOLERANCE
+
+
+def test_the_cli_table_is_the_library_map_on_axes_in_any_order():
+    """``simulate harmonic`` (harmonic_grid_table) and harmonic_map settle the same points the same
+    way: the table of unsorted, repeated axes holds the map's values of each (freq, amplitude),
+    bit for bit, frequency-major in the order given."""
+    from idkit.studies.harmonic_grid import harmonic_grid_table
+
+    system = library.get("system_b1_medium")
+    freq, amplitude = [20.0, 5.0, 20.0], [1e-3, 1e-4]
+    table = harmonic_grid_table(system, freq, amplitude, n_harmonics=2, workers=1)
+    result = harmonic_map(system, [5.0, 20.0], [1e-4, 1e-3], n_harmonics=2, workers=1)
+    assert list(table["freq [Hz]"]) == [20.0, 20.0, 5.0, 5.0, 20.0, 20.0]
+    rows = {5.0: 0, 20.0: 1}
+    columns = {1e-4: 0, 1e-3: 1}
+    for _, line in table.iterrows():
+        point = rows[line["freq [Hz]"]], columns[line["amplitude [m]"]]
+        assert line["|H1| [-]"] == result.magnitude(1)[point]
+        assert line["stability"] == result.stability[point] and line["status"] == result.reasons[point]
