@@ -130,7 +130,8 @@ def map_rows(name, repeat):
     for workers in (1, 2):
         walls, cpus = results[workers][1], results[workers][2]
         print(f"  {workers} worker(s): wall min {min(walls):.4f} s = {min(walls) / (kernel_floor / workers):.2f} x "
-              f"the floor over {workers} core(s); CPU min {min(cpus):.4f} s = {min(cpus) / kernel_floor:.2f} x the floor")
+              f"the floor over {workers} core(s); CPU min {min(cpus):.4f} s = {min(cpus) / kernel_floor:.2f} x "
+              "the floor")
     return system, result, min(results[1][2])
 
 

@@ -588,7 +588,8 @@ def _settle_stability(system, points: _Points, steps, orders, tolerance, workers
     for row, index in enumerate(timed):
         if flags[row] != 0:  # one period more from a valid end state: not expected, but not hidden
             points.converged[index] = False
-            points.reasons[index] = f"stability not classified: one more period flagged ({FLAG_REASONS[int(flags[row])]})"
+            points.reasons[index] = ("stability not classified: one more period flagged "
+                                     f"({FLAG_REASONS[int(flags[row])]})")
             continue
         stable, kind = classify_multipliers(multipliers[row], margin)
         points.multiplier[index] = _leading(multipliers[row], margin)
