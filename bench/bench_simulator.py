@@ -1,26 +1,32 @@
-"""Benchmark: idkit's compiled integrator against solve_ivp, both sides on one core.
+"""Benchmark: harmonic maps against their kernel floor and against solve_ivp, one core each.
 
     python bench/bench_simulator.py [--sample N] [--repeat R] [--skip-compile]
 
 Run from the repository (``PYTHONPATH=.`` to time the working tree). One BLAS/OpenMP
-thread and ``IDKIT_WORKERS=1`` are set before numpy is imported; idkit runs with
-``workers=1``, solve_ivp in the same process. Every time is printed as min and median
-over ``--repeat`` repetitions (wall clock, ``time.perf_counter``; the machine may be
-shared, so the min is the figure to compare, the median shows the spread).
+thread and ``IDKIT_WORKERS=1`` are set before numpy is imported. Every time is printed as min
+and median over ``--repeat`` repetitions (wall clock, ``time.perf_counter``, and CPU time of the
+process; the machine may be shared, so the min is the figure to compare, the median shows the
+spread).
 
-1. Per point, SPEC hybrid asymmetric (``library.get("hybrid_asymmetric")``): the
-   standard map's steady-state run gives the periods each point needs; on a seeded
-   sample of its points, idkit (``harmonic_response`` with ``min_periods = max_periods``
-   = those periods, one point per call) and ``harmonic_reference`` (solve_ivp BDF,
-   rtol 1e-6, tanh smoothing 1e-4) simulate exactly the same periods from rest, and
-   their first harmonics are compared (same transient, same analysis window).
-2. The standard map (50 frequencies 1-100 Hz log x 30 amplitudes 1e-5-1e-2 m, harmonics
-   1-3 and 1/2, steady state 1e-3) on 1 and 2 workers: wall and CPU time.
+1. Maps (``harmonic_map``: points chained up the amplitude axis, shooting where 200 periods do
+   not settle, every settled orbit classified by its Floquet multipliers over one period, the
+   unstable ones carried to a stable orbit): the standard map (SPEC hybrid asymmetric,
+   ``library.get("hybrid_asymmetric")``, 50 frequencies 1-100 Hz log x 30 amplitudes
+   1e-5 - 1e-2 m, harmonics 1-3 and 1/2, steady state 1e-3) and the Table A.1 asymmetric wire
+   rope map on the same grid, on 1 and 2 workers. Beside the wall time: periods per point, the
+   steps taken (time runs, and the tangent period of the classification) and the kernel floor,
+   steps x ns per step, with ns per step measured on the same points (the time-run step: the
+   slope of fixed 8- and 24-period runs; the tangent step: one classification batch).
+2. solve_ivp over the whole map, one core: ``harmonic_reference`` (BDF, rtol 1e-6, tanh
+   smoothing 1e-4) on a seeded sample of the standard map's points for the periods the map
+   spent there (from rest, its only start), extrapolated to the map by the periods (CPU seconds
+   per period of the sample times the map's periods), against the 1-worker map's CPU time (on a
+   shared machine CPU time is the one-core figure; wall time counts the other processes' turns).
 3. Kernel compile time: the first call of each simulation entry point in a fresh
    process whose numba cache (``NUMBA_CACHE_DIR``) is an empty temporary folder, minus
    the same call repeated (warm).
 
-Nothing here is asserted; the numbers go in docs/simulator.md.
+Nothing here is asserted; the numbers go in docs/periodic.md (maps) and docs/simulator.md.
 """
 
 from __future__ import annotations
@@ -46,13 +52,18 @@ from pathlib import Path
 import numpy as np
 
 from idkit.models import library
-from idkit.simulate import harmonic_response
+from idkit.responses.harmonic_map import harmonic_map
+from idkit.responses.periodic import PeriodMap, monodromy
+from idkit.simulate import default_steps_per_period, harmonic_response
 from idkit.simulate.reference import harmonic_reference
 
 _IMPORT_SECONDS = time.perf_counter() - _START
 
 SYSTEM = "hybrid_asymmetric"
+ROPE = "system_a1_asymmetric"
 REFERENCE_OPTIONS = {"rtol": 1e-6, "smoothing": 1e-4}
+FREQ_AXIS = np.logspace(0, 2, 50)
+AMPLITUDE_AXIS = np.logspace(-5, -2, 30)
 
 
 def repeated(function, repeat):
@@ -70,35 +81,81 @@ def min_median(values):
     return f"{min(values):9.4f} {statistics.median(values):9.4f}"
 
 
-def standard_grid():
-    freq_axis = np.logspace(0, 2, 50)
-    amplitude_axis = np.logspace(-5, -2, 30)
-    return tuple(grid.ravel() for grid in np.meshgrid(freq_axis, amplitude_axis, indexing="ij"))
+def grid():
+    return tuple(values.ravel() for values in np.meshgrid(FREQ_AXIS, AMPLITUDE_AXIS, indexing="ij"))
 
 
-def standard_map(system, workers):
-    freq, amplitude = standard_grid()
-    return harmonic_response(system, freq, amplitude, n_harmonics=3, tolerance=1e-3, workers=workers)
+def the_map(system, workers):
+    return harmonic_map(system, FREQ_AXIS, AMPLITUDE_AXIS, n_harmonics=3, tolerance=1e-3, workers=workers)
 
 
-def per_point(system, standard, sample, repeat):
-    """Both sides on the sampled points for the same periods; returns the table rows."""
-    freq, amplitude = standard_grid()
-    rows = []
-    for index in sample:
-        f, a = float(freq[index]), float(amplitude[index])
-        periods = int(max(8, standard.periods[index] + standard.periods[index] % 2))
-        fast, fast_walls, _ = repeated(
-            lambda f=f, a=a, periods=periods: harmonic_response(
-                system, [f], [a], n_harmonics=3, tolerance=1e-3, min_periods=periods, max_periods=periods,
-                workers=1), repeat)
-        assert int(fast.periods[0]) == periods  # the same periods as the reference
-        reference, reference_walls, _ = repeated(
-            lambda f=f, a=a, periods=periods: harmonic_reference(system, f, a, n_periods=periods,
-                                                                 **REFERENCE_OPTIONS), max(1, repeat // 2))
-        deviation = abs(fast.hosidf(1)[0] / reference.hosidf(1) - 1)
-        rows.append((f, a, periods, fast_walls, reference_walls, deviation))
-    return rows
+def floor(system, result, repeat):
+    """Steps of the map's time runs and of its classification, and ns per step of each."""
+    freq, amplitude = grid()
+    steps = default_steps_per_period(system, freq)
+    run_steps = float(np.sum(result.periods.ravel() * steps))
+    fixed = {}
+    for periods in (8, 24):
+        _, _, cpus = repeated(lambda periods=periods: harmonic_response(
+            system, freq, amplitude, min_periods=periods, max_periods=periods, start="linear", workers=1), repeat)
+        fixed[periods] = min(cpus)
+    ns_step = (fixed[24] - fixed[8]) / (16 * float(steps.sum())) * 1e9
+    one = PeriodMap(system, 1)
+    states = one.linear_guess(freq, amplitude)
+    _, _, cpus = repeated(lambda: monodromy(one, freq, amplitude, states, steps, workers=1), repeat)
+    classified = result.stability.ravel() != ""
+    tangent_steps = float(np.sum(steps[classified]))
+    ns_tangent = min(cpus) / float(steps.sum()) * 1e9
+    return run_steps, ns_step, tangent_steps, ns_tangent
+
+
+def map_rows(name, repeat):
+    system = library.get(name)
+    print(f"\n{name}: {library.describe(name)}")
+    the_map(system, 1)  # warm-up: compilation (or the on-disk numba cache)
+    print(f"{'workers':>8s} {'wall min':>9s} {'median':>9s} {'CPU min':>9s} {'median':>9s}  settled  stability")
+    results = {}
+    for workers in (1, 2):
+        result, walls, cpus = repeated(lambda workers=workers: the_map(system, workers), repeat)
+        results[workers] = (result, walls, cpus)
+        kinds = ", ".join(f"{kind} {int((result.stability == kind).sum())}" for kind in np.unique(result.stability))
+        print(f"{workers:8d} {min_median(walls)} {min_median(cpus)}  {int(result.valid.sum())}/1500  {kinds}")
+    result = results[1][0]
+    run_steps, ns_step, tangent_steps, ns_tangent = floor(system, result, repeat)
+    kernel_floor = run_steps * ns_step * 1e-9 + tangent_steps * ns_tangent * 1e-9
+    print(f"  periods per point: mean {result.periods.mean():.1f}, median {np.median(result.periods):.0f}, "
+          f"max {result.periods.max():.0f}; {int(result.shooting.sum())} points shot")
+    print(f"  kernel floor: time runs {run_steps:.3g} steps x {ns_step:.1f} ns + classification "
+          f"{tangent_steps:.3g} tangent steps x {ns_tangent:.1f} ns = {kernel_floor:.4f} s of one core")
+    for workers in (1, 2):
+        walls, cpus = results[workers][1], results[workers][2]
+        print(f"  {workers} worker(s): wall min {min(walls):.4f} s = {min(walls) / (kernel_floor / workers):.2f} x "
+              f"the floor over {workers} core(s); CPU min {min(cpus):.4f} s = {min(cpus) / kernel_floor:.2f} x "
+              "the floor")
+    return system, result, min(results[1][2])
+
+
+def reference_ratio(system, result, map_seconds, sample, seed):
+    """solve_ivp on a sample of the map's points for the map's periods, extrapolated by the periods."""
+    freq, amplitude = grid()
+    periods = result.periods.ravel()
+    rng = np.random.default_rng(seed)
+    chosen = np.sort(rng.choice(freq.size, size=min(sample, freq.size), replace=False))
+    seconds, spent = 0.0, 0
+    print(f"{'f [Hz]':>8s} {'A [m]':>8s} {'periods':>7s} {'ivp [s]':>8s}")
+    for index in chosen:
+        n_periods = int(max(4, periods[index] + periods[index] % 2))
+        start = time.process_time()
+        harmonic_reference(system, float(freq[index]), float(amplitude[index]), n_periods=n_periods,
+                           **REFERENCE_OPTIONS)
+        elapsed = time.process_time() - start
+        seconds += elapsed
+        spent += n_periods
+        print(f"{freq[index]:8.3f} {amplitude[index]:8.1e} {n_periods:7d} {elapsed:8.3f}")
+    estimate = seconds / spent * float(periods.sum())
+    print(f"  solve_ivp: {seconds / spent * 1e3:.2f} ms per period over the sample; the map's "
+          f"{periods.sum():.0f} periods -> {estimate:.1f} s of one core (extrapolated)")
+    print(f"  ratio to the 1-worker map ({map_seconds:.4f} s of CPU, min): {estimate / map_seconds:.0f}x")
 
 
 def compile_times():
@@ -139,7 +196,7 @@ def compile_child():
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sample", type=int, default=8, help="map points timed on both sides")
+    parser.add_argument("--sample", type=int, default=8, help="map points run by solve_ivp")
     parser.add_argument("--repeat", type=int, default=5, help="repetitions of every timing")
     parser.add_argument("--seed", type=int, default=2026, help="seed of the point sample")
     parser.add_argument("--skip-compile", action="store_true", help="skip the fresh-process compile timing")
@@ -149,41 +206,13 @@ def main() -> None:
         compile_child()
         return
 
-    system = library.get(SYSTEM)
-    print(f"system: {library.describe(SYSTEM)}")
-    standard_map(system, 1)  # warm-up: compilation (or the on-disk numba cache)
+    print(f"[1] maps 50 x 30 = 1500 points, harmonics 1-3 and 1/2, steady state 1e-3, {args.repeat} repetitions "
+          "(seconds)")
+    system, standard, seconds = map_rows(SYSTEM, args.repeat)
+    map_rows(ROPE, args.repeat)
 
-    print(f"\n[2] standard map 50 x 30 = 1500 points, harmonics 1-3 and 1/2, steady state 1e-3, "
-          f"{args.repeat} repetitions")
-    print(f"{'workers':>8s} {'wall min':>9s} {'median':>9s} {'CPU min':>9s} {'median':>9s}  converged")
-    maps = {}
-    for workers in (1, 2):
-        result, walls, cpus = repeated(lambda workers=workers: standard_map(system, workers), args.repeat)
-        maps[workers] = result
-        print(f"{workers:8d} {min_median(walls)} {min_median(cpus)}  {int(result.converged.sum())}/1500")
-    standard = maps[1]
-
-    rng = np.random.default_rng(args.seed)
-    sample = np.sort(rng.choice(1500, size=min(args.sample, 1500), replace=False))
-    rows = per_point(system, standard, sample, args.repeat)
-    print(f"\n[1] per point, one core each, same points and periods from rest (idkit {args.repeat}, "
-          f"solve_ivp {max(1, args.repeat // 2)} repetitions; seconds)")
-    print(f"{'f [Hz]':>8s} {'A [m]':>8s} {'periods':>7s} {'idkit min':>10s} {'median':>9s} "
-          f"{'ivp min':>9s} {'median':>9s} {'ratio':>7s} {'|dH1|':>9s}")
-    for f, a, periods, fast_walls, reference_walls, deviation in rows:
-        print(f"{f:8.3f} {a:8.1e} {periods:7d} {min(fast_walls):10.5f} {statistics.median(fast_walls):9.5f} "
-              f"{min(reference_walls):9.3f} {statistics.median(reference_walls):9.3f} "
-              f"{min(reference_walls) / min(fast_walls):7.0f} {deviation:9.2e}")
-    fast_total = sum(min(r[3]) for r in rows)
-    reference_total = sum(min(r[4]) for r in rows)
-    ratios = [min(r[4]) / min(r[3]) for r in rows]
-    print(f"  sum over the sample (mins): idkit {fast_total:.4f} s, solve_ivp {reference_total:.2f} s, "
-          f"ratio {reference_total / fast_total:.0f}x; per-point ratio min {min(ratios):.0f}x, "
-          f"median {statistics.median(ratios):.0f}x, max {max(ratios):.0f}x")
-    print(f"  largest first-harmonic deviation idkit vs solve_ivp: {max(r[5] for r in rows) * 100:.3f} %")
-    batch_per_point = min(repeated(lambda: standard_map(system, 1), 1)[1]) / 1500
-    print(f"  (in the 1-worker map, a point costs {batch_per_point * 1e3:.3f} ms on average: batching spares "
-          f"the per-call overhead of the one-point calls above)")
+    print(f"\n[2] solve_ivp over the standard map, one core, {args.sample} sampled points")
+    reference_ratio(system, standard, seconds, args.sample, args.seed)
 
     if not args.skip_compile:
         print("\n[3] compile time, fresh process, empty numba cache (first call minus second call; s)")

@@ -12,9 +12,10 @@ the kernel's branch is taken). Bouc-Wen ``z`` (Runge-Kutta sub-steps) is not dif
 here: systems with Bouc-Wen elements use finite differences.
 
 Tangent layout (rows): ``q (ndof), v (ndof), a (ndof), F (ndof x nj), u (ndof x nm)``;
-columns: the independent initial values ``q, v, F, u`` (the initial acceleration follows from
-equilibrium). The functions here never call the step itself: the period-map kernel
-(:func:`idkit.responses.periodic._run_periods`) calls them around it.
+columns: the independent initial values ``q, v, F, u`` of real elements (the initial
+acceleration follows from equilibrium; see :func:`tangent_start`). The functions here never
+call the step itself: the period-map kernel (:func:`idkit.responses.periodic._run_periods`)
+calls them around it.
 """
 
 from __future__ import annotations
@@ -31,25 +32,24 @@ def _poly_slope(P, j, y):
 
 
 @numba.njit(cache=True)
-def tangent_start(ndof, masses, P, state, tangent, nj, nm):
+def tangent_start(ndof, masses, P, state, tangent, nj, nm, columns):
     """Identity on the independent initial values; acceleration rows from equilibrium at t = 0
-    (``a0 = -f0 / m0``, ``a1 = (f0 - f1) / m1``, base at rest at zero)."""
+    (``a0 = -f0 / m0``, ``a1 = (f0 - f1) / m1``, base at rest at zero). Column ``k`` of
+    ``tangent`` is the derivative by the initial value ``columns[k]`` of the layout above
+    (``q, v, F, u`` of real elements only: the padding of the parameter arrays is left out)."""
     row_a = 2 * ndof
     row_f = 3 * ndof
     row_u = 3 * ndof + ndof * nj
-    n_cols = tangent.shape[1]
     tangent[:, :] = 0.0
-    for d in range(ndof):
-        tangent[d, d] = 1.0
-        tangent[ndof + d, ndof + d] = 1.0
-    for k in range(ndof * (nj + nm)):
-        tangent[row_f + k, 2 * ndof + k] = 1.0
+    for k in range(columns.shape[0]):
+        column = columns[k]
+        tangent[column if column < 2 * ndof else row_f + column - 2 * ndof, k] = 1.0
     slope = np.zeros(2)
     for j in range(ndof):
         y = state[0] - state[1] if (ndof == 2 and j == 0) else state[j]
         slope[j] = _poly_slope(P, j, y)
     df = np.zeros(2)
-    for c in range(n_cols):
+    for c in range(columns.shape[0]):
         for j in range(ndof):
             if ndof == 2 and j == 0:
                 dy = tangent[0, c] - tangent[1, c]
@@ -68,25 +68,26 @@ def tangent_start(ndof, masses, P, state, tangent, nj, nm):
             tangent[row_a + 1, c] = (df[0] - df[1]) / masses[1]
 
 
-@numba.njit(cache=True)
-def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h, tangent, nj, nm):
+@numba.njit(cache=True, _nrt=False)
+def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h, tangent, nj, nm, work, stuck,
+                 lanes):
     """Carry the tangent over one converged step.
 
     ``state`` holds the new positions (``[q0, q1, ...]``), ``old_q`` and ``old_force`` the
     positions (m) and Jenkin forces (N) before the step, ``base_old``/``base_new`` the base
-    displacement (m) at its ends, ``h`` the step (s).
+    displacement (m) at its ends, ``h`` the step (s); the columns of ``tangent`` as
+    :func:`tangent_start` made them. ``work`` (2, 2), ``stuck`` (2, max(nj, 1)) and ``lanes``
+    (6, columns): scratch of the caller's (slopes and stiffnesses of the isolators, which Jenkin
+    elements stick, per-column derivatives), so that a step allocates nothing and, compiled
+    without reference counting, takes no atomic operation per call.
     """
     m0 = masses[0]
     m1 = masses[1] if ndof == 2 else 1.0
     row_a = 2 * ndof
     row_f = 3 * ndof
     row_u = 3 * ndof + ndof * nj
-    n_cols = tangent.shape[1]
     c2 = 2.0 / h
     c4 = c2 * c2
-    slope = np.zeros(2)
-    stiff = np.zeros(2)  # d f / d(dy): stuck Jenkin stiffnesses + Maxwell gains
-    stuck = np.zeros((2, max(nj, 1)))
     for j in range(ndof):
         if ndof == 2 and j == 0:
             y = state[0] - state[1]
@@ -97,66 +98,81 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
         else:
             y = state[0] - base_new
             step_dy = (state[0] - old_q[0]) - (base_new - base_old)
-        slope[j] = _poly_slope(P, j, y)
+        work[0, j] = _poly_slope(P, j, y)
         total = P[j, 0, 4]
         for i in range(int(P[j, 0, 5])):
             trial = old_force[j, i] + P[j, 1, i] * step_dy
+            stuck[j, i] = 0.0
             if -P[j, 2, i] <= trial <= P[j, 2, i]:  # the kernel's stick test
                 stuck[j, i] = 1.0
                 total += P[j, 1, i]
-        stiff[j] = total
-    t0 = slope[0] + P[0, 0, 3] * c2 + stiff[0]
+        work[1, j] = total
+    t0 = work[0, 0] + P[0, 0, 3] * c2 + work[1, 0]
     j00 = c4 * m0 + t0
     j01 = 0.0
     j11 = 1.0
     if ndof == 2:
         j01 = -t0
-        j11 = c4 * m1 + t0 + slope[1] + P[1, 0, 3] * c2 + stiff[1]
+        j11 = c4 * m1 + t0 + work[0, 1] + P[1, 0, 3] * c2 + work[1, 1]
     det = j00 * j11 - j01 * j01
-    dq = np.zeros(2)
-    dqn = np.zeros(2)
-    dvn = np.zeros(2)
-    dan = np.zeros(2)
-    ddy = np.zeros(2)
-    df = np.zeros(2)
-    for c in range(n_cols):
-        for d in range(ndof):
-            dqn[d] = tangent[d, c]
-            dvn[d] = tangent[ndof + d, c]
-            dan[d] = tangent[row_a + d, c]
-        # change of the residual M a + f by the old values, new positions held
-        for j in range(ndof):
+    n_jenkin0 = int(P[0, 0, 5])
+    n_maxwell0 = int(P[0, 0, 6])
+    n_jenkin1 = int(P[ndof - 1, 0, 5])
+    n_maxwell1 = int(P[ndof - 1, 0, 6])
+    # column by column the same arithmetic, written row by row over all the columns at once (the
+    # inner loops run along contiguous memory); lanes: derivatives of the isolator forces by the old
+    # values (0, 1), the new positions (2, 3), the new deflection increments (4, 5)
+    n = tangent.shape[1]
+    for j in range(ndof):
+        force = lanes[j]
+        for c in range(n):
             if ndof == 2 and j == 0:
-                ddy[j] = -(dqn[0] - dqn[1])
-                dvrel = -(c2 * dqn[0] + dvn[0]) + (c2 * dqn[1] + dvn[1])
+                ddy = -(tangent[0, c] - tangent[1, c])
+                dvrel = -(c2 * tangent[0, c] + tangent[ndof, c]) + (c2 * tangent[1, c] + tangent[ndof + 1, c])
             else:
-                ddy[j] = -dqn[j]
-                dvrel = -(c2 * dqn[j] + dvn[j])
-            value = P[j, 0, 3] * dvrel + stiff[j] * ddy[j]
-            for i in range(int(P[j, 0, 5])):
-                value += stuck[j, i] * tangent[row_f + j * nj + i, c]
-            for i in range(int(P[j, 0, 6])):
-                value += P[j, 3, i] * P[j, 4, i] * tangent[row_u + j * nm + i, c]
-            df[j] = value
-        r0 = -m0 * (c4 * dqn[0] + 2.0 * c2 * dvn[0] + dan[0]) + df[0]
+                ddy = -tangent[j, c]
+                dvrel = -(c2 * tangent[j, c] + tangent[ndof + j, c])
+            force[c] = P[j, 0, 3] * dvrel + work[1, j] * ddy
+        for i in range(n_jenkin0 if j == 0 else n_jenkin1):
+            weight = stuck[j, i]
+            index = row_f + j * nj + i
+            for c in range(n):
+                force[c] += weight * tangent[index, c]
+        for i in range(n_maxwell0 if j == 0 else n_maxwell1):
+            weight = P[j, 3, i] * P[j, 4, i]
+            index = row_u + j * nm + i
+            for c in range(n):
+                force[c] += weight * tangent[index, c]
+    for c in range(n):
+        r0 = -m0 * (c4 * tangent[0, c] + 2.0 * c2 * tangent[ndof, c] + tangent[row_a, c]) + lanes[0, c]
         if ndof == 2:
-            r1 = -m1 * (c4 * dqn[1] + 2.0 * c2 * dvn[1] + dan[1]) - df[0] + df[1]
-            dq[0] = -(j11 * r0 - j01 * r1) / det
-            dq[1] = -(j00 * r1 - j01 * r0) / det
+            r1 = -m1 * (c4 * tangent[1, c] + 2.0 * c2 * tangent[3, c] + tangent[row_a + 1, c]) - lanes[0, c] \
+                + lanes[1, c]
+            lanes[2, c] = -(j11 * r0 - j01 * r1) / det
+            lanes[3, c] = -(j00 * r1 - j01 * r0) / det
+            lanes[4, c] = (lanes[2, c] - lanes[3, c]) - (tangent[0, c] - tangent[1, c])
+            lanes[5, c] = lanes[3, c] - tangent[1, c]
         else:
-            dq[0] = -r0 / j00
+            lanes[2, c] = -r0 / j00
+            lanes[4, c] = lanes[2, c] - tangent[0, c]
         for d in range(ndof):
-            tangent[d, c] = dq[d]
-            tangent[ndof + d, c] = c2 * (dq[d] - dqn[d]) - dvn[d]
-            tangent[row_a + d, c] = c4 * (dq[d] - dqn[d]) - 2.0 * c2 * dvn[d] - dan[d]
-        for j in range(ndof):
-            if ndof == 2 and j == 0:
-                ddy[j] = (dq[0] - dq[1]) - (dqn[0] - dqn[1])
-            else:
-                ddy[j] = dq[j] - dqn[j]
-            for i in range(int(P[j, 0, 5])):
-                index = row_f + j * nj + i
-                tangent[index, c] = stuck[j, i] * (tangent[index, c] + P[j, 1, i] * ddy[j])
-            for i in range(int(P[j, 0, 6])):
-                index = row_u + j * nm + i
-                tangent[index, c] = P[j, 4, i] * tangent[index, c] + P[j, 5, i] * ddy[j]
+            new = lanes[2 + d, c]
+            old = tangent[d, c]
+            velocity = tangent[ndof + d, c]
+            tangent[row_a + d, c] = c4 * (new - old) - 2.0 * c2 * velocity - tangent[row_a + d, c]
+            tangent[ndof + d, c] = c2 * (new - old) - velocity
+            tangent[d, c] = new
+    for j in range(ndof):
+        increment = lanes[4 + j]
+        for i in range(n_jenkin0 if j == 0 else n_jenkin1):
+            weight = stuck[j, i]
+            stiffness = P[j, 1, i]
+            index = row_f + j * nj + i
+            for c in range(n):
+                tangent[index, c] = weight * (tangent[index, c] + stiffness * increment[c])
+        for i in range(n_maxwell0 if j == 0 else n_maxwell1):
+            decay = P[j, 4, i]
+            gain = P[j, 5, i]
+            index = row_u + j * nm + i
+            for c in range(n):
+                tangent[index, c] = decay * tangent[index, c] + gain * increment[c]

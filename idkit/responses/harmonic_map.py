@@ -10,18 +10,33 @@ and reduced per point to
   ``k X_k / X_b1`` (magnitude and phase; order 1 of a linear system = transmissibility),
 - the bias (mean isolator deflection over the last window, m).
 
-Steady-state criterion (the simulator's, ``docs/simulator.md``): over consecutive windows
+The points of one frequency form a chain up the amplitude axis: the first starts from
+``start``, every next one from the steady state of the amplitude below it, scaled to its own
+amplitude (``chained``; chains are never split between workers, so the map does not depend on
+them). Steady-state criterion (the simulator's, ``docs/simulator.md``): over consecutive windows
 of two excitation periods, the largest change of any Fourier coefficient relative to the
 first harmonic, and its geometric extrapolation ``change r / (1 - r)``, are both below
 ``tolerance``. Points that reach ``max_periods`` without meeting it (lightly damped wire ropes
 far from resonance, where a 5 Hz free oscillation outlives thousands of excitation periods) are
 settled by shooting (:mod:`idkit.responses.periodic`: Newton on the period map of the same
-integrator, from 20 periods of the linear start; a period-doubling unstable orbit is replaced by
-the stable 1/2 subharmonic); they are marked in :attr:`HarmonicMap.shooting`. Points shooting
-does not close are run on to the plain grid's 4000 periods (default cap only). Points that
-still fail keep their last window's values, ``converged = False`` and a reason naming both
-attempts. Points where the model left its valid range (negative local stiffness, non-finite
-state) carry a non-zero ``flag`` and a reason.
+integrator, from 20 periods of the linear start); they are marked in
+:attr:`HarmonicMap.shooting`. Points shooting does not close are run on to the plain grid's
+4000 periods (default cap only). Points that still fail keep their last window's values,
+``converged = False`` and a reason naming both attempts. Points where the model left its valid
+range (negative local stiffness, non-finite state) carry a non-zero ``flag`` and a reason.
+
+Stability: the orbit of every settled point is classified by its Floquet multipliers over one
+period (:func:`idkit.responses.periodic.monodromy`: the Jacobian propagated through the steps
+from the run's end state; :func:`~idkit.responses.periodic.classify_multipliers`). The window
+test cannot see an instability that grows by less than the tolerance a period, so a run can
+settle on an unstable orbit (Table A.1 rope, 10.65 Hz, 1.41 mm: period doubling, multiplier
+-1.003). Such a point is carried to what a long run reaches: pushed along its unstable
+eigenvector (:data:`CARRY_PUSH` of the state scale, more for a multiplier so close to the unit
+circle that it would not grow within :data:`CARRY_PERIODS`), run until the push has grown to the
+scale and then to steady state (or shot from where the run is, period 2 where the 1/2
+subharmonic has grown). :attr:`HarmonicMap.stability` says which: ``stable``, ``neutral``,
+``period-2``, ``jumped`` (another period-1 orbit, after a fold or a torus), or ``unstable`` (no
+stable orbit reached; then not converged).
 """
 
 from __future__ import annotations
@@ -34,8 +49,16 @@ from numpy.typing import ArrayLike, NDArray
 
 from idkit.errors import SimulationError
 from idkit.responses.linear import _numbers, _order
-from idkit.responses.periodic import periodic_response
+from idkit.responses.periodic import (
+    STABILITY_MARGIN,
+    PeriodMap,
+    classify_multipliers,
+    monodromy,
+    periodic_response,
+    stability_margin,
+)
 from idkit.simulate import harmonic_response
+from idkit.simulate._kernel import FLAG_REASONS
 
 __all__ = ["HarmonicMap", "harmonic_map", "parabolic_peak", "SHOOTING_AFTER_PERIODS"]
 
@@ -123,6 +146,10 @@ def parabolic_peak(x: ArrayLike, y: ArrayLike) -> tuple[float, float, int]:
     return float(vertex), float(y1 + slope_at_x1 * shift + curvature * shift**2), index
 
 
+#: Stability of the orbits a settled map point may show (:attr:`HarmonicMap.stability`).
+SETTLED_KINDS = ("stable", "neutral", "period-2", "jumped")
+
+
 @dataclass(frozen=True)
 class HarmonicMap:
     """Steady-state harmonic response over a (frequency x amplitude) grid.
@@ -162,6 +189,19 @@ class HarmonicMap:
     shooting : ndarray of bool, shape (n_freq, n_amp)
         Points whose steady state was found by shooting after the time integration did not
         settle (their :attr:`change` is the closing error of the periodic orbit).
+    stability : ndarray of str, shape (n_freq, n_amp), optional
+        Floquet stability of each settled point's orbit (module docstring): ``"stable"``,
+        ``"neutral"`` (a multiplier on the unit circle within the margin: undamped),
+        ``"period-2"`` (the period-1 orbit was unstable by period doubling; the point shows
+        the stable orbit of two periods the run reached, with its 1/2 subharmonic),
+        ``"jumped"`` (the orbit was unstable, by a fold or a torus; the point shows the
+        stable period-1 orbit the run reached), ``"unstable"`` (no stable orbit was reached:
+        the point is not converged) or ``""`` (not settled or flagged: not classified).
+    multiplier : ndarray of complex, shape (n_freq, n_amp), optional
+        Largest Floquet multiplier of the orbit shown, over its own period (two periods for
+        ``"period-2"``), other than the friction-memory multipliers at +1 (NaN if none, or not
+        classified). An ``"unstable"`` point's :attr:`reasons` name the multiplier of the orbit
+        it left.
     """
 
     freq: NDArray[np.float64]
@@ -178,6 +218,24 @@ class HarmonicMap:
     reasons: NDArray[np.str_]
     tolerance: float
     shooting: NDArray[np.bool_] | None = None
+    stability: NDArray[np.str_] | None = None
+    multiplier: NDArray[np.complex128] | None = None
+
+    def __post_init__(self):
+        # the map's invariant: a settled point shows an orbit a long run stays on
+        if self.stability is None:
+            return
+        settled = np.asarray(self.converged, dtype=bool) & (np.asarray(self.flags) == 0)
+        kinds = np.isin(self.stability, SETTLED_KINDS)
+        growing = np.abs(self.multiplier) > 1.0 + STABILITY_MARGIN
+        bad = np.argwhere(settled & (~kinds | growing))
+        if bad.size:
+            row, column = bad[0]
+            raise SimulationError(
+                f"HarmonicMap: the point {self.freq[row]:g} Hz, {self.amplitude[column]:g} m is settled but its orbit "
+                f"is {self.stability[row, column] or 'not classified'} (multiplier "
+                f"{abs(self.multiplier[row, column]):.6g}); expected a settled point on a stable orbit "
+                f"({', '.join(SETTLED_KINDS)}, every |multiplier| <= 1 + {STABILITY_MARGIN:g})")
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -265,6 +323,9 @@ class HarmonicMap:
             "status": self.reasons.ravel(),
             "shooting": (np.zeros(self.shape, dtype=bool) if self.shooting is None else self.shooting).ravel(),
         }
+        if self.stability is not None:
+            point_columns["stability"] = self.stability.ravel()
+            point_columns["|mu| [-]"] = np.abs(self.multiplier).ravel()
         frames = []
         for index, order in enumerate(self.orders):
             value = self.hosidf_values[index].ravel()
@@ -283,7 +344,10 @@ class HarmonicMap:
             f"orders {', '.join(f'{o:g}' for o in self.orders)}",
             f"  steady state (tolerance {self.tolerance:g}): {int(self.converged.sum())}/{n_points} converged, "
             f"{int((self.flags != 0).sum())} flagged outside the valid range"
-            + ("" if self.shooting is None else f", {int(self.shooting.sum())} settled by shooting"),
+            + ("" if self.shooting is None else f", {int(self.shooting.sum())} settled by shooting")
+            + ("" if self.stability is None else "".join(
+                f", {int((self.stability == kind).sum())} {kind}" for kind in ("period-2", "jumped", "neutral")
+                if (self.stability == kind).any())),
             "  amplitude [m]  resonance [Hz]  max |H1|",
         ]
         resonance = self.resonance_frequency()
@@ -298,7 +362,7 @@ class HarmonicMap:
 def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_harmonics: int = 3,
                  tolerance: float = 1e-3, workers: int | None = None, executor=None, progress=None,
                  steps_per_period=None, max_periods: int | None = None, start: str = "linear",
-                 shooting: bool = True) -> HarmonicMap:
+                 shooting: bool = True, chained: bool = True) -> HarmonicMap:
     """Steady-state harmonic response on a frequency x amplitude grid (SPEC 5).
 
     Parameters
@@ -338,6 +402,13 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
     shooting : bool, default True
         Settle the points that reach ``max_periods`` by shooting (module docstring); False
         leaves them unconverged, as a plain grid of time integrations.
+    chained : bool, default True
+        Start every point after the first of each frequency from the steady state of the
+        amplitude below it, scaled to its own amplitude (an amplitude sweep: fewer periods a
+        point); False starts every point from ``start``. Where sticking friction makes the
+        orbits a family (a lightly damped rope near its stuck resonance) the start selects the
+        member, so the two can differ by more than the tolerance there (Table A.1, 5.43 Hz,
+        0.17-0.57 mm: |H1| up to 8 %, as long runs from rest and from the linear start do).
 
     Returns
     -------
@@ -360,113 +431,279 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
         raise SimulationError(f"n_harmonics: found {n_harmonics!r}, expected an integer >= 1")
     if not isinstance(shooting, (bool, np.bool_)):  # shooting="no" shot (a truthy string)
         raise SimulationError(f"shooting: found {shooting!r}, expected True or False")
+    if not isinstance(chained, (bool, np.bool_)):
+        raise SimulationError(f"chained: found {chained!r}, expected True or False")
     if not (np.isfinite(tolerance) and tolerance > 0):
         raise SimulationError(f"tolerance: found {tolerance!r}, expected a positive relative change")
     grid_freq, grid_amp = np.meshgrid(freq, amplitude, indexing="ij")
+    # frequency-major: each frequency's amplitudes form a chain, every point starting from the
+    # steady state of the amplitude below it (scaled to its own amplitude)
     response = harmonic_response(
         system, grid_freq.ravel(), grid_amp.ravel(), n_harmonics=int(n_harmonics), tolerance=tolerance,
         steps_per_period=steps_per_period, max_periods=max_periods, progress=progress, workers=workers,
-        executor=executor, start=start,
+        executor=executor, start=start, chain_length=amplitude.size if chained else 1,
     )
     shape = grid_freq.shape
     orders = (0.5,) + tuple(float(k) for k in range(1, int(n_harmonics) + 1))
-    hosidf_values = np.stack([response.hosidf(order) for order in orders])
-    half_range = response.half_range.copy()
-    bias = response.bias.copy()
-    peak = response.peak_acceleration.copy()
-    change = response.change.copy()
-    converged = response.converged.astype(bool).copy()
-    reasons = list(response.reasons)
-    periods = np.asarray(response.periods, dtype=float).copy()
-    flags = np.asarray(response.flags, dtype=np.int64).copy()
-    settled = np.zeros(converged.size, dtype=bool)
-    pending = np.flatnonzero(~converged & (np.asarray(response.flags) == 0))
+    points = _Points.of(response, orders)
+    pending = np.flatnonzero(~points.converged & (points.flags == 0))
     if shooting and pending.size:
         shot = _shoot_pending(system, response.freq[pending], response.amplitude[pending],
                               response.steps_per_period[pending], int(n_harmonics))
         for position, index in enumerate(pending):
             if shot[position] is None or isinstance(shot[position], str):
-                reasons[index] = f"{reasons[index]}; shooting: {shot[position]}"
+                points.reasons[index] = f"{points.reasons[index]}; shooting: {shot[position]}"
                 continue
             orbit, row = shot[position]
-            for slot, order in enumerate(orders):
-                hosidf_values[slot, index] = orbit.hosidf(order)[row]
-            half_range[index] = orbit.half_range[row, 0]
-            bias[index] = orbit.deflection_coefficients[row, 0].real
-            peak[index] = orbit.peak_acceleration[row]
-            change[index] = orbit.residual[row]
-            converged[index] = True
-            settled[index] = True
-            reasons[index] = "ok"
+            points.take_orbit(index, orbit, row, orders)
+            if not orbit.stable[row]:  # classified and carried on with the settled points
+                points.shot[index] = False
+                for field, values in zip(points.states, PeriodMap(system, 1).unpack(orbit.states[row])):
+                    field[index] = values[0]
         # Shooting starts from 20 periods of the linear start, not from the capped run, and its
         # Newton iteration can leave the basin of a stable orbit that more periods reach: run
         # those points on to the plain grid's cap, so that the default never settles fewer
         # points than ``shooting=False`` would.
-        failed = pending[~converged[pending]]
+        failed = pending[~points.converged[pending]]
         if capped and failed.size:
             longer = harmonic_response(
                 system, response.freq[failed], response.amplitude[failed], n_harmonics=int(n_harmonics),
                 tolerance=tolerance, steps_per_period=response.steps_per_period[failed],
                 max_periods=PLAIN_MAX_PERIODS, workers=workers, executor=executor, start=start,
             )
-            for row, index in enumerate(failed):
-                flags[index] = longer.flags[row]
-                periods[index] = longer.periods[row]
-                if not (longer.converged[row] and longer.flags[row] == 0):
-                    reasons[index] = f"{reasons[index]}; then {longer.reasons[row]}"
-                    continue
-                for slot, order in enumerate(orders):
-                    hosidf_values[slot, index] = longer.hosidf(order)[row]
-                half_range[index] = longer.half_range[row]
-                bias[index] = longer.bias[row]
-                peak[index] = longer.peak_acceleration[row]
-                change[index] = longer.change[row]
-                converged[index] = True
-                reasons[index] = "ok"
+            points.take_runs(failed, longer, orders)
+    _settle_stability(system, points, response.steps_per_period, orders, float(tolerance), workers)
     return HarmonicMap(
-        freq=freq, amplitude=amplitude, orders=orders, hosidf_values=hosidf_values.reshape((len(orders),) + shape),
-        half_range=half_range.reshape(shape), bias=bias.reshape(shape), peak_acceleration=peak.reshape(shape),
-        periods=periods.reshape(shape),
-        change=change.reshape(shape), converged=converged.reshape(shape),
-        flags=flags.reshape(shape),
-        reasons=np.asarray(reasons, dtype=str).reshape(shape), tolerance=float(tolerance),
-        shooting=settled.reshape(shape),
+        freq=freq, amplitude=amplitude, orders=orders,
+        hosidf_values=points.hosidf_values.reshape((len(orders),) + shape),
+        half_range=points.half_range.reshape(shape), bias=points.bias.reshape(shape),
+        peak_acceleration=points.peak.reshape(shape), periods=points.periods.reshape(shape),
+        change=points.change.reshape(shape), converged=points.converged.reshape(shape),
+        flags=points.flags.reshape(shape), reasons=np.asarray(points.reasons, dtype=str).reshape(shape),
+        tolerance=float(tolerance), shooting=points.shot.reshape(shape),
+        stability=np.asarray(points.stability, dtype=str).reshape(shape), multiplier=points.multiplier.reshape(shape),
     )
 
 
-def _shoot_pending(system, freq, amplitude, steps, n_harmonics) -> list:
-    """Stable periodic orbits of the points that did not settle: ``(PeriodicResponse, row)`` per
-    point, or a string saying why none was found.
+#: A carried point shows a period-2 orbit when its 1/2 subharmonic exceeds this many steady-state
+#: tolerances of its first harmonic (a settled period-1 orbit keeps about one tolerance of it).
+SUBHARMONIC_TOLERANCES = 10
+#: An unstable orbit is left by pushing the masses this fraction of the state scale along its
+#: unstable eigenvector; the run then spans the periods the push needs to grow to the scale.
+CARRY_PUSH = 1e-2
+#: At most this many periods of growth: a multiplier closer to the unit circle (|mu|^4000 < 100,
+#: |mu| < 1.00115) is pushed further, ``|mu|^-4000`` of the scale, so that it still grows to the
+#: scale within them.
+CARRY_PERIODS = 4000
 
-    Period 1 first (unstable orbits are left along their unstable eigenvector); where the
-    period-1 orbit loses stability by period doubling, the 1/2 subharmonic (period 2).
-    """
+
+@dataclass
+class _Points:
+    """The map's per-point values (flat, frequency-major) while they are settled and classified."""
+
+    freq: NDArray[np.float64]
+    amplitude: NDArray[np.float64]
+    hosidf_values: NDArray[np.complex128]
+    half_range: NDArray[np.float64]
+    bias: NDArray[np.float64]
+    peak: NDArray[np.float64]
+    periods: NDArray[np.float64]
+    change: NDArray[np.float64]
+    converged: NDArray[np.bool_]
+    flags: NDArray[np.int64]
+    reasons: list
+    shot: NDArray[np.bool_]
+    states: tuple  # the time runs' end states (harmonic_response's end_states layout)
+    stability: list
+    multiplier: NDArray[np.complex128]
+
+    @classmethod
+    def of(cls, response, orders):
+        n = response.freq.size
+        return cls(freq=response.freq, amplitude=response.amplitude,
+                   hosidf_values=np.stack([response.hosidf(order) for order in orders]),
+                   half_range=response.half_range.copy(), bias=response.bias.copy(),
+                   peak=response.peak_acceleration.copy(), periods=np.asarray(response.periods, dtype=float).copy(),
+                   change=response.change.copy(), converged=response.converged.astype(bool).copy(),
+                   flags=np.asarray(response.flags, dtype=np.int64).copy(), reasons=list(response.reasons),
+                   shot=np.zeros(n, dtype=bool), states=tuple(values.copy() for values in response.end_states),
+                   stability=[""] * n, multiplier=np.full(n, np.nan, dtype=complex))
+
+    def take_orbit(self, index, orbit, row, orders):
+        """Point ``index`` settled by shooting: ``orbit.*[row]``, a stable orbit."""
+        for slot, order in enumerate(orders):
+            self.hosidf_values[slot, index] = orbit.hosidf(order)[row]
+        self.half_range[index] = orbit.half_range[row, 0]
+        self.bias[index] = orbit.deflection_coefficients[row, 0].real
+        self.peak[index] = orbit.peak_acceleration[row]
+        self.change[index] = orbit.residual[row]
+        self.converged[index] = True
+        self.shot[index] = True
+        self.reasons[index] = "ok"
+        self.stability[index] = "period-2" if orbit.periods == 2 else "stable"
+        self.multiplier[index] = _leading(orbit.multipliers[row], stability_margin(orbit.residual[row]))
+
+    def take_runs(self, indices, runs, orders, *, continued=False):
+        """Points ``indices`` run again (``runs``, one row each; ``continued``: from where they were,
+        so the periods add up); settled rows replace them. Returns the rows that settled."""
+        settled = np.asarray(runs.converged, dtype=bool) & (np.asarray(runs.flags) == 0)
+        for row, index in enumerate(indices):
+            self.periods[index] = runs.periods[row] + (self.periods[index] if continued else 0)
+            self.flags[index] = runs.flags[row]
+            if not settled[row]:
+                self.reasons[index] = f"{self.reasons[index]}; then {runs.reasons[row]}"
+                continue
+            for slot, order in enumerate(orders):
+                self.hosidf_values[slot, index] = runs.hosidf(order)[row]
+            self.half_range[index] = runs.half_range[row]
+            self.bias[index] = runs.bias[row]
+            self.peak[index] = runs.peak_acceleration[row]
+            self.change[index] = runs.change[row]
+            self.converged[index] = True
+            self.reasons[index] = "ok"
+            for field, values in zip(self.states, runs.end_states):
+                field[index] = values[row]
+        return settled
+
+
+def _leading(multipliers, margin):
+    """The multiplier of largest modulus other than the friction-memory ones at +1 (NaN if none)."""
+    multipliers = np.asarray(multipliers)
+    kept = multipliers[np.isfinite(multipliers) & (np.abs(multipliers - 1.0) > margin)]
+    return complex(kept[np.argmax(np.abs(kept))]) if kept.size else complex(np.nan, np.nan)
+
+
+def _settle_stability(system, points: _Points, steps, orders, tolerance, workers):
+    """Classify the orbit of every point the time runs settled; carry the unstable ones to the stable
+    orbit a longer run reaches from them (module docstring). Points shot are classified already."""
+    one = PeriodMap(system, 1)
+    margin = stability_margin()
+    timed = np.flatnonzero(points.converged & (points.flags == 0) & ~points.shot)
+    if not timed.size:
+        return
+    states = one.pack(*(values[timed] for values in points.states))
+    _, multipliers, jacobians, flags = monodromy(one, points.freq[timed], points.amplitude[timed], states,
+                                               steps[timed], workers=workers)
+    unstable = []
+    for row, index in enumerate(timed):
+        if flags[row] != 0:  # one period more from a valid end state: not expected, but not hidden
+            points.converged[index] = False
+            points.reasons[index] = ("stability not classified: one more period flagged "
+                                     f"({FLAG_REASONS[int(flags[row])]})")
+            continue
+        stable, kind = classify_multipliers(multipliers[row], margin)
+        points.multiplier[index] = _leading(multipliers[row], margin)
+        if stable or kind == "neutral":
+            points.stability[index] = kind
+        else:
+            unstable.append((row, index, kind))
+    if unstable:
+        _carry(system, one, points, steps, orders, tolerance, workers, states, multipliers, jacobians, unstable)
+
+
+def _carry(system, one, points, steps, orders, tolerance, workers, states, multipliers, jacobians, unstable):
+    """Push each unstable orbit along its most unstable eigenvector and run on until the push has
+    grown to the orbit's scale and the run settles again; classify what it reached over two
+    periods (a period-1 or a period-2 orbit)."""
+    rows = np.array([row for row, _, _ in unstable])
+    indices = np.array([index for _, index, _ in unstable])
+    freq, amplitude = points.freq[indices], points.amplitude[indices]
+    length = np.maximum(amplitude, np.max(np.abs(states[rows, :one.ndof]), axis=1))
+    scale = one.scales(freq, amplitude, length)
+    pushed = np.empty((rows.size, one.size))
+    growth_periods = np.empty(rows.size)
+    for k, row in enumerate(rows):
+        values, vectors = np.linalg.eig(jacobians[row])
+        direction = vectors[:, int(np.argmax(np.abs(values)))].real
+        direction = direction / np.max(np.abs(direction))
+        growth = float(np.abs(multipliers[row][0]))
+        size = max(CARRY_PUSH, growth ** -CARRY_PERIODS)
+        pushed[k] = one.push(states[row], size * direction[:2 * one.ndof] * scale[k, :2 * one.ndof])
+        growth_periods[k] = np.log(1.0 / size) / np.log(growth)
+    min_periods = int(min(CARRY_PERIODS, 2 * np.ceil(np.max(growth_periods) / 2)))
+    runs = harmonic_response(system, freq, amplitude, n_harmonics=len(orders) - 1, tolerance=tolerance,
+                             steps_per_period=steps[indices], min_periods=max(8, min_periods),
+                             max_periods=min_periods + SHOOTING_AFTER_PERIODS, workers=workers,
+                             start=one.unpack(pushed))
+    was = [(kind, multipliers[row][0]) for row, _, kind in unstable]
+    for index in indices:  # what the point showed is replaced, or it is no longer settled
+        points.converged[index] = False
+    settled = points.take_runs(indices, runs, orders, continued=True)
+    # a run that has not settled yet (lightly damped) is in the basin of what it will reach:
+    # shooting closes that orbit, of two periods where the 1/2 subharmonic has grown
+    for k in np.flatnonzero(~settled & (np.asarray(runs.flags) == 0)):
+        end = one.pack(*(values[k:k + 1] for values in runs.end_states))
+        doubled = np.abs(runs.harmonic(0.5)[k]) > SUBHARMONIC_TOLERANCES * tolerance * np.abs(runs.harmonic(1)[k])
+        for periods in ((2,) if doubled else (1, 2)):  # back on the unstable period-1 orbit: the other
+            orbit = periodic_response(system, freq[k], amplitude[k], periods=periods, initial_states=end,
+                                      settle_periods=0, steps_per_period=steps[indices[k]],
+                                      n_harmonics=len(orders) - 1, seek_stable=False)
+            doubled = periods == 2
+            if orbit.converged[0] and orbit.stable[0]:
+                break
+        if orbit.converged[0]:
+            points.take_orbit(indices[k], orbit, 0, orders)
+            if not orbit.stable[0]:
+                points.converged[indices[k]] = False
+                points.stability[indices[k]] = "unstable"
+                points.reasons[indices[k]] = (f"the orbit it settled on first was unstable ({was[k][0]}, multiplier "
+                                              f"{_format(was[k][1])}); the orbit shot from a run on from it is "
+                                              f"{orbit.instability[0]} too")
+            else:
+                points.stability[indices[k]] = "period-2" if doubled else "jumped"
+                points.reasons[indices[k]] = "ok"
+    two = PeriodMap(system, 2)
+    margin = stability_margin()
+    reached = np.flatnonzero(settled)
+    if reached.size:
+        ends = two.pack(*(values[indices[reached]] for values in points.states))
+        _, again, _, flags = monodromy(two, freq[reached], amplitude[reached], ends, steps[indices[reached]],
+                                       workers=workers)
+        _, single, _, _ = monodromy(one, freq[reached], amplitude[reached], ends, steps[indices[reached]],
+                                    workers=workers)
+    for k, index in enumerate(indices):
+        kind, mu = was[k]
+        before = f"the orbit it settled on first was unstable ({kind}, multiplier {_format(mu)})"
+        if points.shot[index]:
+            continue
+        if not settled[k]:
+            points.stability[index] = "unstable"
+            points.reasons[index] = f"{before}; run on from it: {runs.reasons[k]}"
+            continue
+        row = int(np.flatnonzero(reached == k)[0])
+        stable, now = classify_multipliers(again[row], margin) if flags[row] == 0 else (False, "not classified")
+        if not (stable or now == "neutral"):
+            points.converged[index] = False
+            points.stability[index] = "unstable"
+            points.reasons[index] = f"{before}; the orbit reached from it is {now} too"
+            continue
+        subharmonic = np.abs(points.hosidf_values[0, index]) / 0.5
+        first = np.abs(points.hosidf_values[1, index])
+        doubled = subharmonic > SUBHARMONIC_TOLERANCES * tolerance * first
+        points.stability[index] = "period-2" if doubled else "jumped"
+        points.multiplier[index] = _leading(again[row] if doubled else single[row], margin)
+        points.reasons[index] = "ok"
+        points.change[index] = runs.change[k]
+
+
+def _format(value: complex) -> str:
+    return f"{value.real:.5g}" if abs(value.imag) <= 1e-9 * abs(value) else f"{value:.4g}"
+
+
+def _shoot_pending(system, freq, amplitude, steps, n_harmonics) -> list:
+    """Periodic orbits of the points that did not settle, by shooting from 20 periods of the linear
+    start: per point ``(PeriodicResponse, row)`` (stable or unstable: the caller carries an unstable
+    one to where a time run leaves it for), or a string saying why none was found."""
     first = periodic_response(system, freq, amplitude, steps_per_period=steps, n_harmonics=n_harmonics,
-                              seek_stable=True)
+                              seek_stable=False)
     outcome: list = [None] * freq.size
-    doubling = []
     for index in range(freq.size):
-        if first.converged[index] and first.stable[index]:
-            outcome[index] = (first, index)
-        elif first.converged[index] and first.instability[index] == "period doubling":
-            doubling.append(index)
-        elif first.converged[index] and first.instability[index] == "neutral":
+        if first.converged[index] and first.instability[index] == "neutral":
             outcome[index] = (f"the periodic orbit is neutral (largest multiplier {first.max_multiplier[index]:.6g}, "
                               "on the unit circle within the stability margin: undamped, it attracts nothing the "
                               "time integration could settle on)")
         elif first.converged[index]:
-            outcome[index] = (f"the periodic orbit is unstable ({first.instability[index]}, "
-                              f"largest multiplier {first.max_multiplier[index]:.4g})")
+            outcome[index] = (first, index)
         else:
             outcome[index] = first.reasons[index]
-    if doubling:
-        chosen = np.array(doubling)
-        second = periodic_response(system, freq[chosen], amplitude[chosen], periods=2, steps_per_period=steps[chosen],
-                                   n_harmonics=n_harmonics)
-        for row, index in enumerate(doubling):
-            if second.converged[row] and second.stable[row]:
-                outcome[index] = (second, row)
-            else:
-                outcome[index] = (f"the period-1 orbit is unstable by period doubling and no stable 1/2 subharmonic "
-                                  f"was found ({second.reasons[row] if not second.converged[row] else 'unstable'})")
     return outcome

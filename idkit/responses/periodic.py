@@ -64,6 +64,7 @@ from idkit.responses._sensitivity import tangent_start, tangent_step
 from idkit.responses.linear import _numbers, _order
 from idkit.simulate import default_steps_per_period
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays, whole_number
+from idkit.simulate._parallel import run_chunked
 from idkit.simulate._kernel import (
     FLAG_OK,
     FLAG_REASONS,
@@ -75,8 +76,8 @@ from idkit.simulate._kernel import (
 )
 from idkit.simulate.harmonic import MAX_PERIOD_TABLE, linear_initial_state
 
-__all__ = ["STABILITY_MARGIN", "PeriodicResponse", "classify_multipliers", "period_map", "periodic_response",
-           "stability_margin"]
+__all__ = ["STABILITY_MARGIN", "PeriodicResponse", "classify_multipliers", "monodromy", "period_map",
+           "periodic_response", "stability_margin"]
 
 #: Relative finite-difference step of the period-map Jacobian (times each state's scale).
 FD_STEP = 1e-6
@@ -102,14 +103,15 @@ NULL_TOLERANCE = 1e-5
 
 @numba.njit(cache=True, nogil=True)
 def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitude, steps_per_period, n_periods,
-                 scale, q0, v0, jforce0, mstate0, bwz0, n_record, with_tangent):
+                 scale, q0, v0, jforce0, mstate0, bwz0, n_record, with_tangent, columns):
     """Integrate each member over ``n_periods`` excitation periods from its state at t = 0.
 
     Same base motion and step as :func:`idkit.simulate._kernel.run_harmonic_batch`. Returns the
     end states ``(q, v, jforce, mstate, bwz)``, ``flags``, over the first ``n_record`` steps the
     absolute mass displacements (m) and top acceleration (m/s^2) at each step start, and, if
     ``with_tangent``, the derivative of the end state with respect to the start
-    (:mod:`idkit.responses._sensitivity`; no Bouc-Wen), else an empty array.
+    (:mod:`idkit.responses._sensitivity`; no Bouc-Wen; one column per entry of ``columns``, the
+    initial values of real elements), else an empty array.
     """
     batch = freq.shape[0]
     ndof = masses.shape[0]
@@ -126,10 +128,13 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitud
     rec_a = np.full((batch, n_record), np.nan)
     flags = np.zeros(batch, dtype=np.int64)
     n_rows = 3 * ndof + ndof * (nj + nm) if with_tangent else 0
-    n_cols = 2 * ndof + ndof * (nj + nm) if with_tangent else 0
+    n_cols = columns.shape[0] if with_tangent else 0
     tangents = np.zeros((batch, n_rows, n_cols))
     old_q = np.zeros(2)
     old_force = np.zeros((ndof, max(nj, 1)))
+    work = np.zeros((2, 2))
+    lanes = np.zeros((6, max(n_cols, 1)))
+    stuck = np.zeros((2, max(nj, 1)))
     for b in range(batch):
         omega = 2.0 * math.pi * freq[b]
         n_per = steps_per_period[b]
@@ -146,7 +151,7 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitud
         # reference-count increment and decrement (atomic) per step
         tangent = tangents[b]
         if with_tangent:
-            tangent_start(ndof, masses, P, state, tangent, nj, nm)
+            tangent_start(ndof, masses, P, state, tangent, nj, nm, columns)
         flag = FLAG_OK
         base_sin, base_cos = base_motion_table(n_per)  # as the map's kernel reads it
         at = 0  # n % n_per
@@ -168,7 +173,8 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitud
             if flag != FLAG_OK:
                 break
             if with_tangent:
-                tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangent, nj, nm)
+                tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangent, nj, nm, work,
+                             stuck, lanes)
         flags[b] = flag
         if flag == FLAG_OK:
             for d in range(ndof):
@@ -235,7 +241,8 @@ class PeriodMap:
         nj, nm = arrays.jk.shape[1], arrays.mk.shape[1]
         jenkin_flat = [j * nj + i for j, i in self.jenkin]
         maxwell_flat = [j * nm + i for j, i in self.maxwell]
-        # rows and columns of the compiled tangent (see idkit.responses._sensitivity) in packed order
+        # rows of the compiled tangent in packed order, and the initial values its columns follow
+        # (see idkit.responses._sensitivity)
         self._tangent_rows = np.array(list(range(2 * ndof)) + [3 * ndof + k for k in jenkin_flat]
                                       + [3 * ndof + ndof * nj + k for k in maxwell_flat], dtype=int)
         self._tangent_columns = np.array(list(range(2 * ndof)) + [2 * ndof + k for k in jenkin_flat]
@@ -305,12 +312,12 @@ class PeriodMap:
         freq, amplitude, steps = (np.ascontiguousarray(np.broadcast_to(value, (batch,)))
                                   for value in (np.asarray(freq, dtype=float), np.asarray(amplitude, dtype=float),
                                                 np.asarray(steps_per_period, dtype=np.int64)))
-        scale = np.array([force_scale(self.arrays, a * (2 * np.pi * f) ** 2) for f, a in zip(freq, amplitude)])
+        scale = np.atleast_1d(force_scale(self.arrays, amplitude * (2 * np.pi * freq) ** 2))
         n_periods = self.periods if n_periods is None else int(n_periods)
         q, v, jforce, mstate, bwz = (np.ascontiguousarray(value) for value in self.unpack(states))
         q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents = _run_periods(
             *self._kernel_arrays, freq.astype(float), amplitude.astype(float), steps.astype(np.int64),
-            n_periods, scale, q, v, jforce, mstate, bwz, int(n_record), bool(with_tangent))
+            n_periods, scale, q, v, jforce, mstate, bwz, int(n_record), bool(with_tangent), self._tangent_columns)
         end = self.pack(q_end, v_end, j_end, m_end, z_end)
         if with_tangent:
             return end, flags, tangents
@@ -359,7 +366,7 @@ class PeriodMap:
         central differences of ``ln(parameter)`` (step :data:`FD_STEP`)."""
         end, flags, tangents = self.run(freq, amplitude, state[None], steps_per_period, with_tangent=True)
         phi, flag = end[0], int(flags[0])
-        jacobian = tangents[0][np.ix_(self._tangent_rows, self._tangent_columns)] * scale[None, :] / scale[:, None]
+        jacobian = tangents[0][self._tangent_rows] * scale[None, :] / scale[:, None]
         derivative = None
         if parameter is not None and flag == FLAG_OK:
             factors = np.exp([FD_STEP, -FD_STEP])
@@ -853,6 +860,58 @@ def _solve_points(period_map, freq, amplitude, steps, guesses, flags, n_harmonic
         converged=converged, reasons=tuple(reasons), coefficients=coefficients, deflection_coefficients=deflection,
         half_range=half_range, peak_acceleration=peak,
     )
+
+
+def monodromy(period_map: PeriodMap, freq, amplitude, states, steps_per_period, *, workers=None):
+    """Closing error and Floquet multipliers of many approximate orbits at once.
+
+    ``states`` (n, size): packed states at t = 0 (a settled time run's end states). Over
+    ``period_map.periods`` periods, returns ``(closing, multipliers, jacobians, flags)``:
+    ``closing`` (n,) ``max |Phi(x) - x| / scale``, ``multipliers`` (n, size) complex, by
+    decreasing modulus, ``jacobians`` (n, size, size) the monodromy matrices in scaled
+    variables (as :meth:`PeriodMap.jacobian`), ``flags`` (n,). The monodromy matrix is propagated through the steps (or
+    central differences, :meth:`PeriodMap.jacobian`), one compiled batch over every point
+    (chunks on ``workers`` threads); multipliers do not depend on the variables' scaling.
+    """
+    states = np.atleast_2d(np.asarray(states, dtype=float))
+    n, size = states.shape
+    freq, amplitude, steps = (np.ascontiguousarray(np.broadcast_to(value, (n,))) for value in (
+        np.asarray(freq, dtype=float), np.asarray(amplitude, dtype=float), np.asarray(steps_per_period, np.int64)))
+    length = np.maximum(amplitude, np.max(np.abs(states[:, :period_map.ndof]), axis=1))
+    scale = period_map.scales(freq, amplitude, length)
+    if period_map.jacobian_method == "exact":
+        def task(part):
+            end, flags, tangents = period_map.run(freq[part], amplitude[part], states[part], steps[part],
+                                                  with_tangent=True)
+            return end, flags, tangents
+        end, flags, tangents = run_chunked(task, n, workers=workers)
+        jacobian = tangents[:, period_map._tangent_rows]
+        jacobian = jacobian * scale[:, None, :] / scale[:, :, None]
+    else:
+        members = np.repeat(states[:, None, :], 2 * size + 1, axis=1)
+        offsets = FD_STEP * scale
+        for k in range(size):
+            members[:, 1 + 2 * k, k] += offsets[:, k]
+            members[:, 2 + 2 * k, k] -= offsets[:, k]
+        repeat = (lambda values: np.repeat(values, 2 * size + 1))
+
+        def task(part):
+            out, out_flags, _, _ = period_map.run(repeat(freq)[part], repeat(amplitude)[part],
+                                                  members.reshape(-1, size)[part], repeat(steps)[part])
+            return out, out_flags
+        out, out_flags = run_chunked(task, n * (2 * size + 1), workers=workers)
+        out = out.reshape(n, 2 * size + 1, size)
+        end = out[:, 0]
+        flags = out_flags.reshape(n, -1).max(axis=1)
+        jacobian = np.transpose((out[:, 1::2] - out[:, 2::2]) / (2.0 * FD_STEP), (0, 2, 1)) / scale[:, :, None]
+    closing = np.max(np.abs(end - states) / scale, axis=1)
+    multipliers = np.full((n, size), np.nan, dtype=complex)
+    good = (np.asarray(flags) == FLAG_OK) & np.isfinite(jacobian).all(axis=(1, 2))
+    if good.any():
+        values = np.linalg.eigvals(jacobian[good])
+        multipliers[good] = np.take_along_axis(values, np.argsort(-np.abs(values), axis=1, kind="stable"), axis=1)
+    closing[~good] = np.nan
+    return closing, multipliers, jacobian, np.asarray(flags)
 
 
 def period_map(system, periods: int = 1) -> PeriodMap:

@@ -573,7 +573,8 @@ def _harmonic_kernel(structure):
     """The compiled :func:`run_harmonic_batch` of one structure (:mod:`idkit.simulate._structured`)."""
 
     def run_harmonic_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitude, steps_per_period,
-                           n_coeff, tolerance, min_windows, max_windows, force_scale, q0, v0, jforce0, mstate0, bwz0):
+                           n_coeff, tolerance, min_windows, max_windows, force_scale, q0, v0, jforce0, mstate0, bwz0,
+                           chain):
         """Run harmonic base displacement ``A sin(2 pi f t)`` to steady state, per member.
 
         From the initial state ``q0, v0`` (batch, ndof; absolute m and m/s) and internal
@@ -596,6 +597,13 @@ def _harmonic_kernel(structure):
         ``force_scale`` (batch,): each member's force magnitude (N) for its convergence tests
         (:func:`idkit.simulate._arrays.force_scale` of its own base acceleration), so a
         member's result does not depend on the other members of the batch.
+
+        ``chain`` (batch,) bool: a member with ``chain[b]`` starts from the end state of member
+        ``b - 1`` (its last window ends after whole periods, at the phase of t = 0) instead of
+        its own initial state, unless that member was flagged: a stepped sweep, whose chains a
+        caller keeps whole within one call. The end states ``end_q, end_v`` (batch, ndof),
+        ``end_jforce``, ``end_mstate``, ``end_bwz`` (layout of the inputs; NaN for a flagged
+        member) are returned after ``flags``.
         """
         batch = freq.shape[0]
         ndof = masses.shape[0]
@@ -609,6 +617,14 @@ def _harmonic_kernel(structure):
         change = np.full(batch, np.nan)
         converged = np.zeros(batch, dtype=np.bool_)
         flags = np.zeros(batch, dtype=np.int64)
+        end_q = np.full((batch, ndof), np.nan)
+        end_v = np.full((batch, ndof), np.nan)
+        end_jforce = np.full(jforce0.shape, np.nan)
+        end_mstate = np.full(mstate0.shape, np.nan)
+        end_bwz = np.full((batch, ndof), np.nan)
+        start_j = np.empty(jforce0.shape[1:])
+        start_m = np.empty(mstate0.shape[1:])
+        start_z = np.empty(ndof)
         # the window's twiddle factors and the base motion's table depend on the steps per
         # period only: built once for a run of points with the same n_per (a map's points mostly
         # share it), from one table of cos / sin(2 pi k / window) indexed by m n mod window
@@ -626,10 +642,25 @@ def _harmonic_kernel(structure):
             scale = force_scale[b]
             P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
             state = np.zeros(6)
-            for d in range(ndof):
-                state[d] = q0[b, d]
-                state[2 + d] = v0[b, d]
-            S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
+            after = b - 1 if chain[b] and b > 0 and flags[b - 1] == FLAG_OK else b  # whose end state starts b
+            if after == b:
+                for d in range(ndof):
+                    state[d] = q0[b, d]
+                    state[2 + d] = v0[b, d]
+                S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
+            else:
+                # along an amplitude axis, the neighbour's state scaled to this amplitude (exact
+                # where the response is linear); Jenkin forces kept within their slip limits
+                ratio = amp / amplitude[after]
+                for d in range(ndof):
+                    state[d] = ratio * end_q[after, d]
+                    state[2 + d] = ratio * end_v[after, d]
+                    start_z[d] = ratio * end_bwz[after, d]
+                    for i in range(jforce0.shape[2]):
+                        start_j[d, i] = min(max(ratio * end_jforce[after, d, i], -jfc[d, i]), jfc[d, i])
+                    for i in range(mstate0.shape[2]):
+                        start_m[d, i] = ratio * end_mstate[after, d, i]
+                S = _pack_states(P, start_j, start_m, start_z)
             _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
             window = 2 * n_per
             if n_per != table_n:
@@ -737,7 +768,16 @@ def _harmonic_kernel(structure):
                 for m in range(n_coeff):
                     coeff[b, m] = previous[m]
                     dcoeff[b, m] = dcurrent[m]
-        return coeff, half_range, accel_peak, dcoeff, windows, change, converged, flags
+                for d in range(ndof):
+                    end_q[b, d] = state[d]
+                    end_v[b, d] = state[2 + d]
+                    end_bwz[b, d] = S[d, 2, 0]
+                    for i in range(jforce0.shape[2]):
+                        end_jforce[b, d, i] = S[d, 0, i]
+                    for i in range(mstate0.shape[2]):
+                        end_mstate[b, d, i] = S[d, 1, i]
+        return (coeff, half_range, accel_peak, dcoeff, windows, change, converged, flags, end_q, end_v, end_jforce,
+                end_mstate, end_bwz)
 
     return _compiled_per_structure(run_harmonic_batch, structure)
 

@@ -10,7 +10,7 @@ import pandas as pd
 from idkit.errors import SimulationError
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays, whole_number
 from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS, harmonic_kernel
-from idkit.simulate._parallel import run_chunked
+from idkit.simulate._parallel import default_workers, run_chunked
 from idkit.simulate._structured import structure_of
 from idkit.models.laws import hybrid_displacements, sdof_transmissibility
 
@@ -49,6 +49,10 @@ class HarmonicResponse:
     converged : (n_points,) bool; flags, reasons: validity of each run (``reasons`` is
         ``"ok"`` only for a valid run that reached steady state)
     steps_per_period : (n_points,)
+    end_states : tuple of arrays, optional
+        State after the last window (whole periods, so at the phase of t = 0), in the layout of
+        :func:`linear_initial_state`: ``q, v`` (n_points, ndof), ``jforce`` (n_points, ndof, nj),
+        ``mstate`` (n_points, ndof, nm), ``bwz`` (n_points, ndof); NaN for flagged points.
     """
 
     freq: np.ndarray
@@ -63,6 +67,7 @@ class HarmonicResponse:
     flags: np.ndarray
     reasons: tuple[str, ...]
     steps_per_period: np.ndarray
+    end_states: tuple | None = None
 
     @property
     def n_harmonics(self) -> int:
@@ -218,7 +223,7 @@ _SMALLEST_NORMAL = float(np.finfo(float).tiny)  # 2.2e-308: below it float64 kee
 def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, tolerance: float = 1e-3,
                       steps_per_period=None, min_periods: int = 8, max_periods: int = 4000,
                       progress=None, workers: int | None = None, executor=None,
-                      chunk_size: int | None = None, start: str = "rest") -> HarmonicResponse:
+                      chunk_size: int | None = None, start="rest", chain_length: int = 1) -> HarmonicResponse:
     """Run every (freq, amplitude) point of a batch to steady state.
 
     Parameters
@@ -245,13 +250,22 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
     executor : concurrent.futures.Executor-like, optional
         Runs the chunks instead of a local thread pool (e.g. a Dask ``Client``).
     chunk_size : int, optional
-        Points per chunk (default: about four chunks per worker).
-    start : {"rest", "linear"}
+        Points per chunk (default: about four chunks per worker; with ``chain_length``, rounded
+        up to whole chains).
+    start : {"rest", "linear"} or tuple of arrays
         Initial state: ``"rest"`` (masses at rest, isolators unloaded; the thesis) or
         ``"linear"``, the small-amplitude (all stuck, linearized) steady state at t = 0
         (:func:`linear_initial_state`). Where the isolators stay linear the run then
         starts in its steady state, which spares lightly damped systems thousands of
-        transient periods; elsewhere it is only a better first guess.
+        transient periods; elsewhere it is only a better first guess. Or the states
+        themselves, ``(q, v, jforce, mstate, bwz)`` in the layout of
+        :attr:`HarmonicResponse.end_states` (one row per point).
+    chain_length : int, default 1
+        Points per chain: the points form consecutive chains of this length (the number of
+        points must be a multiple of it), and every point of a chain after the first starts
+        from the steady state the previous one ended in (a stepped sweep: a neighbour's steady
+        state is a closer start than rest, and it follows a branch as an experiment does).
+        Chains are never split between workers, so the result does not depend on them.
 
     Examples
     --------
@@ -317,21 +331,43 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
     kernel_arrays = arrays.as_tuple()
     run_harmonic_batch = harmonic_kernel(structure_of(arrays))
 
-    if start == "rest":
+    chain_length = whole_number(chain_length, "chain_length", 1)
+    if freq.size % chain_length:
+        raise SimulationError(f"chain_length: found {chain_length} for {freq.size} points, expected a divisor of "
+                              "the number of points (whole chains)")
+    if isinstance(start, str) and start == "rest":
         q0 = np.zeros((freq.size, arrays.ndof))
         v0 = np.zeros((freq.size, arrays.ndof))
         jforce0 = np.zeros((freq.size,) + arrays.jk.shape)
         mstate0 = np.zeros((freq.size,) + arrays.mk.shape)
         bwz0 = np.zeros((freq.size, arrays.ndof))
-    elif start == "linear":
+    elif isinstance(start, str) and start == "linear":
         q0, v0, jforce0, mstate0, bwz0 = linear_initial_state(system, freq, amplitude)
+    elif isinstance(start, tuple) and len(start) == 5:
+        q0, v0, jforce0, mstate0, bwz0 = (np.asarray(values, dtype=float) for values in start)
+        shapes = [(freq.size, arrays.ndof)] * 2 + [(freq.size,) + arrays.jk.shape, (freq.size,) + arrays.mk.shape,
+                                                   (freq.size, arrays.ndof)]
+        if [values.shape for values in (q0, v0, jforce0, mstate0, bwz0)] != shapes or not all(
+                np.isfinite(values).all() for values in (q0, v0, jforce0, mstate0, bwz0)):
+            raise SimulationError(f"start: found states of shapes {[np.shape(v) for v in start]}, expected finite "
+                                  f"arrays of shapes {shapes} (q, v, jforce, mstate, bwz)")
     else:
-        raise SimulationError(f"start: found {start!r}, expected 'rest' or 'linear'")
+        raise SimulationError(f"start: found {start!r:.80}, expected 'rest', 'linear' or the states "
+                              "(q, v, jforce, mstate, bwz)")
+    chain = np.zeros(freq.size, dtype=np.bool_)
+    chain[np.arange(freq.size) % chain_length != 0] = True
     # Deal the points out like cards so that every chunk mixes cheap and costly ones
-    # (a grid in order would hand one worker all the high frequencies).
+    # (a grid in order would hand one worker all the high frequencies); chains are dealt whole.
     # (one point: nothing to deal, and no copies)
+    n_chains = freq.size // chain_length
+    dealt_chains = np.argsort(np.arange(n_chains) % max(1, min(n_chains, 64)), kind="stable")
     order = (np.zeros(1, dtype=np.int64) if freq.size == 1 else
-             np.argsort(np.arange(freq.size) % max(1, min(freq.size, 64)), kind="stable"))
+             (dealt_chains[:, None] * chain_length + np.arange(chain_length)[None, :]).ravel())
+    if chain_length > 1:
+        workers_used = default_workers() if workers is None else whole_number(workers, "workers", 1)
+        chains_per_chunk = (max(1, -(-n_chains // (4 * workers_used))) if chunk_size is None
+                            else -(-whole_number(chunk_size, "chunk_size", 1) // chain_length))
+        chunk_size = chains_per_chunk * chain_length
     if freq.size == 1:
         dealt_freq, dealt_amplitude, dealt_steps, dealt_scale = freq, amplitude, np.ascontiguousarray(steps), scale
         dealt_states = tuple(np.ascontiguousarray(values) for values in (q0, v0, jforce0, mstate0, bwz0))
@@ -345,18 +381,18 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
         return run_harmonic_batch(
             *kernel_arrays, dealt_freq[part], dealt_amplitude[part], dealt_steps[part], n_coeff,
             float(tolerance), min_windows, max_windows, dealt_scale[part], *(values[part] for values in dealt_states),
+            chain[part],
         )
 
     dealt = run_chunked(task, freq.size, workers=workers, chunk_size=chunk_size, progress=progress,
                         executor=executor)
-    if freq.size == 1:
-        coeff, half_range, peak, dcoeff, windows, change, converged, flags = dealt
-    else:
+    if freq.size > 1:
         restore = np.argsort(order, kind="stable")
-        coeff, half_range, peak, dcoeff, windows, change, converged, flags = (field[restore] for field in dealt)
+        dealt = tuple(field[restore] for field in dealt)
+    coeff, half_range, peak, dcoeff, windows, change, converged, flags = dealt[:8]
     return HarmonicResponse(
         freq=freq, amplitude=amplitude, coefficients=coeff, deflection_coefficients=dcoeff,
         half_range=half_range, peak_acceleration=peak, periods=2 * windows, change=change,
         converged=converged, flags=flags, reasons=_reasons(flags, converged, 2 * windows, change, tolerance),
-        steps_per_period=steps,
+        steps_per_period=steps, end_states=tuple(dealt[8:]),
     )

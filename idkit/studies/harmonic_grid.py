@@ -1,8 +1,10 @@
 """Steady-state harmonic response at every (frequency, amplitude) pair of two axes, as one table.
 
-``idkit simulate harmonic`` prints or writes this table. Unlike
-:func:`idkit.responses.harmonic_map.harmonic_map` the axes are taken as given (any order,
-repeats computed again) and every point starts from rest.
+``idkit simulate harmonic`` prints or writes this table. The points are settled by
+:func:`idkit.responses.harmonic_map.harmonic_map` (one map: chained along the amplitude axis,
+shooting where the time integration does not settle, every orbit's stability classified and an
+unstable one carried to the stable orbit a long run reaches); the axes are taken as given (any
+order, repeated values), the map computing each distinct value once.
 """
 
 from __future__ import annotations
@@ -10,14 +12,14 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from idkit.simulate import harmonic_response
+from idkit.responses.harmonic_map import harmonic_map
 
 __all__ = ["harmonic_grid_table"]
 
 
 def harmonic_grid_table(system, freq, amplitude, *, n_harmonics: int = 3, tolerance: float = 1e-3,
-                        progress=None) -> pd.DataFrame:
-    """One row per (frequency, amplitude) point, frequency-major.
+                        progress=None, workers: int | None = None) -> pd.DataFrame:
+    """One row per (frequency, amplitude) point, frequency-major, in the order of the axes given.
 
     Parameters
     ----------
@@ -31,12 +33,15 @@ def harmonic_grid_table(system, freq, amplitude, *, n_harmonics: int = 3, tolera
     tolerance : float
         Steady-state tolerance (relative change per period).
     progress : callable(done, total), optional
+    workers : int, optional
+        Simulation threads (default: all usable cores).
 
     Returns
     -------
     DataFrame
         ``freq [Hz]``, ``amplitude [m]``, ``half_range [m]``, ``|H<k>| [-]`` and
-        ``phase H<k> [deg]`` per order, ``bias [m]``, ``periods``, ``converged``, ``status``.
+        ``phase H<k> [deg]`` per order, ``bias [m]``, ``periods``, ``converged``, ``status``,
+        ``stability`` and ``|mu| [-]`` (:class:`~idkit.responses.harmonic_map.HarmonicMap`).
 
     Examples
     --------
@@ -45,16 +50,23 @@ def harmonic_grid_table(system, freq, amplitude, *, n_harmonics: int = 3, tolera
     >>> list(table["freq [Hz]"]), bool(table["converged"].all())
     ([2.0, 20.0], True)
     """
-    grid_freq, grid_amplitude = np.meshgrid(np.asarray(freq, dtype=float), np.asarray(amplitude, dtype=float),
-                                            indexing="ij")
-    response = harmonic_response(system, grid_freq.ravel(), grid_amplitude.ravel(), n_harmonics=n_harmonics,
-                                 tolerance=tolerance, progress=progress)
-    columns = {"freq [Hz]": response.freq, "amplitude [m]": response.amplitude,
-               "half_range [m]": response.half_range}
-    for order in [0.5] + list(range(1, n_harmonics + 1)):
-        value = response.hosidf(order)
+    freq = np.atleast_1d(np.asarray(freq, dtype=float))
+    amplitude = np.atleast_1d(np.asarray(amplitude, dtype=float))
+    freq_axis, freq_row = np.unique(freq, return_inverse=True)
+    amplitude_axis, amplitude_column = np.unique(amplitude, return_inverse=True)
+    result = harmonic_map(system, freq_axis, amplitude_axis, n_harmonics=n_harmonics, tolerance=tolerance,
+                          progress=progress, workers=workers)
+    rows, columns_ = np.meshgrid(freq_row.ravel(), amplitude_column.ravel(), indexing="ij")
+    rows, columns_ = rows.ravel(), columns_.ravel()
+    grid_freq, grid_amplitude = np.meshgrid(freq, amplitude, indexing="ij")
+    columns = {"freq [Hz]": grid_freq.ravel(), "amplitude [m]": grid_amplitude.ravel(),
+               "half_range [m]": result.half_range[rows, columns_]}
+    for order in result.orders:
+        value = result.hosidf(order)[rows, columns_]
         columns[f"|H{order:g}| [-]"] = np.abs(value)
         columns[f"phase H{order:g} [deg]"] = np.degrees(np.angle(value))
-    columns.update({"bias [m]": response.bias, "periods": response.periods, "converged": response.converged,
-                    "status": list(response.reasons)})
+    columns.update({"bias [m]": result.bias[rows, columns_], "periods": result.periods[rows, columns_].astype(np.int64),
+                    "converged": result.converged[rows, columns_], "status": list(result.reasons[rows, columns_]),
+                    "stability": list(result.stability[rows, columns_]),
+                    "|mu| [-]": np.abs(result.multiplier[rows, columns_])})
     return pd.DataFrame(columns)
