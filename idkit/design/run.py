@@ -129,7 +129,13 @@ def _write(result: DesignResult, folder: Path) -> None:
                    provenance=json.loads(json.dumps(provenance, default=str)))
     from idkit.design.figures import plot_pareto
 
+    import matplotlib.pyplot as plt
+
     from idkit.plot._figure import save_figure
 
-    save_figure(plot_pareto(result.screened, best=result.best), folder / "pareto.png", overwrite=False)
+    figure = plot_pareto(result.screened, best=result.best)
+    try:
+        save_figure(figure, folder / "pareto.png", overwrite=False)
+    finally:
+        plt.close(figure)
     write_text_atomic(folder / "design.md", result.report())

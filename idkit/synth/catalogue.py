@@ -107,6 +107,7 @@ COMPOUNDS = {
                                quantity="modulus"),
 }
 _RUBBER_DENSITY = 1100.0  # kg/m^3: a third of the block moves with the top mass
+_PLATE_MASS_PER_AREA = 32.0  # kg/m^2: the bonded top plate (4 mm steel) moves with the top mass
 
 
 def elastomer_shape_factor(area_m2: float, thickness_m: float) -> float:
@@ -204,7 +205,7 @@ def elastomer_family(diameters_m: Sequence[float] = (0.03, 0.04, 0.05), thicknes
 
     The stiffness is the compound's modulus through ``to_stiffness(area, thickness,
     "compression", shape_factor)`` times ``exp(scatter)``; ``m_eff`` is a third of the
-    block's mass (density 1100 kg/m^3).
+    block's mass (density 1100 kg/m^3) plus its bonded top plate (4 mm of steel, 32 kg/m^2).
     """
     unknown = sorted(set(compounds) - set(COMPOUNDS))
     if unknown:
@@ -223,7 +224,7 @@ def elastomer_family(diameters_m: Sequence[float] = (0.03, 0.04, 0.05), thicknes
         noise = float(scatter * rng.standard_normal()) if scatter > 0 else 0.0
         stiffness = COMPOUNDS[compound].to_stiffness(area_m2=area, thickness_m=thickness, deformation="compression",
                                                       shape_factor=shape).scaled(math.exp(noise))
-        moving = _RUBBER_DENSITY * area * thickness / 3.0
+        moving = _PLATE_MASS_PER_AREA * area + _RUBBER_DENSITY * area * thickness / 3.0
         truth = SingleBodyElastomerTruth(k0=stiffness.k0, k=[float(v) for v in stiffness.k],
                                          rate=[float(v) for v in stiffness.rate], alpha=0.03, y_soft=0.012,
                                          moving_mass_kg=moving, mass_kg=3.0 * moving)
