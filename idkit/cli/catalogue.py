@@ -1,4 +1,4 @@
-"""``idkit catalogue build`` (identify a folder of parts) and ``idkit catalogue laws`` (scaling laws)."""
+"""``idkit catalogue build`` (identify a folder of parts), ``laws`` (scaling laws) and ``report`` (the parts side by side)."""
 
 from __future__ import annotations
 
@@ -39,8 +39,17 @@ def _cmd_laws(args) -> None:
                   f"95 % prediction band")
 
 
+def _cmd_report(args) -> None:
+    from idkit.catalogue import load_catalogue
+    from idkit.catalogue.report import write_catalogue_report
+
+    written = write_catalogue_report(load_catalogue(args.catalogue), args.output,
+                                     payload_per_mount_kg=args.payload_mass, n_draws=args.draws, seed=args.seed)
+    print("written: " + ", ".join(str(path) for path in written))
+
+
 def register(commands) -> None:
-    """Add ``idkit catalogue build|laws``."""
+    """Add ``idkit catalogue build|laws|report``."""
     catalogue = commands.add_parser("catalogue", help="catalogues of identified parts and their scaling laws")
     kinds = catalogue.add_subparsers(dest="kind", required=True)
     build = kinds.add_parser("build", help="identify every part of a folder into a catalogue (docs/catalogue.md)")
@@ -54,3 +63,12 @@ def register(commands) -> None:
     laws = kinds.add_parser("laws", help="fit the scaling laws of a catalogue and check them part by part")
     laws.add_argument("catalogue", help="catalogue folder")
     laws.set_defaults(handler=_cmd_laws)
+    report = kinds.add_parser("report", help="draw the parts side by side (stiffness, loss, loops, FRFs with bands)")
+    report.add_argument("catalogue", help="catalogue folder")
+    report.add_argument("-o", "--output", required=True, help="new report folder")
+    report.add_argument("--payload-mass", type=opt.real(above=0, unit="kg"), default=5.0,
+                        help="payload per mount for the transmissibilities, kg (default 5)")
+    report.add_argument("--draws", type=opt.integer(at_least=0, at_most=10000), default=20,
+                        help="parameter draws for the bands (default 20)")
+    report.add_argument("--seed", type=opt.integer(at_least=0, at_most=2**32 - 1), default=0)
+    report.set_defaults(handler=_cmd_report)

@@ -9,11 +9,9 @@ moves vertically, so the ``N`` mounts in parallel are exactly one mount carrying
   f_in M / N, wire rope)``: payload - elastomer - intermediate mass - wire rope - floor, the
   intermediate mass a fraction ``f_in`` (1 % in the study) of the payload per mount.
 
-Uncertainty: each part carries the covariance of its fitted parameters; a draw is taken in
-log space for the positive parameters (stiffnesses, slip forces, rates: a draw never
-leaves the model's bounds) and linearly for the others (``g2``, ``g3``), with the covariance
-mapped by the Jacobian of the log. A part predicted from the scaling laws adds the laws'
-prediction uncertainty as common log factors on its stiffnesses and its slip forces.
+Uncertainty: each part carries the covariance of its fitted parameters, drawn by
+:func:`idkit.catalogue.uncertainty.draw_models`; a part predicted from the scaling laws adds
+the laws' prediction uncertainty as common log factors on its stiffnesses and its slip forces.
 """
 
 from __future__ import annotations
@@ -25,6 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from idkit.catalogue.scaling import fit_scaling_law, geometry_factor
+from idkit.catalogue.uncertainty import draw_models as draw_catalogue_models
 from idkit.errors import ParameterError
 from idkit.models import GeneralizedMaxwell, HybridSystem, SDOFSystem
 from idkit.models.modelfile import model_from_dict, model_to_dict
@@ -32,7 +31,6 @@ from idkit.models.modelfile import model_from_dict, model_to_dict
 __all__ = ["Candidate", "DesignPart", "candidate_rng", "draw_models", "make_candidates", "parts_from_catalogue", "predicted_part"]
 
 _FORCE_PREFIX = "fc_"
-_LINEAR = ("g2", "g3")
 
 
 @dataclass(frozen=True)
@@ -224,38 +222,11 @@ def make_candidates(parts, payload_mass_kg: float, *, counts=(4,), hybrids: bool
     return candidates
 
 
-def _psd_factor(covariance: np.ndarray) -> np.ndarray:
-    """A matrix ``L`` with ``L L^T`` the nearest positive semi-definite covariance (eigenvalues clipped at 0)."""
-    values, vectors = np.linalg.eigh(0.5 * (covariance + covariance.T))
-    return vectors * np.sqrt(np.clip(values, 0.0, None))
-
-
 def draw_models(part: DesignPart, n_draws: int, rng: np.random.Generator) -> list:
-    """``n_draws`` models of ``part`` drawn from its covariance (module docstring)."""
-    params = part.model.params()
-    names = [name for name in part.covariance_names if name in params]
-    index = [part.covariance_names.index(name) for name in names]
-    covariance = np.asarray(part.covariance, dtype=float)[np.ix_(index, index)] if names else np.zeros((0, 0))
-    values = np.array([params[name] for name in names])
-    logged = np.array([name not in _LINEAR and params[name] > 0 for name in names], dtype=bool)
-    jacobian = np.where(logged, 1.0 / np.where(values != 0, values, 1.0), 1.0)
-    factor = _psd_factor(covariance * np.outer(jacobian, jacobian)) if names else np.zeros((0, 0))
-    models = []
-    for _ in range(n_draws):
-        drawn = dict(params)
-        if names:
-            step = factor @ rng.standard_normal(len(names))
-            for name, value, delta, is_log in zip(names, values, step, logged):
-                drawn[name] = value * math.exp(delta) if is_log else value + delta
-        stiffness = math.exp(part.law_log_sd.get("stiffness", 0.0) * rng.standard_normal())
-        force = math.exp(part.law_log_sd.get("slip_force", 0.0) * rng.standard_normal())
-        for name in drawn:
-            if name.startswith(_FORCE_PREFIX):
-                drawn[name] *= force
-            elif name in ("g1", "g2", "g3", "k0") or (name.startswith("k_")):
-                drawn[name] *= stiffness
-        models.append(type(part.model).from_params(drawn))
-    return models
+    """``n_draws`` models of ``part`` drawn from its covariance and, for a predicted part, its laws'
+    uncertainty (:func:`idkit.catalogue.uncertainty.draw_models`)."""
+    return draw_catalogue_models(part.model, part.covariance_names, part.covariance, n_draws, rng,
+                                 law_log_sd=part.law_log_sd)
 
 
 def candidate_rng(candidate: Candidate, seed: int) -> np.random.Generator:

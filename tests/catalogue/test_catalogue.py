@@ -122,3 +122,11 @@ def test_cli_design_on_the_catalogue_writes_its_files(family, tmp_path, capsys):
     assert {p.name for p in (tmp_path / "out").iterdir()} == {"candidates.csv", "best.csv", "best", "pareto.png",
                                                              "design.md"}
     assert "# Design" in capsys.readouterr().out
+
+
+def test_catalogue_report_draws_every_usable_part(family, tmp_path):
+    root, _, _ = family
+    assert main(["catalogue", "report", str(root / "cat"), "-o", str(tmp_path / "report"), "--draws", "3"]) == 0
+    table = pd.read_csv(tmp_path / "report" / "characteristics.csv")
+    assert set(table["part"]) == {r["part"] for r in load_catalogue(root / "cat").usable()}
+    assert (tmp_path / "report" / "catalogue.png").stat().st_size > 0
