@@ -55,6 +55,9 @@ def main():
             print(f"build, workers={workers}: min {min(times):.1f} s, median {statistics.median(times):.1f} s over "
                   f"{args.repeat}; {statuses.count('identified')} of {len(statuses)} identified "
                   f"({', '.join(sorted(set(statuses)))})")
+        for record in catalogue.records:
+            if record["status"] != "identified":
+                print(f"    {record['part']}: {record['status']}: {'; '.join(record['reasons'])[:160]}")
         ropes = [r for r in catalogue.usable() if r["family"] == "wire_rope"]
         if len(ropes) >= 6:
             coverage = leave_one_part_out(ropes, "stuck_stiffness")
