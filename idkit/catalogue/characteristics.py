@@ -68,7 +68,7 @@ def _equivalent(model, amplitudes) -> tuple[np.ndarray, np.ndarray]:
 
 
 def part_characteristics(part: str, family: str, model, covariance_names=(), covariance=None, *,
-                         amplitudes_m=np.geomspace(5e-5, 1.5e-2, 24), loop_amplitudes_m=(5e-4, 2e-3, 8e-3),
+                         amplitudes_m=np.geomspace(5e-5, 1.5e-2, 16), loop_amplitudes_m=(5e-4, 2e-3, 8e-3),
                          freq_hz=np.geomspace(1.0, 100.0, 300), payload_per_mount_kg: float = 5.0,
                          n_draws: int = 20, seed: int = 0) -> PartCharacteristics:
     """The curves of one part with bands over ``n_draws`` parameter draws (module docstring)."""

@@ -7,12 +7,34 @@ from idkit.cli import options as opt
 __all__ = ["register"]
 
 
+def _predicted(catalogue, path):
+    """A size never measured, from a JSON file {"family": ..., "dimensions": {...}} (docs/design.md)."""
+    import json
+    from pathlib import Path
+
+    from idkit.design import predicted_part
+    from idkit.errors import DataError
+
+    try:
+        document = json.loads(Path(path).read_text())
+    except (OSError, json.JSONDecodeError) as problem:
+        raise DataError(f"{path}: cannot read a predicted part ({problem})") from None
+    if not (isinstance(document, dict) and isinstance(document.get("dimensions"), dict)
+            and document.get("family") in ("wire_rope", "elastomer")):
+        raise DataError(f"{path}: found {str(document)[:80]!r}, expected {{\"family\": \"wire_rope\" or \"elastomer\", "
+                        "\"dimensions\": {...}, \"name\": optional}")
+    return predicted_part(catalogue, document["family"], document["dimensions"], name=document.get("name"))
+
+
 def _cmd_design(args) -> None:
     from idkit.catalogue import load_catalogue
     from idkit.design import load_environment, make_candidates, parts_from_catalogue, run_design
 
     environment = load_environment(args.environment)
-    parts = parts_from_catalogue(load_catalogue(args.catalogue))
+    catalogue = load_catalogue(args.catalogue)
+    parts = parts_from_catalogue(catalogue)
+    for path in args.predicted_part or ():
+        parts.append(_predicted(catalogue, path))
     candidates = make_candidates(parts, args.payload_mass, counts=tuple(args.mounts))
     result = run_design(candidates, environment, n_draws=args.draws, seed=args.seed, top=args.top,
                         output=args.output, workers=args.workers)
@@ -31,5 +53,7 @@ def register(commands) -> None:
     design.add_argument("--top", default=3, type=opt.integer(at_most=1000), help="designs re-simulated in full")
     design.add_argument("--seed", default=0, type=opt.integer(at_least=0, at_most=2**32 - 1))
     design.add_argument("--workers", default=1, type=opt.integer(at_most=1024))
+    design.add_argument("--predicted-part", nargs="+", help="JSON files {family, dimensions[, name]}: sizes never "
+                        "measured, predicted from the catalogue's scaling laws, added to the candidates")
     design.add_argument("-o", "--output", required=True, help="new output folder")
     design.set_defaults(handler=_cmd_design)

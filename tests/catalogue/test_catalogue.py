@@ -117,7 +117,7 @@ def test_cli_design_on_the_catalogue_writes_its_files(family, tmp_path, capsys):
     environment.write_text(json.dumps({"drops": {"heights_m": [0.03]},
                                        "limits": {"peak_acceleration_m_per_s2": 200.0, "max_deflection_m": 0.02}}))
     code = main(["design", "--catalogue", str(root / "cat"), "--payload-mass", "40", "--mounts", "4",
-                 "--environment", str(environment), "--draws", "2", "--top", "1", "-o", str(tmp_path / "out")])
+                 "--environment", str(environment), "--draws", "1", "--top", "1", "-o", str(tmp_path / "out")])
     assert code == 0
     assert {p.name for p in (tmp_path / "out").iterdir()} == {"candidates.csv", "best.csv", "best", "pareto.png",
                                                              "design.md"}
@@ -126,7 +126,7 @@ def test_cli_design_on_the_catalogue_writes_its_files(family, tmp_path, capsys):
 
 def test_catalogue_report_draws_every_usable_part(family, tmp_path):
     root, _, _ = family
-    assert main(["catalogue", "report", str(root / "cat"), "-o", str(tmp_path / "report"), "--draws", "3"]) == 0
+    assert main(["catalogue", "report", str(root / "cat"), "-o", str(tmp_path / "report"), "--draws", "2"]) == 0
     table = pd.read_csv(tmp_path / "report" / "characteristics.csv")
     assert set(table["part"]) == {r["part"] for r in load_catalogue(root / "cat").usable()}
     assert (tmp_path / "report" / "catalogue.png").stat().st_size > 0

@@ -63,3 +63,34 @@ def test_a_predicted_elastomer_goes_through_to_stiffness_and_keeps_the_compounds
     np.testing.assert_allclose(part.model.rate, unmeasured.truth.rate, rtol=1e-12)
     np.testing.assert_allclose(np.asarray(part.model.k) / part.model.k0,
                                np.asarray(unmeasured.truth.k) / unmeasured.truth.k0, rtol=1e-9)
+
+
+def test_cli_laws_prints_each_law_and_its_coverage(tmp_path, capsys):
+    from idkit.cli.main import main
+
+    write_catalogue(tmp_path / "cat", wire_rope_family(count=8, seed=4))
+    assert main(["catalogue", "laws", str(tmp_path / "cat")]) == 0
+    out = capsys.readouterr().out
+    for quantity in ("stuck_stiffness", "g1", "total_slip_force"):
+        assert f"wire_rope {quantity}: 8 parts" in out
+    assert out.count("leave-one-part-out:") == 3
+
+
+def test_cli_design_adds_a_predicted_size_to_the_candidates(tmp_path, capsys):
+    import pandas as pd
+
+    from idkit.cli.main import main
+
+    family = wire_rope_family(count=8, seed=4)
+    write_catalogue(tmp_path / "cat", family[1:])
+    (tmp_path / "size.json").write_text(json.dumps({"family": "wire_rope", "dimensions": family[0].dimensions,
+                                                    "name": "WR predicted"}))
+    (tmp_path / "env.json").write_text(json.dumps({"drops": {"heights_m": [0.01]},
+                                                   "limits": {"peak_acceleration_m_per_s2": 100.0}}))
+    assert main(["design", "--catalogue", str(tmp_path / "cat"), "--payload-mass", "40", "--environment",
+                 str(tmp_path / "env.json"), "--predicted-part", str(tmp_path / "size.json"), "--draws", "1",
+                 "--top", "1", "-o", str(tmp_path / "out")]) == 0
+    table = pd.read_csv(tmp_path / "out" / "candidates.csv")
+    assert table.loc[table["name"] == "4 x WR predicted", "predicted parts"].tolist() == [1]
+    assert len(table) == 8
+    capsys.readouterr()
