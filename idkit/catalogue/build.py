@@ -96,6 +96,15 @@ def find_parts(folder) -> list[Path]:
     return found
 
 
+def _part_name(folder: Path) -> str:
+    """The part's name for the repeated-name check; a part.json that does not read is recorded
+    as a failure by its task, under its folder's name."""
+    try:
+        return read_part(folder)["part"]
+    except DataError:
+        return folder.name
+
+
 def _identify_task(folder: str, output: str, fit_options: dict) -> dict:
     """Identify one part and write its model file; never raises an idkit error (it is recorded)."""
     record = {"folder": str(folder), "part": Path(folder).name, "family": "", "dimensions": {}}
@@ -235,7 +244,7 @@ def build_catalogue(parts, output, *, add: Sequence | None = None, workers: int 
         if output.exists():
             raise OutputError(f"{output}: exists; expected a new catalogue folder (add= adds parts to one)")
         tasks = find_parts(parts)
-        names = [read_part(folder)["part"] if (folder / PART_FILE).is_file() else folder.name for folder in tasks]
+        names = [_part_name(folder) for folder in tasks]
         repeated = sorted({name for name in names if names.count(name) > 1})
         if repeated:
             raise DataError(f"{parts}: parts named more than once: {', '.join(repeated)}")

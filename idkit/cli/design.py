@@ -35,6 +35,11 @@ def _cmd_design(args) -> None:
     parts = parts_from_catalogue(catalogue)
     for path in args.predicted_part or ():
         parts.append(_predicted(catalogue, path))
+    if not parts:
+        from idkit.errors import DataError
+
+        raise DataError(f"{args.catalogue}: found no usable part (identified and not failing its held-out check); "
+                        "expected at least one (see its parts.csv)")
     candidates = make_candidates(parts, args.payload_mass, counts=tuple(args.mounts))
     result = run_design(candidates, environment, n_draws=args.draws, seed=args.seed, top=args.top,
                         output=args.output, workers=args.workers)

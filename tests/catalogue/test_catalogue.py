@@ -28,6 +28,9 @@ def family(tmp_path_factory):
     broken.mkdir()
     (broken / "part.json").write_text(json.dumps({"part": "WR-broken", "family": "wire_rope", "dimensions": {
         "cable_diameter_m": 0.008, "loops": 8, "height_m": 0.06, "width_m": 0.075}}))
+    unreadable = root / "parts" / "WR-unreadable"
+    unreadable.mkdir()
+    (unreadable / "part.json").write_text("{not json")
     catalogue = build_catalogue(root / "parts", root / "cat", fit_options=ROPE_OPTIONS)
     truths = {p.part: p.truth for p in ropes + body}
     return root, catalogue, truths
@@ -36,7 +39,9 @@ def family(tmp_path_factory):
 def test_every_part_is_identified_and_the_broken_one_is_recorded_with_its_reason(family):
     root, catalogue, truths = family
     status = {r["part"]: r["status"] for r in catalogue.records}
-    assert status == {**{name: "identified" for name in truths if name.startswith("WR")}, "WR-broken": "failed"}
+    assert status == {**{name: "identified" for name in truths if name.startswith("WR")}, "WR-broken": "failed",
+                      "WR-unreadable": "failed"}
+    assert "not valid JSON" in catalogue.record("WR-unreadable")["reasons"][0]
     broken = catalogue.record("WR-broken")
     assert "manifest.json" in broken["reasons"][0] and "DataError" in broken["reasons"][0]
     table = pd.read_csv(root / "cat" / "parts.csv")
