@@ -44,6 +44,7 @@ def main():
         parts = wire_rope_family(count=args.ropes) + elastomer_family(count=args.elastomers)
         generate_catalogue(folder / "parts", parts)
         print(f"generated {len(parts)} parts in {time.perf_counter() - start:.1f} s")
+        quantities = {}
         for workers in sorted({1, args.workers}):
             times = []
             for index in range(args.repeat):
@@ -52,9 +53,13 @@ def main():
                                             fit_options=options)
                 times.append(time.perf_counter() - start)
             statuses = [r["status"] for r in catalogue.records]
+            quantities[workers] = [(r["part"], r.get("quantities")) for r in catalogue.records]
             print(f"build, workers={workers}: min {min(times):.1f} s, median {statistics.median(times):.1f} s over "
                   f"{args.repeat}; {statuses.count('identified')} of {len(statuses)} identified "
                   f"({', '.join(sorted(set(statuses)))})")
+        if len(quantities) == 2:
+            print(f"records of workers=1 and workers={args.workers} identical: "
+                  f"{quantities[1] == quantities[args.workers]}")
         for record in catalogue.records:
             if record["status"] != "identified":
                 print(f"    {record['part']}: {record['status']}: {'; '.join(record['reasons'])[:160]}")
