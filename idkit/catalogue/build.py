@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from idkit import __version__
-from idkit.atomic import write_text_atomic
+from idkit.atomic import atomic_output_folder, write_text_atomic
 from idkit.catalogue.identify import identified_record, identify_measurements
 from idkit.catalogue.table import parts_table, write_parts_table
 from idkit.errors import DataError, IdkitError, OutputError
@@ -251,20 +251,31 @@ def build_catalogue(parts, output, *, add: Sequence | None = None, workers: int 
     resolved_parts = [Path(folder).resolve() for folder in tasks]
     if any(output.resolve() == folder or folder in output.resolve().parents for folder in resolved_parts):
         raise OutputError(f"{output}: inside a part folder; expected the catalogue outside the input data")
-    (output / "models").mkdir(parents=True, exist_ok=True)
-    records = _run(tasks, output, fit_options, workers, executor)
+    if add:  # each model file and then catalogue.json are replaced atomically; the old parts stay
+        records = _write(output, existing, tasks, fit_options, workers, executor)
+    else:  # a new catalogue appears whole or not at all
+        with atomic_output_folder(output) as staging:
+            records = _write(staging, existing, tasks, fit_options, workers, executor)
     if progress is not None:
         for record in records:
             progress(f"{record['part']}: {record['status']}"
                      + (f" ({record['reasons'][0]})" if record.get("reasons") and record["status"] != "identified"
                         else ""))
     all_records = existing + records
+    return Catalogue(output, tuple(json.loads(json.dumps(all_records, default=_json_default))))
+
+
+def _write(folder: Path, existing: list, tasks: list, fit_options: dict, workers: int, executor) -> list[dict]:
+    """Identify ``tasks`` into ``folder`` and write its catalogue.json and table; the new records."""
+    (folder / "models").mkdir(parents=True, exist_ok=True)
+    records = _run(tasks, folder, fit_options, workers, executor)
+    all_records = existing + records
     document = {"format": "idkit-catalogue", "version": 1, "idkit_version": __version__,
                 "fit_options": fit_options, "parts": all_records}
-    write_text_atomic(output / CATALOGUE_FILE, json.dumps(document, indent=1, default=_json_default) + "\n",
+    write_text_atomic(folder / CATALOGUE_FILE, json.dumps(document, indent=1, default=_json_default) + "\n",
                       overwrite=True)
-    write_parts_table(parts_table(all_records), output)
-    return Catalogue(output, tuple(json.loads(json.dumps(all_records, default=_json_default))))
+    write_parts_table(parts_table(all_records), folder)
+    return records
 
 
 def _json_default(value):
