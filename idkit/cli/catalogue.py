@@ -17,9 +17,9 @@ def _cmd_build(args) -> None:
                                 progress=None if args.quiet else print)
     table = catalogue.table()
     print(table[["part", "family", "status", "held-out verdict", "model", "order"]].to_string(index=False))
-    print(f"catalogue written to {args.output} (catalogue.json, parts.csv"
-          + (", parts.parquet" if (catalogue.folder / "parts.parquet").exists() else "; no Parquet: pyarrow is not "
-             "installed") + ", models/)")
+    parquet = (catalogue.folder / "parts.parquet").exists()
+    print(f"catalogue written to {args.output} (catalogue.json, parts.csv, " + ("parts.parquet, models/)" if parquet
+          else "models/; no Parquet: pyarrow is not installed)"))
 
 
 def _cmd_laws(args) -> None:
