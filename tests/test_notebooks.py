@@ -30,8 +30,8 @@ def code_outputs(notebook):
             for output in cell.get("outputs", [])]
 
 
-def test_there_are_four_notebooks():
-    assert [p.stem for p in NOTEBOOKS] == ["elastomer", "hybrid", "transport_study", "wire_rope"]
+def test_there_are_five_notebooks():
+    assert [p.stem for p in NOTEBOOKS] == ["catalogue_and_design", "elastomer", "hybrid", "transport_study", "wire_rope"]
 
 
 @pytest.mark.slow

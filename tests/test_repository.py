@@ -28,6 +28,10 @@ LAYERS = {
     "plot": {"models", "simulate", "io", "signal", "observe", "responses", "fit", "validate", "studies", "plot"},
     "report": {"models", "simulate", "io", "signal", "observe", "responses", "synth", "fit", "validate", "studies",
                "plot", "report"},
+    # catalogue: identify parts (fit, validate) and fit scaling laws; design: simulate candidates from a catalogue
+    "catalogue": {"models", "simulate", "io", "signal", "observe", "responses", "fit", "validate", "studies",
+                  "catalogue"},
+    "design": {"models", "simulate", "io", "signal", "responses", "catalogue", "plot", "design"},
 }
 CORE = {"errors", "checks", "limits", "params", "atomic", "inputfiles", "gravity", "forked", "exit_status", "_numba_cache"}
 

@@ -26,9 +26,17 @@ FIT_BOUCWEN = ["fit", "boucwen", str(DATA / "wire_rope"), "-o", "{out}"]
 FIT_MAXWELL = ["fit", "maxwell", str(DATA / "elastomer"), "-o", "{out}"]
 SHOCK = ["shock", "never-read.csv", "-o", "{out}"]
 INIT = ["data", "init", "never-read-folder", "--kind", "quasi_static"]
+DESIGN = ["design", "--catalogue", "never-read", "--environment", "never-read.json", "-o", "{out}"]
+CATALOGUE_BUILD = ["catalogue", "build", "never-read-folder", "-o", "{out}"]
 
 # (case id, argv, words the message must contain)
 ERRORS = [
+    # catalogue and design: refused by the parser, nothing is read
+    ("design-payload-zero", DESIGN + ["--payload-mass", "0"], ["--payload-mass", "found '0'", "> 0 kg"]),
+    ("design-mounts-zero", DESIGN + ["--payload-mass", "10", "--mounts", "0"], ["--mounts", "found '0'"]),
+    ("design-draws-fractional", DESIGN + ["--payload-mass", "10", "--draws", "2.5"], ["--draws", "found '2.5'"]),
+    ("design-top-zero", DESIGN + ["--payload-mass", "10", "--top", "0"], ["--top", "found '0'"]),
+    ("catalogue-rope-order-13", CATALOGUE_BUILD + ["--rope-order", "13"], ["--rope-order", "found '13'"]),
     # shock: refused by the parser, the record is never read
     ("shock-freq-min-zero", SHOCK + ["--freq-min", "0", "--freq-max", "100"], ["--freq-min", "found '0'", "> 0 Hz"]),
     ("shock-freq-max-negative", SHOCK + ["--freq-min", "1", "--freq-max", "-5"], ["--freq-max", "found '-5'"]),
