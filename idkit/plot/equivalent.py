@@ -73,16 +73,36 @@ def plot_complex_stiffness_comparison(result, *, axes=None, max_curves: int = 6)
 
 
 def plot_drop_shock_spectra(result, *, ax=None, max_curves: int = 6):
-    """Absolute-acceleration SRS of measured drops, one curve per height (at most ``max_curves``)."""
+    """Absolute-acceleration SRS of drops, one colour per height (at most ``max_curves``).
+
+    Solid the measured top acceleration; with the model's and the impact's spectra
+    (:func:`idkit.studies.equivalent.drop_shock_spectra` given ``histories``) dashed the model's
+    top acceleration and dotted the impact itself (a rigid mount): the gap between the dotted
+    and the solid curve is what the isolator takes off.
+    """
+    from matplotlib.lines import Line2D
+
     ax = axes_or_new(ax)
     picks = np.unique(np.linspace(0, len(result.height_m) - 1, min(max_curves, len(result.height_m))).round().astype(int))
-    for i in picks:
-        ax.loglog(result.freq_hz, result.acceleration[i], label=f"h = {100 * result.height_m[i]:.3g} cm")
+    model, impact = getattr(result, "model_acceleration", None), getattr(result, "input_acceleration", None)
+    for colour, i in enumerate(picks):
+        ax.loglog(result.freq_hz, result.acceleration[i], color=f"C{colour}",
+                  label=f"h = {100 * result.height_m[i]:.3g} cm")
+        if model is not None:
+            ax.loglog(result.freq_hz, model[i], color=f"C{colour}", ls="--")
+        if impact is not None:
+            ax.loglog(result.freq_hz, impact[i], color=f"C{colour}", ls=":", lw=1.0)
     ax.set_xlabel("natural frequency [Hz]")
     ax.set_ylabel("maximax absolute acceleration [m/s$^2$]")
     ax.set_title(f"{result.isolator}, top mass {result.top_mass_kg:.2f} kg, damping {result.damping_ratio:g}",
                  fontsize="small")
-    ax.legend(fontsize="x-small")
+    handles, labels = ax.get_legend_handles_labels()
+    if model is not None or impact is not None:
+        styles = [("-", "measured top"), ("--", "model top")] if model is not None else [("-", "measured top")]
+        styles += [(":", "impact (rigid mount)")] if impact is not None else []
+        handles += [Line2D([], [], color="0.3", ls=style) for style, _ in styles]
+        labels += [label for _, label in styles]
+    ax.legend(handles, labels, fontsize="x-small", ncol=2)
     ax.grid(True, which="both", alpha=0.3)
     return ax
 

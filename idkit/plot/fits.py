@@ -32,13 +32,16 @@ __all__ = [
     "save_fit_plots",
 ]
 
+#: colour of every model curve of :func:`plot_loop_fit` (the legend names it once)
+MODEL_COLOUR = "C0"
+
 #: file names written by :func:`save_fit_plots` per fit kind (prefixed with the kind)
 FIT_PLOT_NAMES = {"iwan": ("loops.png",), "boucwen": ("loops.png",),
                   "maxwell": ("frf.png", "complex_stiffness.png", "landscape.png")}
 
 
 def plot_loop_fit(prediction: LoopFitPrediction, *, axes=None, label: str = "model"):
-    """Measured (grey) and model (dashed) force-deflection loops, small and large sets side by side.
+    """Measured (grey) and model (dashed, one colour) force-deflection loops, small and large sets side by side.
 
     Parameters
     ----------
@@ -56,9 +59,10 @@ def plot_loop_fit(prediction: LoopFitPrediction, *, axes=None, label: str = "mod
     axes = axes_or_new(axes, 1, 2, figsize=(6.4 * 1.6, 3.6))
     for ax, loops, title in zip(axes, (prediction.small, prediction.large), ("small loops", "large loops")):
         for index, loop in enumerate(loops):
-            ax.plot(1e3 * loop.deflection, loop.measured_force, color="0.6", lw=1.0,
+            ax.plot(1e3 * loop.deflection, loop.measured_force, color="0.75", lw=2.5,
                     label="measured" if index == 0 else None)
-            ax.plot(1e3 * loop.deflection, loop.model_force, lw=1.0, ls="--", label=label if index == 0 else None)
+            ax.plot(1e3 * loop.deflection, loop.model_force, color=MODEL_COLOUR, lw=1.0, ls="--",
+                    label=label if index == 0 else None)
         ax.set_title(title)
         ax.set_xlabel("deflection [mm] (+ tension)")
         ax.set_ylabel("force [N]")

@@ -33,6 +33,7 @@ __all__ = [
     "curve_ends",
     "plot_shock_cases",
     "plot_transport_psd",
+    "plot_transport_ranking",
     "plot_transport_rest_shock",
     "transport_figures",
     "transport_psd_groups",
@@ -254,8 +255,10 @@ def plot_transport_rest_shock(study: TransportStudy, *, axes=None):
 
     More than :data:`MAX_CURVES` systems are split into columns (without ``axes``;
     :func:`transport_psd_groups`: the non-hybrid systems first, then the hybrids with the
-    reference repeated); with a (speed, height) pair every system is drawn into it. A curve that stops before the end of its sweep (the model left its valid range and
-    the simulator flagged the runs) ends in a cross labelled "model invalid beyond ...".
+    reference repeated); with a (speed, height) pair every system is drawn into it. A curve that
+    stops before the end of its sweep (the model left its valid range and the simulator flagged
+    the runs) ends in a cross, and a note in the panel's upper left corner says "model invalid
+    beyond ..." (inside the axes, whatever the data's range).
     One colour per system throughout.
 
     Returns
@@ -272,21 +275,66 @@ def plot_transport_rest_shock(study: TransportStudy, *, axes=None):
                                                      (study.shock_height, 100.0, "cm"))):
             ax = grid[row, column]
             ends = curve_ends(table)
+            notes = []
             for name in group:
                 colour = colours[name]
                 ax.plot(table.index * scale, table[name], marker=".", color=colour, label=name)
                 if name in ends:
                     x_end = ends[name] * scale
                     ax.plot([x_end], [table[name][ends[name]]], "x", color=colour, markersize=9, mew=2)
-                    ax.annotate(f"{name}: model invalid beyond {x_end:.3g} {unit}",
-                                (x_end, table[name][ends[name]]), xytext=(6, 6), textcoords="offset points",
-                                fontsize="x-small", color=colour)
+                    notes.append(f"{name}: model invalid beyond {x_end:.3g} {unit}")
+                elif name in table.columns and not np.isfinite(table[name].to_numpy(float)).any():
+                    notes.append(f"{name}: model invalid from {table.index.min() * scale:.3g} {unit}")
+            if notes:  # inside the axes, in their corner, whatever the data's range
+                ax.text(0.02, 0.97, "\n".join(notes), transform=ax.transAxes, ha="left", va="top",
+                        fontsize="x-small", bbox={"facecolor": "white", "alpha": 0.8, "edgecolor": "0.7"})
             ax.set_xlabel("impact speed |v0| [m/s]" if row == 0 else "drop height h [cm]")
             ax.grid(True, alpha=0.3)
-        grid[0, column].legend(fontsize="x-small")
+        grid[0, column].legend(fontsize="x-small", loc="lower right")
     for row in range(2):
         grid[row, 0].set_ylabel("rest shock level [m/s²]")
     return grid_result(grid)
+
+
+def plot_transport_ranking(study: TransportStudy, *, height: float = 0.05, axes=None):
+    """Systems ranked: RMS top acceleration at the highest floor level (left) and rest shock at ``height`` (right).
+
+    Horizontal bars, the lowest (best protecting) value on top; a system without a value
+    (its model left its valid range) is listed with the words "model invalid" and no bar. One
+    colour per system, as in :func:`plot_transport_rest_shock`.
+
+    Parameters
+    ----------
+    study : TransportStudy
+    height : float
+        Drop height (m) of the rest shock (:meth:`~idkit.studies.transport.TransportStudy.rest_shock_at`).
+    axes : pair of Axes, optional
+
+    Returns
+    -------
+    (Axes, Axes)
+    """
+    axes = axes_or_new(axes, 1, 2, figsize=(7.2, 3.0))
+    systems = list(study.shock_velocity.columns)
+    colours = {name: f"C{index % 10}" for index, name in enumerate(systems)}
+    level = max(study.rms.columns, key=lambda column: float(str(column).split()[0]))  # "<level> [unit]"
+    for ax, values, title in ((axes[0], study.rms[level], f"RMS top acceleration, floor {level}"),
+                              (axes[1], study.rest_shock_at(height), f"rest shock, drop {100 * height:g} cm")):
+        values = values.astype(float)
+        ordered = list(values[np.isfinite(values.to_numpy())].sort_values().index)
+        ordered += [name for name in values.index if name not in ordered]
+        positions = np.arange(len(ordered))[::-1]
+        for position, name in zip(positions, ordered):
+            value = float(values[name])
+            if np.isfinite(value):
+                ax.barh(position, value, color=colours.get(name, "0.5"))
+            else:
+                ax.text(0.0, position, " model invalid", va="center", fontsize="x-small", color="0.3")
+        ax.set_yticks(positions, ordered, fontsize="small")
+        ax.set_xlabel("[m/s$^2$] (lower protects better)", fontsize="small")
+        ax.set_title(title, fontsize="small")
+        ax.grid(True, axis="x", alpha=0.3)
+    return axes
 
 
 def transport_figures(study: TransportStudy) -> dict:

@@ -21,6 +21,8 @@ from idkit.plot.studies import curve_ends
 __all__ = [
     "drop_model_sentence",
     "fit_sentence",
+    "key_metric",
+    "parameters_cell",
     "parameters_sentence",
     "rest_shock_ends",
     "transport_conclusions",
@@ -66,7 +68,8 @@ def parameters_sentence(table: pd.DataFrame, *, limit: int | None = None, unfitt
 
 
 def _unit(row) -> str:
-    return f" {row['unit']}" if isinstance(row.get("unit"), str) and row["unit"] else ""
+    unit = row.get("unit")
+    return f" {unit}" if isinstance(unit, str) and unit and unit != "-" else ""
 
 
 def fit_sentence(name: str, fit, *, comparison: bool = False) -> tuple[str, str]:
@@ -261,3 +264,59 @@ def _sweep_end(table: pd.DataFrame, name: str, ends: dict, words) -> str:
     if not np.isfinite(table[name].to_numpy(float)).any():
         return f"{words(float(table.index.min()))} already (no valid point)"
     return words(ends[name]) if name in ends else ""
+
+
+def key_metric(result) -> tuple[str, float, float]:
+    """``(metric, value, limit)``: the thresholded metric of a validation nearest to (or furthest beyond) its limit.
+
+    The metric with the largest value over limit (a metric with limit 0 ranks first when it
+    is above 0); a metric that could not be computed (NaN) ranks above all when the verdict is
+    not PASS, since it is then what the verdict hangs on. Nothing is judged here: the verdict
+    stays :attr:`~idkit.validate.ValidationResult.verdict`.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> key_metric(SimpleNamespace(summary={"a": 0.5, "b": 2.0}, thresholds={"a": 1.0, "b": 3.0}, verdict="PASS"))
+    ('b', 2.0, 3.0)
+    """
+    def rank(metric: str) -> float:
+        value, limit = float(result.summary[metric]), float(result.thresholds[metric])
+        if not np.isfinite(value):
+            return math.inf if result.verdict != "PASS" else -math.inf
+        if limit == 0:
+            return math.inf if value > 0 else 0.0
+        return value / limit
+
+    if not result.thresholds:
+        return "", math.nan, math.nan
+    metric = max(result.thresholds, key=rank)
+    return metric, float(result.summary[metric]), float(result.thresholds[metric])
+
+
+def parameters_cell(table: pd.DataFrame) -> str:
+    """A model's parameters for a table cell: ``name = value ± stderr unit``, the unfitted ones marked.
+
+    Examples
+    --------
+    >>> table = pd.DataFrame({"parameter": ["k", "c"], "unit": ["N/m", "N s/m"], "value": [1200.0, 3.5],
+    ...                       "stderr": [15.0, None], "fitted": [True, False]})
+    >>> parameters_cell(table)
+    'k = 1.2e+03 ± 15 N/m; c = 3.5 N s/m (not fitted)'
+    """
+    parts = []
+    fitted = table["fitted"].astype(bool) if "fitted" in table else pd.Series(True, index=table.index)
+    for (_, row), varied in zip(table.iterrows(), fitted):
+        stderr = row.get("stderr")
+        has_stderr = stderr is not None and not (isinstance(stderr, float) and math.isnan(stderr))
+        text = f"{row['parameter']} = {_number(row['value'])}"
+        if varied and has_stderr:
+            text += f" ± {_number(float(stderr), 2)}"
+        text += _unit(row)
+        if not varied:
+            note = row.get("stderr_note")
+            text += f" ({note.split(',')[0]})" if isinstance(note, str) and note else " (not fitted)"
+        elif not has_stderr:
+            text += " (no stderr)"
+        parts.append(text)
+    return "; ".join(parts)

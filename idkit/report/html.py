@@ -2,8 +2,13 @@
 
 Figures are embedded as base64 PNG and, when the report is given a ``figures_dir``, also
 saved there as PNG and SVG; tables are rendered by pandas and, with a ``tables_dir``, also
-written there as CSV. Nothing is fetched from the network when the file is opened. A
-section can be collapsed (``<details>``) so that bulky provenance stays out of the way.
+written there as CSV. Nothing is fetched from the network when the file is opened.
+
+A page answers first and details second: a section can be collapsed (``<details>``, its
+title and a one-line :meth:`HtmlReport.summarize` visible), text dumps (:meth:`~HtmlReport.preformatted`)
+always are, and so are tables longer than :data:`MAX_INLINE_ROWS` rows; :meth:`HtmlReport.folded`
+collapses anything else. :meth:`HtmlReport.thumbnail` shows a small copy of a figure drawn
+anywhere on the page, linked to it (opening the sections around it).
 
 Rendering a figure (layout, rasterising, SVG) costs far more than building it. With
 ``render_processes > 1`` and a ``figures_dir``, where the caller can fork
@@ -33,10 +38,13 @@ from idkit.atomic import write_bytes_atomic, write_text_atomic
 from idkit.errors import OutputError
 from idkit.forked import can_fork, fork_call
 
-__all__ = ["MAX_TABLE_COLUMNS", "HtmlReport", "file_stem"]
+__all__ = ["MAX_INLINE_ROWS", "MAX_TABLE_COLUMNS", "HtmlReport", "file_stem"]
 
 #: widest table the page shows (columns, index included); wider ones are transposed or split by the caller
 MAX_TABLE_COLUMNS = 12
+
+#: longest table shown open; a longer one is collapsed (its caption and row count stay visible)
+MAX_INLINE_ROWS = 12
 
 _STYLE = """
 body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1100px; padding: 0 1em; color: #222; }
@@ -55,6 +63,28 @@ ul.conclusions li { margin: .3em 0; }
 nav a { margin-right: 1em; } figure { margin: 1em 0; } figcaption { font-size: .9em; color: #444; }
 img { max-width: 100%; height: auto; }
 details > summary { cursor: pointer; color: #345; }
+section > details > summary h2 { display: inline; border: none; font-size: 1.25em; margin: 0; color: #223; }
+section > details > summary .gist { color: #555; margin-left: .6em; }
+section > details { border-top: 1px solid #aab; padding: .5em 0; }
+section.front h2 { display: none; }
+details.fold { margin: .4em 0; } details.fold > summary { font-size: .9em; }
+.thumbs { display: flex; gap: .6em; margin: .5em 0; }
+.thumbs a { flex: 1 1 0; min-width: 0; text-decoration: none; color: #444; font-size: .8em; }
+.thumbs img { width: 100%; height: 150px; object-fit: contain; border: 1px solid #ccd; background: #fff; }
+table.front td, table.front th { text-align: left; white-space: normal; } table.front .num { text-align: right; white-space: nowrap; }
+table.front { display: table; width: 100%; font-size: .82em; margin: .3em 0; }
+p.lead { margin: .3em 0; }
+"""
+
+#: opens the collapsed sections around the target of a link (a thumbnail's figure)
+_OPEN_TARGET = """
+function idkitOpenTarget() {
+  var target = document.getElementById(decodeURIComponent(location.hash.slice(1)));
+  for (var node = target; node; node = node.parentElement) { if (node.tagName === "DETAILS") node.open = true; }
+  if (target) target.scrollIntoView();
+}
+window.addEventListener("hashchange", idkitOpenTarget);
+window.addEventListener("load", function () { if (location.hash) idkitOpenTarget(); });
 """
 
 
@@ -111,6 +141,16 @@ def file_stem(text: str) -> str:
 
 
 @dataclass
+class _Section:
+    title: str
+    anchor: str
+    parts: list = field(default_factory=list)
+    collapsed: bool = False
+    gist: str = ""
+    front: bool = False
+
+
+@dataclass
 class HtmlReport:
     """Collects sections of HTML and renders one self-contained page.
 
@@ -137,21 +177,33 @@ class HtmlReport:
     kept_figures: list = field(default_factory=list)
     table_files: list = field(default_factory=list)
     render_processes: int = 0
-    _sections: list[tuple[str, str, list[str], bool]] = field(default_factory=list)
+    _sections: list[_Section] = field(default_factory=list)
     _pending: dict = field(default_factory=dict)
+    _pngs: dict = field(default_factory=dict)
+    _thumbnails: dict = field(default_factory=dict)
+    _fold_depth: int = 0
 
-    def section(self, title: str, anchor: str, *, collapsed: bool = False) -> None:
-        """Start a new section; later content goes into it (inside a closed ``<details>`` when ``collapsed``)."""
-        self._sections.append((title, anchor, [], collapsed))
+    def section(self, title: str, anchor: str, *, collapsed: bool = False, front: bool = False) -> None:
+        """Start a new section; later content goes into it.
+
+        ``collapsed``: inside a closed ``<details>`` whose summary line is the title and the
+        section's :meth:`summarize` text. ``front``: the page's first screen (its title is
+        not drawn: the page title heads it).
+        """
+        self._sections.append(_Section(title, anchor, [], collapsed, front=front))
+
+    def summarize(self, text: str) -> None:
+        """The current section's one-line gist, shown beside its title when it is collapsed."""
+        self._sections[-1].gist = text
 
     def _add(self, fragment: str) -> None:
         if not self._sections:
             self.section("Overview", "overview")
-        self._sections[-1][2].append(fragment)
+        self._sections[-1].parts.append(fragment)
 
     def placeholder(self) -> str:
         """Reserve the current place for content added later with :meth:`filling`; returns its token."""
-        token = f"\x00placeholder {sum(len(parts) for _, _, parts, _ in self._sections)}\x00"
+        token = f"\x00placeholder {sum(len(section.parts) for section in self._sections)}\x00"
         self._add(token)
         return token
 
@@ -164,18 +216,29 @@ class HtmlReport:
         in its own order.
         """
         saved = self._sections
-        self._sections = [("", "", [], False)]
+        self._sections = [_Section("", "")]
         try:
             yield
         finally:
-            filled = self._sections[0][2]
+            filled = self._sections[0].parts
             self._sections = saved
-        for _, _, parts, _ in self._sections:
-            if token in parts:
-                at = parts.index(token)
-                parts[at:at + 1] = filled
+        for section in self._sections:
+            if token in section.parts:
+                at = section.parts.index(token)
+                section.parts[at:at + 1] = filled
                 return
         raise ValueError("filling: no placeholder with this token (already filled?)")
+
+    @contextmanager
+    def folded(self, label: str):
+        """Content added inside the ``with`` block is collapsed under ``label`` (a closed ``<details>``)."""
+        self._add(f'<details class="fold"><summary>{html.escape(label)}</summary>')
+        self._fold_depth += 1
+        try:
+            yield
+        finally:
+            self._fold_depth -= 1
+            self._add("</details>")
 
     def heading(self, text: str) -> None:
         self._add(f"<h3>{html.escape(text)}</h3>")
@@ -203,12 +266,44 @@ class HtmlReport:
         """One validation verdict: ``"PASS"``, ``"INCONCLUSIVE"`` or ``"FAIL"``."""
         self._add(f"<p>{html.escape(label)}: {self._verdict_span(verdict)}</p>")
 
-    def preformatted(self, text: str) -> None:
-        self._add(f"<pre>{html.escape(text)}</pre>")
+    def preformatted(self, text: str, *, label: str = "show the log") -> None:
+        """A text dump (a fit log, an inspection), collapsed under ``label`` unless already inside a fold."""
+        block = f"<pre>{html.escape(text)}</pre>"
+        if self._fold_depth:
+            self._add(block)
+        else:
+            self._add(f'<details class="fold"><summary>{html.escape(label)}</summary>{block}</details>')
+
+    def front_table(self, rows: list[dict], *, verdict_column: str | None = None, numeric=(), caption=None) -> None:
+        """A short first-screen table of texts: one dict per row (keys are the columns, in order).
+
+        Cells are escaped; ``verdict_column`` is coloured as :meth:`items` colours verdicts;
+        ``numeric`` columns are right-aligned. A cell given as ``(text, hover)`` shows
+        ``text`` and carries ``hover`` as its tooltip (the full sentence of a shortened one).
+        """
+        columns = list(rows[0]) if rows else []
+        head = "".join(f"<th>{html.escape(column)}</th>" for column in columns)
+        body = []
+        for row in rows:
+            cells = []
+            for column in columns:
+                value = row[column]
+                text, hover = value if isinstance(value, tuple) else (value, None)
+                content = self._verdict_span(text) if column == verdict_column else html.escape(str(text))
+                attributes = (' class="num"' if column in numeric else "") + (
+                    f' title="{html.escape(hover)}"' if hover else "")
+                cells.append(f"<td{attributes}>{content}</td>")
+            body.append("<tr>" + "".join(cells) + "</tr>")
+        caption_html = f"<caption>{html.escape(caption)}</caption>" if caption else ""
+        self._add(f'<table class="front">{caption_html}<thead><tr>{head}</tr></thead>'
+                  f'<tbody>{"".join(body)}</tbody></table>')
 
     def table(self, frame: pd.DataFrame, *, caption: str | None = None, index: bool = False,
               float_format: str = "{:.4g}", name: str | None = None) -> None:
-        """A table (and ``tables_dir/<name>.csv`` when ``name`` is given and the report has a tables folder)."""
+        """A table (and ``tables_dir/<name>.csv`` when ``name`` is given and the report has a tables folder).
+
+        A table of more than :data:`MAX_INLINE_ROWS` rows is collapsed under its caption.
+        """
         rendered = frame.to_html(index=index, float_format=float_format.format, border=0, na_rep="-")
         caption_html = f"<p><em>{html.escape(caption)}</em></p>" if caption else ""
         if name and self.tables_dir is not None:
@@ -220,7 +315,12 @@ class HtmlReport:
                 write_text_atomic(path, text)
             self.table_files.append(path)
             caption_html += f'<p class="file">CSV: tables/{html.escape(path.name)}</p>'
-        self._add(caption_html + rendered)
+        if len(frame) > MAX_INLINE_ROWS and not self._fold_depth:
+            label = f"show the table ({len(frame)} rows): {caption or name or 'table'}"
+            self._add(f'<details class="fold"><summary>{html.escape(label)}</summary>{caption_html}{rendered}'
+                      "</details>")
+        else:
+            self._add(caption_html + rendered)
 
     def figure(self, figure, *, caption: str, name: str, alt: str | None = None) -> None:
         """Embed a matplotlib Figure as a base64 PNG; also ``figures_dir/<name>.png`` and ``.svg``.
@@ -237,10 +337,35 @@ class HtmlReport:
             if self.figures_dir is not None:
                 self.figure_files.append(write_bytes_atomic(Path(self.figures_dir) / f"{stem}.png", png))
                 self.figure_files.append(write_bytes_atomic(Path(self.figures_dir) / f"{stem}.svg", svg))
+            self._pngs[stem] = png
             self._add(_figure_html(stem, alt or caption, caption, png))
         if self.keep_figures:  # for the PDF export (idkit.report.pdf)
             self.kept_figures.append((figure, caption))
         self.figure_seconds += time.perf_counter() - started
+
+    def thumbnail(self, name: str, label: str) -> None:
+        """A small copy of the figure ``name`` (drawn before or after this call), linked to it.
+
+        Consecutive thumbnails share one row. :meth:`render` refuses a thumbnail whose figure
+        was never drawn.
+        """
+        token = f"\x00thumbnail {len(self._thumbnails)}\x00"
+        self._thumbnails[token] = (file_stem(name), label)
+        parts = self._sections[-1].parts if self._sections else None
+        if parts and parts[-1] == "</div>" and len(parts) > 1 and parts[-2].startswith("\x00thumbnail"):
+            parts.insert(len(parts) - 1, token)
+        else:
+            self._add('<div class="thumbs">')
+            self._add(token)
+            self._add("</div>")
+
+    def _thumbnail_html(self, token: str) -> str:
+        stem, label = self._thumbnails[token]
+        if stem not in self._pngs:
+            raise ValueError(f"thumbnail: no figure named {stem!r} on the page")
+        encoded = base64.b64encode(self._pngs[stem]).decode("ascii")
+        return (f'<a href="#figure-{html.escape(stem)}" title="open the figure"><img alt="{html.escape(label)}" '
+                f'src="data:image/png;base64,{encoded}">{html.escape(label)}</a>')
 
     def _can_fork(self) -> bool:
         return self.render_processes > 1 and self.figures_dir is not None and can_fork()
@@ -265,6 +390,7 @@ class HtmlReport:
         stem = file_stem(name)
         self.figure_files.append(write_bytes_atomic(Path(self.figures_dir) / f"{stem}.png", png))
         self.figure_files.append(write_bytes_atomic(Path(self.figures_dir) / f"{stem}.svg", svg))
+        self._pngs[stem] = png
         self._pending[token] = (None, _figure_html(stem, alt, caption, png), None, None)
 
     def abandon_figures(self) -> None:
@@ -282,26 +408,35 @@ class HtmlReport:
                 self._collect(token)
         if self._pending:
             embedded = {token: entry[1] for token, entry in self._pending.items()}
-            for _, _, parts, _ in self._sections:
-                parts[:] = [embedded.get(part, part) for part in parts]
+            for section in self._sections:
+                section.parts[:] = [embedded.get(part, part) for part in section.parts]
             self._pending.clear()
         self.figure_seconds += time.perf_counter() - started
 
     @property
     def section_titles(self) -> list[str]:
-        return [title for title, _, _, _ in self._sections]
+        return [section.title for section in self._sections]
 
     def render(self) -> str:
         self.finish_figures()
-        navigation = " ".join(f'<a href="#{anchor}">{html.escape(title)}</a>' for title, anchor, _, _ in self._sections)
+        for section in self._sections:
+            section.parts[:] = [self._thumbnail_html(part) if part in self._thumbnails else part
+                                for part in section.parts]
         blocks = []
-        for title, anchor, parts, collapsed in self._sections:
-            content = "\n".join(parts)
-            if collapsed:
-                content = f"<details><summary>show {html.escape(title.lower())}</summary>\n{content}\n</details>"
-            blocks.append(f'<section id="{anchor}"><h2>{html.escape(title)}</h2>\n{content}</section>')
+        for section in self._sections:
+            content = "\n".join(section.parts)
+            title = html.escape(section.title)
+            if section.front:
+                blocks.append(f'<section id="{section.anchor}" class="front"><h2>{title}</h2>\n{content}</section>')
+            elif section.collapsed:
+                gist = f'<span class="gist">{html.escape(section.gist)}</span>' if section.gist else ""
+                blocks.append(f'<section id="{section.anchor}"><details><summary><h2>{title}</h2>{gist}</summary>\n'
+                              f"{content}\n</details></section>")
+            else:
+                blocks.append(f'<section id="{section.anchor}"><h2>{title}</h2>\n{content}</section>')
         body = "\n".join(blocks)
         return (f"<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
                 f"<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
-                f"<title>{html.escape(self.title)}</title><style>{_STYLE}</style></head>\n"
-                f"<body><h1>{html.escape(self.title)}</h1><nav>{navigation}</nav>\n{body}\n</body></html>\n")
+                f"<title>{html.escape(self.title)}</title><style>{_STYLE}</style>"
+                f"<script>{_OPEN_TARGET}</script></head>\n"
+                f"<body><h1>{html.escape(self.title)}</h1>\n{body}\n</body></html>\n")

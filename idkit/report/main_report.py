@@ -34,7 +34,7 @@ from idkit.plot.equivalent import (
     plot_loop_residuals,
 )
 from idkit.plot.fits import plot_frf_fit, plot_loop_fit, plot_parameter_spread, plot_storage_loss
-from idkit.plot.studies import plot_transport_psd, plot_transport_rest_shock
+from idkit.plot.studies import plot_transport_psd, plot_transport_ranking, plot_transport_rest_shock
 from idkit.plot.validation import (
     plot_drop_histories,
     plot_drop_validation,
@@ -43,10 +43,12 @@ from idkit.plot.validation import (
     plot_sweep_bode,
     plot_sweep_maps,
 )
+from idkit.gravity import STANDARD_GRAVITY
 from idkit.report.conclusions import (
     drop_model_sentence,
     fit_sentence,
-    parameters_sentence,
+    key_metric,
+    parameters_cell,
     rest_shock_ends,
     transport_conclusions,
     validation_sentence,
@@ -54,6 +56,7 @@ from idkit.report.conclusions import (
 from idkit.report.html import HtmlReport, file_stem
 from idkit.report.study_files import write_transport_files
 from idkit.studies.equivalent import complex_stiffness_comparison, drop_shock_spectra, equivalent_linearization
+from idkit.studies.residuals import NOISE_MULTIPLE, systematic_residual_bands
 from idkit.exit_status import REPORT_EXIT_STATUSES
 from idkit.studies.pipeline import QUICK_NOTE, ReportData, ValidationEntry, compute_report_data
 
@@ -242,14 +245,13 @@ def _drop_model_words(data: ReportData) -> str:
 
 
 def _loop_form_words(data: ReportData) -> str:
-    """The two rope models' loop errors on the same fit loops: the model-form evidence."""
+    """The two rope models' loop errors on the same fit loops and the family the fit chose (the report
+    reads the family rule's decision, :func:`idkit.fit.measurements.choose_iwan_family`; it does not judge again)."""
     errors = data.drop_models.loop_errors
     parts = [f"{name} {100 * small:.2f} / {100 * large:.2f} %" for name, (small, large) in errors.items()]
-    plain, modulated = (float(np.mean(errors[name])) for name in ("plain Iwan", "slip-modulated Iwan"))
-    verdict = ("the slip forces change with the deflection, which the plain Iwan model cannot follow"
-               if modulated * ORDER_RULE_FACTOR < plain else
-               f"the modulation does not cut the error by more than the order rule's {ORDER_RULE_FACTOR:g} x")
-    return "Loop error (7.1, small / large) on the same fit loops: " + ", ".join(parts) + f": {verdict}."
+    chosen = _rope_model_name(data)
+    return ("Loop error (7.1, small / large) on the same fit loops: " + ", ".join(parts)
+            + f": the family rule (docs/fitting.md) chose the {chosen} model.")
 
 
 def _valid_range_words(data: ReportData) -> str:
@@ -268,55 +270,104 @@ def _valid_range_words(data: ReportData) -> str:
             f"{1e3 * data.valid_range[1]:.1f} mm, {VALID_RANGE_MARGIN:g} times the data set's deflections)")
 
 
-def _summary_section(report: HtmlReport, data: ReportData) -> str:
-    """Conclusions first: per isolator the model, its range, what it predicts and where it fails; the
-    transport study's conclusions are left to :func:`_transport_section` (the returned placeholder)."""
-    report.section("Summary", "summary")
-    report.paragraph(f"Data: {data.data_dir} ({data.n_measurements} measurements). "
-                     f"idkit {__version__}, seed {data.seed}{'; ' + QUICK_NOTE if data.quick else ''}. "
-                     "Every sentence below is read off the computed fits and validations.")
+#: the first screen's thumbnails: (figure name, label); a figure the data set does not give is left out
+def _thumbnails(data: ReportData) -> list[tuple[str, str]]:
+    thumbnails = [("wire rope iwan loops", "wire rope loops"), ("elastomer frf fit", "elastomer FRF")]
+    drops = next((isolator for isolator in ("wire rope", "hybrid", "elastomer") if isolator in data.drop_histories),
+                 None)
+    if drops is not None:
+        thumbnails.append((f"{drops} drop time histories", f"{drops} drops"))
+    thumbnails.append(("transport ranking", "transport ranking"))
+    return thumbnails
+
+
+def _short(text: str, limit: int = 70) -> str | tuple[str, str]:
+    """``text``, or its first ``limit`` characters and the whole as a tooltip (a first-screen table cell)."""
+    return text if len(text) <= limit else (text[:limit - 1].rstrip() + "…", text)
+
+
+def _metric_value(value: float) -> str:
+    return "n/a" if not math.isfinite(value) else f"{value:.3g}"
+
+
+def verdict_rows(data: ReportData) -> list[dict]:
+    """The first screen's verdict table: one row per validation (its key metric, :func:`key_metric`) and per
+    fit the report predicts with; verdicts as computed, never judged again."""
+    rows = []
+    for entry in data.validations:
+        result = entry.result
+        metric, value, limit = key_metric(result)
+        why = result.why or result.notes
+        rows.append({"check": entry.key, "key metric": metric, "value": _metric_value(value),
+                     "limit": f"{limit:g}" if math.isfinite(limit) else "", "verdict": result.verdict,
+                     "why / note": _short("; ".join(why)) if why else ""})
+    bands = _elastomer_bands(data)
+    for name, fit, metric, value in (
+            (f"wire rope fit ({_rope_model_name(data)} {data.iwan.model.order})", data.iwan,
+             "loop error small / large (7.1)",
+             f"{100 * data.iwan.result.error_small:.2g} / {100 * data.iwan.result.error_large:.2g} %"),
+            (f"elastomer fit (Maxwell {len(data.maxwell.model.k)})", data.maxwell, "FRF error (7.5)",
+             f"{100 * data.maxwell.result.error:.2g} %")):
+        notes = list(fit.reasons)
+        if fit is data.maxwell and bands:
+            notes.append(_bands_words(bands))
+        rows.append({"check": name, "key metric": metric, "value": value, "limit": "",
+                     "verdict": "PASS" if fit.success else "FLAGGED",
+                     "why / note": _short("; ".join(notes)) if notes else ""})
+    return rows
+
+
+def model_rows(data: ReportData) -> list[dict]:
+    """The first screen's table of the identified models: family, parameters ± standard error, valid range."""
+    lower, upper = data.iwan.model.valid_deflection_range()
+    elastomer = data.maxwell.parameters_table()
+    rows = [{"isolator": "wire rope", "family": f"{_rope_model_name(data)}, order {data.iwan.model.order}",
+             "parameters (± standard error)": parameters_cell(data.iwan.parameters_table()),
+             "valid range": _range_words(lower, upper)},
+            {"isolator": "wire rope (comparison only)", "family": "Bouc-Wen",
+             "parameters (± standard error)": parameters_cell(data.boucwen.parameters_table()),
+             "valid range": "-"},
+            {"isolator": "elastomer", "family": f"generalized Maxwell, order {len(data.maxwell.model.k)}",
+             "parameters (± standard error)": f"k0 = {data.maxwell.k0.k0:.3g} ± {data.maxwell.k0.stderr:.2g} N/m "
+             "(quasi-static loops); " + parameters_cell(elastomer[elastomer["parameter"] != "k0"]),
+             "valid range": "linear: no limit of its own; validated over the held-out amplitudes"}]
+    return rows
+
+
+def _range_words(lower: float, upper: float) -> str:
+    if math.isfinite(lower) and math.isfinite(upper):
+        return f"{1e3 * lower:.1f} to {1e3 * upper:.1f} mm"
+    if math.isfinite(lower):
+        return f"from {1e3 * lower:.1f} mm"
+    if math.isfinite(upper):
+        return f"up to {1e3 * upper:.1f} mm"
+    return "every deflection"
+
+
+def _elastomer_bands(data: ReportData):
+    return systematic_residual_bands(data.maxwell.model, list(data.maxwell.data), level=data.maxwell.result.error)
+
+
+def _bands_words(bands) -> str:
+    """The elastomer fit's systematic residual bands in a few words."""
+    spans = ", ".join(f"{band.low_hz:.3g}-{band.high_hz:.3g} Hz" for band in bands)
+    return (f"systematic residual over {spans} on every top mass (up to {100 * max(b.peak for b in bands):.2g} % of "
+            "|H|): the model lacks a feature of the data there")
+
+
+def _front_section(report: HtmlReport, data: ReportData) -> str:
+    """The first screen: the outcome, the verdict and model tables and four thumbnails; returns the slot of
+    the transport study's one sentence (filled by :func:`_transport_section`)."""
+    report.section("Summary", "summary", front=True)
     flagged = tuple(name for name, reasons in _fit_reasons(data).items() if reasons)
-    report.paragraph(outcome_sentence(data.verdicts, flagged))
-    iwan, boucwen, maxwell = data.iwan, data.boucwen, data.maxwell
-
-    report.heading("Wire rope")
-    family = "slip-modulated Iwan" if iwan.result.settings.family == "modulated" else "Iwan"
-    items = [f"Identified: {family} model of order {iwan.model.order}"
-             + (" (the plain Iwan model missed the loops' noise floor: family rule, docs/fitting.md)"
-                if family != "Iwan" else "") + ", "
-             + parameters_sentence(iwan.parameters_table(), unfitted=True) + ".",
-             f"The identified {_rope_model_name(data)} model is {_valid_range_words(data)}.",
-             fit_sentence(f"Iwan fit (loop error small {100 * iwan.result.error_small:.2f} %, large "
-                          f"{100 * iwan.result.error_large:.2f} %, eq. 7.1)", iwan),
-             fit_sentence(f"Bouc-Wen comparison (small {100 * boucwen.result.error_small:.2f} %, large "
-                          f"{100 * boucwen.result.error_large:.2f} %)", boucwen, comparison=True)]
-    items += [validation_sentence(entry.key, entry.result, quick_note=QUICK_NOTE if data.quick else "")
-              for entry in data.validations_of("wire rope")]
-    if data.drop_models is not None:
-        items.append(_drop_model_words(data))
-        if len(data.drop_models.loop_errors) > 1:
-            items.append(_loop_form_words(data))
-    report.items(items)
-
-    report.heading("Elastomer")
-    items = [f"Identified: generalized Maxwell model of order {len(maxwell.model.k)}, "
-             + parameters_sentence(maxwell.parameters_table())
-             + f"; k0 = {maxwell.k0.k0:.4g} +- {maxwell.k0.stderr:.2g} N/m from the quasi-static loops.",
-             ("A linear viscoelastic model: no deflection limit of its own; it is validated only over the "
-              "amplitudes of the held-out data."),
-             fit_sentence(f"Maxwell fit (FRF error {100 * maxwell.result.error:.2f} %, eq. 7.5)", maxwell)]
-    items += [validation_sentence(entry.key, entry.result, quick_note=QUICK_NOTE if data.quick else "")
-              for entry in data.validations_of("elastomer")]
-    report.items(items)
-
-    entries = data.validations_of("hybrid")
-    if entries:
-        report.heading("Hybrid (elastomer on wire rope, nothing fitted to it)")
-        report.items([validation_sentence(entry.key, entry.result, quick_note=QUICK_NOTE if data.quick else "")
-                      for entry in entries])
-
-    report.heading("Transport study: which system protects the payload best")
-    return report.placeholder()  # filled by _transport_section once the study is done
+    report.paragraph(outcome_sentence(data.verdicts, flagged) + f" Data: {data.data_dir} "
+                     f"({data.n_measurements} measurements), idkit {__version__}, seed {data.seed}"
+                     + (f"; {QUICK_NOTE}." if data.quick else "."))
+    report.front_table(verdict_rows(data), verdict_column="verdict", numeric=("value", "limit"))
+    report.front_table(model_rows(data))
+    for name, label in _thumbnails(data):
+        report.thumbnail(name, label)
+    return report.placeholder()
 
 
 def _spread_figure(report: HtmlReport, fit, isolator: str, model: str) -> None:
@@ -363,11 +414,7 @@ def _sweep_figures(report: HtmlReport, data: ReportData, isolator: str) -> None:
                       alt=f"top acceleration and deflection versus time for measured and simulated {isolator} drops")
 
 
-def _fit_sections(report: HtmlReport, data: ReportData) -> None:
-    report.section("Wire rope fit", "wire-rope-fit")
-    report.paragraph(f"Valid range of the identified {_rope_model_name(data)} model: {_valid_range_words(data)}; "
-                     "simulations beyond the valid range are flagged, and validations count them as failures.")
-    report.preformatted(data.iwan.report())
+def _iwan_tables(report: HtmlReport, data: ReportData) -> None:
     report.table(data.iwan.parameters_table(),
                  caption="Iwan parameters: stderr from the residual Jacobian at the optimum (the spread "
                          "within this data set; stderr_note says why one is missing) beside the spread across "
@@ -391,6 +438,20 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
                              f"stuck stiffness g1 + sum k_i beside the secant of the shortest measured branch, "
                              f"{secant:.4g} N/m",
                      name="wire rope iwan order table")
+
+
+def _wire_rope_fit_section(report: HtmlReport, data: ReportData) -> str:
+    iwan, boucwen = data.iwan, data.boucwen
+    report.items([fit_sentence(f"Iwan fit ({_rope_model_name(data)} order {iwan.model.order}; loop error small "
+                               f"{100 * iwan.result.error_small:.2f} %, large {100 * iwan.result.error_large:.2f} %, "
+                               "eq. 7.1)", iwan),
+                  fit_sentence(f"Bouc-Wen comparison (small {100 * boucwen.result.error_small:.2f} %, large "
+                               f"{100 * boucwen.result.error_large:.2f} %)", boucwen, comparison=True)])
+    report.paragraph(f"Valid range of the identified {_rope_model_name(data)} model: {_valid_range_words(data)}; "
+                     "simulations beyond the valid range are flagged, and validations count them as failures.")
+    report.preformatted(data.iwan.report(), label="show the Iwan fit log")
+    with report.folded("show the Iwan parameter table (stderr, spread across repetitions) and the order table"):
+        _iwan_tables(report, data)
     _spread_figure(report, data.iwan, "wire rope", "Iwan")
     report.figure(plot_loop_fit(data.iwan_loops, label="Iwan")[0].figure, name="wire rope iwan loops",
                   caption="Grey measured, dashed Iwan model: look at the loop tips and the width of the small loops.",
@@ -409,20 +470,34 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
                   alt="equivalent stiffness and loss factor versus cycle amplitude, measured and Iwan model")
     report.table(linear.to_dataframe(), name="wire rope equivalent linearization",
                  caption="per cycle: amplitude, secant stiffness and loss factor, measured and model")
-    report.preformatted(data.boucwen.report())
+    report.preformatted(data.boucwen.report(), label="show the Bouc-Wen fit log")
     report.figure(plot_loop_fit(data.boucwen_loops, label="Bouc-Wen")[0].figure, name="wire rope bouc-wen loops",
                   caption="Grey measured, dashed Bouc-Wen model: compare the loop tips with the Iwan figure above.",
                   alt="measured and fitted force-deflection loops (Bouc-Wen), small and large")
+    return (f"{_rope_model_name(data)} order {iwan.model.order}, loop error {100 * iwan.result.error_small:.2f} / "
+            f"{100 * iwan.result.error_large:.2f} % (small / large); "
+            + ("fit succeeded" if iwan.success else "fit not a success"))
 
-    report.section("Elastomer fit", "elastomer-fit")
-    report.preformatted(data.maxwell.report())
-    report.table(data.maxwell.parameters_table(), caption="Maxwell parameters (k0 from the quasi-static loops)",
-                 name="elastomer maxwell parameters")
+
+def _elastomer_fit_section(report: HtmlReport, data: ReportData) -> str:
+    maxwell = data.maxwell
+    bands = _elastomer_bands(data)
+    report.items([fit_sentence(f"Maxwell fit (order {len(maxwell.model.k)}, FRF error "
+                               f"{100 * maxwell.result.error:.2f} %, eq. 7.5)", maxwell)])
+    if bands:
+        report.paragraph(f"Residual: {_bands_words(bands)} (the log-magnitude residual keeps one sign on every top "
+                         f"mass and repetition, beyond {NOISE_MULTIPLE:g} times the H1 random error, and reaches the "
+                         "fit's own error there; see the residual figure below). The fit's success does not vouch "
+                         "for the model in that band.")
+    report.preformatted(maxwell.report(), label="show the Maxwell fit log")
+    with report.folded("show the Maxwell parameter table and the order table"):
+        report.table(data.maxwell.parameters_table(), caption="Maxwell parameters (k0 from the quasi-static loops)",
+                     name="elastomer maxwell parameters")
+        report.table(data.order_table, caption=f"order selection: error (7.5) for n = 1..4 and the Voigt model; the "
+                                               f"order rule (lowest successful order within {ORDER_RULE_FACTOR:g} x "
+                                               f"the best) chose order {data.maxwell.model.order}",
+                     name="maxwell order table")
     _spread_figure(report, data.maxwell, "elastomer", "Maxwell")
-    report.table(data.order_table, caption=f"order selection: error (7.5) for n = 1..4 and the Voigt model; the order rule "
-                         f"(lowest successful order within {ORDER_RULE_FACTOR:g} x the best) chose order "
-                         f"{data.maxwell.model.order}",
-                 name="maxwell order table")
     report.figure(np.ravel(plot_frf_fit(data.maxwell.model, list(data.maxwell.data)))[0].figure, name="elastomer frf fit",
                   caption="Thin measured H1 (every repetition), dashed model, per top mass (at most three a column): "
                           "look at the resonance peaks.",
@@ -443,13 +518,23 @@ def _fit_sections(report: HtmlReport, data: ReportData) -> None:
                           "mass plus m_eff; left out where |H - 1| < 0.2) against the model (dashed): the measured "
                           "curves should overlap one another and the model between the resonances.",
                   alt="measured complex stiffness magnitude and loss factor per top mass against the Maxwell model")
+    return (f"generalized Maxwell order {len(maxwell.model.k)}, FRF error {100 * maxwell.result.error:.2f} %; "
+            + ("fit succeeded" if maxwell.success else "fit not a success")
+            + (f"; systematic residual over " + ", ".join(f"{b.low_hz:.3g}-{b.high_hz:.3g} Hz" for b in bands)
+               if bands else ""))
 
 
-def _transport_section(report: HtmlReport, data: ReportData, summary_slot: str) -> None:
+def _transport_section(report: HtmlReport, data: ReportData, summary_slot: str) -> str:
     study = data.transport  # waits for the study's child process (ReportData.transport)
     with report.filling(summary_slot):
-        report.items(transport_conclusions(study))
-    report.section("Transport study", "transport-study")
+        report.paragraph(transport_gist(study))
+    conclusions = transport_conclusions(study)
+    limit = rope_limit_sentence(data, study)
+    report.items(conclusions + ([limit] if limit else []))
+    report.figure(np.ravel(plot_transport_ranking(study))[0].figure, name="transport ranking",
+                  caption="The systems ranked (lowest on top protects best): RMS top acceleration at the highest floor "
+                          "level, rest shock after a 5 cm drop; 'model invalid' where a model left its valid range.",
+                  alt="bar charts of the RMS top acceleration and the rest shock of every tuned system")
     report.table(study.tuning, caption="systems tuned to a 5 Hz small-amplitude resonance (SPEC 6)",
                  name="transport tuning")
     report.table(study.summary_table(), index=True, name="transport summary",
@@ -464,9 +549,10 @@ def _transport_section(report: HtmlReport, data: ReportData, summary_slot: str) 
             "record relative to the signal; the PSD and RMS of these runs are uncertain by about that much): "
             + "; ".join(f"{system} at {level}: {value:.2g}" for system, level, value in unsettled) + ".")
     if study.settling is not None:
-        report.table(study.settling, index=True, name="transport settling", float_format="{:.2g}",
-                     caption="largest settling error of the random runs per system and floor level (0: linear, "
-                             "solved in the frequency domain)")
+        with report.folded("show the settling errors of the random runs"):
+            report.table(study.settling, index=True, name="transport settling", float_format="{:.2g}",
+                         caption="largest settling error of the random runs per system and floor level (0: linear, "
+                                 "solved in the frequency domain)")
     axes = plot_transport_psd(study)
     report.figure(axes.flat[0].figure, name="transport output psd",
                   caption="Top acceleration PSD per floor level (rows), at most six systems a panel, over the floor "
@@ -481,10 +567,61 @@ def _transport_section(report: HtmlReport, data: ReportData, summary_slot: str) 
                           "a column (the reference repeated beside the hybrids): the lowest curve protects best"
                           + note + ".",
                   alt="rest shock level of every system versus impact speed and drop height")
+    return transport_gist(study)
+
+
+def transport_gist(study) -> str:
+    """The transport study in one sentence: the best system at the floor levels and at a 5 cm drop."""
+    best = {str(column): study.rms[column].astype(float).idxmin() for column in study.rms.columns
+            if study.rms[column].notna().any()}
+    names = set(best.values())
+    if len(names) == 1:
+        levels = f"{names.pop()} at every floor level"
+    else:
+        levels = ", ".join(f"{name} at {level}" for level, name in best.items())
+    shock = study.rest_shock_at(0.05).astype(float).dropna()
+    text = f"Transport study ({len(study.rms)} systems tuned to 5 Hz): lowest RMS top acceleration: {levels}"
+    if not shock.empty:
+        text += f"; lowest rest shock after a 5 cm drop: {shock.idxmin()}"
+    return text + "."
+
+
+def rope_limit_sentence(data: ReportData, study) -> str:
+    """Why the wire rope's rest-shock curve stops, in one sentence (empty when it runs to the end of its sweeps).
+
+    The study's rope is the one identified from this data set, valid only where its spring's
+    local stiffness is >= 0; tuned to 5 Hz on its stuck stiffness, it carries a top mass whose
+    weight is compared with the force the rope holds at the compression edge of that range
+    (its virgin loading curve from rest, :meth:`~idkit.models.IwanModel.force`).
+    """
+    ends = rest_shock_ends(study)
+    if "wire rope" not in ends or "wire rope" not in set(study.tuning["system"]):
+        return ""
+    model = data.iwan.model
+    lower, upper = model.valid_deflection_range()
+    row = study.tuning.set_index("system").loc["wire rope"]
+    mass, stiffness = float(row["moving mass [kg]"]), float(row["stiffness at target [N/m]"])
+    weight = mass * STANDARD_GRAVITY
+    text = (f"Why the wire rope's curve stops {ends['wire rope'].split(' (')[0]}: the study's rope is the "
+            f"{_rope_model_name(data)} model identified from this data set (not the library's Table 7.1 rope); "
+            f"tuned to 5 Hz on its stuck stiffness ({stiffness:.3g} N/m) it carries {mass:.3g} kg")
+    if not math.isfinite(lower):
+        return text + ", and its model turns invalid under the drop's deflection (the simulator flags the runs)."
+    path = np.linspace(0.0, lower, 400)
+    held = float(abs(model.force(path, np.linspace(0.0, 1.0, path.size))[-1]))
+    if held < weight:
+        return text + (f", whose weight ({weight:.4g} N) is {weight / held:.2g} times the {held:.3g} N the rope holds "
+                       f"at the compression edge of its valid range ({1e3 * lower:.1f} mm, where its spring's local "
+                       "stiffness turns negative, SPEC 1.2): its elements slip under that load and the deflection "
+                       "runs past the edge.")
+    return text + (f"; it holds that weight ({weight:.4g} N) inside its valid range, which ends at {1e3 * lower:.1f} mm "
+                   "(its spring's local stiffness turns negative there, SPEC 1.2), and the drops push it past that "
+                   "edge.")
 
 
 def _provenance_section(report: HtmlReport, data: ReportData, timings: dict, hashes: dict) -> None:
     report.section("Provenance", "provenance", collapsed=True)
+    report.summarize(f"idkit {__version__}, seed {data.seed}, data files and their SHA-256, timings")
     report.paragraph(f"idkit {__version__}; seed {data.seed}; quick {data.quick}; drop model {data.drop_model}; "
                      f"data {data.data_dir}. Models in models/, tables in tables/, figures in figures/ (PNG and "
                      "SVG); provenance.json holds everything below.")
@@ -539,36 +676,88 @@ def _usable_cores() -> int:
         return os.cpu_count() or 1
 
 
+def _data_section(report: HtmlReport, data: ReportData) -> str:
+    rows = []
+    for isolator, inspection in data.inspections.items():
+        counts = inspection.table["kind"].value_counts(sort=False)
+        rows.append({"set": isolator, "folder": str(data.sets[isolator].folder),
+                     "measurements": ", ".join(f"{n} {kind}" for kind, n in counts.items()),
+                     "warnings": str(len(inspection.warnings))})
+    report.front_table(rows)
+    warnings = warning_rows(data)
+    total = sum(len(inspection.warnings) for inspection in data.inspections.values())
+    if warnings:
+        with report.folded(f"show the {total} data warning(s), {len(warnings)} distinct"):
+            report.front_table(warnings)
+    for isolator, inspection in data.inspections.items():
+        report.preformatted(inspection.report(), label=f"show the inspection of the {isolator} set")
+    return (f"{data.n_measurements} measurements in {len(data.inspections)} set(s); {total} data warning(s)"
+            + (f", {len(warnings)} distinct" if warnings else ""))
+
+
+def warning_rows(data: ReportData) -> list[dict]:
+    """The data warnings of every set, one row per distinct (kind, message) with the records that raised it."""
+    grouped: dict[tuple[str, str], list[str]] = {}
+    for inspection in data.inspections.values():
+        for warning in inspection.warnings:
+            records = grouped.setdefault((warning.kind, warning.message), [])
+            if warning.measurement_id not in records:
+                records.append(warning.measurement_id)
+    return [{"kind": kind, "message": message, "records": f"{len(records)}: " + "; ".join(records)}
+            for (kind, message), records in grouped.items()]
+
+
+def _validation_isolator_section(report: HtmlReport, data: ReportData, isolator: str) -> str:
+    entries = data.validations_of(isolator)
+    if not entries:
+        report.paragraph("no measurements of this isolator in the data set")
+    for entry in entries:
+        _validation_section(report, entry, data.quick)
+    _sweep_figures(report, data, isolator)
+    if isolator == "wire rope" and data.drop_models is not None:
+        _drop_model_section(report, data)
+    spectra = drop_shock_spectra(list(data.sets[isolator.replace(" ", "_")].measurements),
+                                 histories=data.drop_histories.get(isolator))
+    if spectra is not None:
+        compared = spectra.model_acceleration is not None
+        report.figure(plot_drop_shock_spectra(spectra).figure, name=f"{isolator} drop srs",
+                      caption=f"Shock response spectrum (5 % damping) of the top acceleration ({isolator}, "
+                              f"{spectra.top_mass_kg:.2f} kg, " + (
+                                  "the held-out drops of the time histories): solid measured, dashed model, dotted "
+                                  "the impact itself, (1 + e) sqrt(2 g h) as an impulse (a component mounted without "
+                                  "the isolator); look at how far the solid curve sits below the dotted one, and "
+                                  "whether the dashed one follows the solid." if compared else
+                                  "every drop height, measured): what a component of that natural frequency on the "
+                                  "payload would see; look at how the peak moves with the drop height."),
+                      alt=f"absolute-acceleration shock response spectra of the {isolator} drops"
+                          + (", measured, model and impact" if compared else ", measured"))
+    return ", ".join(f"{entry.key} {entry.result.verdict}" for entry in entries) or "no measurements"
+
+
+def _section_builders() -> tuple:
+    """The collapsed sections between the first screen and the transport study, in page order:
+    ``(title, anchor, builder)``; ``builder(report, data)`` draws its section and returns the one-line gist
+    shown on its collapsed header. A new section is one more row (:data:`REPORT_SECTIONS` lists every title)."""
+    def validation(isolator):
+        return lambda report, data: _validation_isolator_section(report, data, isolator)
+
+    return (("Data", "data", _data_section),
+            ("Wire rope fit", "wire-rope-fit", _wire_rope_fit_section),
+            ("Elastomer fit", "elastomer-fit", _elastomer_fit_section),
+            *((title, anchor, validation(isolator)) for title, anchor, isolator in _VALIDATION_SECTIONS))
+
+
 def _write_report(data: ReportData, report: HtmlReport, folder: Path, started: float, *, pdf: bool) -> ReportSummary:
     models_dir, tables_dir, figures_dir = folder / "models", folder / "tables", folder / "figures"
     # everything that does not need the transport study first: it is still running in a child
     # process (ReportData.transport), and these figures render meanwhile
-    summary_slot = _summary_section(report, data)
-    report.section("Data", "data")
-    for isolator, inspection in data.inspections.items():
-        report.paragraph(f"{isolator}: {data.sets[isolator].folder}")
-        report.preformatted(inspection.report())
-    _fit_sections(report, data)
-    for title, anchor, isolator in _VALIDATION_SECTIONS:
-        report.section(title, anchor)
-        entries = data.validations_of(isolator)
-        if not entries:
-            report.paragraph("no measurements of this isolator in the data set")
-        for entry in entries:
-            _validation_section(report, entry, data.quick)
-        _sweep_figures(report, data, isolator)
-        if isolator == "wire rope" and data.drop_models is not None:
-            _drop_model_section(report, data)
-        spectra = drop_shock_spectra(list(data.sets[isolator.replace(" ", "_")].measurements))
-        if spectra is not None:
-            report.figure(plot_drop_shock_spectra(spectra).figure, name=f"{isolator} measured drop srs",
-                          caption=f"Shock response spectrum of the measured top acceleration ({isolator}, "
-                                  f"{spectra.top_mass_kg:.2f} kg, every drop height, 5 % damping): what a "
-                                  "component of that natural frequency on the payload would see; look at how the "
-                                  "peak moves with the drop height.",
-                          alt=f"absolute-acceleration shock response spectra of the measured {isolator} drops")
+    summary_slot = _front_section(report, data)
+    for title, anchor, build in _section_builders():
+        report.section(title, anchor, collapsed=True)
+        report.summarize(build(report, data))
     write_transport_files(data.transport, folder, tables_dir=tables_dir, figures=False)
-    _transport_section(report, data, summary_slot)
+    report.section("Transport study", "transport-study", collapsed=True)
+    report.summarize(_transport_section(report, data, summary_slot))
 
     hashes = {isolator: s.hashes() for isolator, s in data.sets.items()}
     so_far = {**data.timings_s, FIGURES: round(report.figure_seconds, 3),

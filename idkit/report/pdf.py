@@ -76,13 +76,13 @@ def write_pdf(report, path) -> None:
     swapped in only when complete), so a failed export leaves no partial file behind.
     """
     with PdfPages(path, metadata={"Title": report.title, "Creator": "idkit"}) as pdf:
-        for title, _, parts, _ in report._sections:
+        for section in report._sections:
             parser = _Text()
-            parser.feed("\n".join(parts))
+            parser.feed("\n".join(section.parts))
             lines = [line.rstrip() for line in parser.lines]
             while lines and not lines[0]:
                 lines.pop(0)
-            for page in _text_pages(f"{report.title}: {title}", lines):
+            for page in _text_pages(f"{report.title}: {section.title}", lines):
                 pdf.savefig(page)
         for figure, caption in report.kept_figures:
             note = figure.text(0.5, 0.003, textwrap.fill(caption, 140), ha="center", va="bottom", fontsize=7)

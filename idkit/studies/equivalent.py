@@ -186,6 +186,13 @@ class DropShockSpectra:
         Maximax absolute acceleration of a 5 %-damped oscillator on the top mass (m/s^2),
         from the mean of the two top accelerometers.
     damping_ratio : float
+    model_acceleration : tuple of numpy.ndarray, optional
+        The same of the model's simulated top acceleration, per height (with ``histories``).
+    input_acceleration : tuple of numpy.ndarray, optional
+        The same of the impact itself, per height: the oscillators mounted rigidly on the
+        bottom mass, whose velocity changes by ``(1 + e) sqrt(2 g h)`` at the impact (``e`` the
+        contact's restitution read off the records), taken as an impulse: what a component
+        without the isolator would see.
     """
 
     isolator: str
@@ -194,9 +201,12 @@ class DropShockSpectra:
     freq_hz: np.ndarray
     acceleration: tuple
     damping_ratio: float
+    model_acceleration: tuple | None = None
+    input_acceleration: tuple | None = None
 
 
-def drop_shock_spectra(measurements, *, damping_ratio: float = 0.05, points: int = 60) -> DropShockSpectra | None:
+def drop_shock_spectra(measurements, *, histories=None, damping_ratio: float = 0.05,
+                       points: int = 60) -> DropShockSpectra | None:
     """SRS of the measured top acceleration of every drop height, for the top mass with most heights.
 
     The band runs from 1 Hz to the highest natural frequency the sampling resolves
@@ -207,28 +217,58 @@ def drop_shock_spectra(measurements, *, damping_ratio: float = 0.05, points: int
     ----------
     measurements : sequence of DropMeasurement
         Drops of one isolator.
+    histories : DropHistories, optional
+        Measured and simulated drops (:func:`idkit.studies.drop_histories.drop_histories`):
+        then the spectra are those of its drops (their records found in ``measurements`` by
+        id), with the model's and the impact's (:class:`DropShockSpectra`).
     damping_ratio : float
         Damping of the SRS oscillators (default 0.05, ISO 18431-4's usual value).
     points : int
         Logarithmically spaced natural frequencies.
     """
+    from idkit.gravity import STANDARD_GRAVITY
     from idkit.signal.srs import MIN_SAMPLES_PER_PERIOD, shock_spectra
 
     drops = [m for m in measurements if m.kind == "drop"]
     if not drops:
         return None
-    by_mass = {}
-    for drop in drops:
-        by_mass.setdefault(round(float(drop.info.top_mass_kg), 6), {}).setdefault(float(drop.info.drop_height_m), drop)
-    mass, by_height = max(by_mass.items(), key=lambda item: (len(item[1]), item[0]))
+    if histories is not None:
+        by_id = {drop.info.id: drop for drop in drops}
+        chosen = [(history, by_id[history.id]) for history in histories.drops if history.id in by_id]
+    else:
+        chosen = []
+    if chosen:
+        by_height = {float(drop.info.drop_height_m): drop for _, drop in chosen}
+        mass = round(float(chosen[0][1].info.top_mass_kg), 6)
+    else:
+        by_mass = {}
+        for drop in drops:
+            by_mass.setdefault(round(float(drop.info.top_mass_kg), 6), {}).setdefault(float(drop.info.drop_height_m),
+                                                                                    drop)
+        mass, by_height = max(by_mass.items(), key=lambda item: (len(item[1]), item[0]))
     heights = sorted(by_height)
     fs = min(by_height[h].sample_rate_hz for h in heights)
     freq = np.geomspace(1.0, fs / MIN_SAMPLES_PER_PERIOD, points)
-    spectra = []
+
+    def srs(acceleration, rate):
+        return shock_spectra(acceleration, fs=rate, freq=freq, damping_ratio=damping_ratio).absolute_acceleration
+
+    spectra = [srs(0.5 * (np.asarray(by_height[h].a_top_1) + np.asarray(by_height[h].a_top_2)),
+                   by_height[h].sample_rate_hz) for h in heights]
+    if not chosen:
+        return DropShockSpectra(isolator=str(drops[0].info.isolator), top_mass_kg=mass, height_m=tuple(heights),
+                                freq_hz=freq, acceleration=tuple(spectra), damping_ratio=damping_ratio)
+    models, impacts = [], []
+    histories_by_height = {float(drop.info.drop_height_m): history for history, drop in chosen}
     for height in heights:
-        drop = by_height[height]
-        acceleration = 0.5 * (np.asarray(drop.a_top_1) + np.asarray(drop.a_top_2))
-        spectra.append(shock_spectra(acceleration, fs=drop.sample_rate_hz, freq=freq,
-                                     damping_ratio=damping_ratio).absolute_acceleration)
+        history = histories_by_height[height]
+        step = float(np.median(np.diff(history.simulated_time)))
+        models.append(srs(history.simulated_acceleration, 1.0 / step))
+        # the impact as an impulse: one sample carrying the velocity change (a triangle of
+        # width 2 steps to the ramp-invariant filter), at the model's time step
+        impulse = np.zeros(int(round(1.0 / (freq[0] * step))) + 2)
+        impulse[1] = (1.0 + histories.contact.restitution) * np.sqrt(2.0 * STANDARD_GRAVITY * height) / step
+        impacts.append(srs(impulse, 1.0 / step))
     return DropShockSpectra(isolator=str(drops[0].info.isolator), top_mass_kg=mass, height_m=tuple(heights),
-                            freq_hz=freq, acceleration=tuple(spectra), damping_ratio=damping_ratio)
+                            freq_hz=freq, acceleration=tuple(spectra), damping_ratio=damping_ratio,
+                            model_acceleration=tuple(models), input_acceleration=tuple(impacts))

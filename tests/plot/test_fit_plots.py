@@ -25,6 +25,11 @@ def test_loop_fit_draws_the_predicted_forces(data):
     assert len(large_ax.get_lines()) == 2 * len(iwan.data.large)
     np.testing.assert_array_equal(small_ax.get_lines()[1].get_ydata(), prediction.small[0].model_force)
     np.testing.assert_array_equal(small_ax.get_lines()[1].get_xdata(), 1e3 * prediction.small[0].deflection)
+    # the legend names the model once: every model curve has the colour of the labelled one
+    for ax in (small_ax, large_ax):
+        models = [line for line in ax.get_lines() if line.get_linestyle() == "--"]
+        assert {line.get_color() for line in models} == {models[0].get_color()}
+        assert [text.get_text() for text in ax.get_legend().get_texts()] == ["measured", "model"]
 
 
 def test_frf_fit_draws_the_model_law_per_mass(data):

@@ -76,3 +76,50 @@ def test_ten_rest_shock_curves_are_split_into_columns_of_at_most_six():
     for ax in grid.ravel():
         for line in ax.get_lines():
             assert colours.setdefault(line.get_label(), line.get_color()) == line.get_color()
+
+
+def _ending_study():
+    import pandas as pd
+
+    from idkit.studies.transport import TransportStudy
+
+    names = ["reference", "wire rope", "hybrid r_k=0.2"]
+    speeds, heights = pd.Index([0.1, 0.2, 0.3]), pd.Index([0.01, 0.05, 0.10])
+    velocity = pd.DataFrame({"reference": [1.0, 2.0, 3.0], "wire rope": [0.5, 1.0, np.nan],
+                             "hybrid r_k=0.2": [0.8, 1.6, 2.4]}, index=speeds)
+    height = pd.DataFrame({"reference": [10.0, 20.0, 30.0], "wire rope": [np.nan] * 3,
+                           "hybrid r_k=0.2": [5.0, np.nan, np.nan]}, index=heights)
+    rms = pd.DataFrame({"1e-06 [(m/s^2)^2/Hz]": [0.3, 0.1, 0.2], "0.001 [(m/s^2)^2/Hz]": [3.0, np.nan, 2.0]},
+                       index=pd.Index(names, name="system"))
+    return TransportStudy(tuning=pd.DataFrame(), rms=rms, psd=(), seed=0, n_realizations=1, flagged_runs=0,
+                          shock_velocity=velocity, shock_height=height)
+
+
+def test_the_model_invalid_notes_stay_inside_their_axes():
+    """A curve ending at the right edge of the sweep wrote its note beyond the axes and the figure."""
+    by_speed, by_height = plot_transport_rest_shock(_ending_study())
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    renderer = FigureCanvasAgg(by_speed.figure).get_renderer()
+    by_speed.figure.draw(renderer)
+    for ax in (by_speed, by_height):
+        box = ax.get_window_extent(renderer)
+        assert ax.texts
+        for text in ax.texts:
+            extent = text.get_window_extent(renderer)
+            assert box.x0 <= extent.x0 and extent.x1 <= box.x1 and box.y0 <= extent.y0 and extent.y1 <= box.y1
+    assert by_height.texts[0].get_text() == ("wire rope: model invalid from 1 cm\n"
+                                             "hybrid r_k=0.2: model invalid beyond 1 cm")
+
+
+def test_the_ranking_puts_the_lowest_value_on_top_and_names_invalid_models():
+    from idkit.plot.studies import plot_transport_ranking
+
+    rms_ax, shock_ax = plot_transport_ranking(_ending_study(), height=0.01)
+    labels = [tick.get_text() for tick in rms_ax.get_yticklabels()]
+    positions = list(rms_ax.get_yticks())
+    top_down = [label for _, label in sorted(zip(positions, labels), reverse=True)]
+    assert top_down == ["hybrid r_k=0.2", "reference", "wire rope"]  # the highest level's column: 2, 3, invalid
+    assert [text.get_text() for text in rms_ax.texts] == [" model invalid"]
+    widths = sorted(patch.get_width() for patch in shock_ax.patches)
+    assert widths == [5.0, 10.0]  # the 1 cm rest shocks; the wire rope has none

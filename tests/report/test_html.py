@@ -19,7 +19,7 @@ def test_figures_and_tables_are_embedded_and_saved(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a_line.png", "a_line.svg", "one_row.csv"]
     assert (tmp_path / "a_line.svg").read_text().lstrip().startswith("<?xml")
     assert 'alt="straight line"' in page and "<figcaption>a line: look at its slope</figcaption>" in page
-    assert "<details><summary>show provenance</summary>" in page
+    assert '<section id="provenance"><details><summary><h2>Provenance</h2>' in page
     assert page.index("<details>") > page.index('id="provenance"')
     assert [p.name for p in report.figure_files] == ["a_line.png", "a_line.svg"]
     assert pd.read_csv(tmp_path / "one_row.csv")["a [m]"].tolist() == [1.0]
@@ -118,3 +118,46 @@ def test_filling_an_unknown_placeholder_is_an_error():
         with report.filling(slot):
             report.paragraph("twice")
     assert "twice" not in report.render() and "once" in report.render()
+
+
+def test_text_dumps_and_long_tables_are_collapsed_and_a_gist_stands_beside_a_collapsed_title():
+    from idkit.report.html import MAX_INLINE_ROWS
+
+    report = HtmlReport("t")
+    report.section("Fit", "fit", collapsed=True)
+    report.summarize("order 2, error 1.2 %")
+    report.preformatted("[[Variables]]\n    k: 1", label="show the fit log")
+    report.table(pd.DataFrame({"a": range(MAX_INLINE_ROWS)}), caption="short")
+    report.table(pd.DataFrame({"b": range(MAX_INLINE_ROWS + 1)}), caption="per point")
+    with report.folded("show more"):
+        report.preformatted("inside a fold already")
+    page = report.render()
+    assert '<summary><h2>Fit</h2><span class="gist">order 2, error 1.2 %</span></summary>' in page
+    assert '<details class="fold"><summary>show the fit log</summary><pre>[[Variables]]' in page
+    assert f"<summary>show the table ({MAX_INLINE_ROWS + 1} rows): per point</summary>" in page
+    assert page.count('<details class="fold">') == 3  # the log, the long table, the fold (its log not again)
+    assert "<p><em>short</em></p><table" in page  # a short table stays open
+
+
+def test_a_thumbnail_shows_a_figure_drawn_later_and_links_to_it(tmp_path):
+    import pytest
+
+    report = HtmlReport("t", figures_dir=tmp_path)
+    report.section("Summary", "summary", front=True)
+    report.thumbnail("a line", "the line")
+    report.thumbnail("a dot", "the dot")
+    report.section("Details", "details", collapsed=True)
+    for name in ("a line", "a dot"):
+        ax = new_axes()
+        ax.plot([0, 1], [0, 1])
+        report.figure(ax.figure, caption=name, name=name)
+    page = report.render()
+    assert page.count('<div class="thumbs">') == 1  # consecutive thumbnails share a row
+    assert '<a href="#figure-a_line" title="open the figure"><img alt="the line"' in page
+    assert page.count("data:image/png;base64,") == 4
+    assert '<section id="summary" class="front">' in page
+    broken = HtmlReport("t")
+    broken.section("S", "s")
+    broken.thumbnail("never drawn", "x")
+    with pytest.raises(ValueError, match="never_drawn"):
+        broken.render()

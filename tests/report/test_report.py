@@ -24,6 +24,12 @@ STATUS = {}
 def quick_report(tmp_path_factory):
     out = tmp_path_factory.mktemp("reports") / "report"
     STATUS["report"] = main(["report", str(DATA), "-o", str(out), "--quick", "--quiet"])
+    verdicts = {}
+    for line in (out / "report.html").read_text(encoding="utf-8").split("<li>"):  # one sentence per validation
+        found = re.match(r'<span class="\w+">(PASS|INCONCLUSIVE|FAIL)</span> ([a-z ]+(?:sweeps|drops|FRF)) \(', line)
+        if found:
+            verdicts[found.group(2)] = found.group(1)
+    STATUS["verdicts"] = verdicts
     return out
 
 
@@ -133,9 +139,16 @@ def test_report_states_the_valid_range_of_the_identified_wire_rope(quick_report)
     html = unescape((quick_report / "report.html").read_text(encoding="utf-8"))
     iwan = json.loads((quick_report / "models" / "wire_rope_iwan.json").read_text())
     family = "slip-modulated Iwan" if "slip_modulation" in json.dumps(iwan) else "plain Iwan"
-    assert f"Valid range of the identified {family} model" in html
-    assert f"The identified {family} model is valid for deflections" in html
+    assert f"Valid range of the identified {family} model: valid for deflections" in html
     assert "1.25 times the data set's deflections" in html
+    # the first screen's model table names the family and the range
+    summary = html[html.index('id="summary"'):html.index('id="data"')]
+    assert f"<td>{family}, order " in summary
+    from idkit.models import load_model
+
+    lower, upper = load_model(quick_report / "models" / "wire_rope_iwan.json").valid_deflection_range()
+    for edge in (lower, upper):  # the valid range column holds the model's own edges
+        assert not np.isfinite(edge) or f"{1e3 * edge:.1f}" in summary
     assert "drop validations above use drop_model='auto', here the rig)" in html
 
 
@@ -190,6 +203,7 @@ class _Page(HTMLParser):
     def __init__(self):
         super().__init__()
         self.sections, self.figures, self.tables, self.details_sections = [], [], [], []
+        self.table_classes = []
         self._stack, self._text = [], None
 
     def handle_starttag(self, tag, attrs):
@@ -205,12 +219,13 @@ class _Page(HTMLParser):
             self._text = "caption"
         elif tag == "table":
             self.tables.append(0)
+            self.table_classes.append(attrs.get("class"))
         elif tag == "tr" and self.tables:
             self._row = 0
         elif tag in ("td", "th") and self.tables:
             self._row += int(attrs.get("colspan", 1))
             self.tables[-1] = max(self.tables[-1], self._row)
-        elif tag == "details":
+        elif tag == "details" and self._stack.count("details") == 1:
             self.details_sections.append(self.sections[-1])
 
     def handle_endtag(self, tag):
@@ -231,19 +246,24 @@ def _page(folder):
 
 
 @pytest.mark.slow
-def test_page_reads_conclusions_first_and_provenance_last_collapsed(quick_report):
+def test_page_answers_first_and_collapses_every_other_section(quick_report):
     page = _page(quick_report)
     assert page.sections[0] == "summary" and page.sections[-1] == "provenance"
-    assert page.details_sections == ["provenance"]  # the hashes are out of the way
+    assert page.details_sections == page.sections[1:]  # every section below the first screen is collapsed
     html = unescape((quick_report / "report.html").read_text(encoding="utf-8"))
     summary = html[html.index('id="summary"'):html.index('id="data"')]
-    for heading in ("Wire rope", "Elastomer", "Hybrid", "Transport study: which system protects the payload best"):
-        assert f"<h3>{heading}" in summary, heading
-    # the family rule's choice is named (the bundled rope: slip-modulated), values with stderr
-    assert re.search(r"Identified: (slip-modulated )?Iwan model of order \d", summary) and " +- " in summary
-    assert ("slip_modulation = " in summary) == ("Identified: slip-modulated" in summary)
-    assert "valid for deflections" in summary
-    assert summary.count("protects the payload best") >= 2  # levels and drop heights
+    # the verdict table: every validation and predicting fit, read off the results
+    verdicts = dict(re.findall(r"<tr><td>([^<]+)</td>(?:<td[^>]*>[^<]*</td>){3}<td[^>]*><span class=\"\w+\">(\w+)</span>",
+                               summary))
+    for key, verdict in STATUS["verdicts"].items():
+        assert verdicts[key] == verdict, key
+    assert any(name.startswith("wire rope fit (") for name in verdicts)
+    assert any(name.startswith("elastomer fit (") for name in verdicts)
+    # the model table: the family rule's choice, values with standard errors
+    assert re.search(r"(slip-modulated|plain) Iwan, order \d", summary) and " ± " in summary
+    assert summary.count('<div class="thumbs">') == 1 and summary.count('href="#figure-') == 4
+    assert "<pre>" not in summary and "<details" not in summary
+    assert summary.count("protects the payload best") == 0  # the ranking sentences live in the study's section
 
 
 @pytest.mark.slow
@@ -266,7 +286,9 @@ def test_every_figure_has_caption_alt_text_and_files(quick_report):
     assert len(pngs) == len(page.figures)
     assert pngs == {name[:-4] for name in figures if name.endswith(".svg")}
     html = (quick_report / "report.html").read_text(encoding="utf-8")
-    assert html.count("data:image/png;base64,") == len(page.figures)  # self-contained
+    thumbnails = html.count('<div class="thumbs">') and re.findall(r'<a href="#figure-([^"]+)"', html)
+    assert set(thumbnails) <= {figure[len("figure-"):] for figure in re.findall(r'<figure id="(figure-[^"]+)"', html)}
+    assert html.count("data:image/png;base64,") == len(page.figures) + len(thumbnails)  # self-contained
 
 
 @pytest.mark.slow
@@ -275,7 +297,7 @@ def test_no_table_is_wider_than_the_page_limit_and_every_table_has_a_csv(quick_r
     assert max(page.tables) <= MAX_TABLE_COLUMNS, page.tables
     html = (quick_report / "report.html").read_text(encoding="utf-8")
     listed = re.findall(r"CSV: tables/([^<]+)</p>", html)
-    assert len(listed) == len(page.tables)
+    assert len(listed) == sum(css != "front" for css in page.table_classes)  # the first-screen tables are texts
     assert all((quick_report / "tables" / name).stat().st_size > 0 for name in listed)
     assert "white-space: pre-wrap" in html  # warnings wrap instead of running off the page
 
@@ -300,7 +322,7 @@ def test_the_figures_a_reader_of_the_study_expects_are_there(quick_report):
         "wire_rope_hosidf_maps", "hybrid_hosidf_maps", "wire_rope_bode_sections", "hybrid_bode_sections",
         "wire_rope_equivalent_stiffness_and_loss_factor", "elastomer_measured_complex_stiffness",
         "wire_rope_drop_time_histories", "elastomer_drop_time_histories", "hybrid_drop_time_histories",
-        "wire_rope_measured_drop_srs", "wire_rope_iwan_residuals", "elastomer_frf_residuals",
+        "wire_rope_drop_srs", "wire_rope_iwan_residuals", "elastomer_frf_residuals",
         "wire_rope_iwan_parameter_spread", "elastomer_maxwell_parameter_spread",
     }
     assert expected <= stems, sorted(expected - stems)
@@ -324,3 +346,78 @@ def test_the_summary_states_the_outcome_and_the_exit_status(quick_report):
         "a validation failed (c; inconclusive: b).")
     html = unescape((quick_report / "report.html").read_text(encoding="utf-8"))
     assert f"idkit report exits with status {STATUS['report']}:" in html
+
+
+#: the first screen and the page limit of issue 30, CSS px (a 1280 x 1000 window)
+SCREEN_WIDTH, SCREEN_HEIGHT, MAX_SCREENS = 1280, 1000, 10
+
+
+@pytest.fixture(scope="module")
+def browser_page(quick_report):
+    """The quick report opened in headless Chromium at 1280 x 1000 (skipped where there is no browser)."""
+    import shutil
+
+    sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed (pip install "
+                                                                 "'idkit-isolators[test]')")
+    executable = next((found for name in ("chromium", "chromium-browser", "google-chrome")
+                       if (found := shutil.which(name))), None)
+    if executable is None:
+        pytest.skip("no Chromium on PATH (e.g. apt-get install chromium): the page cannot be rendered")
+    with sync_api.sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=executable)
+        try:
+            page = browser.new_page(viewport={"width": SCREEN_WIDTH, "height": SCREEN_HEIGHT})
+            page.goto((quick_report / "report.html").as_uri())
+            yield page
+        finally:
+            browser.close()
+
+
+def _bottom(page, selector: str) -> float:
+    return page.evaluate(f"Math.max(...Array.from(document.querySelectorAll('{selector}'))"
+                         ".map(e => e.getBoundingClientRect().bottom + window.scrollY))")
+
+
+@pytest.mark.slow
+def test_the_page_answers_on_its_first_screen_and_fits_ten_screens(browser_page):
+    """Rendered by a real browser: the verdict and model tables and the thumbnails lie within the
+    first 1000 px, before any prose; the whole page is at most ten screens tall."""
+    page = browser_page
+    height = page.evaluate("document.documentElement.scrollHeight")
+    assert height <= MAX_SCREENS * SCREEN_HEIGHT, height
+    assert _bottom(page, "#summary table.front") <= SCREEN_HEIGHT
+    assert _bottom(page, "#summary .thumbs img") <= SCREEN_HEIGHT
+    assert page.locator("#summary table.front").count() == 2
+    # a thumbnail leads to its figure: the collapsed section around it opens
+    link = page.locator("#summary .thumbs a").first
+    target = link.get_attribute("href")
+    assert not page.locator(target).is_visible()
+    link.click()
+    page.wait_for_function(f"document.querySelector('{target}').closest('details').open")
+    assert page.locator(target).is_visible()
+
+
+@pytest.mark.slow
+def test_no_text_dump_stands_outside_a_collapsed_block(quick_report, browser_page):
+    """Fit logs, inspections and long tables are in <details>: on the page as it opens, none is
+    visible, and the visible prose is a few sentences."""
+    from idkit.report.html import MAX_INLINE_ROWS
+
+    page = browser_page
+    page.goto((quick_report / "report.html").as_uri())  # as opened, whatever the test before clicked
+    assert page.locator("pre").count() >= 3
+    assert page.locator("pre:visible").count() == 0
+    visible = page.evaluate("document.body.innerText")
+    for dump in ("[[Variables]]", "[[Fit Statistics]]", "sha256", "warning(s):"):
+        assert dump not in visible, dump
+    rows = page.evaluate("Array.from(document.querySelectorAll('table')).filter(t => t.checkVisibility())"
+                         ".map(t => t.querySelectorAll('tbody tr').length)")
+    assert rows and max(rows) <= MAX_INLINE_ROWS, rows
+    prose = page.evaluate("Array.from(document.querySelectorAll('p')).filter(p => p.checkVisibility())"
+                          ".map(p => p.innerText).join(' ')")
+    assert len(re.findall(r"[.!?](?:\s|$)", prose)) <= 6, prose  # a few sentences
+    # the same in the file, for a reader without a browser: every <pre> sits inside a <details>
+    html = (quick_report / "report.html").read_text(encoding="utf-8")
+    outside = re.sub(r"<section[^>]*><details>.*?</details></section>", "", html, flags=re.S)
+    assert "[[Variables]]" in html and "<pre>" in html
+    assert "<pre>" not in outside and "[[Variables]]" not in outside
