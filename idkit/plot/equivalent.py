@@ -140,7 +140,7 @@ def plot_loop_residuals(prediction, *, axes=None, label: str = "model"):
     return small_ax, large_ax
 
 
-def plot_frf_residuals(model, frfs, *, ax=None, band=(1.0, 100.0), max_curves: int = 6):
+def plot_frf_residuals(model, frfs, *, ax=None, band=(1.0, 100.0), max_curves: int = 6, systematic=()):
     """Relative complex residual ``|H_model - H_meas| / |H_meas|`` of an FRF fit per top mass; returns the Axes.
 
     One curve per top mass (its first repetition; at most ``max_curves``, evenly picked),
@@ -154,6 +154,9 @@ def plot_frf_residuals(model, frfs, *, ax=None, band=(1.0, 100.0), max_curves: i
     ax : Axes, optional
     band : (float, float)
         Frequency band in Hz.
+    systematic : sequence of ResidualBand
+        Bands where the residual is systematic (:func:`idkit.studies.residuals.systematic_residual_bands`),
+        shaded and labelled.
     """
     from idkit.models.laws import sdof_transmissibility
 
@@ -172,6 +175,9 @@ def plot_frf_residuals(model, frfs, *, ax=None, band=(1.0, 100.0), max_curves: i
                                           2 * np.pi * freq[inside])
         ax.semilogx(freq[inside], np.abs(predicted - measured) / np.abs(measured), lw=0.8,
                     label=f"{masses[i]:.2f} kg")
+    for index, item in enumerate(systematic):
+        ax.axvspan(item.low_hz, item.high_hz, color="0.85", zorder=0,
+                   label="systematic residual" if index == 0 else None)
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("|H_model - H_meas| / |H_meas| [-]")
     ax.grid(True, which="both", alpha=0.3)

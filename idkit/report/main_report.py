@@ -506,11 +506,12 @@ def _elastomer_fit_section(report: HtmlReport, data: ReportData) -> str:
                   caption="Storage and loss stiffness and loss factor of the identified model over 0.1-1000 Hz: look "
                           "at how fast the stiffness rises with frequency.",
                   alt="complex stiffness and loss factor of the identified elastomer model")
-    report.figure(plot_frf_residuals(data.maxwell.model, list(data.maxwell.data)).figure,
+    report.figure(plot_frf_residuals(data.maxwell.model, list(data.maxwell.data), systematic=bands).figure,
                   name="elastomer frf residuals",
                   caption="Relative complex residual of the Maxwell fit per top mass (the quantity objective 7.5 "
                           "averages): look at where in frequency the error comes from, and whether it is the same "
-                          "for every top mass.",
+                          "for every top mass" + ("; shaded: where it is systematic (same sign on every top mass, "
+                                                  "beyond the noise)" if bands else "") + ".",
                   alt="relative FRF residual of the Maxwell fit versus frequency per top mass")
     measured = complex_stiffness_comparison(list(data.maxwell.data), data.maxwell.model)
     report.figure(plot_complex_stiffness_comparison(measured)[0].figure, name="elastomer measured complex stiffness",

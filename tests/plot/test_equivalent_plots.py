@@ -21,3 +21,20 @@ def test_drop_srs_draws_measured_model_and_impact_per_height():
     measured_only = DropShockSpectra(isolator="e", top_mass_kg=1.0, height_m=(0.01,), freq_hz=freq,
                                      acceleration=(freq,), damping_ratio=0.05)
     assert [line.get_linestyle() for line in plot_drop_shock_spectra(measured_only).get_lines()] == ["-"]
+
+
+def test_frf_residuals_shade_the_systematic_bands():
+    from idkit.models import GeneralizedMaxwell
+    from idkit.observe.white_noise import TransmissibilitySet
+    from idkit.plot.equivalent import plot_frf_residuals
+    from idkit.studies.residuals import ResidualBand
+
+    model = GeneralizedMaxwell(k0=1.4e4, k=[3.5e3], rate=[46.6])
+    freq = np.linspace(1.0, 100.0, 50)
+    frf = TransmissibilitySet(1.0, freq, np.full(freq.size, 1.1 + 0j))
+    ax = plot_frf_residuals(model, [frf], systematic=[ResidualBand(65.8, 100.0, -1, 0.24)])
+    spans = [patch for patch in ax.patches]
+    assert len(spans) == 1
+    assert spans[0].get_x() == 65.8 and spans[0].get_x() + spans[0].get_width() == 100.0
+    assert "systematic residual" in [text.get_text() for text in ax.get_legend().get_texts()]
+    assert not plot_frf_residuals(model, [frf]).patches
