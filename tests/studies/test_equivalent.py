@@ -140,3 +140,42 @@ def test_frf_residual_plot_is_zero_on_the_generating_law_and_sees_a_wrong_one():
     assert len(ax.lines) == 2 and max(np.max(line.get_ydata()) for line in ax.lines) < 1e-12
     wrong = plot_frf_residuals(law.scaled(2.0), frfs, ax=Figure().subplots())
     assert min(np.max(line.get_ydata()) for line in wrong.lines) > 0.5  # stiffness x2 moves the resonance
+
+
+def test_drop_shock_spectra_with_histories_add_the_model_and_the_impact():
+    """The model's spectrum is that of its simulated record; the impact's is that of a velocity step
+    dv = (1 + e) sqrt(2 g h), whose answer is known in closed form: the oscillator's relative motion
+    z = -(dv / w_d) exp(-zeta w t) sin(w_d t), its absolute acceleration -(w^2 z + 2 zeta w z')."""
+    from types import SimpleNamespace
+
+    from idkit.gravity import STANDARD_GRAVITY
+    from idkit.io import DropMeasurement
+    from idkit.io.info import MeasurementInfo
+    from idkit.studies.equivalent import drop_shock_spectra
+
+    fs, tau, peak = 20000.0, 0.02, 300.0
+    t = np.arange(0, 1.0, 1 / fs)
+    a = np.where((t > 0.1) & (t < 0.1 + tau), peak * np.sin(np.pi * (t - 0.1) / tau), 0.0)
+    drops = [DropMeasurement(time=t, deflection=np.zeros_like(t), a_top_1=a, a_top_2=a,
+                             info=MeasurementInfo(id=f"d{h}", isolator="pad", top_mass_kg=4.0, drop_height_m=h))
+             for h in (0.02, 0.08)]
+    histories = SimpleNamespace(contact=SimpleNamespace(restitution=0.3), drops=tuple(
+        SimpleNamespace(id=f"d{h}", simulated_time=t - 0.1, simulated_acceleration=2.0 * a) for h in (0.08,)))
+    result = drop_shock_spectra(drops, histories=histories)
+    assert result.height_m == (0.08,)  # the histories' drops only
+    np.testing.assert_allclose(result.model_acceleration[0], 2.0 * result.acceleration[0], rtol=1e-9)
+    dv = 1.3 * np.sqrt(2 * STANDARD_GRAVITY * 0.08)
+    zeta, phase = 0.05, np.linspace(0.0, 2 * np.pi, 200001)  # w t over the first period, where the peak lies
+    root = np.sqrt(1 - zeta**2)
+    z = -np.exp(-zeta * phase / root) * np.sin(phase)  # in units of dv / w_d, time in 1 / w_d
+    z_dot = -np.exp(-zeta * phase / root) * (np.cos(phase) - zeta / root * np.sin(phase))
+    step_answer = float(np.max(np.abs(z / root**2 + 2 * zeta / root * z_dot))) * root  # in units of w dv
+    ratio = result.input_acceleration[0] / (2 * np.pi * result.freq_hz * dv * step_answer)
+    slow = result.freq_hz < fs / 100  # the impulse (two steps wide) is a step to these oscillators
+    np.testing.assert_allclose(ratio[slow], 1.0, rtol=2e-3)
+    # faster ones: the filter sees the response at the samples only, a peak missed by at most
+    # (w_n T)^2 / 8 (idkit.signal.srs), and the impulse is a triangle two steps wide, whose spectrum
+    # at w_n is sinc^2(w_n T / 2) of the step's
+    half = np.pi * result.freq_hz / fs  # w_n T / 2
+    lowest = (1 - (2 * half) ** 2 / 8) * (np.sin(half) / half) ** 2
+    assert np.all((ratio >= lowest) & (ratio < 1 + 2e-3)), (ratio, lowest)
