@@ -281,7 +281,7 @@ def _thumbnails(data: ReportData) -> list[tuple[str, str]]:
     return thumbnails
 
 
-def _short(text: str, limit: int = 70) -> str | tuple[str, str]:
+def _short(text: str, limit: int = 110) -> str | tuple[str, str]:
     """``text``, or its first ``limit`` characters and the whole as a tooltip (a first-screen table cell)."""
     return text if len(text) <= limit else (text[:limit - 1].rstrip() + "…", text)
 
