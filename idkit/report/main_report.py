@@ -59,6 +59,7 @@ from idkit.studies.equivalent import complex_stiffness_comparison, drop_shock_sp
 from idkit.studies.residuals import NOISE_MULTIPLE, systematic_residual_bands
 from idkit.exit_status import REPORT_EXIT_STATUSES
 from idkit.studies.pipeline import QUICK_NOTE, ReportData, ValidationEntry, compute_report_data
+from idkit.validate import Verdict
 
 __all__ = ["EXIT_STATUSES", "PREDICTING_FITS", "QUICK_NOTE", "REPORT_SECTIONS", "ReportSummary", "run_report",
            "write_report"]
@@ -312,7 +313,7 @@ def verdict_rows(data: ReportData) -> list[dict]:
         if fit is data.maxwell and bands:
             notes.append(_bands_words(bands))
         rows.append({"check": name, "key metric": metric, "value": value, "limit": "",
-                     "verdict": "PASS" if fit.success else "FLAGGED",
+                     "verdict": Verdict.of_fit(fit.success),
                      "why / note": _short("; ".join(notes)) if notes else ""})
     return rows
 
@@ -573,13 +574,16 @@ def _transport_section(report: HtmlReport, data: ReportData, summary_slot: str) 
 
 def transport_gist(study) -> str:
     """The transport study in one sentence: the best system at the floor levels and at a 5 cm drop."""
-    best = {str(column): study.rms[column].astype(float).idxmin() for column in study.rms.columns
-            if study.rms[column].notna().any()}
-    names = set(best.values())
-    if len(names) == 1:
-        levels = f"{names.pop()} at every floor level"
+    best: dict[str, list[str]] = {}  # system -> the floor levels ("<level> [unit]") where it is lowest
+    for column in study.rms.columns:
+        if study.rms[column].notna().any():
+            best.setdefault(study.rms[column].astype(float).idxmin(), []).append(str(column))
+    if len(best) == 1:
+        levels = f"{next(iter(best))} at every floor level"
     else:
-        levels = ", ".join(f"{name} at {level}" for level, name in best.items())
+        unit = next(iter(best.values()))[0].partition(" ")[2]
+        levels = ", ".join(f"{name} at {', '.join(level.partition(' ')[0] for level in found)}"
+                           for name, found in best.items()) + f" {unit}"
     shock = study.rest_shock_at(0.05).astype(float).dropna()
     text = f"Transport study ({len(study.rms)} systems tuned to 5 Hz): lowest RMS top acceleration: {levels}"
     if not shock.empty:

@@ -42,3 +42,21 @@ def test_the_outcome_names_as_failed_only_the_validations_that_failed():
     verdicts.update({"elastomer FRF": "INCONCLUSIVE", "wire rope drops": "INCONCLUSIVE"})
     assert outcome_sentence(verdicts, ("wire rope (Iwan)",)).endswith(
         "exits with status 3: no validation failed, but one is inconclusive (wire rope drops, elastomer FRF).")
+
+
+def test_the_transport_gist_groups_the_floor_levels_by_their_best_system():
+    import numpy as np
+    import pandas as pd
+
+    from idkit.report.main_report import transport_gist
+    from idkit.studies.transport import TransportStudy
+
+    unit = "[(m/s^2)^2/Hz]"
+    rms = pd.DataFrame({f"1e-08 {unit}": [1.0, 2.0], f"1e-06 {unit}": [1.0, 2.0], f"0.001 {unit}": [3.0, 2.0]},
+                       index=["reference", "wire rope"])
+    study = TransportStudy(tuning=pd.DataFrame(), rms=rms, psd=(), seed=0, n_realizations=1, flagged_runs=0,
+                           shock_velocity=pd.DataFrame(),
+                           shock_height=pd.DataFrame({"reference": [1.0], "wire rope": [np.nan]}, index=[0.05]))
+    assert transport_gist(study) == (
+        "Transport study (2 systems tuned to 5 Hz): lowest RMS top acceleration: reference at 1e-08, 1e-06, "
+        f"wire rope at 0.001 {unit}; lowest rest shock after a 5 cm drop: reference.")
