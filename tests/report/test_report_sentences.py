@@ -60,3 +60,35 @@ def test_the_transport_gist_groups_the_floor_levels_by_their_best_system():
     assert transport_gist(study) == (
         "Transport study (2 systems tuned to 5 Hz): lowest RMS top acceleration: reference at 1e-08, 1e-06, "
         f"wire rope at 0.001 {unit}; lowest rest shock after a 5 cm drop: reference.")
+
+
+def test_data_warnings_are_listed_once_per_distinct_message_with_their_records():
+    from idkit.report.main_report import warning_rows
+
+    def warning(record, message):
+        return SimpleNamespace(kind="non_flat_input", measurement_id=record, message=message)
+
+    same = "first-harmonic base amplitude varies 1.58:1 over frequency"
+    data = SimpleNamespace(inspections={
+        "wire_rope": SimpleNamespace(warnings=(warning("a", same), warning("b", same))),
+        "hybrid": SimpleNamespace(warnings=(warning("c", same), warning("c", "varies 1.55:1")))})
+    assert warning_rows(data) == [
+        {"kind": "non_flat_input", "message": same, "records": "3: a; b; c"},
+        {"kind": "non_flat_input", "message": "varies 1.55:1", "records": "1: c"}]
+
+
+def test_the_key_metric_is_the_one_nearest_or_furthest_beyond_its_limit():
+    from idkit.report.conclusions import key_metric
+
+    def result(summary, thresholds, verdict):
+        return SimpleNamespace(summary=summary, thresholds=thresholds, verdict=verdict)
+
+    # a count with limit 0 above 0 outranks any ratio; at 0 it ranks as a metric at 0 % of its limit
+    assert key_metric(result({"a": 2.9, "records_beyond_limit": 1.0}, {"a": 3.0, "records_beyond_limit": 0.0},
+                             "FAIL"))[0] == "records_beyond_limit"
+    assert key_metric(result({"a": 2.9, "records_beyond_limit": 0.0}, {"a": 3.0, "records_beyond_limit": 0.0},
+                             "PASS"))[0] == "a"
+    # a metric that could not be computed is what an INCONCLUSIVE verdict hangs on
+    name, value, limit = key_metric(result({"a": 2.9, "b": math.nan}, {"a": 3.0, "b": 1.0}, "INCONCLUSIVE"))
+    assert name == "b" and math.isnan(value) and limit == 1.0
+    assert key_metric(result({}, {}, "PASS"))[0] == ""
