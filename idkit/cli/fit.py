@@ -34,16 +34,20 @@ def _check_outputs(kind: str, output: str, plots: str | None, dataset: str, *mor
 
 def _load(dataset: str, args=None):
     """A measurement-set folder, or one data file (its enclosing manifest's metadata when it lists
-    it, otherwise its kind from the header); resolves the ``--isolator``/``--split`` defaults."""
+    it, otherwise its kind from the header); resolves the ``--isolator``/``--split`` defaults
+    (a set's only isolator with records of the kind the fit reads, its fit split)."""
     from idkit.io import load_measurement_set
     from idkit.io.discover import load_measurements
+    from idkit.io.selection import ONLY_ISOLATOR, resolve_isolator
 
     path = Path(dataset)
     if path.is_dir():
+        measurement_set = load_measurement_set(path)
         if args is not None:
-            args.isolator = args.default_isolator if args.isolator is None else args.isolator
+            args.isolator = resolve_isolator(measurement_set, ONLY_ISOLATOR if args.isolator is None else args.isolator,
+                                             kind=args.isolator_kind)
             args.split = "fit" if args.split is None else args.split
-        return load_measurement_set(path)
+        return measurement_set
     if not path.exists():
         raise IdkitError(f"DATASET {dataset}: no such file or folder; expected a measurement set (folder with "
                          "manifest.json) or a data file")
@@ -235,9 +239,10 @@ def _common(parser, *, loops: bool) -> None:
     parser.add_argument("--split", choices=["fit", "validation", "all"], default=None,
                         help="which measurements to fit (default: the fit split of a set; every record of a file)")
     parser.add_argument("--isolator", default=None,
-                        help="isolator name in the manifest (default for a set: "
-                             f"{'wire_rope' if loops else 'elastomer'}; for a file: any)")
-    parser.set_defaults(default_isolator="wire_rope" if loops else "elastomer")
+                        help="isolator name in the manifest (default for a set: its only isolator with "
+                             f"{'loop records' if loops else 'white-noise runs'}, an error listing them when "
+                             "there are several; for a file: any)")
+    parser.set_defaults(isolator_kind="quasi_static" if loops else "white_noise")
     if loops:
         parser.add_argument("--small-threshold", type=opt.real(above=0, unit="m"), default=8e-3,
                             help="amplitude in m separating small- from large-loop records (default 8e-3)")

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from idkit.errors import DataError, FitError
+from idkit.errors import DataError, FitError, Message, Suggestion
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
 from idkit.observe._common import _require
@@ -1011,9 +1011,10 @@ def remove_loop_offsets(measurement: QuasiStaticMeasurement, *, drift: bool = Tr
         deflection = deflection - np.interp(measurement.time, knots_t, knots_c)
     offset = stats.median_force_offset if force_offset else 0.0
     if not np.isfinite(offset):
-        raise DataError(f"{measurement.id}: no cycle has both its loading and unloading branch crossing its "
-                        f"centre ({stats.force_offset.size} cycles), so the force offset cannot be measured; "
-                        "expected at least one full loop (or keep the offset: force_offset=False)")
+        raise DataError(Message(f"{measurement.id}: no cycle has both its loading and unloading branch crossing "
+                                f"its centre ({stats.force_offset.size} cycles), so the force offset cannot be "
+                                "measured; expected at least one full loop (or keep the offset: ",
+                                Suggestion("force_offset", False), ")"))
     force = force - offset
     correction = OffsetCorrection(measurement_id=measurement.id, center_knots_time=knots_t, center_knots=knots_c,
                                   force_offset=float(offset))
