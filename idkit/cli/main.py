@@ -14,6 +14,7 @@ import numpy as np
 
 from idkit import __version__
 from idkit.cli import options as opt
+from idkit.cli.hints import cli_message
 from idkit.errors import IdkitError, SimulationError
 
 
@@ -68,13 +69,26 @@ def _failed_points(frame, what: str, valid=None) -> int:
     return 1
 
 
-def _check_table_output(args):
-    """Refuse a bad ``-o`` of ``simulate`` before simulating (exists, overlaps the model, unwritable)."""
+def _check_table_output(args, plot_paths=None):
+    """Refuse a bad ``-o`` or ``--plots`` of ``simulate`` before simulating (exists, overlaps the
+    model, unwritable; a figure that exists, since figures are never replaced)."""
     from idkit.output_checks import check_output
 
-    if args.output is None:
+    if args.output is not None:
+        check_output(args.output, inputs=[args.model])
+    if args.plots is None:
         return
-    check_output(args.output, inputs=[args.model])
+    if args.output is not None and Path(args.plots).resolve() == Path(args.output).resolve():
+        raise IdkitError(f"--plots '{args.plots}': is the table -o '{args.output}'; expected a folder apart from it")
+    check_output(args.plots, kind="folder", inputs=[args.model], option="--plots")
+    existing = [str(path) for path in plot_paths(args.plots) if path.exists()]
+    if existing:
+        raise FileExistsError(f"refusing to overwrite existing plot(s): {', '.join(existing)}")
+
+
+def _save_plots(save, result, folder) -> None:
+    for path in save(result, folder):
+        print(f"wrote {path}", file=sys.stderr)
 
 
 def _cmd_library(args):
@@ -104,13 +118,17 @@ def _cmd_simulate_harmonic(args):
 
     axes = (opt.parse_axis("--freq", args.freq, args.freq_spacing, what="frequencies", unit="Hz"),
             opt.parse_axis("--amplitude", args.amplitude, args.amplitude_spacing, what="amplitudes", unit="m"))
+    from idkit.plot.simulations import harmonic_plot_paths, save_harmonic_plots
+
     opt.check_grid_size(axes, args.max_points)
-    _check_table_output(args)
+    _check_table_output(args, harmonic_plot_paths)
     system = _model_or_system(args.model, args.mass)
     freq, amplitude = (axis.build() for axis in axes)
     table = harmonic_grid_table(system, freq, amplitude, n_harmonics=args.harmonics, tolerance=args.tolerance,
                                 progress=ProgressBar("harmonic", enabled=not args.quiet))
     _write_table(table, args.output)
+    if args.plots is not None:
+        _save_plots(save_harmonic_plots, table, args.plots)
     return _failed_points(table, "points")
 
 
@@ -118,9 +136,11 @@ def _cmd_simulate_drop(args):
     """Conditioned free falls through :func:`idkit.responses.shock.shock_sweep` (the one drop reduction)."""
     from idkit.responses.shock import default_shock_grid, shock_sweep
 
+    from idkit.plot.simulations import drop_plot_paths, save_drop_plots
+
     if (args.velocity is None) == (args.height is None):
         raise IdkitError("give exactly one of --velocity and --height")
-    _check_table_output(args)
+    _check_table_output(args, drop_plot_paths)
     system = _model_or_system(args.model, args.mass)
     duration, time_step = args.duration, args.time_step
     if duration is None or time_step is None:  # the defaults follow the system's resonance
@@ -140,6 +160,8 @@ def _cmd_simulate_drop(args):
                             gravity=args.gravity)
     table = sweep.to_dataframe()
     _write_table(table, args.output)
+    if args.plots is not None:
+        _save_plots(save_drop_plots, sweep, args.plots)
     return _failed_points(table, "drops", valid=table["flag"] == 0)
 
 
@@ -176,6 +198,10 @@ def register(commands) -> None:
                           help=f"refuse grids of more points (default {opt.DEFAULT_MAX_POINTS}, "
                                f"at most {opt.MAX_GRID_POINTS:.0e})")
     harmonic.add_argument("-o", "--output", help="CSV or JSON file (default: print a table)")
+    harmonic.add_argument("--plots", metavar="DIR",
+                          help="folder for figures (PNG, never overwritten): harmonic_map.png, |H1| and the other "
+                               "HOSIDF orders over frequency and amplitude with the resonance line (2 frequencies "
+                               "and 2 amplitudes at least), and harmonic_sections.png, |H1| against frequency")
     harmonic.add_argument("--quiet", action="store_true")
     harmonic.set_defaults(handler=_cmd_simulate_harmonic)
 
@@ -202,6 +228,9 @@ def register(commands) -> None:
                            f"at most {opt.MAX_DROP_SAMPLES:.0e})")
     drop.add_argument("--gravity", action="store_true", help="include gravity")
     drop.add_argument("-o", "--output", help="CSV or JSON file (default: print a table)")
+    drop.add_argument("--plots", metavar="DIR",
+                      help="folder for figures (PNG, never overwritten): drop_histories.png (top-mass acceleration "
+                           "against time) and drop_peaks.png (peaks against drop height)")
     drop.set_defaults(handler=_cmd_simulate_drop)
 
 
@@ -247,7 +276,7 @@ def main(argv=None) -> int:
         with _sigterm_as_exception():
             status = args.handler(args)
     except (IdkitError, FileExistsError, FileNotFoundError) as problem:
-        print(f"idkit: error: {problem}", file=sys.stderr)
+        print(f"idkit: error: {cli_message(problem)}", file=sys.stderr)
         return 2
     except OSError as problem:  # last resort: a write or read that no check foresaw
         where = f"{problem.filename}: " if problem.filename else ""
