@@ -247,6 +247,20 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: Output options of the commands, as ``args`` attribute and option name.
+_OUTPUT_OPTIONS = (("output", "-o"), ("plots", "--plots"))
+
+
+def _outputs_of(args, problem: OSError) -> str:
+    """For an error that names no file (a write that hit a full disk or a file-size limit deep in
+    a library): the outputs this command was asked to write, so that the message names them."""
+    if problem.filename:
+        return ""
+    given = [f"{option} '{getattr(args, name)}'" for name, option in _OUTPUT_OPTIONS
+             if isinstance(getattr(args, name, None), (str, Path))]
+    return f" (while running; this command writes {', '.join(given)})" if given else ""
+
+
 class Terminated(BaseException):
     """Raised in the main thread when the process receives ``SIGTERM``, so that every
     ``finally`` and context manager runs (staging folders removed, old outputs restored)."""
@@ -280,7 +294,7 @@ def main(argv=None) -> int:
         return 2
     except OSError as problem:  # last resort: a write or read that no check foresaw
         where = f"{problem.filename}: " if problem.filename else ""
-        print(f"idkit: error: {where}{problem.strerror or problem}", file=sys.stderr)
+        print(f"idkit: error: {where}{problem.strerror or problem}{_outputs_of(args, problem)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("idkit: interrupted; partial outputs removed, previous outputs kept", file=sys.stderr)
