@@ -67,10 +67,10 @@ def test_hostile_dma_tables_are_refused_by_name(tmp_path):
                        must_not_exist=[tmp_path / "m.json"])
     check(outcome, "error", ["one.csv", "one isotherm", "at least two temperatures"], case="dma-one-isotherm")
     units = tmp_path / "units.csv"
-    units.write_text("frequency [Hz],storage [psi],loss [psi]\n1,2,0.1\n2,3,0.2\n")
+    units.write_text("frequency [Hz],storage [atm],loss [atm]\n1,2,0.1\n2,3,0.2\n")
     outcome = run_main(["fit", "maxwell", units, "-o", tmp_path / "m.json"], inputs=[units],
                        must_not_exist=[tmp_path / "m.json"])
-    check(outcome, "error", ["units.csv", "psi"], case="dma-unknown-unit")
+    check(outcome, "error", ["units.csv", "atm"], case="dma-unknown-unit")
     nofreq = tmp_path / "nofreq.csv"
     nofreq.write_text("time [s],storage [MPa],loss [MPa]\n1,2,0.1\n")
     outcome = run_main(["fit", "maxwell", nofreq, "-o", tmp_path / "m.json"], inputs=[nofreq],
@@ -107,3 +107,20 @@ def test_fit_iwan_on_one_loop_file(tmp_path):
     missing = run_main(["fit", "iwan", tmp_path / "nothing.csv", "-o", tmp_path / "x.json"],
                        must_not_exist=[tmp_path / "x.json"])
     check(missing, "error", ["nothing.csv", "no such file"], case="fit-missing-file")
+
+
+def test_report_of_a_table_takes_the_order_as_fit_does(dma_file, tmp_path):
+    out = tmp_path / "report"
+    outcome = run_main(["report", dma_file, "--order", "4", "-o", out, "--quiet"], inputs=[dma_file])
+    assert outcome.status in (0, 1), outcome.stderr
+    assert load_model(out / "model.json").order == 4
+    refused = tmp_path / "refused"
+    for order, words in (("41", ["--order", "found '41'", "1 to 40", "Prony terms of a table"]),
+                         ("two", ["--order", "found 'two'"])):
+        outcome = run_main(["report", dma_file, "--order", order, "-o", refused], inputs=[dma_file],
+                           must_not_exist=[refused])
+        check(outcome, "error", words, case=f"report-order-{order}")
+    folder = tmp_path / "folder"
+    folder.mkdir()
+    outcome = run_main(["report", folder, "--order", "2", "-o", refused], must_not_exist=[refused])
+    check(outcome, "error", ["--order", "applies to the report of one data file"], case="report-order-folder")
