@@ -122,6 +122,20 @@ def _cmd_boucwen(args) -> int:
     return _finish(fit, args)
 
 
+def _check_table_plots(plots: str, output: str, inputs) -> None:
+    """``--plots`` of a table fit refused before fitting: the model file itself, an input, an
+    unwritable folder, or figures that exist (never overwritten)."""
+    from idkit.output_checks import check_output
+    from idkit.plot.dma import dma_fit_plot_paths
+
+    if Path(plots).resolve() == Path(output).resolve():
+        raise IdkitError(f"--plots '{plots}': is the model file -o '{output}'; expected a folder apart from it")
+    check_output(plots, kind="folder", inputs=list(inputs), option="--plots")
+    existing = [str(path) for path in dma_fit_plot_paths(plots) if path.exists()]
+    if existing:
+        raise FileExistsError(f"refusing to overwrite existing plot(s): {', '.join(existing)}")
+
+
 def _read_table(path: str):
     """A complex stiffness / DMA table file in idkit's format or pyvisco's two-line header layout."""
     from idkit.io.discover import complex_table_format
@@ -163,10 +177,10 @@ def _cmd_maxwell_table(args) -> int:
     if given:  # each would be accepted and ignored: a table has one material, its whole band is fitted
         raise IdkitError(f"{', '.join(given)}: apply to measurement sets; a DMA table is fitted over its whole master "
                          "curve with --order auto|N (auto prints the order table)")
-    _check_outputs("maxwell", args.output, None, args.dataset,
-                   *(() if args.shift_factors is None else (args.shift_factors,)))
+    inputs = (args.dataset, *(() if args.shift_factors is None else (args.shift_factors,)))
+    _check_outputs("maxwell", args.output, None, *inputs)
     if args.plots is not None:
-        raise IdkitError("--plots: not available for a DMA table yet; expected no --plots with a table file")
+        _check_table_plots(args.plots, args.output, inputs)
     if args.use_given_shift_factors and args.shift_factors is None:
         raise IdkitError("--use-given-shift-factors: found no --shift-factors FILE, expected one")
     table = _read_table(args.dataset)
@@ -178,6 +192,11 @@ def _cmd_maxwell_table(args) -> int:
     print(fit.report())
     fit.save(args.output)
     print(f"wrote {args.output} ({fit.model.quantity} model, {fit.model.unit})", file=sys.stderr)
+    if args.plots is not None:
+        from idkit.plot.dma import save_dma_fit_plots
+
+        for path in save_dma_fit_plots(fit, args.plots):
+            print(f"wrote {path}", file=sys.stderr)
     if fit.success:
         return 0
     print("idkit: the fit is not a success (the model file says so): " + "; ".join(fit.reasons), file=sys.stderr)

@@ -41,9 +41,15 @@ def test_fit_maxwell_on_a_dma_table_refuses_the_set_options(dma_file, tmp_path, 
 
 def test_fit_maxwell_on_a_dma_table_writes_a_modulus_model(dma_file, tmp_path):
     out = tmp_path / "material.json"
-    outcome = run_main(["fit", "maxwell", dma_file, "-o", out, "--order", "6", "--reference-temperature", "16.85"],
-                       inputs=[dma_file])
+    plots = tmp_path / "plots"
+    outcome = run_main(["fit", "maxwell", dma_file, "-o", out, "--order", "6", "--reference-temperature", "16.85",
+                        "--plots", plots], inputs=[dma_file])
     assert outcome.status in (0, 1), outcome.stderr
+    assert sorted(p.name for p in plots.iterdir()) == ["maxwell_master_curve.png", "maxwell_shift_factors.png"]
+    again = tmp_path / "again.json"  # figures are never overwritten: refused before fitting
+    refused = run_main(["fit", "maxwell", dma_file, "-o", again, "--plots", plots], inputs=[dma_file, plots],
+                       must_not_exist=[again])
+    check(refused, "error", ["refusing to overwrite existing plot(s)", "maxwell_master_curve.png"])
     assert "isotherms" in outcome.stdout and "wlf: C1 = " in outcome.stdout
     document = json.loads(out.read_text())
     assert document["model"]["units"]["k0"] == "Pa"
@@ -54,9 +60,14 @@ def test_fit_maxwell_on_a_dma_table_writes_a_modulus_model(dma_file, tmp_path):
     assert (outcome.status == 0) == document["provenance"]["success"]
 
 
-def test_inspect_a_dma_table_prints_isotherms_and_shift_factors(dma_file):
-    outcome = run_main(["inspect", dma_file], inputs=[dma_file])
-    check(outcome, "ok")
+def test_inspect_a_dma_table_prints_isotherms_and_shift_factors(dma_file, tmp_path):
+    plots = tmp_path / "plots"
+    outcome = run_main(["inspect", dma_file, "--plots", plots], inputs=[dma_file])
+    check(outcome, "ok", ["table_isotherms.png"])
+    assert (plots / "table_isotherms.png").read_bytes()[:4] == b"\x89PNG"
+    check(run_main(["inspect", dma_file, "--plots", plots], inputs=[dma_file, plots]), "error",
+          ["refusing to overwrite", "--force"])
+    check(run_main(["inspect", dma_file, "--plots", plots, "--force"], inputs=[dma_file]), "ok")
     assert "7 isotherms" in outcome.stdout and "modulus in Pa" in outcome.stdout
     assert "log_aT stderr" in outcome.stdout
 
