@@ -29,18 +29,24 @@ class Suggestion:
         The keyword argument of idkit's Python API, e.g. ``"k0_method"``.
     value : object
         The suggested value, e.g. ``"secant"`` (None where the API takes None).
+    placeholder : bool
+        ``value`` is a text standing for values the caller chooses (``"(x_min, x_max)"``),
+        written as it is rather than as a Python literal.
 
     Examples
     --------
     >>> str(Suggestion("k0_method", "secant"))
     "k0_method='secant'"
+    >>> str(Suggestion("valid_range", "(x_min, x_max)", placeholder=True))
+    'valid_range=(x_min, x_max)'
     """
 
     keyword: str
     value: object = None
+    placeholder: bool = False
 
     def __str__(self) -> str:
-        return f"{self.keyword}={self.value!r}"
+        return f"{self.keyword}={self.value if self.placeholder else repr(self.value)}"
 
 
 class Message(str):

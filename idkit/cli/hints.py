@@ -15,21 +15,14 @@ from idkit.errors import Message, Suggestion
 __all__ = ["OPTION_SPELLINGS", "spell_option", "cli_message"]
 
 
-def _value(value) -> str:
-    return " ".join(str(v) for v in value) if isinstance(value, (tuple, list)) else str(value)
-
-
 #: keyword of the Python API -> its spelling as an ``idkit`` option, given the suggested value.
 OPTION_SPELLINGS = {
     "k0_method": lambda value: f"--k0-method {value}",
     "isolator": lambda value: "every isolator (no --isolator)" if value is None else f"--isolator {value}",
     "split": lambda value: f"--split {'all' if value is None else value}",
-    "valid_range": lambda value: "--no-valid-range" if value is None else f"--valid-range {_value(value)}",
-    "remove_offsets": lambda value: "--remove-offsets" if value else "no --remove-offsets",
+    "valid_range": lambda value: "--no-valid-range" if value is None else "--valid-range X_MIN X_MAX",
     "force_offset": lambda value: "no --remove-offsets" if not value else "--remove-offsets",
     "offset": lambda value: f"--offset {value}",
-    "order": lambda value: f"--order {value}",
-    "small_threshold": lambda value: f"--small-threshold {value:g}",
 }
 
 

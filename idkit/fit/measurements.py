@@ -564,7 +564,7 @@ def data_valid_range(measurements, *, isolator: str | None = None,
     if extent is None:
         raise DataError(Message(f"valid range: found no record of isolator {isolator!r} with a finite deflection, "
                                 "expected at least one (pass ", Suggestion("valid_range", None), " or ",
-                                Suggestion("valid_range", ("X_MIN", "X_MAX")), ")"))
+                                Suggestion("valid_range", "(x_min, x_max)", placeholder=True), ")"))
     low = margin * min(0.0, extent[0])
     high = margin * max(0.0, extent[1])
     if low == 0.0:
