@@ -8,6 +8,7 @@ import json
 import signal
 import sys
 import threading
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -283,11 +284,17 @@ def _sigterm_as_exception():
         signal.signal(signal.SIGTERM, previous)
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as the command's own line (``idkit: warning: ...``), without the library's source line."""
+    print(f"idkit: warning: {message}", file=sys.stderr if file is None else file)
+
+
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        with _sigterm_as_exception():
+        with _sigterm_as_exception(), warnings.catch_warnings():
+            warnings.showwarning = _show_warning  # the filters stay the caller's (errors under pytest)
             status = args.handler(args)
     except (IdkitError, FileExistsError, FileNotFoundError) as problem:
         print(f"idkit: error: {cli_message(problem)}", file=sys.stderr)

@@ -192,9 +192,22 @@ def lookup_unit(unit: str | None, quantities: tuple[str, ...] | str, *, where: s
         if scale is not None:
             return scale
     raise DataError(
-        f"{where}: unknown unit {unit!r} for quantity {' or '.join(quantities)}; "
+        f"{where}: unknown unit {unit!r} for quantity {' or '.join(quantities)}{_closest_unit(unit, accepted)}; "
         f"accepted: {', '.join(accepted)}"
     )
+
+
+def _closest_unit(unit: str, accepted) -> str:
+    """`` (did you mean 'kN'?)`` for a unit that differs from an accepted one by case (units are
+    case-sensitive) or by a slip of spelling; ``""`` when none is close. A milli- and a mega-
+    unit differ by case only (``mN``, ``MN``: nine decades apart): never suggested for each other."""
+    import difflib
+
+    unit = unit.strip()
+    same_letters = [symbol for symbol in accepted if symbol.lower() == unit.lower()
+                    and {symbol[0], unit[0]} != {"m", "M"}]
+    close = same_letters or difflib.get_close_matches(unit, accepted, n=1, cutoff=0.75)
+    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 def convert_to_si(values: np.ndarray, scale: UnitScale) -> np.ndarray:

@@ -72,3 +72,19 @@ def test_a_numba_cache_that_cannot_be_written_is_skipped_not_fatal(tmp_path):
     with pytest.warns(RuntimeWarning, match="numba cache not written \\(File too large"):
         _numba_cache.locked_save(cache, ("signature",), b"machine code")
     assert not cache.index_saved  # an index never names data that were not written
+
+
+def test_a_warning_reads_as_an_idkit_line(monkeypatch, capsys):
+    import warnings
+
+    from idkit.cli import main as cli_main
+
+    def warns(args):
+        warnings.warn("numba cache not written (File too large, in /cache)", RuntimeWarning, stacklevel=2)
+        return 0
+
+    monkeypatch.setattr(cli_main, "_cmd_library", warns)
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")  # shown, not raised as the test suite's filter does
+        assert cli_main.main(["library"]) == 0
+    assert capsys.readouterr().err == "idkit: warning: numba cache not written (File too large, in /cache)\n"

@@ -105,3 +105,18 @@ def test_units_are_case_sensitive():
 def test_unknown_quantity_lists_known_ones():
     with pytest.raises(KeyError, match="known"):
         accepted_units("luminosity")
+
+
+@pytest.mark.parametrize(("unit", "quantity", "hint"), [
+    ("KN", "force", " (did you mean 'kN'?)"),
+    ("hz", "frequency", " (did you mean 'Hz'?)"),
+    ("mm/sec", "velocity", " (did you mean 'mm/s'?)"),
+    ("lb", "force", " (did you mean 'lbf'?)"),
+    ("mN", "force", ""),     # a millinewton is not a meganewton: no case-only hint across m/M
+    ("mpa", "modulus", ""),
+    ("tonf", "force", ""),
+])
+def test_unknown_unit_names_the_close_accepted_one_never_taking_it(unit, quantity, hint):
+    with pytest.raises(DataError) as info:
+        lookup_unit(unit, quantity, where="file 'a.csv', column 'x'")
+    assert f"unknown unit {unit!r} for quantity {quantity}{hint}; accepted" in str(info.value)
