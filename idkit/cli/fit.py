@@ -17,19 +17,23 @@ from idkit.errors import IdkitError
 
 
 def _check_outputs(kind: str, output: str, plots: str | None, dataset: str, *more_inputs: str) -> None:
-    """Every output refused before fitting: existing, overlapping the data set, unwritable."""
-    from idkit.output_checks import check_output
+    """Every output refused before fitting: existing, overlapping the data set, unwritable, a
+    figure of ``kind`` (``iwan``, ``boucwen``, ``maxwell``, ``maxwell_table``) that exists."""
+    from idkit.output_checks import check_output, check_plot_folder
 
     check_output(output, inputs=[dataset, *more_inputs])
-    if plots is not None:
-        if Path(plots).resolve() == Path(output).resolve():  # found only after the fit, the model written
-            raise IdkitError(f"--plots '{plots}': is the model file -o '{output}'; expected a folder apart from it")
-        check_output(plots, kind="folder", inputs=[dataset], option="--plots")
+    if plots is None:
+        return
+    if kind == "maxwell_table":
+        from idkit.plot.dma import dma_fit_plot_paths
+
+        figures = dma_fit_plot_paths(plots)
+    else:
         from idkit.plot.fits import fit_plot_paths
 
-        existing = [str(path) for path in fit_plot_paths(kind, plots) if path.exists()]
-        if existing:
-            raise FileExistsError(f"refusing to overwrite existing plot(s): {', '.join(existing)}")
+        figures = fit_plot_paths(kind, plots)
+    # found only after the fit otherwise, the model file written
+    check_plot_folder(plots, figures, inputs=[dataset, *more_inputs], beside=("the model file -o", output))
 
 
 def _load(dataset: str, args=None):
@@ -122,20 +126,6 @@ def _cmd_boucwen(args) -> int:
     return _finish(fit, args)
 
 
-def _check_table_plots(plots: str, output: str, inputs) -> None:
-    """``--plots`` of a table fit refused before fitting: the model file itself, an input, an
-    unwritable folder, or figures that exist (never overwritten)."""
-    from idkit.output_checks import check_output
-    from idkit.plot.dma import dma_fit_plot_paths
-
-    if Path(plots).resolve() == Path(output).resolve():
-        raise IdkitError(f"--plots '{plots}': is the model file -o '{output}'; expected a folder apart from it")
-    check_output(plots, kind="folder", inputs=list(inputs), option="--plots")
-    existing = [str(path) for path in dma_fit_plot_paths(plots) if path.exists()]
-    if existing:
-        raise FileExistsError(f"refusing to overwrite existing plot(s): {', '.join(existing)}")
-
-
 def _read_table(path: str):
     """A complex stiffness / DMA table file in idkit's format or pyvisco's two-line header layout."""
     from idkit.io.discover import complex_table_format
@@ -177,10 +167,8 @@ def _cmd_maxwell_table(args) -> int:
     if given:  # each would be accepted and ignored: a table has one material, its whole band is fitted
         raise IdkitError(f"{', '.join(given)}: apply to measurement sets; a DMA table is fitted over its whole master "
                          "curve with --order auto|N (auto prints the order table)")
-    inputs = (args.dataset, *(() if args.shift_factors is None else (args.shift_factors,)))
-    _check_outputs("maxwell", args.output, None, *inputs)
-    if args.plots is not None:
-        _check_table_plots(args.plots, args.output, inputs)
+    _check_outputs("maxwell_table", args.output, args.plots, args.dataset,
+                   *(() if args.shift_factors is None else (args.shift_factors,)))
     if args.use_given_shift_factors and args.shift_factors is None:
         raise IdkitError("--use-given-shift-factors: found no --shift-factors FILE, expected one")
     table = _read_table(args.dataset)

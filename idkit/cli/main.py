@@ -73,18 +73,12 @@ def _failed_points(frame, what: str, valid=None) -> int:
 def _check_table_output(args, plot_paths=None):
     """Refuse a bad ``-o`` or ``--plots`` of ``simulate`` before simulating (exists, overlaps the
     model, unwritable; a figure that exists, since figures are never replaced)."""
-    from idkit.output_checks import check_output
+    from idkit.output_checks import check_output, check_plot_folder
 
     if args.output is not None:
         check_output(args.output, inputs=[args.model])
-    if args.plots is None:
-        return
-    if args.output is not None and Path(args.plots).resolve() == Path(args.output).resolve():
-        raise IdkitError(f"--plots '{args.plots}': is the table -o '{args.output}'; expected a folder apart from it")
-    check_output(args.plots, kind="folder", inputs=[args.model], option="--plots")
-    existing = [str(path) for path in plot_paths(args.plots) if path.exists()]
-    if existing:
-        raise FileExistsError(f"refusing to overwrite existing plot(s): {', '.join(existing)}")
+    if args.plots is not None:
+        check_plot_folder(args.plots, plot_paths(args.plots), inputs=[args.model], beside=("the table -o", args.output))
 
 
 def _save_plots(save, result, folder) -> None:
@@ -115,12 +109,11 @@ def _cmd_library(args):
 
 def _cmd_simulate_harmonic(args):
     from idkit.cli.progress import ProgressBar
+    from idkit.plot.simulations import harmonic_plot_paths, save_harmonic_plots
     from idkit.studies.harmonic_grid import harmonic_grid_table
 
     axes = (opt.parse_axis("--freq", args.freq, args.freq_spacing, what="frequencies", unit="Hz"),
             opt.parse_axis("--amplitude", args.amplitude, args.amplitude_spacing, what="amplitudes", unit="m"))
-    from idkit.plot.simulations import harmonic_plot_paths, save_harmonic_plots
-
     opt.check_grid_size(axes, args.max_points)
     _check_table_output(args, harmonic_plot_paths)
     system = _model_or_system(args.model, args.mass)
@@ -135,9 +128,8 @@ def _cmd_simulate_harmonic(args):
 
 def _cmd_simulate_drop(args):
     """Conditioned free falls through :func:`idkit.responses.shock.shock_sweep` (the one drop reduction)."""
-    from idkit.responses.shock import default_shock_grid, shock_sweep
-
     from idkit.plot.simulations import drop_plot_paths, save_drop_plots
+    from idkit.responses.shock import default_shock_grid, shock_sweep
 
     if (args.velocity is None) == (args.height is None):
         raise IdkitError("give exactly one of --velocity and --height")
