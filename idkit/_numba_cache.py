@@ -12,7 +12,10 @@ a fresh clone's test run on 2026-11-26). numba's own issue #4807 tracks such rac
 
 Installed on import, :func:`install` makes the save of every cached function take an exclusive
 ``flock`` on a file beside its index, read the index inside the lock, and write the data before
-the index, so that an index entry always names data written for that entry. Loading is
+the index, so that an index entry always names data written for that entry. A save that
+fails (a full disk, a file-size limit) warns and leaves the cache as it was: the compiled code
+is kept in memory, and the command goes on to fail, if at all, on its own outputs, whose
+errors name them. Loading is
 unchanged (numba replaces both files atomically). Where ``fcntl`` is missing (Windows) or a
 numba version lacks the methods used, numba's own save is left in place and :data:`INSTALLED`
 says so.
@@ -21,6 +24,8 @@ says so.
 from __future__ import annotations
 
 import itertools
+import warnings
+from pathlib import Path
 
 from numba.core import caching
 
@@ -51,8 +56,13 @@ def locked_save(self, key, data) -> None:
             name = next(candidate for candidate in map(self._data_name, itertools.count(1))
                         if candidate not in taken)
             overloads[key] = name
-        self._save_data(name, data)  # first: an index entry never names data not yet written
-        self._save_index(overloads)
+        try:
+            self._save_data(name, data)  # first: an index entry never names data not yet written
+            self._save_index(overloads)
+        except OSError as problem:  # a full disk or a file-size limit: the cache is not an output
+            warnings.warn(f"numba cache not written ({problem.strerror or problem}, in "
+                          f"{Path(self._index_path).parent}); the compiled code is used from memory and "
+                          "compiled again by the next run", RuntimeWarning, stacklevel=2)
 
 
 def install() -> bool:

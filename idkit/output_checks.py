@@ -28,7 +28,7 @@ from pathlib import Path
 from idkit.atomic import recover_leftovers
 from idkit.errors import OutputError
 
-__all__ = ["MIN_FREE_BYTES", "check_output"]
+__all__ = ["MIN_FREE_BYTES", "check_output", "check_plot_folder"]
 
 #: Free space required on the output's disk before long work starts (bytes). The largest
 #: output, ``idkit report``, takes a few MB; a model file or a table far less.
@@ -135,3 +135,29 @@ def _probe(folder: Path, where: str) -> None:
                           f"({problem.strerror or problem})") from None
     os.close(descriptor)
     os.unlink(name)
+
+
+def check_plot_folder(plots: str | Path, figures, *, inputs=(),
+                      beside: tuple[str, str | Path | None] = ("the output -o", None)) -> Path:
+    """Refuse, before long work, a ``--plots`` folder whose figures could not all be written.
+
+    The folder is checked as a ``"folder"`` output (:func:`check_output`); it must not be the
+    command's other output ``beside`` (what it is and its path: ``("the model file -o",
+    path)``); and none of ``figures`` (the paths the command would write there) may exist,
+    since figures are never overwritten.
+
+    Raises
+    ------
+    FileExistsError
+        A figure exists (every existing one is named).
+    idkit.errors.OutputError
+        As :func:`check_output`, or the folder is the other output.
+    """
+    what, other = beside
+    if other is not None and Path(plots).resolve() == Path(other).resolve():
+        raise OutputError(f"--plots '{plots}': is {what} '{other}'; expected a folder apart from it")
+    check_output(plots, kind="folder", inputs=inputs, option="--plots")
+    existing = [str(path) for path in figures if Path(path).exists()]
+    if existing:
+        raise FileExistsError(f"refusing to overwrite existing plot(s): {', '.join(existing)}")
+    return Path(plots)

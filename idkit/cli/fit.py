@@ -17,33 +17,41 @@ from idkit.errors import IdkitError
 
 
 def _check_outputs(kind: str, output: str, plots: str | None, dataset: str, *more_inputs: str) -> None:
-    """Every output refused before fitting: existing, overlapping the data set, unwritable."""
-    from idkit.output_checks import check_output
+    """Every output refused before fitting: existing, overlapping the data set, unwritable, a
+    figure of ``kind`` (``iwan``, ``boucwen``, ``maxwell``, ``maxwell_table``) that exists."""
+    from idkit.output_checks import check_output, check_plot_folder
 
     check_output(output, inputs=[dataset, *more_inputs])
-    if plots is not None:
-        if Path(plots).resolve() == Path(output).resolve():  # found only after the fit, the model written
-            raise IdkitError(f"--plots '{plots}': is the model file -o '{output}'; expected a folder apart from it")
-        check_output(plots, kind="folder", inputs=[dataset], option="--plots")
+    if plots is None:
+        return
+    if kind == "maxwell_table":
+        from idkit.plot.dma import dma_fit_plot_paths
+
+        figures = dma_fit_plot_paths(plots)
+    else:
         from idkit.plot.fits import fit_plot_paths
 
-        existing = [str(path) for path in fit_plot_paths(kind, plots) if path.exists()]
-        if existing:
-            raise FileExistsError(f"refusing to overwrite existing plot(s): {', '.join(existing)}")
+        figures = fit_plot_paths(kind, plots)
+    # found only after the fit otherwise, the model file written
+    check_plot_folder(plots, figures, inputs=[dataset, *more_inputs], beside=("the model file -o", output))
 
 
 def _load(dataset: str, args=None):
     """A measurement-set folder, or one data file (its enclosing manifest's metadata when it lists
-    it, otherwise its kind from the header); resolves the ``--isolator``/``--split`` defaults."""
+    it, otherwise its kind from the header); resolves the ``--isolator``/``--split`` defaults
+    (a set's only isolator with records of the kind the fit reads, its fit split)."""
     from idkit.io import load_measurement_set
     from idkit.io.discover import load_measurements
+    from idkit.io.selection import ONLY_ISOLATOR, resolve_isolator
 
     path = Path(dataset)
     if path.is_dir():
+        measurement_set = load_measurement_set(path)
         if args is not None:
-            args.isolator = args.default_isolator if args.isolator is None else args.isolator
+            args.isolator = resolve_isolator(measurement_set, ONLY_ISOLATOR if args.isolator is None else args.isolator,
+                                             kind=args.isolator_kind)
             args.split = "fit" if args.split is None else args.split
-        return load_measurement_set(path)
+        return measurement_set
     if not path.exists():
         raise IdkitError(f"DATASET {dataset}: no such file or folder; expected a measurement set (folder with "
                          "manifest.json) or a data file")
@@ -159,10 +167,8 @@ def _cmd_maxwell_table(args) -> int:
     if given:  # each would be accepted and ignored: a table has one material, its whole band is fitted
         raise IdkitError(f"{', '.join(given)}: apply to measurement sets; a DMA table is fitted over its whole master "
                          "curve with --order auto|N (auto prints the order table)")
-    _check_outputs("maxwell", args.output, None, args.dataset,
+    _check_outputs("maxwell_table", args.output, args.plots, args.dataset,
                    *(() if args.shift_factors is None else (args.shift_factors,)))
-    if args.plots is not None:
-        raise IdkitError("--plots: not available for a DMA table yet; expected no --plots with a table file")
     if args.use_given_shift_factors and args.shift_factors is None:
         raise IdkitError("--use-given-shift-factors: found no --shift-factors FILE, expected one")
     table = _read_table(args.dataset)
@@ -174,6 +180,11 @@ def _cmd_maxwell_table(args) -> int:
     print(fit.report())
     fit.save(args.output)
     print(f"wrote {args.output} ({fit.model.quantity} model, {fit.model.unit})", file=sys.stderr)
+    if args.plots is not None:
+        from idkit.plot.dma import save_dma_fit_plots
+
+        for path in save_dma_fit_plots(fit, args.plots):
+            print(f"wrote {path}", file=sys.stderr)
     if fit.success:
         return 0
     print("idkit: the fit is not a success (the model file says so): " + "; ".join(fit.reasons), file=sys.stderr)
@@ -235,9 +246,10 @@ def _common(parser, *, loops: bool) -> None:
     parser.add_argument("--split", choices=["fit", "validation", "all"], default=None,
                         help="which measurements to fit (default: the fit split of a set; every record of a file)")
     parser.add_argument("--isolator", default=None,
-                        help="isolator name in the manifest (default for a set: "
-                             f"{'wire_rope' if loops else 'elastomer'}; for a file: any)")
-    parser.set_defaults(default_isolator="wire_rope" if loops else "elastomer")
+                        help="isolator name in the manifest (default for a set: its only isolator with "
+                             f"{'loop records' if loops else 'white-noise runs'}, an error listing them when "
+                             "there are several; for a file: any)")
+    parser.set_defaults(isolator_kind="quasi_static" if loops else "white_noise")
     if loops:
         parser.add_argument("--small-threshold", type=opt.real(above=0, unit="m"), default=8e-3,
                             help="amplitude in m separating small- from large-loop records (default 8e-3)")

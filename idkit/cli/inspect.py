@@ -22,11 +22,17 @@ def _cmd_inspect(args) -> None:
             from idkit.studies.inspection import inspect_complex_table
 
             if args.plots:
-                from idkit.errors import IdkitError
+                from idkit.output_checks import check_output
 
-                raise IdkitError("--plots: not available for a DMA table yet; expected no --plots with a table file")
+                check_output(args.plots, kind="folder", inputs=[args.path], option="--plots")
+            table = _read_table(args.path)
             print(Path(args.path).name)
-            print(inspect_complex_table(_read_table(args.path)).report())
+            print(inspect_complex_table(table).report())
+            if args.plots:
+                from idkit.plot.dma import save_dma_table_plots
+
+                for path in save_dma_table_plots(table, args.plots, overwrite=args.force):
+                    print(f"wrote {path}", file=sys.stderr)
             return
 
     if args.plots:

@@ -8,12 +8,14 @@ import json
 import signal
 import sys
 import threading
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 from idkit import __version__
 from idkit.cli import options as opt
+from idkit.cli.hints import cli_message
 from idkit.errors import IdkitError, SimulationError
 
 
@@ -68,13 +70,20 @@ def _failed_points(frame, what: str, valid=None) -> int:
     return 1
 
 
-def _check_table_output(args):
-    """Refuse a bad ``-o`` of ``simulate`` before simulating (exists, overlaps the model, unwritable)."""
-    from idkit.output_checks import check_output
+def _check_table_output(args, plot_paths=None):
+    """Refuse a bad ``-o`` or ``--plots`` of ``simulate`` before simulating (exists, overlaps the
+    model, unwritable; a figure that exists, since figures are never replaced)."""
+    from idkit.output_checks import check_output, check_plot_folder
 
-    if args.output is None:
-        return
-    check_output(args.output, inputs=[args.model])
+    if args.output is not None:
+        check_output(args.output, inputs=[args.model])
+    if args.plots is not None:
+        check_plot_folder(args.plots, plot_paths(args.plots), inputs=[args.model], beside=("the table -o", args.output))
+
+
+def _save_plots(save, result, folder) -> None:
+    for path in save(result, folder):
+        print(f"wrote {path}", file=sys.stderr)
 
 
 def _cmd_library(args):
@@ -100,27 +109,31 @@ def _cmd_library(args):
 
 def _cmd_simulate_harmonic(args):
     from idkit.cli.progress import ProgressBar
+    from idkit.plot.simulations import harmonic_plot_paths, save_harmonic_plots
     from idkit.studies.harmonic_grid import harmonic_grid_table
 
     axes = (opt.parse_axis("--freq", args.freq, args.freq_spacing, what="frequencies", unit="Hz"),
             opt.parse_axis("--amplitude", args.amplitude, args.amplitude_spacing, what="amplitudes", unit="m"))
     opt.check_grid_size(axes, args.max_points)
-    _check_table_output(args)
+    _check_table_output(args, harmonic_plot_paths)
     system = _model_or_system(args.model, args.mass)
     freq, amplitude = (axis.build() for axis in axes)
     table = harmonic_grid_table(system, freq, amplitude, n_harmonics=args.harmonics, tolerance=args.tolerance,
                                 progress=ProgressBar("harmonic", enabled=not args.quiet))
     _write_table(table, args.output)
+    if args.plots is not None:
+        _save_plots(save_harmonic_plots, table, args.plots)
     return _failed_points(table, "points")
 
 
 def _cmd_simulate_drop(args):
     """Conditioned free falls through :func:`idkit.responses.shock.shock_sweep` (the one drop reduction)."""
+    from idkit.plot.simulations import drop_plot_paths, save_drop_plots
     from idkit.responses.shock import default_shock_grid, shock_sweep
 
     if (args.velocity is None) == (args.height is None):
         raise IdkitError("give exactly one of --velocity and --height")
-    _check_table_output(args)
+    _check_table_output(args, drop_plot_paths)
     system = _model_or_system(args.model, args.mass)
     duration, time_step = args.duration, args.time_step
     if duration is None or time_step is None:  # the defaults follow the system's resonance
@@ -140,6 +153,8 @@ def _cmd_simulate_drop(args):
                             gravity=args.gravity)
     table = sweep.to_dataframe()
     _write_table(table, args.output)
+    if args.plots is not None:
+        _save_plots(save_drop_plots, sweep, args.plots)
     return _failed_points(table, "drops", valid=table["flag"] == 0)
 
 
@@ -176,6 +191,10 @@ def register(commands) -> None:
                           help=f"refuse grids of more points (default {opt.DEFAULT_MAX_POINTS}, "
                                f"at most {opt.MAX_GRID_POINTS:.0e})")
     harmonic.add_argument("-o", "--output", help="CSV or JSON file (default: print a table)")
+    harmonic.add_argument("--plots", metavar="DIR",
+                          help="folder for figures (PNG, never overwritten): harmonic_map.png, |H1| and the other "
+                               "HOSIDF orders over frequency and amplitude with the resonance line (2 frequencies "
+                               "and 2 amplitudes at least), and harmonic_sections.png, |H1| against frequency")
     harmonic.add_argument("--quiet", action="store_true")
     harmonic.set_defaults(handler=_cmd_simulate_harmonic)
 
@@ -202,6 +221,9 @@ def register(commands) -> None:
                            f"at most {opt.MAX_DROP_SAMPLES:.0e})")
     drop.add_argument("--gravity", action="store_true", help="include gravity")
     drop.add_argument("-o", "--output", help="CSV or JSON file (default: print a table)")
+    drop.add_argument("--plots", metavar="DIR",
+                      help="folder for figures (PNG, never overwritten): drop_histories.png (top-mass acceleration "
+                           "against time) and drop_peaks.png (peaks against drop height)")
     drop.set_defaults(handler=_cmd_simulate_drop)
 
 
@@ -216,6 +238,20 @@ def build_parser() -> argparse.ArgumentParser:
                             study.register, catalogue.register, design.register):
         register_family(commands)
     return parser
+
+
+#: Output options of the commands, as ``args`` attribute and option name.
+_OUTPUT_OPTIONS = (("output", "-o"), ("plots", "--plots"))
+
+
+def _outputs_of(args, problem: OSError) -> str:
+    """For an error that names no file (a write that hit a full disk or a file-size limit deep in
+    a library): the outputs this command was asked to write, so that the message names them."""
+    if problem.filename:
+        return ""
+    given = [f"{option} '{getattr(args, name)}'" for name, option in _OUTPUT_OPTIONS
+             if isinstance(getattr(args, name, None), (str, Path))]
+    return f" (while running; this command writes {', '.join(given)})" if given else ""
 
 
 class Terminated(BaseException):
@@ -240,18 +276,24 @@ def _sigterm_as_exception():
         signal.signal(signal.SIGTERM, previous)
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as the command's own line (``idkit: warning: ...``), without the library's source line."""
+    print(f"idkit: warning: {message}", file=sys.stderr if file is None else file)
+
+
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        with _sigterm_as_exception():
+        with _sigterm_as_exception(), warnings.catch_warnings():
+            warnings.showwarning = _show_warning  # the filters stay the caller's (errors under pytest)
             status = args.handler(args)
     except (IdkitError, FileExistsError, FileNotFoundError) as problem:
-        print(f"idkit: error: {problem}", file=sys.stderr)
+        print(f"idkit: error: {cli_message(problem)}", file=sys.stderr)
         return 2
     except OSError as problem:  # last resort: a write or read that no check foresaw
         where = f"{problem.filename}: " if problem.filename else ""
-        print(f"idkit: error: {where}{problem.strerror or problem}", file=sys.stderr)
+        print(f"idkit: error: {where}{problem.strerror or problem}{_outputs_of(args, problem)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("idkit: interrupted; partial outputs removed, previous outputs kept", file=sys.stderr)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from idkit.cli import options as opt
+from idkit.errors import IdkitError
 
 __all__ = ["register"]
 
@@ -12,7 +13,6 @@ __all__ = ["register"]
 def _cmd_file_report(args) -> int:
     """``idkit report FILE``: the report of one data file."""
     from idkit.cli.progress import say
-    from idkit.errors import IdkitError
     from idkit.io.discover import is_complex_table as _maybe_table
     from idkit.output_checks import check_output
     from idkit.report.file_report import write_file_report
@@ -22,14 +22,23 @@ def _cmd_file_report(args) -> int:
         if given:
             raise IdkitError(f"{option}: applies to the report of a data folder; found a single file "
                              f"({args.data_dir})")
+    is_table = _maybe_table(args.data_dir)
+    order = "auto" if args.order is None else _file_order(args.order, table=is_table)
+    if args.order is not None and not is_table:
+        from idkit.io.discover import load_measurements
+
+        kind = load_measurements(args.data_dir)[1][0].kind
+        if kind != "quasi_static":  # inspected only: an order would be accepted and ignored
+            raise IdkitError(f"--order: applies to a file the report fits (a DMA table or a loop record); found a "
+                             f"{kind} record ({args.data_dir}), which is inspected only")
     check_output(args.output, kind="replaced", force=args.force, inputs=[args.data_dir])
     table = None
-    if _maybe_table(args.data_dir):
+    if is_table:
         from idkit.cli.fit import _read_table
 
         table = _read_table(args.data_dir)
     summary = write_file_report(args.data_dir, args.output, table=table, force=args.force, seed=args.seed,
-                                progress=lambda message: say(message, enabled=not args.quiet))
+                                order=order, progress=lambda message: say(message, enabled=not args.quiet))
     verdict = "PASS" if summary.success else "FLAGGED"
     print(f"{verdict:12s}  {summary.kind} fit" if summary.kind in ("complex_stiffness", "quasi_static")
           else f"{'-':12s}  {summary.kind}: inspection only")
@@ -37,6 +46,20 @@ def _cmd_file_report(args) -> int:
         print(f"  not a success: {reason}")
     print(f"report written to {summary.html}", file=sys.stderr)
     return summary.exit_status
+
+
+def _file_order(text: str, *, table: bool):
+    """``--order`` of a file's report, checked as ``idkit fit maxwell`` (a table) or ``idkit fit iwan``
+    (a loop record) checks it: ``auto`` or a whole number within that fit's limit."""
+    import argparse
+
+    from idkit.cli.fit import _iwan_order, _maxwell_order
+
+    what = "Prony terms of a table" if table else "Jenkin elements of a loop record"
+    try:
+        return (_maxwell_order if table else _iwan_order)(text)
+    except argparse.ArgumentTypeError as problem:
+        raise opt.OptionError(f"--order: {problem} (the {what})") from None
 
 
 def _cmd_report(args) -> int:
@@ -49,6 +72,9 @@ def _cmd_report(args) -> int:
 
     if args.data_dir is not None and Path(args.data_dir).is_file():
         return _cmd_file_report(args)
+    if args.order is not None:  # the folder's report fits every family by its own order rule
+        raise IdkitError(f"--order: applies to the report of one data file (a DMA table or a loop record); "
+                         f"found a data folder ({args.data_dir or default_data_dir()})")
 
     check_output(args.output, kind="replaced", force=args.force, inputs=[args.data_dir or default_data_dir()])
     summary = run_report(args.data_dir, args.output, force=args.force, quick=args.quick, seed=args.seed,
@@ -98,6 +124,10 @@ def register(commands) -> None:
                         help="drop model of the drop validations: the drop rig (bottom mass on the floor, from the "
                              "statically loaded rest state), the conditioned free fall of the study, or auto (the rig "
                              "when the drops give bottom mass and height; default)")
+    parser.add_argument("--order", default=None, metavar="N|auto",
+                        help="report of one file: order of its fit, as idkit fit's --order (a DMA table: Prony "
+                             f"terms, 1 to {opt.MAX_DMA_ORDER}; a loop record: Jenkin elements, 1 to {opt.MAX_ORDER}); "
+                             "default auto, the order rule")
     parser.add_argument("--pdf", action="store_true",
                         help="also write report.pdf (text, figures with captions; tables stay CSV files)")
     parser.add_argument("--quiet", action="store_true", help="no progress lines")

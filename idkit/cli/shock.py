@@ -16,9 +16,9 @@ def _read(path, layout):
         from idkit.datasets import read_afrl_accel
 
         return read_afrl_accel(path)
-    from idkit.io import read_shock_csv
+    from idkit.io.shock_csv import read_shock_file
 
-    return read_shock_csv(path)
+    return read_shock_file(path)
 
 
 def _cmd_shock(args) -> None:
@@ -35,6 +35,11 @@ def _cmd_shock(args) -> None:
         raise IdkitError("give both --freq-min and --freq-max (Hz), or neither for the default band")
     if args.freq_min is not None and not args.freq_min < args.freq_max:
         raise IdkitError(f"--freq-min {args.freq_min:g} Hz / --freq-max {args.freq_max:g} Hz: expected min < max")
+    if args.offset is None:  # drop records start at impact and are zeroed at rest: no pre-trigger window
+        from idkit.io.shock_csv import is_drop_record_file
+
+        drops = args.layout == "csv" and all(is_drop_record_file(path) for path in inputs)
+        args.offset = "none" if drops else "pre-trigger"
     records = [_read(path, args.layout) for path in args.files]
     # --points applies to the default band too (it was ignored there: always 60)
     freq = (None if args.freq_min is None else
@@ -57,10 +62,12 @@ def register(subparsers) -> None:
         description="Read shock records (one channel per file, one column per test), remove each test's "
                     "pre-trigger offset, print peak, duration and velocity change, and with -o write the "
                     "three ISO 18431-4 shock response spectra (tables and figures).")
-    shock.add_argument("files", nargs="+", help="shock record files (response channels)")
+    shock.add_argument("files", nargs="+", help="shock record files (response channels), or idkit drop records "
+                                                "(their top-mass accelerometers a_top_1, a_top_2)")
     shock.add_argument("--input", help="the input (fixture) channel: response/input SRS ratios")
     shock.add_argument("--layout", choices=LAYOUTS, default="csv",
-                       help="csv: 'time [s], <test> [unit], ...' (docs/data-format.md); afrl: the AFRL drop-tower "
+                       help="csv: 'time [s], <test> [unit], ...', or an idkit drop record (told by its header: "
+                            "deflection, a_top_1, a_top_2; docs/data-format.md); afrl: the AFRL drop-tower "
                             "files of ../shared/realdata (default csv)")
     shock.add_argument("--freq-min", type=opt.real(above=0, unit="Hz"), help="lowest natural frequency, Hz")
     shock.add_argument("--freq-max", type=opt.real(above=0, unit="Hz"), help="highest natural frequency, Hz")
@@ -68,8 +75,9 @@ def register(subparsers) -> None:
                             "to sample rate / 10)")
     shock.add_argument("--damping", type=opt.real(at_least=0, below=1, unit="-"), default=0.05,
                        help="damping ratio of the SRS oscillators (default 0.05)")
-    shock.add_argument("--offset", choices=("pre-trigger", "none"), default="pre-trigger",
-                       help="offset removal (default: median of the pre-trigger window)")
+    shock.add_argument("--offset", choices=("pre-trigger", "none"), default=None,
+                       help="offset removal (default: the median of the pre-trigger window; none when every file "
+                            "is an idkit drop record, which starts at impact with its accelerometers zeroed at rest)")
     shock.add_argument("--lowpass", type=opt.real(above=0, unit="Hz"),
                        help="zero-phase Butterworth low-pass cut-off, Hz (default: none)")
     shock.add_argument("-o", "--output", help="folder for tables and figures")

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from idkit.errors import DataError, FitError
+from idkit.errors import DataError, FitError, Message, Suggestion
 from idkit.fit.boucwen import fit_boucwen
 from idkit.fit.compare import iwan_order_fits, iwan_order_row
 from idkit.fit.damping import ViscousDamping, fit_viscous_damping
@@ -39,7 +39,7 @@ from idkit.fit.static_stiffness import K0_METHODS, k0_with_relaxation
 from idkit.fit.maxwell import fit_maxwell
 from idkit.fit.model_form import FLOOR_MARGIN, MODEL_FORM_PREFIX
 from idkit.io import QuasiStaticMeasurement
-from idkit.io.selection import DataProvenance, select_measurements
+from idkit.io.selection import ONLY_ISOLATOR, DataProvenance, resolve_isolator, select_measurements
 from idkit.models import save_model
 from idkit.models.laws import lowest_spring_stiffness, sdof_transmissibility
 from idkit.models.maxwell import preloaded
@@ -332,7 +332,7 @@ def fit_iwan_measurements(
     *,
     order: int | str = "auto",
     small_threshold: float = SMALL_THRESHOLD,
-    isolator: str | None = "wire_rope",
+    isolator=ONLY_ISOLATOR,
     split: str | None = "fit",
     points_per_set: int | None = LOOP_POINTS_PER_SET,
     backend: str = "nlopt",
@@ -363,7 +363,10 @@ def fit_iwan_measurements(
         Number of Jenkin elements, or ``"auto"`` for the order rule (docs/fitting.md).
     small_threshold : float, default :data:`~idkit.observe.quasi_static.SMALL_THRESHOLD` (8e-3 m)
         Amplitude (m) at or below which a record is a small-loop set.
-    isolator : str or None, default "wire_rope"
+    isolator : str or None, default: the only isolator with loop records
+        The isolator whose records are fitted (None: every record). By default the only one
+        with quasi-static records (:func:`idkit.io.selection.resolve_isolator`); with several,
+        a :class:`~idkit.errors.DataError` lists them.
     split : {"fit", "validation", "all", None}, default "fit"
     points_per_set : int or None, default :data:`~idkit.observe.quasi_static.LOOP_POINTS_PER_SET`
         Resampled points per record (:func:`~idkit.observe.quasi_static.prepare_loops`).
@@ -415,6 +418,7 @@ def fit_iwan_measurements(
     valid_range = options.pop("valid_range", "data")
     if isinstance(valid_range, str) and valid_range != "data":
         raise FitError(f"valid_range: found {valid_range!r}, expected 'data', None or (x_min, x_max) in m")
+    isolator = resolve_isolator(measurements, isolator, kind="quasi_static")
     # the loops first: a selection that matches no record is named with what the set holds
     # (the valid range's own error only said no record of the isolator had a deflection)
     data = loop_sets(measurements, small_threshold=small_threshold, isolator=isolator, split=split,
@@ -558,8 +562,9 @@ def data_valid_range(measurements, *, isolator: str | None = None,
     """
     extent = _deflection_extent(measurements, isolator)
     if extent is None:
-        raise DataError(f"valid range: found no record of isolator {isolator!r} with a finite deflection, "
-                        "expected at least one (pass valid_range=None or (x_min, x_max))")
+        raise DataError(Message(f"valid range: found no record of isolator {isolator!r} with a finite deflection, "
+                                "expected at least one (pass ", Suggestion("valid_range", None), " or ",
+                                Suggestion("valid_range", "(x_min, x_max)", placeholder=True), ")"))
     low = margin * min(0.0, extent[0])
     high = margin * max(0.0, extent[1])
     if low == 0.0:
@@ -808,7 +813,7 @@ def fit_boucwen_measurements(
     measurements,
     *,
     small_threshold: float = SMALL_THRESHOLD,
-    isolator: str | None = "wire_rope",
+    isolator=ONLY_ISOLATOR,
     split: str | None = "fit",
     points_per_set: int | None = LOOP_POINTS_PER_SET,
     backend: str = "nlopt",
@@ -838,6 +843,7 @@ def fit_boucwen_measurements(
     DataError
         No quasi-static record matches the selection.
     """
+    isolator = resolve_isolator(measurements, isolator, kind="quasi_static")
     data = loop_sets(measurements, small_threshold=small_threshold, isolator=isolator, split=split,
                      points_per_set=points_per_set, remove_offsets=remove_offsets)
     result = fit_boucwen(list(data.small), list(data.large), backend=backend, seed=seed, **options)
@@ -910,7 +916,7 @@ def elastomer_data(
     *,
     k0: float | None = None,
     k0_window: float = 1e-3,
-    isolator: str | None = "elastomer",
+    isolator=ONLY_ISOLATOR,
     split: str | None = "fit",
     band=(1.0, 100.0),
     resolution_hz: float = FRF_RESOLUTION_HZ,
@@ -932,7 +938,8 @@ def elastomer_data(
         have not relaxed at the zero crossings (:func:`idkit.fit.static_stiffness.k0_with_relaxation`);
         ``"secant"``: the slope of the loops around zero
         (:func:`~idkit.observe.quasi_static.k0_from_records`), biased high by such elements.
-    isolator : str or None, default "elastomer"
+    isolator : str or None, default: the only isolator with white-noise records
+        As :func:`fit_iwan_measurements`, among the isolators with white-noise runs.
     split : {"fit", "validation", "all", None}, default "fit"
     band : (float, float), default (1, 100)
         Band of the H1 estimates, Hz.
@@ -950,6 +957,7 @@ def elastomer_data(
     FitError
         A run without a top mass, an unusable FRF, a k0 estimate that fails.
     """
+    isolator = resolve_isolator(measurements, isolator, kind="white_noise")
     frfs, provenance = transmissibility_sets(measurements, isolator=isolator, split=split, band=band,
                                              resolution_hz=resolution_hz)
     records, _ = select_measurements(measurements, kind="white_noise", isolator=isolator, split=split)
@@ -1032,7 +1040,7 @@ def fit_maxwell_measurements(
     order: int | str = "auto",
     k0: float | None = None,
     k0_window: float = 1e-3,
-    isolator: str | None = "elastomer",
+    isolator=ONLY_ISOLATOR,
     split: str | None = "fit",
     band=(1.0, 100.0),
     resolution_hz: float = FRF_RESOLUTION_HZ,
@@ -1060,7 +1068,7 @@ def fit_maxwell_measurements(
     k0_window : float, default 1e-3
     k0_method : {"relaxation", "secant"}, default "relaxation"
         How k0 is read off the loops (:func:`elastomer_data`).
-    isolator, split : as :func:`elastomer_data` (default ``"elastomer"``, ``"fit"``)
+    isolator, split : as :func:`elastomer_data` (default the only isolator with white-noise runs, ``"fit"``)
     band : (float, float), default (1, 100) Hz
     resolution_hz : float, default 0.5
         Frequency step of the H1 estimates, Hz.
@@ -1073,6 +1081,7 @@ def fit_maxwell_measurements(
         ``kind="maxwell"``; ``data`` is the :class:`ElastomerData`, ``k0`` its
         :class:`~idkit.observe.quasi_static.K0FromLoops` (None when ``k0`` was given).
     """
+    isolator = resolve_isolator(measurements, isolator, kind="white_noise")
     data = elastomer_data(measurements, k0=k0, k0_window=k0_window, isolator=isolator, split=split, band=band,
                           resolution_hz=resolution_hz, k0_method=k0_method)
     order_table = None

@@ -32,7 +32,7 @@ import math
 import numpy as np
 import scipy.optimize
 
-from idkit.errors import FitError
+from idkit.errors import FitError, Message, Suggestion
 from idkit.models.laws import kernel_array, maxwell_states
 from idkit.observe.quasi_static import K0FromLoops, k0_from_records
 
@@ -54,8 +54,9 @@ def _solve(blocks, n_rates: int):
     rows = sum(x.size for x, _, _ in blocks)
     width = 1 + n_rates + 2 * n_records
     if rows <= 1 + n_rates + n_records:
-        raise FitError(f"k0 with relaxation: found {rows} points in the window for {1 + n_rates + n_records} "
-                       "unknowns, expected more (widen the window or use k0_method='secant')")
+        raise FitError(Message(f"k0 with relaxation: found {rows} points in the window for {1 + n_rates + n_records} "
+                               "unknowns, expected more (widen the window or use ", Suggestion("k0_method", "secant"),
+                               ")"))
     design = np.zeros((rows, width))
     target = np.empty(rows)
     start = 0
@@ -151,8 +152,8 @@ def k0_with_relaxation(records, *, window: float = 1e-3, rates=RELAXATION_RATES)
         names.append(record.id or f"record{index}")
     k0, stiffness, _, stderr = _solve(blocks, rates.size)
     if not k0 > 0:
-        raise FitError(f"k0 with relaxation: found k0 = {k0:g} N/m, expected a positive stiffness "
-                       "(use k0_method='secant' to see the loops' own slope)")
+        raise FitError(Message(f"k0 with relaxation: found k0 = {k0:g} N/m, expected a positive stiffness (use ",
+                               Suggestion("k0_method", "secant"), " to see the loops' own slope)"))
     per_record = {}
     for name, block in zip(names, blocks):
         try:

@@ -8,6 +8,7 @@ A column header is ``name [unit]``. The name fixes the physical quantity
 
 from __future__ import annotations
 
+import difflib
 import re
 from dataclasses import dataclass
 
@@ -18,6 +19,9 @@ __all__ = [
     "KINDS",
     "KIND_SCHEMAS",
     "KindSchema",
+    "COLUMN_SYNONYMS",
+    "closest_column_names",
+    "did_you_mean",
     "parse_header_cell",
 ]
 
@@ -104,6 +108,63 @@ KIND_SCHEMAS: dict[str, KindSchema] = {
 COMPLEX_STIFFNESS_SCHEMA = KindSchema(
     "complex_stiffness", ("frequency", "storage", "loss"), ("temperature", "log_aT")
 )
+
+#: Common lab names of idkit's columns (lower case). They only feed the "did you mean" hint of an
+#: unknown column: a file is never read under a name it does not carry, since ``displacement``
+#: may be the base's displacement rather than the isolator's deflection.
+COLUMN_SYNONYMS: dict[str, tuple[str, ...]] = {
+    "displacement": ("deflection", "x_base"), "disp": ("deflection", "x_base"), "stroke": ("deflection",),
+    "extension": ("deflection",), "elongation": ("deflection",), "position": ("deflection", "x_base"),
+    "compression": ("deflection",), "travel": ("deflection",), "x": ("deflection",), "x_rel": ("deflection",),
+    "load": ("force",), "f": ("force", "frequency"), "reaction": ("force",), "force_n": ("force",),
+    "t": ("time",), "seconds": ("time",), "timestamp": ("time",),
+    "velocity": ("v_rel", "v_base", "v_top"), "vel": ("v_rel", "v_base", "v_top"),
+    "acceleration": ("a_top", "a_base", "a_top_1"), "accel": ("a_top", "a_base", "a_top_1"),
+    "acc": ("a_top", "a_base", "a_top_1"), "voltage": ("u_in",),
+    "freq": ("frequency",), "e_stor": ("storage",), "e_storage": ("storage",), "storage_modulus": ("storage",),
+    "e_loss": ("loss",), "loss_modulus": ("loss",), "temp": ("temperature",), "t_c": ("temperature",),
+}
+
+
+def closest_column_names(name: str, allowed, *, n: int = 2) -> tuple[str, ...]:
+    """The known column names closest to an unknown ``name``: synonyms first, then spelling.
+
+    Parameters
+    ----------
+    name : str
+        The column name found in a file, e.g. ``"displacement"``.
+    allowed : iterable of str
+        The names this kind of file accepts.
+    n : int
+        At most this many names.
+
+    Returns
+    -------
+    tuple of str
+        Names of ``allowed``, best first (empty when nothing is close): the
+        :data:`COLUMN_SYNONYMS` of ``name`` (case-insensitive), then :func:`difflib.get_close_matches`.
+
+    Examples
+    --------
+    >>> closest_column_names("displacement", ("time", "deflection", "force"))
+    ('deflection',)
+    >>> closest_column_names("forse", ("time", "deflection", "force"))
+    ('force',)
+    """
+    allowed = tuple(allowed)
+    lowered = {candidate.lower(): candidate for candidate in allowed}
+    found = [candidate for candidate in COLUMN_SYNONYMS.get(name.lower(), ()) if candidate in allowed]
+    if name.lower() in lowered:
+        found.insert(0, lowered[name.lower()])
+    found += [lowered[close] for close in difflib.get_close_matches(name.lower(), list(lowered), n=n)]
+    return tuple(dict.fromkeys(found))[:n]
+
+
+def did_you_mean(name: str, allowed) -> str:
+    """`` (did you mean 'deflection'?)`` for an unknown column ``name``, or ``""`` when nothing is close."""
+    close = closest_column_names(name, allowed)
+    return f" (did you mean {' or '.join(repr(c) for c in close)}?)" if close else ""
+
 
 _HEADER_RE = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*(?:\[([^\[\]]*)\])?\s*$")
 

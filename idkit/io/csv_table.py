@@ -29,7 +29,6 @@ conversion would take there (``5e-324 mm``) are refused with their row and colum
 from __future__ import annotations
 
 import csv
-import difflib
 import gzip
 import hashlib
 import io
@@ -44,7 +43,7 @@ import pandas as pd
 
 from idkit.errors import DataError
 from idkit.inputfiles import decode_utf8, read_input_bytes
-from idkit.io.columns import COLUMN_QUANTITIES, KindSchema, parse_header_cell
+from idkit.io.columns import COLUMN_QUANTITIES, KindSchema, did_you_mean, parse_header_cell
 from idkit.io.provenance import Source
 from idkit.io.units import SI_UNITS, UnitScale, convert_to_si, lookup_unit
 
@@ -209,10 +208,8 @@ def _check_names(names: list[str], schema: KindSchema, source: Source) -> None:
             raise DataError(f"{source.where()}: header column {k}: duplicate column '{name}'")
         seen.add(name)
         if name not in allowed:
-            close = difflib.get_close_matches(name, allowed, n=1)
-            hint = f" (did you mean '{close[0]}'?)" if close else ""
             raise DataError(
-                f"{source.where()}: header column {k}: unknown column '{name}'{hint}; "
+                f"{source.where()}: header column {k}: unknown column '{name}'{did_you_mean(name, allowed)}; "
                 f"expected for {schema.kind}: {schema.describe()}"
             )
     missing = [name for name in schema.required if name not in seen]

@@ -24,7 +24,7 @@ import numpy as np
 import scipy.io
 
 from idkit.errors import DataError
-from idkit.io.columns import COLUMN_QUANTITIES, KIND_SCHEMAS
+from idkit.io.columns import COLUMN_QUANTITIES, KIND_SCHEMAS, did_you_mean
 from idkit.io.csv_measurement import build_measurement
 from idkit.io.csv_table import column_to_si, read_file_bytes
 from idkit.io.info import MeasurementInfo
@@ -214,8 +214,10 @@ def read_mat(path: str | Path, kind: str, *, columns: Mapping[str, str | MatColu
     unknown = [name for name in specs if name not in schema.allowed]
     missing = [name for name in schema.required if name not in specs]
     if unknown or missing:
+        hints = "".join(f"; '{name}'{did_you_mean(name, schema.allowed)}" for name in unknown
+                        if did_you_mean(name, schema.allowed))
         raise DataError(f"file '{path}': column mapping has unknown {unknown} / lacks "
-                        f"{missing}; expected for {kind}: {schema.describe()}")
+                        f"{missing}{hints}; expected for {kind}: {schema.describe()}")
     variables, sha256 = load_mat_variables(path)
     source = Source(path=path, sha256=sha256,
                     columns=tuple((name, spec.label()) for name, spec in specs.items()))

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from idkit.errors import DataError
+from idkit.errors import DataError, Message, Suggestion
 from idkit.io.info import SPLITS
 from idkit.io.manifest import MANIFEST_NAME, MeasurementSet
 from idkit.io.measurements import (
@@ -21,7 +21,20 @@ from idkit.io.measurements import (
     WhiteNoiseMeasurement,
 )
 
-__all__ = ["DataProvenance", "select_measurements", "split_option"]
+__all__ = ["DataProvenance", "ONLY_ISOLATOR", "resolve_isolator", "select_measurements", "split_option"]
+
+
+class _OnlyIsolator:
+    """Type of :data:`ONLY_ISOLATOR` (one instance; its repr is the name of the constant)."""
+
+    def __repr__(self) -> str:
+        return "ONLY_ISOLATOR"
+
+
+#: Default ``isolator`` of the measurement-set fits: the only isolator whose records of the
+#: kind the fit reads are in the data (:func:`resolve_isolator`); with several, an error
+#: listing them. A string selects that isolator, None every isolator together.
+ONLY_ISOLATOR = _OnlyIsolator()
 
 
 @dataclass(frozen=True)
@@ -103,6 +116,60 @@ def split_option(split: str | None) -> str | None:
     return split
 
 
+def _everything(data) -> list:
+    if isinstance(data, MeasurementSet):
+        return list(data.measurements)
+    if isinstance(data, Sequence) and not isinstance(data, (str, bytes)):
+        return list(data)
+    raise DataError(f"measurements: found {type(data).__name__}, expected a MeasurementSet or a sequence "
+                    "of measurements")
+
+
+def resolve_isolator(data, isolator, *, kind: str) -> str | None:
+    """The ``isolator`` a selection uses: :data:`ONLY_ISOLATOR` becomes the data's only one.
+
+    Parameters
+    ----------
+    data : MeasurementSet or sequence of measurements
+    isolator : str, None or ONLY_ISOLATOR
+        A name or None (every isolator) is returned as given.
+    kind : str
+        Only isolators with records of this kind count (a set of rope loops and hybrid
+        drops has one isolator with loops).
+
+    Returns
+    -------
+    str or None
+        The isolator's name (None when the records name none, as a lone file's do; also
+        when no record has that kind, which the selection then reports with what the data hold).
+
+    Raises
+    ------
+    DataError
+        Records of ``kind`` of several isolators: the message lists them and suggests
+        choosing one (``isolator='NAME'``, ``--isolator NAME`` on the command line).
+
+    Examples
+    --------
+    >>> from idkit.io import MeasurementInfo, QuasiStaticMeasurement
+    >>> loops = [QuasiStaticMeasurement([0.0, 1.0], [0.0, 1e-3], [0.0, 5.0],
+    ...                                 info=MeasurementInfo(id="l1", isolator="rope_8mm"))]
+    >>> resolve_isolator(loops, ONLY_ISOLATOR, kind="quasi_static")
+    'rope_8mm'
+    """
+    if isolator is not ONLY_ISOLATOR:
+        return isolator
+    names = sorted({m.info.isolator for m in _everything(data) if m.kind == kind}, key=lambda name: name or "")
+    if len(names) <= 1:
+        return names[0] if names else None
+    where = f"{data.folder}: " if isinstance(data, MeasurementSet) and data.folder is not None else ""
+    listed = ", ".join("(none)" if name is None else name for name in names)
+    first = next(name for name in names if name is not None)
+    raise DataError(Message(f"{where}found {kind} records of {len(names)} isolators ({listed}); expected one, "
+                            "or the isolator named: choose it with ", Suggestion("isolator", first),
+                            " (or another of those listed)"))
+
+
 def select_measurements(data, *, kind: str, isolator: str | None, split: str | None) -> tuple[list, DataProvenance]:
     """The measurements of one kind (and isolator, split) of a set, with their provenance.
 
@@ -161,8 +228,8 @@ def select_measurements(data, *, kind: str, isolator: str | None, split: str | N
         for m in everything:
             key = (m.kind, m.info.isolator, m.info.split)
             found[key] = found.get(key, 0) + 1
-        raise DataError(f"measurements: found none with kind={kind!r}, isolator={isolator!r}, split={split!r}; "
-                        f"available (kind, isolator, split): {found}")
+        raise DataError(Message(f"measurements: found none with kind={kind!r}, ", Suggestion("isolator", isolator),
+                                ", ", Suggestion("split", split), f"; available (kind, isolator, split): {found}"))
     provenance = DataProvenance(folder=folder, manifest_sha256=manifest, files=files,
                                 ids=tuple(m.id or f"#{i}" for i, m in enumerate(measurements)), selection=selection)
     return measurements, provenance

@@ -7,11 +7,16 @@ then one row of numbers per sample (empty lines at the very end are ignored; an 
 empty cell between samples is an error, never skipped). A ``.gz`` name is gunzipped first. The result is the
 typed :class:`~idkit.io.measurements.AccelerationRecord` every shock function of
 :mod:`idkit.observe.shock` takes.
+
+idkit's own drop records (``time, deflection, a_top_1, a_top_2[, v_rel]``, the ``drop`` kind of a
+measurement set) are shock records too: :func:`read_shock_file` reads either layout, telling
+them apart by the header, and :func:`drop_shock_record` turns a drop record into one.
 """
 
 from __future__ import annotations
 
 import csv
+import dataclasses
 import hashlib
 import io
 from pathlib import Path
@@ -21,11 +26,79 @@ import numpy as np
 from idkit.errors import DataError
 from idkit.io.columns import parse_header_cell
 from idkit.io.csv_table import column_to_si, decode_text, parse_number_cells, read_file_bytes
-from idkit.io.measurements import AccelerationRecord
+from idkit.io.measurements import AccelerationRecord, DropMeasurement
 from idkit.io.provenance import Source
 from idkit.io.units import lookup_unit
 
-__all__ = ["read_shock_csv"]
+__all__ = ["read_shock_csv", "read_shock_file", "drop_shock_record", "is_drop_record_file"]
+
+
+def drop_shock_record(measurement: DropMeasurement) -> AccelerationRecord:
+    """The top-mass accelerometers of a drop record as a shock record.
+
+    Parameters
+    ----------
+    measurement : DropMeasurement
+        A drop record (both accelerometers sit on the top mass).
+
+    Returns
+    -------
+    AccelerationRecord
+        Channel: the record's id (else its file name); one column per accelerometer,
+        ``a_top_1`` then ``a_top_2``, in m/s^2, on the record's time base. The record's
+        source is kept, its tests labelled by the accelerometers' columns, so messages name the
+        file and the column (``file 'drop.csv', column 'a_top_1 [m/s^2]'``).
+    """
+    if not isinstance(measurement, DropMeasurement):
+        raise DataError(f"{measurement.source.where()}: found a {measurement.kind} record, expected a drop record "
+                        "(time, deflection, a_top_1, a_top_2)")
+    source = measurement.source
+    name = measurement.id or (source.path.name.split(".")[0] if source.path else "drop")
+    # the shock functions name a record's columns "test 1", "test 2": here they are the accelerometers
+    columns = (("time", source.column_label("time")), ("test 1", source.column_label("a_top_1")),
+               ("test 2", source.column_label("a_top_2")))
+    return AccelerationRecord(time=measurement.time, accel=np.column_stack([measurement.a_top_1, measurement.a_top_2]),
+                              channel=name, source=dataclasses.replace(source, columns=columns))
+
+
+def read_shock_file(path: str | Path) -> AccelerationRecord:
+    """A shock record in idkit's shock layout (:func:`read_shock_csv`) or an idkit drop record.
+
+    A file whose header names the drop columns ``deflection`` and ``a_top_1`` is read as a
+    drop record (with the metadata of an enclosing measurement set's manifest when it lists
+    the file) and turned into a shock record by :func:`drop_shock_record`; any other file is
+    read by :func:`read_shock_csv`, whose errors it keeps.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        CSV file (optionally ``.gz``).
+
+    Returns
+    -------
+    AccelerationRecord
+    """
+    from idkit.io.discover import load_measurements
+
+    path = Path(path)
+    if is_drop_record_file(path):
+        _, measurements = load_measurements(path, kind="drop")
+        return drop_shock_record(measurements[0])
+    return read_shock_csv(path)
+
+
+def is_drop_record_file(path: str | Path) -> bool:
+    """True when the header of ``path`` names idkit's drop columns ``deflection`` and ``a_top_1``.
+
+    Raises
+    ------
+    DataError
+        The reader's own checks (not a file, corrupt gzip, not UTF-8).
+    """
+    path = Path(path)
+    header = decode_text(path, read_file_bytes(path)).lstrip("\ufeff").splitlines()[:1]
+    names = {cell.split("[")[0].strip() for cell in (header[0].split(",") if header else ())}
+    return {"deflection", "a_top_1"} <= names
 
 
 def read_shock_csv(path: str | Path, *, channel: str | None = None) -> AccelerationRecord:

@@ -14,7 +14,10 @@ Conversions multiply by an exact integer numerator and divide by an exact
 integer denominator where the factor is a power of ten below one (``mm`` ->
 ``m`` divides by 1000), so a value converted to SI is the correctly rounded
 result of the exact conversion. Temperatures are the only affine conversion
-(``C`` -> ``K`` adds 273.15).
+(``C`` -> ``K`` adds 273.15). Imperial units use the exact international definitions
+(1 in = 0.0254 m, 1 lbf = 4.4482216152605 N, 1 kip = 1 klbf = 1000 lbf); their factors
+to SI, and those of the units derived from them (``psi``, ``lbf/in``), are the float64
+nearest the exact product, so these conversions are within one rounding of exact.
 
 The AFRL drop-tower data are in units of 1000 g (written ``kg_n`` in their
 source). ``kg`` would read as kilogram, so idkit spells this unit ``1000g``.
@@ -39,8 +42,14 @@ __all__ = [
     "lookup_unit",
 ]
 
-#: Standard gravity in m/s^2 (CGPM 1901), used for ``g`` and ``1000g``.
+#: Standard gravity in m/s^2 (CGPM 1901), used for ``g``, ``1000g`` and ``kgf``.
 STANDARD_GRAVITY_M_PER_S2 = STANDARD_GRAVITY  # one value of g (idkit.gravity)
+#: The international inch and foot (1959 agreement), exact in m.
+INCH_M = 0.0254
+FOOT_M = 0.3048
+#: The pound-force: 0.45359237 kg (the international avoirdupois pound, exact) x 9.80665 m/s^2,
+#: 4.4482216152605 N exactly; a kip (klbf) is 1000 lbf.
+POUND_FORCE_N = 4.4482216152605
 
 
 @dataclass(frozen=True)
@@ -76,18 +85,22 @@ def _table() -> dict[str, dict[str, UnitScale]]:
     g0 = STANDARD_GRAVITY_M_PER_S2
     spec: dict[str, list[tuple[str, float, float]]] = {
         # quantity: [(symbol, numerator, denominator)]
-        "time": [("s", 1, 1), ("ms", 1, 1e3), ("us", 1, 1e6)],
+        "time": [("s", 1, 1), ("ms", 1, 1e3), ("us", 1, 1e6), ("min", 60, 1)],
         "length": [("m", 1, 1), ("cm", 1, 1e2), ("mm", 1, 1e3), ("um", 1, 1e6),
-                   ("in", 0.0254, 1)],
-        "velocity": [("m/s", 1, 1), ("mm/s", 1, 1e3), ("in/s", 0.0254, 1)],
+                   ("\u00b5m", 1, 1e6), ("in", INCH_M, 1), ("ft", FOOT_M, 1), ("mil", INCH_M, 1e3)],
+        "velocity": [("m/s", 1, 1), ("cm/s", 1, 1e2), ("mm/s", 1, 1e3), ("in/s", INCH_M, 1),
+                     ("ft/s", FOOT_M, 1)],
         "acceleration": [("m/s^2", 1, 1), ("mm/s^2", 1, 1e3), ("g", g0, 1),
-                         ("1000g", g0 * 1000, 1)],
-        "force": [("N", 1, 1), ("daN", 10, 1), ("kN", 1e3, 1),
-                  ("lbf", 4.4482216152605, 1)],
+                         ("1000g", g0 * 1000, 1), ("in/s^2", INCH_M, 1), ("ft/s^2", FOOT_M, 1)],
+        "force": [("N", 1, 1), ("daN", 10, 1), ("kN", 1e3, 1), ("MN", 1e6, 1),
+                  ("lbf", POUND_FORCE_N, 1), ("kip", POUND_FORCE_N * 1000, 1),
+                  ("klbf", POUND_FORCE_N * 1000, 1), ("kgf", g0, 1)],
         "frequency": [("Hz", 1, 1), ("kHz", 1e3, 1)],
         "stiffness": [("N/m", 1, 1), ("N/mm", 1e3, 1), ("kN/m", 1e3, 1),
-                      ("kN/mm", 1e6, 1)],
-        "modulus": [("Pa", 1, 1), ("kPa", 1e3, 1), ("MPa", 1e6, 1), ("GPa", 1e9, 1)],
+                      ("kN/mm", 1e6, 1), ("lbf/in", POUND_FORCE_N / INCH_M, 1),
+                      ("kip/in", POUND_FORCE_N * 1000 / INCH_M, 1)],
+        "modulus": [("Pa", 1, 1), ("kPa", 1e3, 1), ("MPa", 1e6, 1), ("GPa", 1e9, 1),
+                    ("psi", POUND_FORCE_N / INCH_M**2, 1), ("ksi", POUND_FORCE_N * 1000 / INCH_M**2, 1)],
         "mass": [("kg", 1, 1), ("g", 1, 1e3)],
         "voltage": [("V", 1, 1), ("mV", 1, 1e3)],
         "dimensionless": [("-", 1, 1), ("1", 1, 1)],
@@ -130,12 +143,12 @@ def accepted_units(quantity: str) -> tuple[str, ...]:
     Returns
     -------
     tuple of str
-        The symbols, SI first, e.g. ``("N", "daN", "kN", "lbf")``.
+        The symbols, SI first, e.g. ``("N", "daN", "kN", "MN", "lbf", "kip", "klbf", "kgf")``.
 
     Examples
     --------
     >>> accepted_units("length")
-    ('m', 'cm', 'mm', 'um', 'in')
+    ('m', 'cm', 'mm', 'um', '\u00b5m', 'in', 'ft', 'mil')
     """
     try:
         return tuple(_UNITS[quantity])
@@ -179,9 +192,22 @@ def lookup_unit(unit: str | None, quantities: tuple[str, ...] | str, *, where: s
         if scale is not None:
             return scale
     raise DataError(
-        f"{where}: unknown unit {unit!r} for quantity {' or '.join(quantities)}; "
+        f"{where}: unknown unit {unit!r} for quantity {' or '.join(quantities)}{_closest_unit(unit, accepted)}; "
         f"accepted: {', '.join(accepted)}"
     )
+
+
+def _closest_unit(unit: str, accepted) -> str:
+    """`` (did you mean 'kN'?)`` for a unit that differs from an accepted one by case (units are
+    case-sensitive) or by a slip of spelling; ``""`` when none is close. A milli- and a mega-
+    unit differ by case only (``mN``, ``MN``: nine decades apart): never suggested for each other."""
+    import difflib
+
+    unit = unit.strip()
+    same_letters = [symbol for symbol in accepted if symbol.lower() == unit.lower()
+                    and {symbol[0], unit[0]} != {"m", "M"}]
+    close = same_letters or difflib.get_close_matches(unit, accepted, n=1, cutoff=0.75)
+    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 def convert_to_si(values: np.ndarray, scale: UnitScale) -> np.ndarray:

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from idkit.errors import DataError, FitError
+from idkit.errors import DataError, FitError, Message, Suggestion
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
 from idkit.observe._common import _require
@@ -42,7 +42,7 @@ from idkit.signal.cycles import (
 )
 
 __all__ = [
-    "QuasiStaticResult", "process_quasi_static",
+    "QuasiStaticResult", "process_quasi_static", "require_moving_loops",
     "MIN_POINTS", "UNLOADED_FRACTION", "LoopSet", "prepare_loops", "as_loop_sets",
     "SMALL_THRESHOLD", "LOOP_POINTS_PER_SET", "LoopData", "loop_sets",
     "K0Estimate", "estimate_k0", "K0FromLoops", "k0_from_measurements", "k0_from_records", "record_cycles",
@@ -151,6 +151,27 @@ class QuasiStaticResult:
                 f"deflection noise {self.deflection_noise * 1e6:.3g} um")
 
 
+def require_moving_loops(measurement: QuasiStaticMeasurement) -> None:
+    """Refuse a loop record whose deflection or force never changes, naming its file and column.
+
+    Such a record has no loops (a constant deflection has no reversal, a constant force no
+    stiffness): a disconnected sensor or a wrong column. Every loop analysis starts here, so
+    the message names the record rather than an internal threshold or a zero slope.
+
+    Raises
+    ------
+    FitError
+        ``file 'a.csv', column 'force [kN]' (record qs_1): found a constant force ...``.
+    """
+    for column, unit in (("deflection", "m"), ("force", "N")):
+        values = getattr(measurement, column)
+        if float(np.ptp(values)) == 0.0:
+            record = f" (record {measurement.id})" if measurement.id else ""
+            raise FitError(f"{measurement.source.where(column)}{record}: found a constant {column}, "
+                           f"{float(values[0]):g} {unit} in all {values.size} samples; expected loops, a "
+                           f"{column} that varies (a disconnected sensor or another column?)")
+
+
 def process_quasi_static(measurement: QuasiStaticMeasurement, *,
                          min_excursion: float | None = None,
                          large_threshold: float | None = None,
@@ -196,6 +217,7 @@ def process_quasi_static(measurement: QuasiStaticMeasurement, *,
     (3, 2.0)
     """
     _require(measurement, QuasiStaticMeasurement, "process_quasi_static")
+    require_moving_loops(measurement)
     x = measurement.deflection
     noise = noise_level(x)
     if min_excursion is None:
@@ -479,6 +501,7 @@ def loop_sets(
     small, large, small_rep, large_rep, amplitudes, corrections = [], [], [], [], {}, []
     for position, record in enumerate(records, start=1):
         name = record.id or f"record{position}"
+        require_moving_loops(record)
         if remove_offsets:
             record, correction = remove_loop_offsets(record)
             corrections.append(correction)
@@ -881,8 +904,9 @@ class CycleStatistics:
                          f"(range {self.center_drift * 1e3:.3g} mm over {centres.size} steady cycles, "
                          f"{self.center_drift / amplitude:.0%} of the median amplitude {amplitude * 1e3:.3g} mm)")
         if abs(self.median_force_offset) > FORCE_OFFSET_WARNING_FRACTION * force:
+            share = f"{abs(self.median_force_offset) / force:.0%} of" if force > 0 else "with"
             found.append(f"force offset {self.median_force_offset:+.4g} N at the loop centres "
-                         f"({abs(self.median_force_offset) / force:.0%} of the median force amplitude {force:.4g} N)")
+                         f"({share} the median force amplitude {force:.4g} N)")
         return found
 
     def to_dataframe(self) -> pd.DataFrame:
@@ -1011,9 +1035,10 @@ def remove_loop_offsets(measurement: QuasiStaticMeasurement, *, drift: bool = Tr
         deflection = deflection - np.interp(measurement.time, knots_t, knots_c)
     offset = stats.median_force_offset if force_offset else 0.0
     if not np.isfinite(offset):
-        raise DataError(f"{measurement.id}: no cycle has both its loading and unloading branch crossing its "
-                        f"centre ({stats.force_offset.size} cycles), so the force offset cannot be measured; "
-                        "expected at least one full loop (or keep the offset: force_offset=False)")
+        raise DataError(Message(f"{measurement.id}: no cycle has both its loading and unloading branch crossing "
+                                f"its centre ({stats.force_offset.size} cycles), so the force offset cannot be "
+                                "measured; expected at least one full loop (or keep the offset: ",
+                                Suggestion("force_offset", False), ")"))
     force = force - offset
     correction = OffsetCorrection(measurement_id=measurement.id, center_knots_time=knots_t, center_knots=knots_c,
                                   force_offset=float(offset))

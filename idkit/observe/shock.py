@@ -44,7 +44,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from scipy import signal as sps
 
-from idkit.errors import DataError
+from idkit.errors import DataError, Message, Suggestion
 from idkit.io import AccelerationRecord
 from idkit.signal.srs import MIN_SAMPLES_PER_PERIOD, ShockSpectra, shock_spectra
 
@@ -179,9 +179,10 @@ def condition_shock(record: AccelerationRecord, *, offset: str = "pre-trigger", 
                                     f"pulse of {_where(record, j)}, which triggers at "
                                     f"{record.time[start] - record.time[0]:.6g} s")
             if window < MIN_PRE_TRIGGER_SAMPLES:
-                raise DataError(f"{_where(record, j)}: the pulse triggers at sample {start + 1}, leaving {window} "
-                                f"samples for the offset, expected at least {MIN_PRE_TRIGGER_SAMPLES} "
-                                "(use offset='none' to keep the record as recorded)")
+                raise DataError(Message(f"{_where(record, j)}: the pulse triggers at sample {start + 1}, leaving "
+                                        f"{window} samples for the offset, expected at least "
+                                        f"{MIN_PRE_TRIGGER_SAMPLES} (use ", Suggestion("offset", "none"),
+                                        " to keep the record as recorded)"))
             pre[j] = window
             offsets[j] = float(np.median(accel[:window, j]))
     accel -= offsets

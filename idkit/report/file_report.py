@@ -113,7 +113,7 @@ def _loop_section(report: HtmlReport, fit) -> list[tuple[str, object]]:
 
 
 def write_file_report(path, output, *, table=None, force: bool = False, seed: int = 0,
-                      progress=None) -> FileReportSummary:
+                      progress=None, order="auto") -> FileReportSummary:
     """Write the report of one data file into ``output`` (replaced only with ``force``).
 
     Parameters
@@ -129,6 +129,9 @@ def write_file_report(path, output, *, table=None, force: bool = False, seed: in
         Replace an existing output folder.
     seed : int
         Seed of the fit.
+    order : int or "auto", default "auto"
+        Order of the fit (Prony terms of a table, Jenkin elements of a loop record), as
+        ``idkit fit``'s ``--order``; ``"auto"`` lets the order rule choose.
     progress : callable, optional
         Called with one line per stage.
     """
@@ -144,7 +147,7 @@ def write_file_report(path, output, *, table=None, force: bool = False, seed: in
         from idkit.fit import fit_dma_table
 
         say("fitting the table (shift factors, master curve, Prony order search)")
-        fit = fit_dma_table(table, seed=seed)
+        fit = fit_dma_table(table, order=order, seed=seed)
         kind, model_fit = "complex_stiffness", fit
         report.section("Data", "data")
         from idkit.studies.inspection import inspect_complex_table
@@ -165,7 +168,7 @@ def write_file_report(path, output, *, table=None, force: bool = False, seed: in
             from idkit.fit import fit_iwan_measurements
 
             say("fitting the loops (Iwan)")
-            model_fit = fit_iwan_measurements(measurements, isolator=None, split="all", seed=seed)
+            model_fit = fit_iwan_measurements(measurements, isolator=None, split="all", seed=seed, order=order)
             figures += _loop_section(report, model_fit)
         else:
             from idkit.plot.inspect import overview_figures

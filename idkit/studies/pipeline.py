@@ -531,15 +531,17 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
     valid_range = valid_range_of(wire_rope)
     # the Bouc-Wen comparison fit runs in a forked child beside the Iwan and elastomer fits
     # (idkit.forked: the same seeded computation, so the same result as run here)
-    boucwen_call = fork_call(fit_boucwen_measurements, wire_rope, seed=seed, initial_state=start_state,
+    boucwen_call = fork_call(fit_boucwen_measurements, wire_rope, isolator="wire_rope", seed=seed,
+                             initial_state=start_state,
                              **({"global_max_evals": 800} if quick else {}))
     try:
-        iwan = fit_iwan_measurements(wire_rope, seed=seed, valid_range=valid_range, initial_state=start_state)
+        iwan = fit_iwan_measurements(wire_rope, isolator="wire_rope", seed=seed, valid_range=valid_range,
+                                     initial_state=start_state)
         iwan = iwan.with_repetition_spread()  # one refit per repetition of the fit split (a few seconds)
         iwan_loops = predict_loops(iwan.model, iwan.data.small, iwan.data.large)
 
         stages.start(STAGES[2])
-        maxwell = fit_maxwell_measurements(sets["elastomer"], cross_check=True, seed=seed,
+        maxwell = fit_maxwell_measurements(sets["elastomer"], isolator="elastomer", cross_check=True, seed=seed,
                                            **({"global_max_evals": 2000} if quick else {}))
         maxwell = maxwell.with_repetition_spread()  # one refit per repetition (a fraction of a second)
         # the order table the fit's order rule chose from (scored on the FRFs the fit used)
@@ -595,6 +597,6 @@ def identify_parts(data_dir=None, *, seed: int = 2026) -> tuple[IwanModel, Gener
     seed : int
     """
     sets = find_measurement_sets(data_dir if data_dir is not None else default_data_dir())
-    return (fit_iwan_measurements(sets["wire_rope"], seed=seed).model,
-            fit_maxwell_measurements(sets["elastomer"], seed=seed).model)
+    return (fit_iwan_measurements(sets["wire_rope"], isolator="wire_rope", seed=seed).model,
+            fit_maxwell_measurements(sets["elastomer"], isolator="elastomer", seed=seed).model)
 

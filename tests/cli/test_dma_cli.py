@@ -41,9 +41,15 @@ def test_fit_maxwell_on_a_dma_table_refuses_the_set_options(dma_file, tmp_path, 
 
 def test_fit_maxwell_on_a_dma_table_writes_a_modulus_model(dma_file, tmp_path):
     out = tmp_path / "material.json"
-    outcome = run_main(["fit", "maxwell", dma_file, "-o", out, "--order", "6", "--reference-temperature", "16.85"],
-                       inputs=[dma_file])
+    plots = tmp_path / "plots"
+    outcome = run_main(["fit", "maxwell", dma_file, "-o", out, "--order", "6", "--reference-temperature", "16.85",
+                        "--plots", plots], inputs=[dma_file])
     assert outcome.status in (0, 1), outcome.stderr
+    assert sorted(p.name for p in plots.iterdir()) == ["maxwell_master_curve.png", "maxwell_shift_factors.png"]
+    again = tmp_path / "again.json"  # figures are never overwritten: refused before fitting
+    refused = run_main(["fit", "maxwell", dma_file, "-o", again, "--plots", plots], inputs=[dma_file, plots],
+                       must_not_exist=[again])
+    check(refused, "error", ["refusing to overwrite existing plot(s)", "maxwell_master_curve.png"])
     assert "isotherms" in outcome.stdout and "wlf: C1 = " in outcome.stdout
     document = json.loads(out.read_text())
     assert document["model"]["units"]["k0"] == "Pa"
@@ -54,9 +60,14 @@ def test_fit_maxwell_on_a_dma_table_writes_a_modulus_model(dma_file, tmp_path):
     assert (outcome.status == 0) == document["provenance"]["success"]
 
 
-def test_inspect_a_dma_table_prints_isotherms_and_shift_factors(dma_file):
-    outcome = run_main(["inspect", dma_file], inputs=[dma_file])
-    check(outcome, "ok")
+def test_inspect_a_dma_table_prints_isotherms_and_shift_factors(dma_file, tmp_path):
+    plots = tmp_path / "plots"
+    outcome = run_main(["inspect", dma_file, "--plots", plots], inputs=[dma_file])
+    check(outcome, "ok", ["table_isotherms.png"])
+    assert (plots / "table_isotherms.png").read_bytes()[:4] == b"\x89PNG"
+    check(run_main(["inspect", dma_file, "--plots", plots], inputs=[dma_file, plots]), "error",
+          ["refusing to overwrite", "--force"])
+    check(run_main(["inspect", dma_file, "--plots", plots, "--force"], inputs=[dma_file]), "ok")
     assert "7 isotherms" in outcome.stdout and "modulus in Pa" in outcome.stdout
     assert "log_aT stderr" in outcome.stdout
 
@@ -67,10 +78,10 @@ def test_hostile_dma_tables_are_refused_by_name(tmp_path):
                        must_not_exist=[tmp_path / "m.json"])
     check(outcome, "error", ["one.csv", "one isotherm", "at least two temperatures"], case="dma-one-isotherm")
     units = tmp_path / "units.csv"
-    units.write_text("frequency [Hz],storage [psi],loss [psi]\n1,2,0.1\n2,3,0.2\n")
+    units.write_text("frequency [Hz],storage [atm],loss [atm]\n1,2,0.1\n2,3,0.2\n")
     outcome = run_main(["fit", "maxwell", units, "-o", tmp_path / "m.json"], inputs=[units],
                        must_not_exist=[tmp_path / "m.json"])
-    check(outcome, "error", ["units.csv", "psi"], case="dma-unknown-unit")
+    check(outcome, "error", ["units.csv", "atm"], case="dma-unknown-unit")
     nofreq = tmp_path / "nofreq.csv"
     nofreq.write_text("time [s],storage [MPa],loss [MPa]\n1,2,0.1\n")
     outcome = run_main(["fit", "maxwell", nofreq, "-o", tmp_path / "m.json"], inputs=[nofreq],
@@ -107,3 +118,20 @@ def test_fit_iwan_on_one_loop_file(tmp_path):
     missing = run_main(["fit", "iwan", tmp_path / "nothing.csv", "-o", tmp_path / "x.json"],
                        must_not_exist=[tmp_path / "x.json"])
     check(missing, "error", ["nothing.csv", "no such file"], case="fit-missing-file")
+
+
+def test_report_of_a_table_takes_the_order_as_fit_does(dma_file, tmp_path):
+    out = tmp_path / "report"
+    outcome = run_main(["report", dma_file, "--order", "4", "-o", out, "--quiet"], inputs=[dma_file])
+    assert outcome.status in (0, 1), outcome.stderr
+    assert load_model(out / "model.json").order == 4
+    refused = tmp_path / "refused"
+    for order, words in (("41", ["--order", "found '41'", "1 to 40", "Prony terms of a table"]),
+                         ("two", ["--order", "found 'two'"])):
+        outcome = run_main(["report", dma_file, "--order", order, "-o", refused], inputs=[dma_file],
+                           must_not_exist=[refused])
+        check(outcome, "error", words, case=f"report-order-{order}")
+    folder = tmp_path / "folder"
+    folder.mkdir()
+    outcome = run_main(["report", folder, "--order", "2", "-o", refused], must_not_exist=[refused])
+    check(outcome, "error", ["--order", "applies to the report of one data file"], case="report-order-folder")

@@ -18,7 +18,7 @@ def dataset(tmp_path_factory):
 
 def test_cli_fit_iwan_writes_model_plots_and_refuses_overwrite(dataset, tmp_path, capsys):
     output = tmp_path / "wr.json"
-    assert main(["fit", "iwan", str(dataset), "-o", str(output), "--plots", str(tmp_path / "plots")]) == 0
+    assert main(["fit", "iwan", str(dataset), "--isolator", "wire_rope", "-o", str(output), "--plots", str(tmp_path / "plots")]) == 0
     printed = capsys.readouterr().out
     assert "Iwan fit, order 2" in printed and "qs_small_1" in printed
     document = load_model_document(output)
@@ -26,10 +26,10 @@ def test_cli_fit_iwan_writes_model_plots_and_refuses_overwrite(dataset, tmp_path
     assert set(document["provenance"]["data"]["files"]) == {f"quasi_static/qs_{k}_{r}.csv" for k in ("small", "large")
                                                             for r in (1, 2)}
     assert (tmp_path / "plots" / "iwan_loops.png").stat().st_size > 1000
-    assert main(["fit", "iwan", str(dataset), "-o", str(output)]) == 2
+    assert main(["fit", "iwan", str(dataset), "--isolator", "wire_rope", "-o", str(output)]) == 2
     assert "refusing to overwrite" in capsys.readouterr().err
     other = tmp_path / "wr2.json"
-    assert main(["fit", "iwan", str(dataset), "-o", str(other), "--plots", str(tmp_path / "plots")]) == 2
+    assert main(["fit", "iwan", str(dataset), "--isolator", "wire_rope", "-o", str(other), "--plots", str(tmp_path / "plots")]) == 2
     assert not other.exists()  # stopped before fitting
 
 
@@ -47,7 +47,7 @@ def test_cli_fit_maxwell_and_boucwen(dataset, tmp_path, capsys):
     bw = tmp_path / "bw.json"
     # a Bouc-Wen law on loops of an Iwan truth: about 3 % error, more than 2 points above the
     # loops' noise floor, so the fit is flagged (exit 1) with the model file written
-    assert main(["fit", "boucwen", str(dataset), "-o", str(bw), "--global-evals", "200", "--compare"]) == 1
+    assert main(["fit", "boucwen", str(dataset), "--isolator", "wire_rope", "-o", str(bw), "--global-evals", "200", "--compare"]) == 1
     printed = capsys.readouterr().out
     assert "Bouc-Wen fit" in printed and "[[Summary]]" in printed and "above the noise floor" in printed
     assert json.loads(bw.read_text())["model"]["kind"] == "bouc_wen"
@@ -66,8 +66,13 @@ def test_cli_fit_maxwell_order_auto_keeps_the_recommended_order(dataset, tmp_pat
 @pytest.mark.parametrize("argv, message", [
     (["fit", "iwan", "{missing}", "-o", "{out}"], "no such file or folder"),
     (["fit", "iwan", "{set}", "--order", "0", "-o", "{out}"], "--order"),
+    # the set holds wire-rope and elastomer loops: the default isolator is not guessed
+    (["fit", "iwan", "{set}", "-o", "{out}"], "found quasi_static records of 2 isolators (elastomer, wire_rope); "
+                                              "expected one, or the isolator named: choose it with --isolator "
+                                              "elastomer"),
     (["fit", "maxwell", "{set}", "--isolator", "hybrid", "-o", "{out}"], "found none"),
-    (["fit", "iwan", "{set}", "--small-threshold", "0.1", "-o", "{out}"], "no large-loop record"),
+    (["fit", "iwan", "{set}", "--isolator", "wire_rope", "--small-threshold", "0.1", "-o", "{out}"],
+     "no large-loop record"),
 ])
 def test_cli_bad_input_exits_with_code_2(dataset, tmp_path, capsys, argv, message):
     values = {"missing": str(tmp_path / "nothing"), "out": str(tmp_path / "m.json"), "set": str(dataset)}
@@ -82,7 +87,7 @@ def test_cli_bad_input_exits_with_code_2(dataset, tmp_path, capsys, argv, messag
 
 def test_cli_fit_iwan_valid_range(dataset, tmp_path):
     output = tmp_path / "bounded.json"
-    assert main(["fit", "iwan", str(dataset), "-o", str(output), "--valid-range", "-0.05", "0.05"]) == 0
+    assert main(["fit", "iwan", str(dataset), "--isolator", "wire_rope", "-o", str(output), "--valid-range", "-0.05", "0.05"]) == 0
     document = load_model_document(output)
     assert document["provenance"]["settings"]["valid_range"] == [-0.05, 0.05]
     from idkit.models import load_model
@@ -116,7 +121,7 @@ def test_cli_fit_that_is_not_a_success_is_written_flagged_and_exits_1(tmp_path, 
 def test_cli_fit_iwan_order_auto_picks_the_generating_order(dataset, tmp_path, capsys):
     """The loops come from an order-2 rope: the order rule keeps 2 and the table is recorded."""
     output = tmp_path / "auto.json"
-    assert main(["fit", "iwan", str(dataset), "--order", "auto", "-o", str(output)]) == 0
+    assert main(["fit", "iwan", str(dataset), "--isolator", "wire_rope", "--order", "auto", "-o", str(output)]) == 0
     assert "Iwan order table" in capsys.readouterr().out
     document = load_model_document(output)
     assert sum(name.startswith("k_") for name in document["model"]["params"]) == 2
@@ -151,7 +156,7 @@ def test_cli_fit_iwan_names_the_records_a_set_holds_for_another_isolator(dataset
     """A set of another isolator (``--isolator`` default wire_rope) is named with what it holds,
     not with the valid range's Python arguments."""
     output = tmp_path / "wr.json"
-    assert main(["fit", "iwan", str(dataset), "--isolator", "mr_damper", "-o", str(output)]) == 2
+    assert main(["fit", "iwan", str(dataset), "--isolator", "wire_rope", "--isolator", "mr_damper", "-o", str(output)]) == 2
     error = capsys.readouterr().err
-    assert "isolator='mr_damper'" in error and "available (kind, isolator, split)" in error
+    assert "--isolator mr_damper" in error and "available (kind, isolator, split)" in error
     assert "valid_range=None" not in error and not output.exists()

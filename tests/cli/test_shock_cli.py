@@ -118,3 +118,25 @@ def test_a_lowpass_below_one_over_the_record_length_is_refused(tmp_path, lowpass
     outcome = run_main(["shock", record, "--lowpass", lowpass], inputs=[record])
     check(outcome, "error", [f"lowpass_hz: found {float(lowpass)!r}", "below 1 / record length = 50.025 Hz",
                              "expected a cut-off in [50.025, 50000) Hz"])
+
+
+def test_idkit_drop_records_are_read_as_shock_records():
+    """A drop record of a measurement set: its two top-mass accelerometers are the record's
+    tests, its id the channel; it starts at impact, so no pre-trigger offset is removed."""
+    from pathlib import Path
+
+    from idkit.io.discover import load_measurements
+    from idkit.io.shock_csv import read_shock_file
+    from idkit.studies.shock import analyse_shock
+
+    drop = Path(__file__).resolve().parents[2] / "data" / "wire_rope" / "drop" / "drop_wr_4.33kg_04cm_1.csv.gz"
+    (record,) = load_measurements(drop)[1]
+    shock = read_shock_file(drop)
+    assert shock.channel == record.id and shock.source.column_label("test 2") == "a_top_2 [m/s^2]"
+    np.testing.assert_array_equal(shock.accel, np.column_stack([record.a_top_1, record.a_top_2]))
+    outcome = run_main(["shock", drop, "--points", "8"], inputs=[drop])
+    check(outcome, "ok", [record.id, "offset none"])
+    pulses = analyse_shock([shock], n_points=8, offset="none").pulses[0]
+    # offset none: the peak is the recorded sample of largest magnitude of each accelerometer
+    np.testing.assert_allclose(pulses.peak, [np.abs(record.a_top_1).max(), np.abs(record.a_top_2).max()],
+                               rtol=1e-12)

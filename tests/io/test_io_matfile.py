@@ -35,7 +35,7 @@ def test_read_mat_converts_and_records_provenance(mat_path):
 
 @pytest.mark.parametrize(("columns", "match"), [
     ({**COLUMNS, "force": "x_F[:,2]"}, "unit missing"),
-    ({**COLUMNS, "force": "x_F[:,2] [kgf]"}, "unknown unit 'kgf'"),
+    ({**COLUMNS, "force": "x_F[:,2] [tonf]"}, "unknown unit 'tonf'"),
     ({**COLUMNS, "force": "F [N]"}, "variable 'F' not in the file"),
     ({**COLUMNS, "force": "x_F[:,5] [N]"}, "column 5 \\(0-based\\)"),
     ({**COLUMNS, "force": "x_F [N]"}, "expected a vector"),

@@ -25,6 +25,18 @@ from idkit.io.units import (
     ("daN", "force", 1.5, 15.0),
     ("kN", "force", 2.0, 2000.0),
     ("lbf", "force", 1.0, 4.4482216152605),
+    # a kip is 1000 lbf and a klbf the same unit; kgf is the kilogram's weight under standard gravity
+    ("kip", "force", 2.0, 8896.443230521),
+    ("klbf", "force", 1.0, 4448.2216152605),
+    ("kgf", "force", 10.0, 98.0665),
+    ("MN", "force", 1.5, 1.5e6),
+    ("ft", "length", 1.0, 0.3048),
+    ("mil", "length", 10.0, 2.54e-4),
+    ("\u00b5m", "length", 250.0, 2.5e-4),
+    ("ft/s", "velocity", 2.0, 0.6096),
+    ("in/s^2", "acceleration", 1.0, 0.0254),
+    ("lbf/in", "stiffness", 1.0, 4.4482216152605 / 0.0254),
+    ("psi", "modulus", 1.0, 6894.757293168361),
     ("g", "acceleration", 2.0, 2 * 9.80665),
     ("1000g", "acceleration", 1.0, 9806.65),
     ("mm/s", "velocity", 10.0, 0.01),
@@ -77,9 +89,9 @@ def test_missing_unit_is_an_error(unit):
 
 def test_unknown_unit_message_names_location_and_accepted_units():
     with pytest.raises(DataError) as info:
-        lookup_unit("kgf", "force", where="file 'a.csv', column 'force [kgf]'")
+        lookup_unit("tonf", "force", where="file 'a.csv', column 'force [tonf]'")
     message = str(info.value)
-    for fragment in ("a.csv", "force [kgf]", "'kgf'", ", ".join(accepted_units("force"))):
+    for fragment in ("a.csv", "force [tonf]", "'tonf'", ", ".join(accepted_units("force"))):
         assert fragment in message
 
 
@@ -93,3 +105,18 @@ def test_units_are_case_sensitive():
 def test_unknown_quantity_lists_known_ones():
     with pytest.raises(KeyError, match="known"):
         accepted_units("luminosity")
+
+
+@pytest.mark.parametrize(("unit", "quantity", "hint"), [
+    ("KN", "force", " (did you mean 'kN'?)"),
+    ("hz", "frequency", " (did you mean 'Hz'?)"),
+    ("mm/sec", "velocity", " (did you mean 'mm/s'?)"),
+    ("lb", "force", " (did you mean 'lbf'?)"),
+    ("mN", "force", ""),     # a millinewton is not a meganewton: no case-only hint across m/M
+    ("mpa", "modulus", ""),
+    ("tonf", "force", ""),
+])
+def test_unknown_unit_names_the_close_accepted_one_never_taking_it(unit, quantity, hint):
+    with pytest.raises(DataError) as info:
+        lookup_unit(unit, quantity, where="file 'a.csv', column 'x'")
+    assert f"unknown unit {unit!r} for quantity {quantity}{hint}; accepted" in str(info.value)
