@@ -36,7 +36,8 @@ from idkit.observe.quasi_static import LoopSet
 
 __all__ = ["START_STATES", "check_state", "set_start_state", "PackedLoops", "IwanLoops", "BoucWenLoops",
            "iwan_set_errors", "iwan_set_forces", "boucwen_set_errors", "boucwen_set_forces", "cycled_flags",
-           "modulated_forces", "modulated_errors", "modulated_set_errors", "modulated_set_forces"]
+           "modulated_forces", "modulated_errors", "modulated_set_errors", "modulated_set_forces",
+           "law_set_forces", "law_set_errors"]
 
 START_STATES = ("auto", "cycled", "virgin")
 _H_LAMBDA = 1.0  # RK4 sub-step times the stiffness of the z equation (see _max_substep)
@@ -209,6 +210,8 @@ def iwan_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_state:
     """
     if isinstance(model, ModulatedIwanModel):
         return modulated_set_errors(model, sets, initial_state=initial_state)
+    if type(model) is not IwanModel:
+        return law_set_errors(model, sets, initial_state=initial_state)
     return IwanLoops(list(sets), check_state(initial_state)).set_errors(*_iwan_args(model))
 
 
@@ -228,8 +231,31 @@ def iwan_set_forces(model: IwanModel, sets: Sequence[LoopSet], *, initial_state:
     """
     if isinstance(model, ModulatedIwanModel):
         return modulated_set_forces(model, sets, initial_state=initial_state)
+    if type(model) is not IwanModel:
+        return law_set_forces(model, sets, initial_state=initial_state)
     packed = IwanLoops(list(sets), check_state(initial_state))
     return packed.split(packed.forces(*_iwan_args(model)))
+
+
+def law_set_forces(model, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> list[np.ndarray]:
+    """Force (N) along each prepared set from the model's own force law (``model.force``), for
+    models without a packed loop kernel (e.g. the elements of :mod:`idkit.models.clearance`):
+    loaded monotonically from the unloaded state to the first point and, for a cycled set, run
+    through the set once before the pass that is kept, as the packed kernels do."""
+    check_state(initial_state)
+    forces = []
+    for loop_set in sets:
+        x = np.asarray(loop_set.deflection, dtype=float)
+        passes = 2 if set_start_state(loop_set, initial_state) == "cycled" else 1
+        path = np.concatenate([[0.0]] + [x] * passes)
+        forces.append(np.asarray(model.force(path), dtype=float)[path.size - x.size:])
+    return forces
+
+
+def law_set_errors(model, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> np.ndarray:
+    """Error (7.1) as a fraction of ``model`` on each prepared set, from :func:`law_set_forces`."""
+    return np.array([np.sqrt(np.sum((f - s.force) ** 2) / np.sum(s.force**2))
+                     for f, s in zip(law_set_forces(model, sets, initial_state=initial_state), sets)])
 
 
 # --------------------------------------------------------------------------- slip-modulated Iwan
@@ -404,6 +430,8 @@ def boucwen_set_errors(model: BoucWenModel, sets: Sequence[LoopSet], *, initial_
     ndarray
         One error per set.
     """
+    if type(model) is not BoucWenModel:
+        return law_set_errors(model, sets, initial_state=initial_state)
     return BoucWenLoops(list(sets), check_state(initial_state)).set_errors(boucwen_values(model))
 
 
@@ -416,5 +444,7 @@ def boucwen_set_forces(model: BoucWenModel, sets: Sequence[LoopSet], *,
     list of ndarray
         One force array per set.
     """
+    if type(model) is not BoucWenModel:
+        return law_set_forces(model, sets, initial_state=initial_state)
     packed = BoucWenLoops(list(sets), check_state(initial_state))
     return packed.split(packed.forces(boucwen_values(model)))
