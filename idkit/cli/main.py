@@ -229,13 +229,13 @@ def register(commands) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``idkit`` parser: every command family adds itself with its module's ``register(commands)``."""
-    from idkit.cli import catalogue, data, design, fit, inspect, report, shock, study
+    from idkit.cli import catalogue, data, design, fit, inspect, report, shock, study, validate
 
     parser = opt.IdkitArgumentParser(prog="idkit", description="Identify, validate and simulate isolator models.")
     parser.add_argument("--version", action="version", version=f"idkit {__version__}")
     commands = parser.add_subparsers(dest="command", required=True)
     for register_family in (register, data.register, fit.register, inspect.register, report.register, shock.register,
-                            study.register, catalogue.register, design.register):
+                            study.register, catalogue.register, design.register, validate.register):
         register_family(commands)
     return parser
 

@@ -1,0 +1,42 @@
+"""Held-out force histories (idkit.validate.history): a right model scores its noise floor, wrong ones fail."""
+
+import numpy as np
+import pytest
+
+from idkit.models import IwanModel
+from idkit.observe.histories import histories_from_records
+from idkit.synth.devices import DEVICES, device_records, earthquake_history, random_history
+from idkit.validate.history import validate_histories
+
+DEVICE = DEVICES["jenkin"]
+TRUE_MODEL = IwanModel(g1=DEVICE.parallel_stiffness, k=list(DEVICE.stiffness), fc=list(DEVICE.slip_force))
+
+
+def held_out(noise=3.0, seed=7):
+    histories = {"random": random_history(9e-3, (0.1, 1.5), duration=12.0, seed=seed),
+                 "quake": earthquake_history(9e-3, duration=12.0, dominant_hz=0.5, seed=seed)}
+    return histories_from_records(device_records(DEVICE, histories, force_noise=noise, seed=seed, split="validation"))
+
+
+def test_the_true_model_scores_its_noise_floor_and_passes():
+    """The device's own law on its noisy records: the error is the noise; the floor estimate (second
+    differences) reads it within 10 % on 2400 samples, so error / floor within 0.9-1.1."""
+    result = validate_histories(TRUE_MODEL, held_out())
+    assert result.verdict == "PASS", result.why
+    assert result.metrics["error_over_floor"].to_numpy() == pytest.approx(1.0, abs=0.1)
+    assert np.all(np.abs(result.metrics["energy_error"]) < 0.02)
+
+
+@pytest.mark.parametrize("wrong", [dict(k=[3e5, 8e4]), dict(fc=[180.0, 600.0]), dict(fc=[18.0, 60.0])])
+def test_wrong_components_fail(wrong):
+    """Stiffness x2, slip forces x3 and x0.3 (the power probes of docs/validation.md)."""
+    parts = dict(g1=DEVICE.parallel_stiffness, k=list(DEVICE.stiffness), fc=list(DEVICE.slip_force)) | wrong
+    result = validate_histories(IwanModel(**parts), held_out())
+    assert result.verdict == "FAIL"
+
+
+def test_records_too_noisy_to_judge_are_inconclusive():
+    """Noise of 100 N on a force of ~400 N RMS: the floor (0.25) is above half the median limit."""
+    result = validate_histories(TRUE_MODEL, held_out(noise=100.0))
+    assert result.verdict == "INCONCLUSIVE"
+    assert any("noise floor" in reason for reason in result.inconclusive)
