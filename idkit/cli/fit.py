@@ -251,8 +251,9 @@ def _common(parser, *, loops: bool) -> None:
                              "there are several; for a file: any)")
     parser.set_defaults(isolator_kind="quasi_static" if loops else "white_noise")
     if loops:
-        parser.add_argument("--small-threshold", type=opt.real(above=0, unit="m"), default=8e-3,
-                            help="amplitude in m separating small- from large-loop records (default 8e-3)")
+        parser.add_argument("--small-threshold", type=opt.real(above=0, unit="m"), default=None,
+                            help="amplitude in m separating small- from large-loop records (default: the geometric "
+                                 "mean of the smallest and largest record amplitude)")
         parser.add_argument("--start-state", choices=["auto", "cycled", "virgin"], default="auto",
                             help="model state at the first reversal of each record: 'virgin' (loaded from "
                                  "unloaded), 'cycled' (steady cycling), 'auto' (virgin when the record starts "
@@ -342,3 +343,7 @@ def register(subparsers) -> None:
                          help=f"budget of the global search (1 to {opt.MAX_EVALS:.0e}, default 1000)")
     boucwen.add_argument("--compare", action="store_true", help="also fit Iwan order 2 and print the comparison")
     boucwen.set_defaults(handler=_cmd_boucwen)
+
+    from idkit.cli import fit_auto
+
+    fit_auto.register(kinds)

@@ -45,7 +45,6 @@ from idkit.models.laws import lowest_spring_stiffness, sdof_transmissibility
 from idkit.models.maxwell import preloaded
 from idkit.observe.quasi_static import (
     LOOP_POINTS_PER_SET,
-    SMALL_THRESHOLD,
     K0FromLoops,
     LoopData,
     k0_from_records,
@@ -234,6 +233,8 @@ class MeasurementFit:
             lines.append(f"    k0 = {k.k0:.5g} +- {k.stderr:.2g} N/m from the quasi-static loops ({how}|deflection| <= "
                          f"{1e3 * k.window:g} mm; per record "
                          + ", ".join(f"{name}: {value:.5g}" for name, value in k.per_record.items()) + ")")
+            if k.fallback:
+                lines.append(f"    k0: {k.fallback}")
         if self.damping is not None:
             d = self.damping
             lines.append(f"    c_visc = {d.c_visc:.4g} N s/m (damping ratio {d.damping_ratio:.3g}) from the resonance "
@@ -295,7 +296,8 @@ class MeasurementFit:
             record["k0"] = {"value_N_per_m": self.k0.k0, "stderr_N_per_m": self.k0.stderr,
                             "window_m": self.k0.window, "per_record_N_per_m": _jsonable(dict(self.k0.per_record)),
                             "method": self.k0.method, "secant_N_per_m": self.k0.secant_k0,
-                            "relaxation_N_per_m_by_rate_per_s": _jsonable(self.k0.relaxation)}
+                            "relaxation_N_per_m_by_rate_per_s": _jsonable(self.k0.relaxation),
+                            "fallback": self.k0.fallback}
         points = getattr(self.data, "operating_points", None)
         if points:  # each top mass was fitted about its preload: k0 -> this tangent stiffness
             record["operating_points"] = {f"{mass:g} kg": None if point is None else
@@ -331,7 +333,7 @@ def fit_iwan_measurements(
     measurements,
     *,
     order: int | str = "auto",
-    small_threshold: float = SMALL_THRESHOLD,
+    small_threshold: float | None = None,
     isolator=ONLY_ISOLATOR,
     split: str | None = "fit",
     points_per_set: int | None = LOOP_POINTS_PER_SET,
@@ -345,7 +347,7 @@ def fit_iwan_measurements(
     """Three-stage Iwan fit (:func:`idkit.fit.fit_iwan`) on the quasi-static records of a set.
 
     Records are split into small and large sets by :func:`loop_sets`
-    (``small_threshold`` default 8 mm); ``options`` go to :func:`~idkit.fit.fit_iwan`.
+    (``small_threshold`` default: the data's own, :func:`~idkit.observe.quasi_static.split_threshold`); ``options`` go to :func:`~idkit.fit.fit_iwan`.
     When the same selection holds stepped-sine points of the isolator, the viscous
     damping is identified from the resonance of the level ``damping_level``
     (:func:`idkit.fit.fit_viscous_damping`; ``None`` keeps ``c_visc = 0``) and
@@ -361,8 +363,9 @@ def fit_iwan_measurements(
         Selected by :func:`idkit.io.selection.select_measurements`.
     order : int or "auto", default "auto"
         Number of Jenkin elements, or ``"auto"`` for the order rule (docs/fitting.md).
-    small_threshold : float, default :data:`~idkit.observe.quasi_static.SMALL_THRESHOLD` (8e-3 m)
-        Amplitude (m) at or below which a record is a small-loop set.
+    small_threshold : float or None
+        Amplitude (m) at or below which a record is a small-loop set; default (None) the geometric
+        mean of the smallest and largest record amplitude (:func:`~idkit.observe.quasi_static.split_threshold`).
     isolator : str or None, default: the only isolator with loop records
         The isolator whose records are fitted (None: every record). By default the only one
         with quasi-static records (:func:`idkit.io.selection.resolve_isolator`); with several,
@@ -498,7 +501,8 @@ def fit_iwan_measurements(
             except FitError as problem:  # e.g. no resonance inside the sweep: keep c_visc = 0 and say why
                 damping_note = f"c_visc = 0: not identified from the stepped-sine data ({problem})"
     return MeasurementFit(kind="iwan", result=result, data=data, provenance=data.provenance,
-                          options={"small_threshold": small_threshold, "points_per_set": points_per_set,
+                          options={"small_threshold": data.threshold, "small_threshold_given": small_threshold is not None,
+                                   "points_per_set": points_per_set,
                                    "order": order, "family": result.settings.family,
                                    "family_rule": family, "backend": backend, "damping_level": damping_level,
                                    "remove_offsets": remove_offsets, "single_amplitude": data.single_amplitude,
@@ -812,7 +816,7 @@ def _valid_over_the_data(model, measurements, isolator) -> tuple[str, ...]:
 def fit_boucwen_measurements(
     measurements,
     *,
-    small_threshold: float = SMALL_THRESHOLD,
+    small_threshold: float | None = None,
     isolator=ONLY_ISOLATOR,
     split: str | None = "fit",
     points_per_set: int | None = LOOP_POINTS_PER_SET,
@@ -848,7 +852,8 @@ def fit_boucwen_measurements(
                      points_per_set=points_per_set, remove_offsets=remove_offsets)
     result = fit_boucwen(list(data.small), list(data.large), backend=backend, seed=seed, **options)
     return MeasurementFit(kind="boucwen", result=result, data=data, provenance=data.provenance,
-                          options={"small_threshold": small_threshold, "points_per_set": points_per_set,
+                          options={"small_threshold": data.threshold, "small_threshold_given": small_threshold is not None,
+                                   "points_per_set": points_per_set,
                                    "backend": backend, "remove_offsets": remove_offsets,
                                    "single_amplitude": data.single_amplitude,
                                    "offset_corrections": [c.to_dict() for c in data.offset_corrections], **options},

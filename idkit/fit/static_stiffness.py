@@ -22,6 +22,14 @@ identification: the FRF fit identifies the Maxwell elements; only ``k0`` is kept
 Its standard error is the least-squares one of the columns the solution uses (``k0``, the
 positive ``c_j``, the offsets), or the spread of the per-record values when larger, as for
 the secant estimate.
+
+**When the loops cannot tell k0 from the basis** the secant slope stands in, with the reason in
+``K0FromLoops.fallback`` (the fit's report and the model file's provenance print it): the
+relaxation fit's ``k0`` is not positive, or its 95 % interval ``k0 +- 1.96 stderr`` reaches zero
+(the verdicts' rule for a positive parameter, :data:`~idkit.fit.result.INTERVAL_Z`). Sinusoidal
+loops of one amplitude and frequency per record, the common lab practice, do that: a slow basis
+element is a spring over a sine's period, so the NNLS may put the whole stiffness in it and leave
+``k0 = 0``; such a set was refused before.
 """
 
 from __future__ import annotations
@@ -33,6 +41,7 @@ import numpy as np
 import scipy.optimize
 
 from idkit.errors import FitError, Message, Suggestion
+from idkit.fit.result import INTERVAL_Z
 from idkit.models.laws import kernel_array, maxwell_states
 from idkit.observe.quasi_static import K0FromLoops, k0_from_records
 
@@ -112,7 +121,8 @@ def k0_with_relaxation(records, *, window: float = 1e-3, rates=RELAXATION_RATES)
     ------
     FitError
         Everything :func:`~idkit.observe.quasi_static.k0_from_records` refuses, too few points
-        for the unknowns, bad rates, a k0 that is not positive.
+        for the unknowns, bad rates. A k0 the loops do not separate from the basis is not an
+        error: the secant estimate is returned with ``fallback`` saying why (module docstring).
 
     Examples
     --------
@@ -151,9 +161,6 @@ def k0_with_relaxation(records, *, window: float = 1e-3, rates=RELAXATION_RATES)
         blocks.append((x[inside], states[inside], np.asarray(record.force, dtype=float)[inside]))
         names.append(record.id or f"record{index}")
     k0, stiffness, _, stderr = _solve(blocks, rates.size)
-    if not k0 > 0:
-        raise FitError(Message(f"k0 with relaxation: found k0 = {k0:g} N/m, expected a positive stiffness (use ",
-                               Suggestion("k0_method", "secant"), " to see the loops' own slope)"))
     per_record = {}
     for name, block in zip(names, blocks):
         try:
@@ -162,6 +169,13 @@ def k0_with_relaxation(records, *, window: float = 1e-3, rates=RELAXATION_RATES)
             per_record[name] = math.nan
     values = np.array([v for v in per_record.values() if math.isfinite(v)])
     spread = float(np.std(values, ddof=1) / math.sqrt(values.size)) if values.size > 1 else 0.0
-    return dataclasses.replace(secant, k0=k0, stderr=max(stderr, spread), per_record=per_record,
+    uncertainty = max(stderr, spread)
+    if not (k0 > 0 and k0 - INTERVAL_Z * uncertainty > 0):
+        interval = f"k0 = {k0:.5g} +- {uncertainty:.2g} N/m" if k0 > 0 else f"k0 = {k0:g} N/m"
+        return dataclasses.replace(secant, fallback=(
+            f"secant slope {secant.k0:.5g} N/m used: the relaxation fit cannot tell k0 from its relaxation basis "
+            f"({interval}, {INTERVAL_Z:g} standard errors reach zero; loops that cross zero at one time after "
+            "their reversals, e.g. sinusoids, do not separate a static spring from a slow element)"))
+    return dataclasses.replace(secant, k0=k0, stderr=uncertainty, per_record=per_record,
                                method="relaxation", secant_k0=secant.k0,
                                relaxation={float(r): float(c) for r, c in zip(rates, stiffness)})

@@ -11,10 +11,10 @@ The one place a force-deflection record becomes loops, for ``idkit inspect``
   inputs (pairs of arrays, objects with ``.deflection``/``.force``).
 * :func:`loop_sets` / :class:`LoopData` - the quasi-static records of a measurement set
   split **per measurement** into small and large sets by their amplitude (half the
-  peak-to-peak deflection). Default threshold :data:`SMALL_THRESHOLD` = 8 mm: the study's
-  small-loop sets reach 4.5 mm and its large-loop sets 15 mm (SPEC 3); 8 mm is about their
-  geometric mean, so either kind of set may over- or undershoot its nominal amplitude by
-  40 % and still be classified right.
+  peak-to-peak deflection). Default threshold :func:`split_threshold`, from the data's own
+  amplitude range: the geometric mean of the smallest and the largest record amplitude (the
+  study's small-loop sets reach 4.5 mm and its large-loop sets 15 mm (SPEC 3): 8.2 mm, about
+  the former fixed :data:`SMALL_THRESHOLD` of 8 mm; loops of 13-38 mm: 22 mm).
 * :func:`estimate_k0` / :class:`K0Estimate` and :func:`k0_from_measurements` /
   :class:`K0FromLoops` - the elastomer's static stiffness, the slope around the origin.
 """
@@ -44,7 +44,7 @@ from idkit.signal.cycles import (
 __all__ = [
     "QuasiStaticResult", "process_quasi_static", "require_moving_loops",
     "MIN_POINTS", "UNLOADED_FRACTION", "LoopSet", "prepare_loops", "as_loop_sets",
-    "SMALL_THRESHOLD", "LOOP_POINTS_PER_SET", "LoopData", "loop_sets",
+    "SMALL_THRESHOLD", "split_threshold", "LOOP_POINTS_PER_SET", "LoopData", "loop_sets",
     "K0Estimate", "estimate_k0", "K0FromLoops", "k0_from_measurements", "k0_from_records", "record_cycles",
     "StaticOperatingPoint", "static_operating_point",
 ]
@@ -53,7 +53,8 @@ MIN_POINTS = 20  # per set, after resampling: fewer cannot resolve slip onset an
 #: A record "starts unloaded" when its first deflection and force are within this share
 #: of their largest magnitudes in the record (an isolator at rest, sensors zeroed).
 UNLOADED_FRACTION = 0.02
-#: Default amplitude (m) separating small-loop from large-loop quasi-static records.
+#: The study's amplitude (m) separating small-loop from large-loop quasi-static records (SPEC 3):
+#: about :func:`split_threshold` of its records; no longer a default (it assumed the thesis's rope).
 SMALL_THRESHOLD = 8e-3
 #: Default resampled points per quasi-static record: about 20 per branch for the
 #: study's 15-loop records (30 branches); 200 would leave 7 points on a 4.5 mm branch.
@@ -61,6 +62,25 @@ LOOP_POINTS_PER_SET = 600
 #: Records whose amplitudes all lie within this fraction of their median form a one-amplitude
 #: test: there is no small/large split to make, and every fit stage uses all of its loops.
 SINGLE_AMPLITUDE_SPREAD = 0.25
+
+
+def split_threshold(amplitudes) -> float:
+    """The default small/large split of loop records, m: the geometric mean of the smallest and the
+    largest record amplitude (half the peak-to-peak deflection), so the split follows the data's own
+    range on a log scale whatever the device's size. Records of one amplitude give that amplitude
+    (all "small"; :func:`loop_sets` then fits every stage on all of them).
+
+    Examples
+    --------
+    >>> round(split_threshold([4.5e-3, 4.4e-3, 15e-3]) * 1e3, 2)     # the study's loops
+    8.12
+    >>> round(split_threshold([13e-3, 25e-3, 38e-3]) * 1e3, 1)       # a friction damper's 13-38 mm
+    22.2
+    """
+    values = np.asarray(amplitudes, dtype=float)
+    if values.size == 0 or not np.all(np.isfinite(values) & (values > 0)):
+        raise FitError(f"amplitudes: found {values!r}, expected positive record amplitudes in m")
+    return float(math.sqrt(values.min() * values.max()))
 
 
 def record_cycles(deflection, *, min_excursion: float | None = None,
@@ -451,7 +471,7 @@ class LoopData:
 def loop_sets(
     measurements,
     *,
-    small_threshold: float = SMALL_THRESHOLD,
+    small_threshold: float | None = None,
     isolator: str | None = "wire_rope",
     split: str | None = "fit",
     points_per_set: int | None = LOOP_POINTS_PER_SET,
@@ -464,9 +484,10 @@ def loop_sets(
     ----------
     measurements : MeasurementSet or sequence of measurements
         Selected by :func:`idkit.io.selection.select_measurements`.
-    small_threshold : float, default :data:`SMALL_THRESHOLD` (8e-3 m)
-        A record whose amplitude (half its peak-to-peak deflection) is at most this
-        is a small-loop set, otherwise a large-loop set.
+    small_threshold : float or None
+        A record whose amplitude (half its peak-to-peak deflection) is at most this (m)
+        is a small-loop set, otherwise a large-loop set. Default (None):
+        :func:`split_threshold` of the selected records' amplitudes.
     isolator : str or None, default "wire_rope"
         Only records of this isolator (None: any).
     split : {"fit", "validation", None}, default "fit"
@@ -495,24 +516,27 @@ def loop_sets(
         that ``small_threshold`` puts all on one side (the message lists the amplitudes and
         the threshold).
     """
-    if not (math.isfinite(small_threshold) and small_threshold > 0):
+    if small_threshold is not None and not (math.isfinite(small_threshold) and small_threshold > 0):
         raise FitError(f"small_threshold: found {small_threshold!r}, expected a positive amplitude in m")
     records, provenance = select_measurements(measurements, kind="quasi_static", isolator=isolator, split=split)
-    small, large, small_rep, large_rep, amplitudes, corrections = [], [], [], [], {}, []
+    small, large, small_rep, large_rep, amplitudes, corrections, prepared_sets = [], [], [], [], {}, [], []
     for position, record in enumerate(records, start=1):
         name = record.id or f"record{position}"
         require_moving_loops(record)
         if remove_offsets:
             record, correction = remove_loop_offsets(record)
             corrections.append(correction)
-        amplitude = 0.5 * float(np.ptp(record.deflection))
-        amplitudes[name] = amplitude
+        amplitudes[name] = 0.5 * float(np.ptp(record.deflection))
         try:
             prepared = prepare_loops(record.deflection, record.force, points_per_set=points_per_set,
                                      min_excursion=min_excursion, name=name)
         except FitError as problem:
             raise FitError(f"{record.source.where()}: {problem}") from None
         repetition = record.info.repetition if record.info.repetition is not None else position
+        prepared_sets.append((prepared, amplitudes[name], repetition))
+    if small_threshold is None:  # every record has reversals, so a positive amplitude
+        small_threshold = split_threshold(list(amplitudes.values()))
+    for prepared, amplitude, repetition in prepared_sets:
         if amplitude <= small_threshold:
             small.append(prepared)
             small_rep.append(repetition)
@@ -635,6 +659,10 @@ class K0FromLoops:
         ``"relaxation"``: the secant slope of the same points, N/m.
     relaxation : dict or None
         ``"relaxation"``: basis stiffness (N/m) per relaxation rate (1/s).
+    fallback : str or None
+        Why the secant slope stands in for the relaxation fit that was asked for (the loops do
+        not tell ``k0`` apart from the relaxation basis, e.g. sinusoids of one amplitude per
+        record); None when the method asked for gave ``k0``.
     """
 
     k0: float
@@ -645,6 +673,7 @@ class K0FromLoops:
     method: str = "secant"
     secant_k0: float | None = None
     relaxation: dict | None = None
+    fallback: str | None = None
 
 
 def k0_from_measurements(
