@@ -68,3 +68,21 @@ def test_bad_arguments_are_named():
     assert k0_from_records([clean], window=3e-5).k0 > 0  # enough points for a slope ...
     with pytest.raises(FitError, match="points in the window"):  # ... not for 12 unknowns
         k0_with_relaxation([clean], window=3e-5)
+
+
+def test_loops_a_relaxing_element_explains_fall_back_to_the_secant_with_the_reason():
+    """Sine loops whose whole force is one basis element (rate 1/s, no static spring): the relaxation fit
+    puts the stiffness in that element and finds k0 = 0, which it cannot tell from the basis; the secant
+    slope of the same points is returned with the reason, no longer an error."""
+    from idkit.models.laws import kernel_array, maxwell_states
+
+    records = []
+    for index, amplitude in enumerate((2e-3, 3e-3), start=1):
+        t = np.arange(0.0, 4.0, 0.01)
+        x = amplitude * np.sin(2 * np.pi * 0.5 * t)
+        element = maxwell_states(kernel_array(x), kernel_array(t), kernel_array(np.array([1.0])), np.zeros(1))[:, 0]
+        records.append(QuasiStaticMeasurement(time=t, deflection=x, force=9000.0 * element,
+                                              info=MeasurementInfo(id=f"sine{index}", sample_rate_hz=100.0)))
+    estimate = k0_with_relaxation(records)
+    assert estimate.method == "secant" and estimate.k0 == k0_from_records(records).k0
+    assert "cannot tell k0 from its relaxation basis" in estimate.fallback and "k0 = 0" in estimate.fallback
