@@ -47,7 +47,7 @@ from idkit.io import MeasurementInfo, QuasiStaticMeasurement
 __all__ = [
     "JenkinDevice", "BoucWenDevice", "ClearanceFrictionDamper", "PinchedRope", "RateDependentDamper",
     "sine_history", "random_history", "earthquake_history", "multilevel_history", "device_records",
-    "DEVICES",
+    "protocol_records", "DEVICES",
 ]
 
 
@@ -442,3 +442,21 @@ def device_records(device, histories: dict, *, force_noise: float, seed: int = 0
                                               force=clean + force_noise * rng.standard_normal(clean.size),
                                               info=info))
     return records
+
+
+def protocol_records(device, *, amplitudes=(3e-3, 6e-3, 9e-3, 12e-3), frequency_hz: float = 0.5, cycles: float = 2.0,
+                     held_out_peak: float = 10e-3, held_out_duration: float = 20.0, sample_rate_hz: float = 100.0,
+                     force_noise: float = 3.0, seed: int = 0, isolator: str = "device"):
+    """Issue 32.5's protocol for one device: ``(training, held_out)`` records. Training: a sine of each
+    amplitude at ``frequency_hz`` (split ``fit``); held out: one random record (0.1-1 Hz) and one
+    earthquake-like record (dominant ``frequency_hz``), both of peak ``held_out_peak`` (split
+    ``validation``). Every record with ``force_noise`` N of seeded noise; the truth's own error on them
+    (the noise floor) is ``force_noise / rms(force)``."""
+    sines = {f"sine_{1e3 * a:g}mm": sine_history(a, frequency_hz, cycles=cycles, sample_rate_hz=sample_rate_hz)
+             for a in amplitudes}
+    held = {"random": random_history(held_out_peak, (0.1, 1.0), duration=held_out_duration,
+                                     sample_rate_hz=sample_rate_hz, seed=seed),
+            "quake": earthquake_history(held_out_peak, duration=held_out_duration, dominant_hz=frequency_hz,
+                                        sample_rate_hz=sample_rate_hz, seed=seed)}
+    return (device_records(device, sines, force_noise=force_noise, seed=seed, isolator=isolator),
+            device_records(device, held, force_noise=force_noise, seed=seed, split="validation", isolator=isolator))

@@ -12,7 +12,7 @@ import pytest
 from idkit.errors import FitError
 from idkit.fit.auto import Family, fit_auto, fit_boucwen_family, fit_plain_iwan
 from idkit.observe.histories import histories_from_records, noise_floor
-from idkit.synth.devices import DEVICES, device_records, earthquake_history, random_history, sine_history
+from idkit.synth.devices import DEVICES, device_records, protocol_records, sine_history
 from idkit.validate.history import validate_histories
 
 FAMILIES = [
@@ -24,15 +24,11 @@ NOISE = 3.0  # N, on forces of 300-900 N: noise floors of 0.5-1.5 %
 
 
 def training(device, seed):
-    sines = {f"sine_{1e3 * a:g}mm": sine_history(a, 0.5, cycles=2, sample_rate_hz=100.0)
-             for a in (3e-3, 6e-3, 9e-3, 12e-3)}
-    return histories_from_records(device_records(device, sines, force_noise=NOISE, seed=seed))
+    return histories_from_records(protocol_records(device, force_noise=NOISE, seed=seed)[0])
 
 
 def held_out(device, seed):
-    histories = {"random": random_history(10e-3, (0.1, 1.0), duration=20.0, sample_rate_hz=100.0, seed=seed),
-                 "quake": earthquake_history(10e-3, duration=20.0, dominant_hz=0.5, sample_rate_hz=100.0, seed=seed)}
-    return histories_from_records(device_records(device, histories, force_noise=NOISE, seed=seed, split="validation"))
+    return histories_from_records(protocol_records(device, force_noise=NOISE, seed=seed)[1])
 
 
 @pytest.mark.parametrize("seed", [1])  # seeds 1-6 checked when written (commit message); one keeps the time down
