@@ -197,10 +197,15 @@ def force_histories(measurements, *, isolator: str | None = None,
     Raises
     ------
     DataError
-        No matching record (the message lists what the set holds), a record that is not a force
-        history (constant deflection, fewer than :data:`MIN_HISTORY_SAMPLES` samples).
+        No matching record (the message lists what the set holds), records of more than one isolator
+        with ``isolator=None`` (one device's histories are fitted or validated at a time), a record
+        that is not a force history (constant deflection, fewer than :data:`MIN_HISTORY_SAMPLES` samples).
     """
     records, provenance = select_measurements(measurements, kind="quasi_static", isolator=isolator, split=split)
+    isolators = sorted({str(record.info.isolator) for record in records})
+    if isolator is None and len(isolators) > 1:
+        raise DataError(f"quasi-static records: found records of the isolators {', '.join(isolators)}, expected one "
+                        "device's records (give the isolator: --isolator NAME / isolator=)")
     return histories_from_records(records), provenance
 
 

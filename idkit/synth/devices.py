@@ -444,16 +444,22 @@ def device_records(device, histories: dict, *, force_noise: float, seed: int = 0
     return records
 
 
-def protocol_records(device, *, amplitudes=(3e-3, 6e-3, 9e-3, 12e-3), frequency_hz: float = 0.5, cycles: float = 2.0,
+def protocol_records(device, *, amplitudes=(3e-3, 6e-3, 9e-3, 12e-3), frequency_hz: float = 0.5,
+                     training_frequencies_hz=None, cycles: float = 2.0,
                      held_out_peak: float = 10e-3, held_out_duration: float = 20.0, sample_rate_hz: float = 100.0,
                      force_noise: float = 3.0, seed: int = 0, isolator: str = "device"):
     """Issue 32.5's protocol for one device: ``(training, held_out)`` records. Training: a sine of each
-    amplitude at ``frequency_hz`` (split ``fit``); held out: one random record (0.1-1 Hz) and one
+    amplitude at ``frequency_hz``, or at each of ``training_frequencies_hz`` (a rate-dependent device
+    needs several to be identified) (split ``fit``); held out: one random record (0.1-1 Hz) and one
     earthquake-like record (dominant ``frequency_hz``), both of peak ``held_out_peak`` (split
     ``validation``). Every record with ``force_noise`` N of seeded noise; the truth's own error on them
     (the noise floor) is ``force_noise / rms(force)``."""
-    sines = {f"sine_{1e3 * a:g}mm": sine_history(a, frequency_hz, cycles=cycles, sample_rate_hz=sample_rate_hz)
-             for a in amplitudes}
+    if training_frequencies_hz is None:
+        sines = {f"sine_{1e3 * a:g}mm": sine_history(a, frequency_hz, cycles=cycles, sample_rate_hz=sample_rate_hz)
+                 for a in amplitudes}
+    else:
+        sines = {f"sine_{1e3 * a:g}mm_{f:g}Hz": sine_history(a, f, cycles=cycles, sample_rate_hz=sample_rate_hz)
+                 for a in amplitudes for f in training_frequencies_hz}
     held = {"random": random_history(held_out_peak, (0.1, 1.0), duration=held_out_duration,
                                      sample_rate_hz=sample_rate_hz, seed=seed),
             "quake": earthquake_history(held_out_peak, duration=held_out_duration, dominant_hz=frequency_hz,

@@ -61,3 +61,16 @@ def test_bad_histories_are_refused_naming_the_record():
         ForceHistory("r2", t, np.zeros(100), np.ones(100))
     with pytest.raises(DataError, match="found the id 'a' twice"):
         histories_from_records([record("a", 1e-3, 1.0), record("a", 2e-3, 1.0)])
+
+
+def test_records_of_two_isolators_need_the_isolator_named():
+    from idkit.observe.histories import force_histories
+
+    first, second = record("a", 1e-3, 1.0), record("b", 2e-3, 1.0)
+    second = QuasiStaticMeasurement(time=second.time, deflection=second.deflection, force=second.force,
+                                    info=MeasurementInfo(id="b", isolator="elastomer"))
+    first = QuasiStaticMeasurement(time=first.time, deflection=first.deflection, force=first.force,
+                                   info=MeasurementInfo(id="a", isolator="wire_rope"))
+    with pytest.raises(DataError, match="isolators elastomer, wire_rope"):
+        force_histories([first, second], split=None)
+    assert [h.name for h in force_histories([first, second], isolator="elastomer", split=None)[0]] == ["b"]
