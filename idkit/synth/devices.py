@@ -333,14 +333,18 @@ class RateDependentDamper:
         return asdict(self)
 
 
-#: The devices of issue 32.5 with parameters of a small friction damper / rope (SI units).
+#: The devices of issue 32.5 with parameters of a small friction damper / rope (SI units). Under
+#: :func:`protocol_records` (seed 1, 3 N noise) today's families (plain Iwan, Bouc-Wen) fit the
+#: Jenkin and Bouc-Wen devices to their noise floor and the other three not: the clearance damper
+#: 32-39 % training error, the pinched rope 8-10 %, the rate-dependent damper 15-17 % (both
+#: families not a success; held-out strong-motion error 4-27 x the noise floor).
 DEVICES = {
     "jenkin": JenkinDevice(parallel_stiffness=2.0e4, stiffness=(1.5e5, 4.0e4), slip_force=(60.0, 200.0)),
     "boucwen": BoucWenDevice(k1=2.0e4, alpha=2.0e5, beta=800.0, gamma=400.0),
     "clearance_friction_damper": ClearanceFrictionDamper(parallel_stiffness=5.0e3, contact_stiffness=5.0e5,
                                                          clearance=2.0e-3, stiffness=2.0e5, slip_force=400.0),
-    "pinched_rope": PinchedRope(k1=1.5e4, alpha=1.2e5, beta=600.0, gamma=300.0, n=1.0, pinching=0.7,
-                                width=30.0, position=0.0),
+    "pinched_rope": PinchedRope(k1=1.5e4, alpha=1.2e5, beta=600.0, gamma=300.0, n=1.0, pinching=0.9,
+                                width=60.0, position=0.0),
     "rate_dependent_damper": RateDependentDamper(parallel_stiffness=1.0e4, stiffness=2.0e5, fc0=150.0, fc1=150.0,
                                                  v_ref=0.02, c_visc=0.0),
 }
