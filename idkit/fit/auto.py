@@ -43,6 +43,7 @@ import pandas as pd
 from idkit.errors import FitError, IdkitError
 from idkit.fit.compare import ORDER_RULE_FACTOR, iwan_order_fits
 from idkit.fit.result import undetermined_groups
+from idkit.forked import fork_call
 from idkit.observe.histories import ForceHistory, force_histories, noise_floor, normalised_rms_error
 from idkit.observe.quasi_static import LOOP_POINTS_PER_SET, LoopSet, prepare_loops, split_threshold
 
@@ -56,9 +57,10 @@ __all__ = [
 #: is its noise floor plus the error of parameters estimated without the group, and issue 32 asks
 #: a chosen model to predict held-out histories within 1.5 x the noise floor.
 GENERALISATION_FACTOR = 1.5
-#: Evaluation limit per local stage of a warm-started Bouc-Wen fold (the full fit's 3000 less the
-#: global search's exploration: a fold starts at the full fit's optimum, near its own).
-FOLD_BOUCWEN_EVALS = 1000
+#: Evaluation limit per local stage of a warm-started Bouc-Wen fold (the full fit's is 3000, after a
+#: global search): a fold starts at the full fit's optimum, near its own. The Bouc-Wen family was
+#: 90 % of ``fit auto``'s time on ten records (bench/bench_fit_auto.py).
+FOLD_BOUCWEN_EVALS = 500
 #: Orders the plain and slip-modulated Iwan families try (the order rule picks among them).
 IWAN_ORDERS = (1, 2, 3, 4, 5, 6)
 
@@ -484,6 +486,25 @@ def _beyond(score: FamilyScore, folds, floors: dict, factor: float, histories) -
     return tuple(judged), tuple(extrapolated)
 
 
+def _cross_validate(family: Family, histories, folds, full: CandidateFit, seed: int) -> tuple[dict, list]:
+    """Held-out error of each record of ``folds`` (a fold's fit warm-started from ``full``), and the
+    problems met; plain values, so a forked child can return them."""
+    cross_validated, problems = {}, []
+    for label, held in folds:
+        train = [h for h in histories if h.name not in held]
+        try:
+            fold = family.fit(train, start=full, seed=seed)
+        except FitError as problem:
+            problems.append(f"fold {label}: not fitted: {problem}")
+            cross_validated.update({name: math.inf for name in held})
+            continue
+        for history in histories:
+            if history.name in held:
+                cross_validated[history.name], problem = _predict(fold.model, history)
+                problems += [problem] if problem else []
+    return cross_validated, problems
+
+
 def _score(family: Family, histories, folds, seed) -> FamilyScore:
     started = _time.perf_counter()
     try:
@@ -497,18 +518,14 @@ def _score(family: Family, histories, folds, seed) -> FamilyScore:
         training[history.name], problem = _predict(full.model, history)
         problems += [problem] if problem else []
     started = _time.perf_counter()
-    cross_validated = {}
-    for label, held in folds:
-        train = [h for h in histories if h.name not in held]
-        try:
-            fold = family.fit(train, start=full, seed=seed)
-        except FitError as problem:
-            problems.append(f"fold {label}: not fitted: {problem}")
-            cross_validated.update({name: math.inf for name in held})
-            continue
-        for history in histories:
-            if history.name in held:
-                cross_validated[history.name], problem = _predict(fold.model, history)
-                problems += [problem] if problem else []
+    # the folds are independent: half of them run in a forked child (a second core) while this
+    # process runs the other half; where forking is not possible both halves run here
+    half = len(folds) // 2
+    child = fork_call(_cross_validate, family, histories, folds[:half], full, seed) if half else None
+    cross_validated, fold_problems = _cross_validate(family, histories, folds[half:], full, seed)
+    if child is not None:
+        first, first_problems = child.result()
+        cross_validated, fold_problems = {**first, **cross_validated}, first_problems + fold_problems
+    problems += fold_problems
     return FamilyScore(family, full, training, cross_validated, fit_time, _time.perf_counter() - started,
                        "; ".join(problems))
