@@ -9,7 +9,7 @@ import numpy as np
 
 from idkit.plot._figure import axes_or_new, save_figure
 
-__all__ = ["plot_history", "history_plot_paths", "save_history_plots"]
+__all__ = ["plot_history", "plot_history_validation", "history_plot_paths", "save_history_plots"]
 
 
 def plot_history(history, predicted, *, axes=None, window: slice | None = None):
@@ -72,3 +72,22 @@ def save_history_plots(result, folder) -> list[Path]:
                                   window=strong_motion_window(history.time, history.deflection))
         written.append(save_figure(loop_ax.figure, path, overwrite=False))
     return written
+
+
+def plot_history_validation(result, *, max_records: int = 4):
+    """The held-out records of a :func:`~idkit.validate.history.validate_histories` result, one row
+    each (force-deflection and force-time, measured and predicted; the worst strong-motion error
+    first, at most ``max_records``). Returns the axes (rows x 2)."""
+    from idkit.observe.histories import strong_motion_window
+    from idkit.plot._figure import new_axes
+
+    table = result.metrics.sort_values("nrms_error_strong_motion", ascending=False, na_position="first")
+    by_name = {history.name: history for history in result.details["histories"]}
+    names = list(table["record"])[:max_records]
+    grid = new_axes(len(names), 2, figsize=(10, 2.8 * len(names)), squeeze=False)
+    for row, name in zip(grid, names):
+        history = by_name[name]
+        predicted = result.details["predictions"][name]
+        plot_history(history, None if isinstance(predicted, str) else predicted, axes=row,
+                     window=strong_motion_window(history.time, history.deflection))
+    return grid

@@ -34,6 +34,7 @@ from idkit.plot.equivalent import (
     plot_loop_residuals,
 )
 from idkit.plot.fits import plot_frf_fit, plot_loop_fit, plot_parameter_spread, plot_storage_loss
+from idkit.plot.histories import plot_history_validation
 from idkit.plot.studies import plot_transport_psd, plot_transport_ranking, plot_transport_rest_shock
 from idkit.plot.validation import (
     plot_drop_histories,
@@ -70,7 +71,8 @@ REPORT_SECTIONS = (
 )
 
 #: the figure of each validated observable (:attr:`ValidationEntry.observable`)
-VALIDATION_PLOTS = {"sweeps": plot_harmonic_validation, "FRF": plot_frf_validation, "drops": plot_drop_validation}
+VALIDATION_PLOTS = {"sweeps": plot_harmonic_validation, "FRF": plot_frf_validation, "drops": plot_drop_validation,
+                    "histories": plot_history_validation}
 
 #: the validation sections: title, HTML anchor, :attr:`ValidationEntry.isolator`
 _VALIDATION_SECTIONS = (("Validation: wire rope", "validation-wire-rope", "wire rope"),
@@ -182,6 +184,8 @@ _VALIDATION_CAPTIONS = {
               "height leave the markers (right panel: the error in dB).",
     "FRF": "Dots measured H1, lines model, per top mass (at most three a column): look at the resonance frequency "
            "and the peak height.",
+    "histories": "Grey measured, blue model, per held-out record (worst first): force against deflection and against "
+                 "time, the strong-motion window shaded; look at where the blue leaves the grey.",
     "drops": "Filled markers measured, open markers model, in compression, in tension and for the stroke: look at "
              "how far the open markers sit from the filled ones as the impact speed grows.",
 }

@@ -57,6 +57,7 @@ from idkit.models import GeneralizedMaxwell, HybridSystem, IwanModel
 from idkit.observe.quality import MeasurementSummary, summarize_measurements
 from idkit.studies.transport import TransportStudy, compute_transport_study, quick_transport_options
 from idkit.validate import ValidationResult, blind_spots, validate_drops, validate_frf, validate_harmonic
+from idkit.validate.history import validate_histories
 from idkit.studies.drop_histories import DropHistories, drop_histories
 from idkit.studies.drop_models import DropModelComparison, wire_rope_drop_models
 from idkit.studies.sweep_maps import SweepMaps, sweep_maps
@@ -439,6 +440,13 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
             held_out(elastomer, "drop"), isolator=elastomer_model, drop_model=drop_model,
             name="elastomer: drops (validation split)"), elastomer, "drop"),
     ]
+    for isolator, measurement_set, model in (("wire rope", wire_rope, wire_model), ("elastomer", elastomer,
+                                                                                     elastomer_model)):
+        records = held_out(measurement_set, "quasi_static")  # held-out loop / force records, when there are
+        if records:
+            entries.append(entry(f"{isolator} force histories", isolator, "histories", validate_histories(
+                model, records, split=None, name=f"{isolator}: force histories (validation split)"),
+                measurement_set, "quasi_static"))
     hybrid_set = sets.get("hybrid")
     if hybrid_set is None:
         return tuple(entries), None, None
