@@ -32,7 +32,7 @@ def _cmd_auto(args) -> int:
     return 1
 
 
-def register(kinds) -> None:
+def add_to(kinds) -> None:
     """Add ``idkit fit auto`` to the ``fit`` sub-commands."""
     auto = kinds.add_parser(
         "auto", help="fit every candidate family to the force records and keep the one that predicts held-out "
