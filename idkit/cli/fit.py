@@ -346,4 +346,4 @@ def register(subparsers) -> None:
 
     from idkit.cli import fit_auto
 
-    fit_auto.add_to(kinds)
+    fit_auto.add_to(kinds, load=_load, check_outputs=_check_outputs)

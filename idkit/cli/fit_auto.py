@@ -14,11 +14,10 @@ from idkit.cli import options as opt
 
 
 def _cmd_auto(args) -> int:
-    from idkit.cli.fit import _check_outputs, _load
     from idkit.fit.auto import fit_auto
 
-    _check_outputs("auto", args.output, None, args.dataset)
-    data = _load(args.dataset, args)
+    args.check_outputs("auto", args.output, None, args.dataset)
+    data = args.load(args.dataset, args)
     split = None if args.split == "all" else args.split
     fit = fit_auto(data, isolator=args.isolator, split=split, seed=args.seed,
                    progress=lambda line: print(f"  {line}", file=sys.stderr))
@@ -32,8 +31,9 @@ def _cmd_auto(args) -> int:
     return 1
 
 
-def add_to(kinds) -> None:
-    """Add ``idkit fit auto`` to the ``fit`` sub-commands."""
+def add_to(kinds, *, load, check_outputs) -> None:
+    """Add ``idkit fit auto`` to the ``fit`` sub-commands; ``load`` and ``check_outputs`` are the
+    ``fit`` family's own (:mod:`idkit.cli.fit`, which calls this)."""
     auto = kinds.add_parser(
         "auto", help="fit every candidate family to the force records and keep the one that predicts held-out "
                      "records best (cross-validation; docs/fitting.md)",
@@ -46,4 +46,4 @@ def add_to(kinds) -> None:
     auto.add_argument("--split", choices=["fit", "validation", "all"], default=None,
                       help="which records to fit (default: the fit split of a set; every record of a file)")
     auto.add_argument("--isolator", default=None, help="isolator name in the manifest (default: any)")
-    auto.set_defaults(handler=_cmd_auto, default_isolator=None)
+    auto.set_defaults(handler=_cmd_auto, default_isolator=None, load=load, check_outputs=check_outputs)

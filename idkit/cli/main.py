@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import json
 import signal
 import sys
 import threading
@@ -16,6 +15,7 @@ import numpy as np
 from idkit import __version__
 from idkit.cli import options as opt
 from idkit.cli.hints import cli_message
+from idkit.cli.tables import write_table as _write_table
 from idkit.errors import IdkitError, SimulationError
 
 
@@ -30,30 +30,6 @@ def _model_or_system(path, mass):
     if mass is not None:
         raise IdkitError(f"{path}: holds a whole system; --mass applies to isolator model files only")
     return model
-
-
-def _json_records(frame) -> str:
-    """``frame`` as JSON records, every number as written by CSV (shortest round-trip repr;
-    pandas' ``to_json`` keeps 10 decimals: a 1e-11 m amplitude became 0.0); NaN as null."""
-    def value(cell):
-        if isinstance(cell, (float, np.floating)):
-            return float(cell) if np.isfinite(cell) else None
-        return cell.item() if isinstance(cell, np.generic) else cell
-
-    records = [{column: value(cell) for column, cell in row.items()} for row in frame.to_dict(orient="records")]
-    return json.dumps(records, indent=1, allow_nan=False) + "\n"
-
-
-def _write_table(frame, output):
-    from idkit.atomic import write_text_atomic
-
-    if output is None:
-        print(frame.to_string(index=False))
-        return
-    output = Path(output)
-    text = _json_records(frame) if output.suffix == ".json" else frame.to_csv(index=False)
-    write_text_atomic(output, text)
-    print(f"wrote {output}", file=sys.stderr)
 
 
 def _failed_points(frame, what: str, valid=None) -> int:

@@ -17,7 +17,7 @@ VERDICT_EXIT = {"PASS": 0, "FAIL": 1, "INCONCLUSIVE": 3}
 
 
 def _cmd_validate(args) -> int:
-    from idkit.cli.main import _write_table
+    from idkit.cli.tables import write_table
     from idkit.io import load_measurement_set
     from idkit.io.discover import load_measurements
     from idkit.models import IsolatorModel, load_model
@@ -54,7 +54,7 @@ def _cmd_validate(args) -> int:
                "peak_force_error", "energy_error", "noise_floor", "error_over_floor"]
     print(result.metrics[columns].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     if args.output is not None:
-        _write_table(result.metrics, args.output)
+        write_table(result.metrics, args.output)
     if args.plots is not None:
         from idkit.plot.histories import save_history_plots
 
