@@ -284,6 +284,7 @@ class AutoFit:
     why: str
     provenance: object = None
     generalisation_factor: float = GENERALISATION_FACTOR
+    judged_folds: int = 0
 
     @property
     def model(self):
@@ -338,9 +339,12 @@ class AutoFit:
         if self.not_generalising:
             lines.append(f"does not generalise (held-out error above {self.generalisation_factor:g} x the larger of "
                          "training error and noise floor): " + "; ".join(self.not_generalising))
+        elif self.judged_folds == 0:
+            lines.append("generalisation not judged: every fold extrapolates in amplitude (hold-out groups at the "
+                         "ends of the amplitude range only); record an amplitude between the others to judge it")
         else:
-            lines.append(f"generalises: every held-out group within {self.generalisation_factor:g} x the larger of "
-                         "its training error and noise floor")
+            lines.append(f"generalises: every judged held-out group ({self.judged_folds} of {len(self.folds)}) within "
+                         f"{self.generalisation_factor:g} x the larger of its training error and noise floor")
         lines.append("per record (training / cross-validated / noise floor, %): " + ", ".join(
             f"{name} {100 * self.chosen.training[name]:.3g} / {100 * self.chosen.cross_validated.get(name, math.nan):.3g}"
             f" / {100 * self.floors[name]:.3g}" for name in self.chosen.training))
@@ -362,6 +366,7 @@ class AutoFit:
             "success": self.success,
             "reasons": list(self.reasons),
             "generalisation_factor": self.generalisation_factor,
+            "folds_judged_for_generalisation": self.judged_folds,
             "folds": [{"held_out": label, "records": list(names)} for label, names in self.folds],
             "family_table": table.to_dict(orient="records"),
             "errors_per_record": {s.family.name: {"training": s.training, "cross_validated": s.cross_validated}
@@ -452,7 +457,9 @@ def fit_auto(data, *, families: Sequence[Family] | None = None, isolator: str | 
     pool = "successful families" if any(s.fit.success for s in fitted) else "families (none is a success)"
     why = (f"fewest parameters ({chosen.fit.n_params}) among the {pool} whose cross-validated error is within "
            f"{ORDER_RULE_FACTOR:g} x the lowest ({100 * best:.3g} %): {100 * chosen.cv_error:.3g} %")
-    return AutoFit(scores=tuple(scores), chosen=chosen, folds=folds, floors=floors,
+    by_name = {h.name: h for h in histories}
+    judged_folds = sum(1 for _, held in folds if not _extrapolated(held, list(by_name.values())))
+    return AutoFit(scores=tuple(scores), chosen=chosen, folds=folds, floors=floors, judged_folds=judged_folds,
                    not_generalising=chosen.not_generalising,
                    why=why, provenance=provenance, generalisation_factor=float(generalisation_factor))
 
