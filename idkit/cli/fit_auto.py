@@ -45,5 +45,6 @@ def add_to(kinds, *, load, check_outputs) -> None:
     auto.add_argument("--seed", type=opt.seed, default=0, help="seed of every random choice (default 0)")
     auto.add_argument("--split", choices=["fit", "validation", "all"], default=None,
                       help="which records to fit (default: the fit split of a set; every record of a file)")
-    auto.add_argument("--isolator", default=None, help="isolator name in the manifest (default: any)")
-    auto.set_defaults(handler=_cmd_auto, default_isolator=None, load=load, check_outputs=check_outputs)
+    auto.add_argument("--isolator", default=None, help="isolator name in the manifest (default: the set's only isolator "
+                                                       "with quasi-static records)")
+    auto.set_defaults(handler=_cmd_auto, isolator_kind="quasi_static", load=load, check_outputs=check_outputs)
