@@ -42,13 +42,14 @@ import pandas as pd
 
 from idkit.errors import FitError, IdkitError
 from idkit.fit.compare import ORDER_RULE_FACTOR, iwan_order_fits
+from idkit.fit.elements import fit_clearance_jenkin, fit_pinched_boucwen, fit_rate_dependent_jenkin
 from idkit.fit.result import undetermined_groups
 from idkit.forked import fork_call
 from idkit.observe.histories import ForceHistory, force_histories, noise_floor, normalised_rms_error
 from idkit.observe.quasi_static import LOOP_POINTS_PER_SET, LoopSet, prepare_loops, split_threshold
 
 __all__ = [
-    "CandidateFit", "Family", "FAMILIES", "GENERALISATION_FACTOR", "AutoFit", "fit_auto", "history_loops",
+    "CandidateFit", "Family", "FAMILIES", "element_family", "GENERALISATION_FACTOR", "AutoFit", "fit_auto", "history_loops",
     "cross_validation_folds", "fit_plain_iwan", "fit_modulated_iwan", "fit_boucwen_family", "IWAN_ORDERS",
 ]
 
@@ -195,12 +196,36 @@ def fit_boucwen_family(histories: Sequence[ForceHistory], *, start: CandidateFit
     return _candidate("boucwen", result, result.model, result.params)
 
 
+def element_family(name: str, fitter: Callable, description: str) -> Family:
+    """A :class:`Family` of one of the physical elements of :mod:`idkit.fit.elements` (a fitter
+    ``fitter(histories, *, start=None, seed=0, statistics=True)`` returning an
+    :class:`~idkit.fit.elements.ElementFitResult`); a fold is warm-started from the full fit.
+
+    Folds are fitted like the full fit, polished on the full records: a fold fitted on thinned
+    records only would score a rate-dependent element at other step rates than the held-out
+    records it predicts."""
+
+    def fit(histories: Sequence[ForceHistory], *, start: CandidateFit | None = None, seed: int = 0) -> CandidateFit:
+        result = fitter(histories, start=None if start is None else start.result, seed=seed)
+        return CandidateFit(family=name, model=result.model, success=result.success, reasons=tuple(result.reasons),
+                            params=dict(result.params), stderr=dict(result.stderr),
+                            undetermined=list(result.undetermined), n_params=result.n_params, result=result)
+
+    return Family(name, fit, description)
+
+
 #: The candidate set of :func:`fit_auto`, in the order the table lists them. To add a family,
-#: append ``Family(name, fit, description)`` here (docs/fitting.md, "How to add a family").
+#: append ``Family(name, fit, description)`` here (docs/fitting.md, "How to add a family"); an
+#: element of :mod:`idkit.fit.elements` through :func:`element_family`.
 FAMILIES: list[Family] = [
     Family("iwan", fit_plain_iwan, "plain Iwan model, orders 1-6 and the order rule"),
     Family("iwan_modulated", fit_modulated_iwan, "slip-modulated Iwan model from the plain order rule's fit"),
     Family("boucwen", fit_boucwen_family, "modified Bouc-Wen model"),
+    element_family("clearance_jenkin", fit_clearance_jenkin,
+                   "Jenkin element through a clearance (dead zone), with a parallel spring"),
+    element_family("pinched_boucwen", fit_pinched_boucwen, "Bouc-Wen model with Baber-Noori pinching"),
+    element_family("rate_dependent_jenkin", fit_rate_dependent_jenkin,
+                   "Jenkin element whose slip force rises with sliding speed, with a parallel spring"),
 ]
 
 

@@ -256,13 +256,12 @@ def _residual_function(family: _Family, records: list[ElementHistory], cycled: l
     total = sum(r.force.size for r in records)
 
     def residuals(u) -> np.ndarray:
-        try:
+        try:  # parameters outside the model's domain, or a history it cannot follow (a diverging z)
             model = family.build(np.asarray(u, dtype=float))
+            parts = [(_predict(model, family, record, state) - record.force) * weight
+                     for record, weight, state in zip(records, weights, cycled)]
         except IdkitError:
             return np.full(total, _PENALTY_RESIDUAL)
-        parts = []
-        for record, weight, state in zip(records, weights, cycled):
-            parts.append((_predict(model, family, record, state) - record.force) * weight)
         stacked = np.concatenate(parts)
         return np.where(np.isfinite(stacked), stacked, _PENALTY_RESIDUAL)
 

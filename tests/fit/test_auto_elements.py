@@ -1,0 +1,85 @@
+"""Model choice by prediction on the three devices idkit was not designed around (issue 32.5):
+a friction damper with clearance, a pinched rope and a rate-dependent damper, each trained on
+sines and validated on random and earthquake-like histories (idkit.synth.devices: independent
+numpy laws). Small candidate sets keep the time down; each holds the true family and wrong ones."""
+
+import functools
+
+import numpy as np
+import pytest
+
+from idkit.fit.auto import FAMILIES, Family, fit_auto, fit_boucwen_family, fit_plain_iwan
+from idkit.observe.histories import histories_from_records
+from idkit.synth.devices import DEVICES, protocol_records
+from idkit.validate.history import validate_histories
+
+BY_NAME = {family.name: family for family in FAMILIES}
+IWAN = Family("iwan", functools.partial(fit_plain_iwan, orders=(1, 2, 3), points_per_set=100), "plain Iwan 1-3")
+BOUC_WEN = Family("boucwen", functools.partial(fit_boucwen_family, points_per_set=100, global_max_evals=200,
+                                               fold_max_evals=400), "Bouc-Wen")
+NOISE = 3.0  # N of force noise: noise floors of 1-4 % on these devices
+#: Held-out error allowed against the truth's own on the same noisy records (issue 32.5).
+FLOOR_FACTOR = 1.5
+
+
+def _protocol(name, seed, **options):
+    training, held_out = protocol_records(DEVICES[name], force_noise=NOISE, seed=seed, **options)
+    return histories_from_records(training), histories_from_records(held_out)
+
+
+def _within_the_floor(model, device, held_out):
+    """Per held-out record, the model's strong-motion error within FLOOR_FACTOR x the truth's own."""
+    validation = validate_histories(model, held_out)
+    truth = np.array([np.sqrt(np.mean((device.force(h.deflection, h.time) - h.force) ** 2))
+                      / np.sqrt(np.mean(h.force ** 2)) for h in held_out])
+    errors = validation.metrics["nrms_error"].to_numpy()
+    assert validation.passed, validation.report()
+    assert np.all(errors <= FLOOR_FACTOR * truth), (errors, truth)
+
+
+def _recovered(fit, truth: dict, z=4.0):
+    """Each true parameter within z reported standard errors (the element fits' calibration:
+    over seeds 0-7 the errors behaved like a standard normal, largest 2.7)."""
+    for name, true in truth.items():
+        value, error = fit.params[name], fit.stderr[name]
+        assert abs(value - true) <= z * error, (name, value, true, error)
+
+
+@pytest.mark.parametrize("seed", [1])
+def test_a_friction_damper_with_clearance_is_identified_with_its_clearance(seed):
+    device = DEVICES["clearance_friction_damper"]
+    training, held_out = _protocol("clearance_friction_damper", seed)
+    fit = fit_auto(training, families=[IWAN, BOUC_WEN, BY_NAME["clearance_jenkin"], BY_NAME["rate_dependent_jenkin"]])
+    assert fit.chosen.family.name == "clearance_jenkin" and fit.success, fit.report()
+    series = 1.0 / (1.0 / device.contact_stiffness + 1.0 / device.stiffness)  # contact and element in series
+    _recovered(fit.chosen.fit, {"gap": device.clearance, "g1": device.parallel_stiffness, "k_1": series,
+                                "fc_1": device.slip_force})
+    _within_the_floor(fit.model, device, held_out)
+    for score in fit.scores:  # the rate-independent Iwan and Bouc-Wen miss the zero-force plateau
+        if score.family.name in ("iwan", "boucwen"):
+            assert not score.fit.success and score.cv_error > 10 * fit.chosen.cv_error
+
+
+@pytest.mark.parametrize("seed", [1])
+def test_a_rate_dependent_damper_trained_at_two_rates_is_identified_and_generalises(seed):
+    device = DEVICES["rate_dependent_damper"]
+    training, held_out = _protocol("rate_dependent_damper", seed, training_frequencies_hz=(0.05, 2.0))
+    fit = fit_auto(training, families=[IWAN, BY_NAME["clearance_jenkin"], BY_NAME["rate_dependent_jenkin"]])
+    assert fit.chosen.family.name == "rate_dependent_jenkin" and fit.success, fit.report()
+    _recovered(fit.chosen.fit, {"g1": device.parallel_stiffness, "k_1": device.stiffness, "fc_1": device.fc0,
+                                "slip_rate_gain": device.fc1 / device.fc0, "slip_speed": device.v_ref})
+    _within_the_floor(fit.model, device, held_out)
+
+
+@pytest.mark.parametrize("seed", [1])
+def test_a_pinched_rope_is_identified_as_pinched_and_predicts_within_the_noise_floor(seed):
+    """The pinched family wins by prediction; its beta and n are determined only in combination on
+    these loops (all saturating), which the verdict says: not a success for that reason alone."""
+    device = DEVICES["pinched_rope"]
+    training, held_out = _protocol("pinched_rope", seed)
+    fit = fit_auto(training, families=[BOUC_WEN, BY_NAME["pinched_boucwen"]])
+    assert fit.chosen.family.name == "pinched_boucwen", fit.report()
+    assert all("determined only in combination" in reason for reason in fit.chosen.fit.reasons), fit.report()
+    plain = next(score for score in fit.scores if score.family.name == "boucwen")
+    assert plain.cv_error > 3 * fit.chosen.cv_error
+    _within_the_floor(fit.model, device, held_out)
