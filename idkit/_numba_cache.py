@@ -279,9 +279,8 @@ def cache_package(package: str, source_folder: Path | str) -> None:
 def install() -> bool:
     """Put :class:`PackageCacheLocator` first among numba's locators and replace numba's cache
     save by :func:`locked_save` (idempotent); whether the locked save is in place."""
-    impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl  # renamed in numba 0.61
-    if PackageCacheLocator not in impl._locator_classes:
-        impl._locator_classes = [PackageCacheLocator, *impl._locator_classes]
+    if PackageCacheLocator not in caching.CacheImpl._locator_classes:
+        caching.CacheImpl._locator_classes = [PackageCacheLocator, *caching.CacheImpl._locator_classes]
     if fcntl is None or not all(hasattr(caching.IndexDataCacheFile, name) for name in _NEEDED):
         return False
     caching.IndexDataCacheFile.save = locked_save
