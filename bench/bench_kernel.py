@@ -7,7 +7,7 @@ elastomer; hybrid asymmetric) the compiled time driver is called directly, one c
 prepared arrays (harmonic base motion, 10 Hz, 1 mm, step 1e-4 s), generic and specialised in
 turn, ``R`` repetitions each; it prints the nanoseconds per step (min and median) and the
 largest difference between the two records. Then the first-call (compile) time of each kernel,
-each in a fresh process with an empty numba cache (``NUMBA_CACHE_DIR`` a new temporary
+each in a fresh process with an empty numba cache (``NUMBA_CACHE_DIR`` and ``IDKIT_CACHE_DIR`` a new temporary
 directory; a kernel's time includes compiling the shared helpers it calls). Nothing is asserted.
 """
 
@@ -74,7 +74,7 @@ def compile_time(label, name):
         "start = time.perf_counter(); kernel(*args); print(time.perf_counter() - start)\n"
     )
     with tempfile.TemporaryDirectory() as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache, IDKIT_WORKERS="1", OMP_NUM_THREADS="1")
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache, IDKIT_CACHE_DIR=cache, IDKIT_WORKERS="1", OMP_NUM_THREADS="1")
         result = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     return float(result.stdout.strip().splitlines()[-1])
 

@@ -23,7 +23,7 @@ spread).
    per period of the sample times the map's periods), against the 1-worker map's CPU time (on a
    shared machine CPU time is the one-core figure; wall time counts the other processes' turns).
 3. Kernel compile time: the first call of each simulation entry point in a fresh
-   process whose numba cache (``NUMBA_CACHE_DIR``) is an empty temporary folder, minus
+   process whose numba cache (``NUMBA_CACHE_DIR`` and ``IDKIT_CACHE_DIR``) is an empty temporary folder, minus
    the same call repeated (warm).
 
 Nothing here is asserted; the numbers go in docs/periodic.md (maps) and docs/simulator.md.
@@ -161,7 +161,7 @@ def reference_ratio(system, result, map_seconds, sample, seed):
 def compile_times():
     """Run this script's ``--compile-child`` in a fresh process with an empty numba cache."""
     with tempfile.TemporaryDirectory(prefix="idkit-numba-cache-") as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache, IDKIT_CACHE_DIR=cache)
         out = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--compile-child"], env=env,
                              capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])

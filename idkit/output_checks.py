@@ -3,7 +3,7 @@
 A command that reads inputs and writes outputs calls :func:`check_output` for each output
 before it loads, fits or simulates anything, so a bad ``-o`` fails in a second with an
 error naming the path instead of after minutes of work (or, worse, by deleting the input
-it would have replaced). The rules (README "Outputs"):
+it would have replaced). The rules (docs/cli-reference.md, "Outputs never destroy inputs or good outputs"):
 
 * an output is never an input, never inside an input folder and never contains an input
   (paths compared after resolving symlinks), and a folder that will be replaced never

@@ -88,7 +88,7 @@ def repo_root() -> Path:
 
 
 # Compiled kernels, warmed in parallel before the xdist workers start: otherwise, from a
-# fresh clone (empty numba cache in __pycache__), every worker compiles the same big
+# fresh clone (empty per-user numba cache, idkit._numba_cache), every worker compiles the same big
 # kernels itself. Each snippet compiles one kernel through the public API (the argument
 # types the tests use) and writes numba's on-disk cache; the workers then load it.
 _WARM_UP = tuple(

@@ -1,5 +1,6 @@
 """Every notebook runs top to bottom on the bundled data (nbclient), asserts what it shows and shows its figures."""
 
+import json
 from pathlib import Path
 
 import nbformat
@@ -9,12 +10,39 @@ NOTEBOOKS = sorted((Path(__file__).resolve().parents[1] / "notebooks").glob("*.i
 
 _EXECUTED = {}  # path -> executed notebook: one kernel run serves every test of a notebook
 
+# Appended (in memory) to the wire-rope notebook and run in its kernel after its own cells: the
+# report's pipeline applied to the notebook's data. The fit is the one costly step, so it is not
+# repeated: the options the notebook's fit recorded must be the report's, and the fit is
+# deterministic; the validations are repeated through the report's own function.
+REPORT_CHECK_MARK = "report check: "
+REPORT_CHECK = """
+import json as _json
+from idkit.studies import pipeline as _pipeline
+
+_report_options = _pipeline.wire_rope_fit_options(wire_rope, seed=SEED)
+_recorded = {**iwan.options, "seed": iwan.result.settings.seed}
+_isolators = {m.info.isolator for m in wire_rope.measurements}  # the default: the set's only isolator
+_recorded.setdefault("isolator", _isolators.pop() if len(_isolators) == 1 else None)
+_report_sweeps, _report_drops = _pipeline.validate_wire_rope(
+    wire_rope.select(kind="stepped_sine", split="validation"), wire_rope.select(kind="drop", split="validation"),
+    iwan.model, loop_amplitude_range=iwan.loop_amplitude_range)
+print(%r + _json.dumps({
+    "options": {name: [_recorded.get(name), value] for name, value in _report_options.items()},
+    "rules": [iwan.options["family_rule"], iwan.order_table is not None],
+    "notebook": [sweeps.verdict, drops.verdict, sweeps.summary, drops.summary],
+    "report": [_report_sweeps.verdict, _report_drops.verdict, _report_sweeps.summary, _report_drops.summary],
+}, default=float))
+""" % REPORT_CHECK_MARK
+REPORT_CHECKS = {"wire_rope": REPORT_CHECK}
+
 
 def executed(path):
     """The notebook at ``path`` after running it in a fresh python3 kernel (cached per session)."""
     if path not in _EXECUTED:
         nbclient = pytest.importorskip("nbclient", reason="nbclient is a test dependency (pip install -e '.[test]')")
         notebook = nbformat.read(path, as_version=4)
+        if path.stem in REPORT_CHECKS:
+            notebook.cells.append(nbformat.v4.new_code_cell(REPORT_CHECKS[path.stem]))
         # the kernel inherits os.environ, MPLBACKEND=Agg from conftest included: the notebooks'
         # own `%matplotlib inline` must win over it, as it does over any user setting
         client = nbclient.NotebookClient(notebook, timeout=600, kernel_name="python3",
@@ -60,3 +88,21 @@ def test_notebook_shows_its_figures_inline(path):
     bare = [index for index, output in outputs if "image/png" not in output.get("data", {})
             and output.get("data", {}).get("text/plain", "").startswith("<Figure")]
     assert bare == []
+
+
+def test_wire_rope_notebook_numbers_are_the_reports():
+    """The wire-rope notebook fits with the report's options and rules (order and family
+    "auto", valid range of the set, seed) and validates as the report does: its verdicts and
+    every summary number (sweeps: log-magnitude, resonance, phase errors; drops: median and
+    largest peak errors under the rig drop model) equal the report's pipeline on the same
+    fit, exactly (the same deterministic computation)."""
+    notebook = executed(NOTEBOOKS[[p.stem for p in NOTEBOOKS].index("wire_rope")])
+    printed = [text for _, output in code_outputs(notebook) for text in output.get("text", "").splitlines()
+               if text.startswith(REPORT_CHECK_MARK)]
+    assert len(printed) == 1, "the report check appended to the notebook printed nothing"
+    check = json.loads(printed[0][len(REPORT_CHECK_MARK):])
+    differing = {name: pair for name, pair in check["options"].items() if pair[0] != pair[1]}
+    assert differing == {}, "fit options of the notebook [0] and the report [1]"
+    assert check["rules"] == ["auto", True]  # family rule and order rule, as the report
+    assert json.dumps(check["notebook"], sort_keys=True) == json.dumps(check["report"], sort_keys=True)
+    assert check["notebook"][3]["drop_model"] == "rig"

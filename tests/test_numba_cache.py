@@ -1,10 +1,18 @@
-"""Process-safe writes to numba's on-disk cache (:mod:`idkit._numba_cache`)."""
+"""numba's on-disk cache of idkit's kernels (:mod:`idkit._numba_cache`): process-safe writes, a
+per-user folder outside the package shared by environments with the same sources."""
 
+import os
+import subprocess
+import sys
+import tempfile
 import threading
+from pathlib import Path
 
 import pytest
 from numba.core import caching
+from numba.core.registry import CPUDispatcher as Dispatcher
 
+import idkit
 from idkit import _numba_cache
 
 
@@ -58,3 +66,113 @@ def test_numbas_own_save_is_open_to_the_race(tmp_path):
     lock is for (if numba fixes its save, this test says so and the lock can go)."""
     loaded = _two_writers_interleaved(tmp_path, _numba_cache._NUMBA_SAVE, locked=False)
     assert loaded != ("machine code A", "machine code B")
+
+
+# --- where the compiled kernels live ------------------------------------------------------
+
+def test_kernel_cache_lies_outside_the_package_and_is_writable():
+    """The installed package is never written at run time: idkit's kernels are cached in a
+    per-user folder (module docstring of idkit._numba_cache), which accepts a new file."""
+    package = Path(idkit.__file__).resolve().parent
+    folder = _numba_cache.kernel_folder("idkit")
+    assert folder is not None and folder.is_absolute()
+    assert package not in folder.resolve().parents and folder.resolve() != package
+    with tempfile.NamedTemporaryFile(dir=folder):
+        pass
+    from idkit.simulate import _kernel, _structured  # modules whose kernels are cached on disk
+
+    for module in (_kernel, _structured):
+        cached = [value for value in vars(module).values()
+                  if isinstance(value, Dispatcher) and not isinstance(value._cache, caching.NullCache)]
+        assert cached, f"{module.__name__} has no cached kernel to check"
+        for dispatcher in cached:
+            assert isinstance(dispatcher._cache._impl.locator, _numba_cache.PackageCacheLocator)
+            assert Path(dispatcher._cache.cache_path) == folder / dispatcher.py_func.__module__
+
+
+def test_environment_variable_chooses_the_folder(monkeypatch, tmp_path):
+    """IDKIT_CACHE_DIR wins; else NUMBA_CACHE_DIR/idkit; else the platform's per-user folder."""
+    monkeypatch.setattr(caching.config, "CACHE_DIR", str(tmp_path / "numba"))
+    monkeypatch.setenv("IDKIT_CACHE_DIR", str(tmp_path / "mine"))
+    assert _numba_cache.cache_root() == tmp_path / "mine"
+    monkeypatch.setenv("IDKIT_CACHE_DIR", "")  # empty: unset
+    assert _numba_cache.cache_root() == tmp_path / "numba" / "idkit"
+    monkeypatch.setattr(caching.config, "CACHE_DIR", "")
+    home = Path("/home/user")
+    assert _numba_cache._platform_cache_root({}, "linux", home) == home / ".cache" / "idkit"
+    assert _numba_cache._platform_cache_root({"XDG_CACHE_HOME": "/xdg"}, "linux", home) == Path("/xdg/idkit")
+    assert _numba_cache._platform_cache_root({"XDG_CACHE_HOME": "rel"}, "linux", home) == home / ".cache" / "idkit"
+    assert _numba_cache._platform_cache_root({}, "darwin", home) == home / "Library" / "Caches" / "idkit"
+    assert (_numba_cache._platform_cache_root({"LOCALAPPDATA": r"C:\Users\u\AppData\Local"}, "win32", home)
+            == Path(r"C:\Users\u\AppData\Local") / "idkit" / "Cache")
+
+
+def test_a_folder_that_cannot_be_written_falls_back_with_a_warning(tmp_path):
+    """Below a regular file nothing can be created (whatever the user's rights): the kernels go
+    to a temporary folder of the process, outside the package, and a warning names the folder."""
+    blocker = tmp_path / "a file"
+    blocker.write_text("")
+    with pytest.warns(RuntimeWarning, match="a file.*IDKIT_CACHE_DIR"):
+        fallback = _numba_cache.usable_folder(blocker / "cache")
+    assert fallback is not None and fallback.is_dir()
+    assert Path(idkit.__file__).resolve().parent not in fallback.resolve().parents
+
+
+_DEMO_KERNEL = '''import numba
+
+SCALE = {scale}
+
+
+@numba.njit(cache=True)
+def scaled(x):
+    return SCALE * x
+'''
+
+_IMPORT_AND_CALL = '''import sys
+from idkit import _numba_cache
+
+_numba_cache.cache_package("cachedemo", sys.argv[1] + "/cachedemo")
+sys.path.insert(0, sys.argv[1])
+from cachedemo.kernel import scaled
+
+print(scaled(2.0), sum(scaled.stats.cache_hits.values()), sum(scaled.stats.cache_misses.values()),
+      scaled._cache.cache_path)
+'''
+
+
+def _install_demo(folder: Path, scale: float, mtime: float) -> Path:
+    """A tiny package with one cached kernel in ``folder`` (one "environment")."""
+    package = folder / "cachedemo"
+    package.mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    (package / "kernel.py").write_text(_DEMO_KERNEL.format(scale=scale))
+    for path in package.iterdir():
+        os.utime(path, (mtime, mtime))
+    return folder
+
+
+def _import_and_call(environment: Path, cache: Path) -> tuple[float, int, int, str]:
+    env = dict(os.environ, IDKIT_CACHE_DIR=str(cache))
+    env.pop("NUMBA_CACHE_DIR", None)
+    run = subprocess.run([sys.executable, "-c", _IMPORT_AND_CALL, str(environment)], env=env,
+                         capture_output=True, text=True, check=True)
+    value, hits, misses, path = run.stdout.split(maxsplit=3)
+    return float(value), int(hits), int(misses), path.strip()
+
+
+def test_two_environments_with_the_same_sources_share_the_compiled_code(tmp_path):
+    """Two copies of a package at two paths with two modification times (two virtual
+    environments, installed at two moments) load one compiled entry: the second process
+    compiles nothing. A copy whose source differs gets its own entry and its own result."""
+    cache = tmp_path / "cache"
+    first = _install_demo(tmp_path / "venv-a", 3.0, mtime=1.0e9)
+    second = _install_demo(tmp_path / "venv-b", 3.0, mtime=1.5e9)
+    changed = _install_demo(tmp_path / "venv-c", 5.0, mtime=1.0e9)
+    value_a, hits_a, misses_a, path_a = _import_and_call(first, cache)
+    assert (value_a, hits_a, misses_a) == (6.0, 0, 1)  # empty cache: compiled
+    value_b, hits_b, misses_b, path_b = _import_and_call(second, cache)
+    assert (value_b, hits_b, misses_b) == (6.0, 1, 0)  # loaded: nothing compiled
+    assert path_b == path_a and Path(path_a).parent.parent == cache
+    value_c, hits_c, misses_c, path_c = _import_and_call(changed, cache)
+    assert (value_c, hits_c, misses_c) == (10.0, 0, 1)  # other source: compiled, not the 6.0 kernel
+    assert path_c != path_a

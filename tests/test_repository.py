@@ -308,3 +308,46 @@ def test_no_import_cycle_between_modules_lazy_imports_included():
     for name in sorted(graph):
         visit(name)
     assert not cycles, cycles[:3]
+
+
+# Commands with a README row whose code is being added on another branch: each entry fails
+# the test below once its command exists (then remove it here), so none stays here unnoticed.
+NOT_YET_IN_THE_PARSER: set[tuple[str, ...]] = set()
+
+
+def parser_commands() -> set[tuple[str, ...]]:
+    """Every command of ``idkit --help`` and every sub-command below it, e.g. ("fit", "iwan")."""
+    import argparse
+
+    from idkit.cli.main import build_parser
+
+    def choices(parser):
+        actions = [action for action in parser._actions if isinstance(action, argparse._SubParsersAction)]
+        return actions[0].choices if actions else {}
+
+    found = set()
+    for name, command in choices(build_parser()).items():
+        below = choices(command)
+        found |= {(name, sub) for sub in below} if below else {(name,)}
+    return found
+
+
+def readme_command_rows() -> set[tuple[str, ...]]:
+    """The commands of the README's command table: `idkit fit iwan\\|maxwell DATASET` gives
+    ("fit", "iwan") and ("fit", "maxwell"); `idkit report [DATA_DIR]` gives ("report",)."""
+    text = (ROOT / "README.md").read_text()
+    section = text.split("\n## Commands\n", 1)[1].split("\n## ", 1)[0]
+    rows = set()
+    for cell in re.findall(r"^\| `idkit ([^`]*)`", section, flags=re.M):
+        words = cell.replace("\\|", "|").split()
+        subs = words[1].split("|") if len(words) > 1 and re.fullmatch(r"[a-z][a-z-]*(\|[a-z][a-z-]*)*", words[1]) else []
+        rows |= {(words[0], sub) for sub in subs} if subs else {(words[0],)}
+    return rows
+
+
+def test_readme_command_table_lists_every_command_of_the_parser():
+    """The README's command table and `idkit --help` name the same commands and sub-commands."""
+    parser, readme = parser_commands(), readme_command_rows()
+    assert sorted(parser - readme) == [], "commands of the parser without a README row"
+    assert sorted(readme - parser - NOT_YET_IN_THE_PARSER) == [], "README rows naming no command of the parser"
+    assert sorted(NOT_YET_IN_THE_PARSER & parser) == [], "now in the parser: remove from NOT_YET_IN_THE_PARSER"

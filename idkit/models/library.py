@@ -4,7 +4,7 @@
 >>> library.get("table_a1_asymmetric")
 IwanModel(g1=3000 N/m, g2=4e+04 N/m^2, g3=3e+05 N/m^3, k_1=3000 N/m, k_2=3000 N/m, fc_1=8.3 N, fc_2=14.6 N, c_visc=1.3 N s/m)
 
-Choices where the study is silent (documented in README and here):
+Choices where the study is silent (documented in docs/development.md, "Design", and here):
 
 * ``c_visc`` of the Table A.1 wire ropes is 1.3 N s/m: equivalent damping ratio
   0.24 % with the 8 kg study mass at the stuck stiffness (the study: "below 0.5 %").

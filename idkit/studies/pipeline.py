@@ -74,6 +74,8 @@ __all__ = [
     "refuse_missing_held_out",
     "refuse_repeated_records",
     "valid_range_of",
+    "validate_wire_rope",
+    "wire_rope_fit_options",
 ]
 
 #: held-out records per validation in quick mode
@@ -321,6 +323,54 @@ def valid_range_of(measurement_set, margin: float = VALID_RANGE_MARGIN) -> tuple
     return data_valid_range(measurement_set, isolator=None, margin=margin)
 
 
+def wire_rope_fit_options(wire_rope, *, seed: int = 2026, start_state: str = "auto") -> dict:
+    """Keyword arguments of the report's wire-rope fit, :func:`fit_iwan_measurements`.
+
+    The records of isolator ``wire_rope``; the order and the model family are left to the fit's
+    rules (``order="auto"``, ``family="auto"``: docs/fitting.md); the spring is kept stiff over
+    every deflection of the set (:func:`valid_range_of`). The notebooks fit with the same options.
+
+    Parameters
+    ----------
+    wire_rope : MeasurementSet
+        The wire rope's measurement set.
+    seed : int
+        Seed of the fit's global searches.
+    start_state : {"auto", "cycled", "virgin"}
+        Start state of the loop fits.
+    """
+    return {"isolator": "wire_rope", "seed": int(seed), "valid_range": valid_range_of(wire_rope),
+            "initial_state": start_state}
+
+
+def validate_wire_rope(sweeps, drops, model, *, loop_amplitude_range=None, drop_model: str = "auto"
+                       ) -> tuple[ValidationResult, ValidationResult]:
+    """The report's two wire-rope validations of ``model``: held-out harmonic sweeps and drops.
+
+    Parameters
+    ----------
+    sweeps, drops : iterable of Measurement
+        Held-out stepped-sine and drop records.
+    model : IwanModel or ModulatedIwanModel
+        The identified rope.
+    loop_amplitude_range : (float, float), optional
+        Loop amplitudes (m) the rope was identified on; records beyond them are named in the
+        verdict's notes (:attr:`MeasurementFit.loop_amplitude_range`).
+    drop_model : {"auto", "rig", "conditioned"}
+        :func:`idkit.validate.validate_drops`; "auto": the rig when the drops give bottom
+        mass and height.
+
+    Returns
+    -------
+    (ValidationResult, ValidationResult)
+        Sweeps, drops.
+    """
+    return (validate_harmonic(sweeps, isolator=model, identified_range=loop_amplitude_range,
+                              name="wire rope: harmonic sweeps (validation split)"),
+            validate_drops(drops, isolator=model, drop_model=drop_model, identified_range=loop_amplitude_range,
+                           name="wire rope: drops (validation split)"))
+
+
 class _Stages:
     """Times the stages and announces each one."""
 
@@ -423,13 +473,12 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
         return ValidationEntry(key, isolator, observable, result, skipped[id(measurement_set), kind])
 
     wire_rope, elastomer = sets["wire_rope"], sets["elastomer"]
+    rope_sweeps, rope_drops = validate_wire_rope(held_out(wire_rope, "stepped_sine"), held_out(wire_rope, "drop"),
+                                                 wire_model, loop_amplitude_range=wire_loop_range,
+                                                 drop_model=drop_model)
     entries = [
-        entry("wire rope sweeps", "wire rope", "sweeps", validate_harmonic(
-            held_out(wire_rope, "stepped_sine"), isolator=wire_model, identified_range=wire_loop_range,
-            name="wire rope: harmonic sweeps (validation split)"), wire_rope, "stepped_sine"),
-        entry("wire rope drops", "wire rope", "drops", validate_drops(
-            held_out(wire_rope, "drop"), isolator=wire_model, drop_model=drop_model, identified_range=wire_loop_range,
-            name="wire rope: drops (validation split)"), wire_rope, "drop"),
+        entry("wire rope sweeps", "wire rope", "sweeps", rope_sweeps, wire_rope, "stepped_sine"),
+        entry("wire rope drops", "wire rope", "drops", rope_drops, wire_rope, "drop"),
         entry("elastomer FRF", "elastomer", "FRF", validate_frf(
             held_out(elastomer, "white_noise"), isolator=elastomer_model, static_stiffness=static_stiffness,
             name="elastomer: white-noise FRFs (validation split)"), elastomer, "white_noise"),
@@ -543,8 +592,7 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
                              initial_state=start_state,
                              **({"global_max_evals": 800} if quick else {}))
     try:
-        iwan = fit_iwan_measurements(wire_rope, isolator="wire_rope", seed=seed, valid_range=valid_range,
-                                     initial_state=start_state)
+        iwan = fit_iwan_measurements(wire_rope, **wire_rope_fit_options(wire_rope, seed=seed, start_state=start_state))
         iwan = iwan.with_repetition_spread()  # one refit per repetition of the fit split (a few seconds)
         iwan_loops = predict_loops(iwan.model, iwan.data.small, iwan.data.large)
 

@@ -246,6 +246,6 @@ def test_a_driver_compiles_only_its_own_step(tmp_path):
         "print([str(s[0]) for s in _structured.step_hybrid.signatures], len(_structured.step_sdof.signatures), "
         "len(_kernel._step.signatures))\n"
     )
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), IDKIT_WORKERS="1")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), IDKIT_CACHE_DIR=str(tmp_path), IDKIT_WORKERS="1")
     result = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     assert result.stdout.strip().splitlines()[-1] == "['Literal[int](1)'] 0 0"
