@@ -8,7 +8,7 @@ step against a duration, a band's two ends) run at the start of the command, bef
 file is read or any work starts, and raise :class:`OptionError`, which ``idkit`` prints
 as ``idkit: error: --freq: ...`` with the same exit status 2.
 
-Limits and why (also in README, "Command line"):
+Limits and why (also in docs/cli-reference.md):
 
 * ``--order`` of Iwan and Maxwell fits: 1 to :data:`MAX_ORDER` (12). Each order adds two
   parameters; the bundled loops and the 1-100 Hz FRFs identify no more than a few, and
