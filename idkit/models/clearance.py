@@ -22,6 +22,7 @@ element (``order = 1``) the two are the same: the clearance-Jenkin friction damp
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -118,9 +119,5 @@ class ClearanceIwanModel(IwanModel):
 
     def kernel_arrays(self) -> IsolatorArrays:
         plain = super().kernel_arrays()
-        return IsolatorArrays(
-            poly=plain.poly, c_visc=plain.c_visc, jenkin_stiffness=plain.jenkin_stiffness,
-            jenkin_friction=plain.jenkin_friction + plain.jenkin_stiffness * self._gap,  # virtual limits
-            maxwell_stiffness=plain.maxwell_stiffness, maxwell_rate=plain.maxwell_rate, boucwen=plain.boucwen,
-            clearance=self._gap,
-        )
+        return dataclasses.replace(plain, clearance=self._gap,  # the virtual elements' slip limits
+                                   jenkin_friction=plain.jenkin_friction + plain.jenkin_stiffness * self._gap)

@@ -42,6 +42,7 @@ never the other way round. Outside that condition the rule above still defines t
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -222,10 +223,5 @@ class ModulatedIwanModel(IwanModel):
         return total
 
     def kernel_arrays(self) -> IsolatorArrays:
-        plain = super().kernel_arrays()
-        return IsolatorArrays(
-            poly=plain.poly, c_visc=plain.c_visc, jenkin_stiffness=plain.jenkin_stiffness,
-            jenkin_friction=plain.jenkin_friction, maxwell_stiffness=plain.maxwell_stiffness,
-            maxwell_rate=plain.maxwell_rate, boucwen=plain.boucwen,
-            slip_modulation=np.array([self._modulation, self._length, self._growth]),
-        )
+        return dataclasses.replace(super().kernel_arrays(),
+                                   slip_modulation=np.array([self._modulation, self._length, self._growth]))

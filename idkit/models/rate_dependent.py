@@ -21,6 +21,7 @@ simulator uses the rate at the end of its step (trapezoidal rule), the same to f
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -126,10 +127,4 @@ class RateDependentIwanModel(IwanModel):
         return total
 
     def kernel_arrays(self) -> IsolatorArrays:
-        plain = super().kernel_arrays()
-        return IsolatorArrays(
-            poly=plain.poly, c_visc=plain.c_visc, jenkin_stiffness=plain.jenkin_stiffness,
-            jenkin_friction=plain.jenkin_friction, maxwell_stiffness=plain.maxwell_stiffness,
-            maxwell_rate=plain.maxwell_rate, boucwen=plain.boucwen,
-            slip_rate=np.array([self._gain, self._speed]),
-        )
+        return dataclasses.replace(super().kernel_arrays(), slip_rate=np.array([self._gain, self._speed]))
