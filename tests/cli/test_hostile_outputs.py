@@ -30,10 +30,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.cli.hostile import check, run_main
 from idkit.io import MeasurementInfo, QuasiStaticMeasurement, write_measurement_set
-
-REPO = Path(__file__).resolve().parents[2]
+from idkit.io.complex_stiffness import write_complex_stiffness
+from tests.cli.hostile import check, run_main
+from tests.cli.test_dma_cli import _isotherms
 
 
 @pytest.fixture(scope="module")
@@ -410,16 +410,15 @@ def test_study_sigkill_before_or_after_the_renames_leaves_old_or_new(tmp_path, p
 @pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGTERM])  # SIGKILL at the swap: the study tests above (same writer)
 def test_report_killed_at_the_swap_keeps_old_or_complete_new(tmp_path, signum):
-    data = REPO / "data"
-    if not (data / "wire_rope" / "manifest.json").exists():
-        pytest.skip("bundled data not generated")
+    # every report writes through the same swap: a one-file report (a DMA table) reaches it fastest
+    data = write_complex_stiffness(_isotherms(np.arange(260.0, 321.0, 10.0)), tmp_path / "dma.csv")
     target = tmp_path / "report"
-    status, _, old, _ = _kill_at_swap(["report", data, "-o", target, "--force", "--quick", "--quiet"], target,
+    status, _, old, _ = _kill_at_swap(["report", data, "-o", target, "--force", "--quiet"], target,
                                         "between", signum, tmp_path)
     assert status == (128 + signal.SIGTERM if signum == signal.SIGTERM else -signal.SIGKILL)
     if signum == signal.SIGKILL:
         assert not target.exists()
-        outcome = run_main(["report", data, "-o", target, "--quick", "--quiet"], watch=[tmp_path])
+        outcome = run_main(["report", data, "-o", target, "--quiet"], watch=[tmp_path])
         check(outcome, "error", ["exists"], case="report after SIGKILL at the swap (recovered)")
     assert _manifest(target) == old  # the new one was never in place
     assert _leftovers(target) == []
