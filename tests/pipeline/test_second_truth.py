@@ -387,7 +387,7 @@ def test_report_on_truth_b_passes_every_validation_and_flags_only_the_unresolved
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("direction", [np.inf, -np.inf])
+@pytest.mark.parametrize("direction", [-np.inf])  # one ulp down; test_first_truth moves them up
 def test_rope_parameters_agree_to_1e3_when_the_forces_move_by_one_ulp(data_b, rope_fit, direction):
     """Issue 10's target: one ulp on every force sample moves every parameter by less than
     1e-3 (relative), and the verdict, family and order not at all. It did not hold: the plain
