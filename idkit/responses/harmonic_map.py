@@ -52,7 +52,9 @@ from idkit.responses.linear import _numbers, _order
 from idkit.responses.periodic import (
     STABILITY_MARGIN,
     PeriodMap,
+    classify_multiplier_rows,
     classify_multipliers,
+    leading_multipliers,
     monodromy,
     periodic_response,
     stability_margin,
@@ -568,9 +570,7 @@ class _Points:
 
 def _leading(multipliers, margin):
     """The multiplier of largest modulus other than the friction-memory ones at +1 (NaN if none)."""
-    multipliers = np.asarray(multipliers)
-    kept = multipliers[np.isfinite(multipliers) & (np.abs(multipliers - 1.0) > margin)]
-    return complex(kept[np.argmax(np.abs(kept))]) if kept.size else complex(np.nan, np.nan)
+    return complex(leading_multipliers(np.asarray(multipliers)[None, :], margin)[0])
 
 
 def _settle_stability(system, points: _Points, steps, orders, tolerance, workers):
@@ -584,19 +584,19 @@ def _settle_stability(system, points: _Points, steps, orders, tolerance, workers
     states = one.pack(*(values[timed] for values in points.states))
     _, multipliers, jacobians, flags = monodromy(one, points.freq[timed], points.amplitude[timed], states,
                                                steps[timed], workers=workers)
+    for index, flag in zip(timed[flags != 0], flags[flags != 0]):
+        # one period more from a valid end state: not expected, but not hidden
+        points.converged[index] = False
+        points.reasons[index] = f"stability not classified: one more period flagged ({FLAG_REASONS[int(flag)]})"
+    rows = np.flatnonzero(flags == 0)
+    stable, kinds = classify_multiplier_rows(multipliers[rows], margin)
+    points.multiplier[timed[rows]] = leading_multipliers(multipliers[rows], margin)
     unstable = []
-    for row, index in enumerate(timed):
-        if flags[row] != 0:  # one period more from a valid end state: not expected, but not hidden
-            points.converged[index] = False
-            points.reasons[index] = ("stability not classified: one more period flagged "
-                                     f"({FLAG_REASONS[int(flags[row])]})")
-            continue
-        stable, kind = classify_multipliers(multipliers[row], margin)
-        points.multiplier[index] = _leading(multipliers[row], margin)
-        if stable or kind == "neutral":
-            points.stability[index] = kind
+    for row, index, kind, settled in zip(rows, timed[rows], kinds, stable | (kinds == "neutral")):
+        if settled:
+            points.stability[index] = str(kind)
         else:
-            unstable.append((row, index, kind))
+            unstable.append((row, index, str(kind)))
     if unstable:
         _carry(system, one, points, steps, orders, tolerance, workers, states, multipliers, jacobians, unstable)
 

@@ -76,7 +76,8 @@ from idkit.simulate._kernel import (
 )
 from idkit.simulate.harmonic import MAX_PERIOD_TABLE, linear_initial_state
 
-__all__ = ["STABILITY_MARGIN", "PeriodicResponse", "classify_multipliers", "monodromy", "period_map",
+__all__ = ["STABILITY_MARGIN", "PeriodicResponse", "classify_multiplier_rows", "classify_multipliers",
+           "leading_multipliers", "monodromy", "period_map",
            "periodic_response", "stability_margin"]
 
 #: Relative finite-difference step of the period-map Jacobian (times each state's scale).
@@ -135,6 +136,9 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitud
     work = np.zeros((2, 2))
     lanes = np.zeros((6, max(n_cols, 1)))
     stuck = np.zeros((2, max(nj, 1)))
+    table_n = -1  # the base motion's table, rebuilt only when the steps per period change
+    base_sin = np.empty(0)
+    base_cos = np.empty(0)
     for b in range(batch):
         omega = 2.0 * math.pi * freq[b]
         n_per = steps_per_period[b]
@@ -153,7 +157,9 @@ def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitud
         if with_tangent:
             tangent_start(ndof, masses, P, state, tangent, nj, nm, columns)
         flag = FLAG_OK
-        base_sin, base_cos = base_motion_table(n_per)  # as the map's kernel reads it
+        if n_per != table_n:
+            base_sin, base_cos = base_motion_table(n_per)  # as the map's kernel reads it
+            table_n = n_per
         at = 0  # n % n_per
         for n in range(n_per * n_periods):
             if n < n_record:
@@ -467,20 +473,36 @@ def classify_multipliers(multipliers, margin: float = STABILITY_MARGIN) -> tuple
     a perturbation along it neither grows nor decays by more than the margin a period (an undamped
     system: every multiplier on the unit circle), so no time run settles on the orbit.
     """
-    multipliers = np.asarray(multipliers)
+    stable, kinds = classify_multiplier_rows(np.asarray(multipliers)[None, :], margin)
+    return bool(stable[0]), str(kinds[0])
+
+
+def classify_multiplier_rows(multipliers, margin: float = STABILITY_MARGIN) -> tuple[NDArray[np.bool_], NDArray[np.str_]]:
+    """:func:`classify_multipliers` of every row of ``multipliers`` (n, size) at once (a map
+    classifies every point: one vectorised pass instead of a call per point); returns
+    ``(stable (n,), kinds (n,))``."""
+    multipliers = np.atleast_2d(np.asarray(multipliers, dtype=complex))
     modulus = np.abs(multipliers)
     outside = modulus > 1.0 + margin
-    if not outside.any():
-        memory = np.abs(multipliers - 1.0) <= margin
-        if np.any((modulus >= 1.0 - margin) & ~memory):
-            return False, "neutral"
-        return True, "stable"
-    real = outside & (np.abs(multipliers.imag) <= 1e-6 * np.abs(multipliers))
-    if np.any(real & (multipliers.real < 0)):
-        return False, "period doubling"
-    if np.any(real):
-        return False, "fold"
-    return False, "torus"
+    memory = np.abs(multipliers - 1.0) <= margin
+    neutral = ((modulus >= 1.0 - margin) & ~memory).any(axis=1)
+    real = outside & (np.abs(multipliers.imag) <= 1e-6 * modulus)
+    doubling = (real & (multipliers.real < 0)).any(axis=1)
+    any_outside = outside.any(axis=1)
+    kinds = np.select([~any_outside & neutral, ~any_outside, doubling, real.any(axis=1)],
+                      ["neutral", "stable", "period doubling", "fold"], "torus")
+    return kinds == "stable", kinds
+
+
+def leading_multipliers(multipliers, margin: float = STABILITY_MARGIN) -> NDArray[np.complex128]:
+    """Per row of ``multipliers`` (n, size), the multiplier of largest modulus other than the
+    friction-memory ones within ``margin`` of +1 (NaN if none): the one that decides stability."""
+    multipliers = np.atleast_2d(np.asarray(multipliers, dtype=complex))
+    kept = np.isfinite(multipliers) & (np.abs(multipliers - 1.0) > margin)
+    modulus = np.where(kept, np.abs(np.where(kept, multipliers, 0.0)), -1.0)
+    column = np.argmax(modulus, axis=1)
+    leading = multipliers[np.arange(multipliers.shape[0]), column]
+    return np.where(kept.any(axis=1), leading, complex(np.nan, np.nan))
 
 
 def orbit_harmonics(period_map: PeriodMap, freq, amplitude, states, steps_per_period, n_harmonics):
@@ -905,11 +927,16 @@ def monodromy(period_map: PeriodMap, freq, amplitude, states, steps_per_period, 
         flags = out_flags.reshape(n, -1).max(axis=1)
         jacobian = np.transpose((out[:, 1::2] - out[:, 2::2]) / (2.0 * FD_STEP), (0, 2, 1)) / scale[:, :, None]
     closing = np.max(np.abs(end - states) / scale, axis=1)
-    multipliers = np.full((n, size), np.nan, dtype=complex)
     good = (np.asarray(flags) == FLAG_OK) & np.isfinite(jacobian).all(axis=(1, 2))
-    if good.any():
-        values = np.linalg.eigvals(jacobian[good])
-        multipliers[good] = np.take_along_axis(values, np.argsort(-np.abs(values), axis=1, kind="stable"), axis=1)
+
+    def eigen(part):  # on the workers too (LAPACK releases the GIL): as costly as the tangent runs
+        values = np.full((part.stop - part.start, size), np.nan, dtype=complex)
+        valid = good[part]
+        if valid.any():
+            found = np.linalg.eigvals(jacobian[part][valid])
+            values[valid] = np.take_along_axis(found, np.argsort(-np.abs(found), axis=1, kind="stable"), axis=1)
+        return (values,)
+    (multipliers,) = run_chunked(eigen, n, workers=workers)
     closing[~good] = np.nan
     return closing, multipliers, jacobian, np.asarray(flags)
 
