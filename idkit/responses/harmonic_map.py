@@ -16,7 +16,8 @@ amplitude (``chained``; chains are never split between workers, so the map does 
 them). Steady-state criterion (the simulator's, ``docs/simulator.md``): over consecutive windows
 of two excitation periods, the largest change of any Fourier coefficient relative to the
 first harmonic, and its geometric extrapolation ``change r / (1 - r)``, are both below
-``tolerance``. Points that reach ``max_periods`` without meeting it (lightly damped wire ropes
+``tolerance``, after at least ``min_periods`` (:data:`MAP_MIN_PERIODS`, three windows: the
+ratio ``r`` of the stopping decision is always measured from two window changes). Points that reach ``max_periods`` without meeting it (lightly damped wire ropes
 far from resonance, where a 5 Hz free oscillation outlives thousands of excitation periods) are
 settled by shooting (:mod:`idkit.responses.periodic`: Newton on the period map of the same
 integrator, from 20 periods of the linear start); they are marked in
@@ -62,11 +63,15 @@ from idkit.responses.periodic import (
 from idkit.simulate import harmonic_response
 from idkit.simulate._kernel import FLAG_REASONS
 
-__all__ = ["HarmonicMap", "harmonic_map", "parabolic_peak", "SHOOTING_AFTER_PERIODS"]
+__all__ = ["HarmonicMap", "harmonic_map", "parabolic_peak", "MAP_MIN_PERIODS", "SHOOTING_AFTER_PERIODS"]
 
 #: Default period cap of a map's time integration when the points left over are shot
 #: (:func:`harmonic_map`).
 SHOOTING_AFTER_PERIODS = 200
+
+#: Fewest periods of a map point's time run (:func:`harmonic_map`'s ``min_periods``): three windows of two
+#: periods, the least on which the steady-state test stops on a measured ratio of window changes.
+MAP_MIN_PERIODS = 6
 
 #: Period cap of a map's time integration without shooting, and of the fallback run of the
 #: points that shooting could not close after the default :data:`SHOOTING_AFTER_PERIODS`.
@@ -364,7 +369,7 @@ class HarmonicMap:
 def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_harmonics: int = 3,
                  tolerance: float = 1e-3, workers: int | None = None, executor=None, progress=None,
                  steps_per_period=None, max_periods: int | None = None, start: str = "linear",
-                 shooting: bool = True, chained: bool = True) -> HarmonicMap:
+                 shooting: bool = True, chained: bool = True, min_periods: int = MAP_MIN_PERIODS) -> HarmonicMap:
     """Steady-state harmonic response on a frequency x amplitude grid (SPEC 5).
 
     Parameters
@@ -401,6 +406,12 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
         1.6 s on 2 workers (4000 periods: 38 shot, 8.3 s on one worker) and agree with the
         4000-period map to 3.9e-4 in |H1| and |H3| (its own tolerance is 1e-3).
         With the default cap, points that shooting does not close are run on to 4000 periods.
+    min_periods : int, default :data:`MAP_MIN_PERIODS` (6)
+        Fewest periods a point's time run spans before the steady-state test may stop it. Six
+        periods are three windows: the first is compared with nothing, so the stop is decided on a
+        genuine ratio of two window changes (the geometric extrapolation), as with more; a point
+        started from its settled neighbour spends no more. (``harmonic_response``'s default is 8,
+        for runs from rest.)
     shooting : bool, default True
         Settle the points that reach ``max_periods`` by shooting (module docstring); False
         leaves them unconverged, as a plain grid of time integrations.
@@ -443,7 +454,7 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
     response = harmonic_response(
         system, grid_freq.ravel(), grid_amp.ravel(), n_harmonics=int(n_harmonics), tolerance=tolerance,
         steps_per_period=steps_per_period, max_periods=max_periods, progress=progress, workers=workers,
-        executor=executor, start=start, chain_length=amplitude.size if chained else 1,
+        executor=executor, start=start, chain_length=amplitude.size if chained else 1, min_periods=min_periods,
     )
     shape = grid_freq.shape
     orders = (0.5,) + tuple(float(k) for k in range(1, int(n_harmonics) + 1))
@@ -472,6 +483,7 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
                 system, response.freq[failed], response.amplitude[failed], n_harmonics=int(n_harmonics),
                 tolerance=tolerance, steps_per_period=response.steps_per_period[failed],
                 max_periods=PLAIN_MAX_PERIODS, workers=workers, executor=executor, start=start,
+                min_periods=min_periods,
             )
             points.take_runs(failed, longer, orders)
     _settle_stability(system, points, response.steps_per_period, orders, float(tolerance), workers)
