@@ -14,7 +14,7 @@ here: systems with Bouc-Wen elements use finite differences.
 Tangent layout (rows): ``q (ndof), v (ndof), a (ndof), F (ndof x nj), u (ndof x nm)``;
 columns: the independent initial values ``q, v, F, u`` of real elements (the initial
 acceleration follows from equilibrium; see :func:`tangent_start`). The functions here never
-call the step itself: the period-map kernel (:func:`idkit.responses.periodic._run_periods`)
+call the step itself: the period-map kernels (:func:`idkit.responses.periodic.period_kernel`)
 calls them around it.
 """
 

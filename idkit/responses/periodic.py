@@ -51,6 +51,7 @@ attracts nothing a time integration could settle on); stable otherwise.
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass
 
 import numba
@@ -68,11 +69,24 @@ from idkit.simulate._parallel import run_chunked
 from idkit.simulate._kernel import (
     FLAG_OK,
     FLAG_REASONS,
+    SPECIALISED,
+    _compiled_per_structure,
     _initial_acceleration,
     _pack,
     _pack_states,
     _step,
     base_motion_table,
+)
+from idkit.simulate._structured import (
+    GENERIC,
+    HYBRID,
+    HYBRID_MODULATED,
+    SDOF_IWAN,
+    SDOF_IWAN_MODULATED,
+    SDOF_MAXWELL,
+    step_hybrid,
+    step_sdof,
+    structure_of,
 )
 from idkit.simulate.harmonic import MAX_PERIOD_TABLE, linear_initial_state
 
@@ -102,96 +116,129 @@ MIN_TOLERANCE = 1e-12
 NULL_TOLERANCE = 1e-5
 
 
-@numba.njit(cache=True, nogil=True)
-def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitude, steps_per_period, n_periods,
-                 scale, q0, v0, jforce0, mstate0, bwz0, n_record, with_tangent, columns):
-    """Integrate each member over ``n_periods`` excitation periods from its state at t = 0.
+def _period_kernel(structure):
+    """The compiled :func:`_run_periods` of one structure: the specialised step of
+    :mod:`idkit.simulate._structured` where the structure has one (the numbers of the generic
+    step, in fewer operations), as the map's kernel steps."""
 
-    Same base motion and step as :func:`idkit.simulate._kernel.run_harmonic_batch`. Returns the
-    end states ``(q, v, jforce, mstate, bwz)``, ``flags``, over the first ``n_record`` steps the
-    absolute mass displacements (m) and top acceleration (m/s^2) at each step start, and, if
-    ``with_tangent``, the derivative of the end state with respect to the start
-    (:mod:`idkit.responses._sensitivity`; no Bouc-Wen; one column per entry of ``columns``, the
-    initial values of real elements), else an empty array.
-    """
-    batch = freq.shape[0]
-    ndof = masses.shape[0]
-    nj = jk.shape[1]
-    nm = mk.shape[1]
-    m0 = masses[0]
-    m1 = masses[1] if ndof == 2 else 1.0
-    q_end = np.full((batch, ndof), np.nan)
-    v_end = np.full((batch, ndof), np.nan)
-    j_end = np.full(jforce0.shape, np.nan)
-    m_end = np.full(mstate0.shape, np.nan)
-    z_end = np.full((batch, ndof), np.nan)
-    rec_q = np.full((batch, ndof, n_record), np.nan)
-    rec_a = np.full((batch, n_record), np.nan)
-    flags = np.zeros(batch, dtype=np.int64)
-    n_rows = 3 * ndof + ndof * (nj + nm) if with_tangent else 0
-    n_cols = columns.shape[0] if with_tangent else 0
-    tangents = np.zeros((batch, n_rows, n_cols))
-    old_q = np.zeros(2)
-    old_force = np.zeros((ndof, max(nj, 1)))
-    work = np.zeros((2, 2))
-    lanes = np.zeros((6, max(n_cols, 1)))
-    stuck = np.zeros((2, max(nj, 1)))
-    table_n = -1  # the base motion's table, rebuilt only when the steps per period change
-    base_sin = np.empty(0)
-    base_cos = np.empty(0)
-    for b in range(batch):
-        omega = 2.0 * math.pi * freq[b]
-        n_per = steps_per_period[b]
-        h = 1.0 / (freq[b] * n_per)
-        amp = amplitude[b]
-        P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
-        state = np.zeros(6)
-        for d in range(ndof):
-            state[d] = q0[b, d]
-            state[2 + d] = v0[b, d]
-        S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
-        _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
-        # the member's tangent block, bound once: a view made inside the step loop costs numba a
-        # reference-count increment and decrement (atomic) per step
-        tangent = tangents[b]
-        if with_tangent:
-            tangent_start(ndof, masses, P, state, tangent, nj, nm, columns)
-        flag = FLAG_OK
-        if n_per != table_n:
-            base_sin, base_cos = base_motion_table(n_per)  # as the map's kernel reads it
-            table_n = n_per
-        at = 0  # n % n_per
-        for n in range(n_per * n_periods):
-            if n < n_record:
-                for d in range(ndof):
-                    rec_q[b, d, n] = state[d]
-                rec_a[b, n] = state[4]
-            base = amp * base_sin[at]
-            at = at + 1 if at + 1 < n_per else 0
-            base_new = amp * base_sin[at]
-            if with_tangent:
-                old_q[0] = state[0]
-                old_q[1] = state[1]
-                for d in range(ndof):
-                    for i in range(nj):
-                        old_force[d, i] = S[d, 0, i]
-            flag = _step(ndof, m0, m1, state, h, 0.0, base, base_new, amp * omega * base_cos[at], P, S, scale[b])
-            if flag != FLAG_OK:
-                break
-            if with_tangent:
-                tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangent, nj, nm, work,
-                             stuck, lanes)
-        flags[b] = flag
-        if flag == FLAG_OK:
+    def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitude, steps_per_period,
+                     n_periods, scale, q0, v0, jforce0, mstate0, bwz0, n_record, with_tangent, columns):
+        """Integrate each member over ``n_periods`` excitation periods from its state at t = 0.
+
+        Same base motion and step as :func:`idkit.simulate._kernel.run_harmonic_batch`. Returns the
+        end states ``(q, v, jforce, mstate, bwz)``, ``flags``, over the first ``n_record`` steps the
+        absolute mass displacements (m) and top acceleration (m/s^2) at each step start, and, if
+        ``with_tangent``, the derivative of the end state with respect to the start
+        (:mod:`idkit.responses._sensitivity`; no Bouc-Wen; one column per entry of ``columns``, the
+        initial values of real elements), else an empty array.
+        """
+        batch = freq.shape[0]
+        ndof = masses.shape[0]
+        nj = jk.shape[1]
+        nm = mk.shape[1]
+        m0 = masses[0]
+        m1 = masses[1] if ndof == 2 else 1.0
+        q_end = np.full((batch, ndof), np.nan)
+        v_end = np.full((batch, ndof), np.nan)
+        j_end = np.full(jforce0.shape, np.nan)
+        m_end = np.full(mstate0.shape, np.nan)
+        z_end = np.full((batch, ndof), np.nan)
+        rec_q = np.full((batch, ndof, n_record), np.nan)
+        rec_a = np.full((batch, n_record), np.nan)
+        flags = np.zeros(batch, dtype=np.int64)
+        n_rows = 3 * ndof + ndof * (nj + nm) if with_tangent else 0
+        n_cols = columns.shape[0] if with_tangent else 0
+        tangents = np.zeros((batch, n_rows, n_cols))
+        old_q = np.zeros(2)
+        old_force = np.zeros((ndof, max(nj, 1)))
+        work = np.zeros((2, 2))
+        lanes = np.zeros((6, max(n_cols, 1)))
+        stuck = np.zeros((2, max(nj, 1)))
+        table_n = -1  # the base motion's table, rebuilt only when the steps per period change
+        base_sin = np.empty(0)
+        base_cos = np.empty(0)
+        for b in range(batch):
+            omega = 2.0 * math.pi * freq[b]
+            n_per = steps_per_period[b]
+            h = 1.0 / (freq[b] * n_per)
+            amp = amplitude[b]
+            P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
+            state = np.zeros(6)
             for d in range(ndof):
-                q_end[b, d] = state[d]
-                v_end[b, d] = state[2 + d]
-                z_end[b, d] = S[d, 2, 0]
-                for i in range(jforce0.shape[2]):
-                    j_end[b, d, i] = S[d, 0, i]
-                for i in range(mstate0.shape[2]):
-                    m_end[b, d, i] = S[d, 1, i]
-    return q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents
+                state[d] = q0[b, d]
+                state[2 + d] = v0[b, d]
+            S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
+            _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
+            # the member's tangent block, bound once: a view made inside the step loop costs numba a
+            # reference-count increment and decrement (atomic) per step
+            tangent = tangents[b]
+            if with_tangent:
+                tangent_start(ndof, masses, P, state, tangent, nj, nm, columns)
+            flag = FLAG_OK
+            if n_per != table_n:
+                base_sin, base_cos = base_motion_table(n_per)  # as the map's kernel reads it
+                table_n = n_per
+            at = 0  # n % n_per
+            for n in range(n_per * n_periods):
+                if n < n_record:
+                    for d in range(ndof):
+                        rec_q[b, d, n] = state[d]
+                    rec_a[b, n] = state[4]
+                base = amp * base_sin[at]
+                at = at + 1 if at + 1 < n_per else 0
+                base_new = amp * base_sin[at]
+                if with_tangent:
+                    old_q[0] = state[0]
+                    old_q[1] = state[1]
+                    for d in range(ndof):
+                        for i in range(nj):
+                            old_force[d, i] = S[d, 0, i]
+                vb_new = amp * omega * base_cos[at]
+                # the step of the kernel's structure, called directly (as in the map's kernel)
+                if structure == SDOF_IWAN:
+                    flag = step_sdof(1, m0, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
+                elif structure == SDOF_MAXWELL:
+                    flag = step_sdof(2, m0, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
+                elif structure == HYBRID:
+                    flag = step_hybrid(1, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
+                elif structure == SDOF_IWAN_MODULATED:
+                    flag = step_sdof(3, m0, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
+                elif structure == HYBRID_MODULATED:
+                    flag = step_hybrid(3, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
+                else:
+                    flag = _step(ndof, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
+                if flag != FLAG_OK:
+                    break
+                if with_tangent:
+                    tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangent, nj, nm, work,
+                                 stuck, lanes)
+            flags[b] = flag
+            if flag == FLAG_OK:
+                for d in range(ndof):
+                    q_end[b, d] = state[d]
+                    v_end[b, d] = state[2 + d]
+                    z_end[b, d] = S[d, 2, 0]
+                    for i in range(jforce0.shape[2]):
+                        j_end[b, d, i] = S[d, 0, i]
+                    for i in range(mstate0.shape[2]):
+                        m_end[b, d, i] = S[d, 1, i]
+        return q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents
+
+    return _compiled_per_structure(_run_periods, structure)
+
+
+_PERIOD_KERNELS: dict = {}
+_PERIOD_KERNELS_LOCK = threading.Lock()
+
+
+def period_kernel(structure: int):
+    """:func:`_period_kernel` of ``structure`` (generic if it is not specialised); one dispatcher per
+    structure and process."""
+    structure = structure if structure in SPECIALISED else GENERIC
+    with _PERIOD_KERNELS_LOCK:
+        if structure not in _PERIOD_KERNELS:
+            _PERIOD_KERNELS[structure] = _period_kernel(structure)
+        return _PERIOD_KERNELS[structure]
 
 
 class PeriodMap:
@@ -231,6 +278,7 @@ class PeriodMap:
         self.state_names = tuple(names)
         self.size = len(names)
         self._kernel_arrays = arrays.as_tuple()
+        self._kernel = period_kernel(structure_of(arrays))
         if jacobian not in ("auto", "exact", "finite differences"):
             raise SimulationError(f"jacobian: found {jacobian!r}, expected 'auto', 'exact' or 'finite differences'")
         if jacobian == "exact" and self.boucwen.size:
@@ -321,7 +369,7 @@ class PeriodMap:
         scale = np.atleast_1d(force_scale(self.arrays, amplitude * (2 * np.pi * freq) ** 2))
         n_periods = self.periods if n_periods is None else int(n_periods)
         q, v, jforce, mstate, bwz = (np.ascontiguousarray(value) for value in self.unpack(states))
-        q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents = _run_periods(
+        q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents = self._kernel(
             *self._kernel_arrays, freq.astype(float), amplitude.astype(float), steps.astype(np.int64),
             n_periods, scale, q, v, jforce, mstate, bwz, int(n_record), bool(with_tangent), self._tangent_columns)
         end = self.pack(q_end, v_end, j_end, m_end, z_end)
