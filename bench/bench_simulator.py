@@ -149,7 +149,7 @@ def reference_ratio(system, result, map_seconds, blocks):
     estimate, sampled_seconds, sampled_periods = 0.0, 0.0, 0
     # warm-up, not timed: the first call pays for imports and first-use set-up (2.9 s against
     # 0.2 s for the same 6 periods at the next amplitude)
-    harmonic_reference(system, float(FREQ_AXIS[0]), float(AMPLITUDE_AXIS[0]), n_periods=2, **REFERENCE_OPTIONS)
+    harmonic_reference(system, float(FREQ_AXIS[0]), float(AMPLITUDE_AXIS[0]), n_periods=4, **REFERENCE_OPTIONS)
     print(f"{'f [Hz]':>8s} {'A [m]':>8s} {'periods':>7s} {'ivp [s]':>8s} {'block periods':>13s}")
     for rows in freq_blocks:
         for columns in amplitude_blocks:

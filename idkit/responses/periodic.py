@@ -66,10 +66,10 @@ from idkit.responses.linear import _numbers, _order
 from idkit.simulate import default_steps_per_period
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays, whole_number
 from idkit.simulate._parallel import run_chunked
+from idkit.simulate import _kernel
 from idkit.simulate._kernel import (
     FLAG_OK,
     FLAG_REASONS,
-    SPECIALISED,
     _compiled_per_structure,
     _initial_acceleration,
     _pack,
@@ -232,9 +232,10 @@ _PERIOD_KERNELS_LOCK = threading.Lock()
 
 
 def period_kernel(structure: int):
-    """:func:`_period_kernel` of ``structure`` (generic if it is not specialised); one dispatcher per
-    structure and process."""
-    structure = structure if structure in SPECIALISED else GENERIC
+    """:func:`_period_kernel` of ``structure`` (generic if it is not in
+    :data:`idkit.simulate._kernel.SPECIALISED`, which tests empty to run the generic step); one
+    dispatcher per structure and process."""
+    structure = structure if structure in _kernel.SPECIALISED else GENERIC
     with _PERIOD_KERNELS_LOCK:
         if structure not in _PERIOD_KERNELS:
             _PERIOD_KERNELS[structure] = _period_kernel(structure)
