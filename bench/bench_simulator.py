@@ -1,6 +1,6 @@
 """Benchmark: harmonic maps against their kernel floor and against solve_ivp, one core each.
 
-    python bench/bench_simulator.py [--sample N] [--repeat R] [--skip-compile]
+    python bench/bench_simulator.py [--blocks F A] [--repeat R] [--skip-compile]
 
 Run from the repository (``PYTHONPATH=.`` to time the working tree). One BLAS/OpenMP
 thread and ``IDKIT_WORKERS=1`` are set before numpy is imported. Every time is printed as min
@@ -18,10 +18,13 @@ spread).
    steps x ns per step, with ns per step measured on the same points (the time-run step: the
    slope of fixed 8- and 24-period runs; the tangent step: one classification batch).
 2. solve_ivp over the whole map, one core: ``harmonic_reference`` (BDF, rtol 1e-6, tanh
-   smoothing 1e-4) on a seeded sample of the standard map's points for the periods the map
-   spent there (from rest, its only start), extrapolated to the map by the periods (CPU seconds
-   per period of the sample times the map's periods), against the 1-worker map's CPU time (on a
-   shared machine CPU time is the one-core figure; wall time counts the other processes' turns).
+   smoothing 1e-4) from rest (its only start) for the periods the map spent at the point. The
+   grid is cut into ``--blocks`` (default 5 x 3: frequency decades' fifths, amplitude thirds);
+   the middle point of each block is run, and the block's periods are charged at its sample's
+   seconds per period (solve_ivp's cost per period grows with frequency and slip). The sum
+   stands for solve_ivp over the whole map (same points, same periods), against the 1-worker
+   map's CPU time (on a shared machine CPU time is the one-core figure; wall time counts the
+   other processes' turns).
 3. Kernel compile time: the first call of each simulation entry point in a fresh
    process whose numba cache (``NUMBA_CACHE_DIR`` and ``IDKIT_CACHE_DIR``) is an empty temporary folder, minus
    the same call repeated (warm).
@@ -125,8 +128,9 @@ def map_rows(name, repeat):
     kernel_floor = run_steps * ns_step * 1e-9 + tangent_steps * ns_tangent * 1e-9
     print(f"  periods per point: mean {result.periods.mean():.1f}, median {np.median(result.periods):.0f}, "
           f"max {result.periods.max():.0f}; {int(result.shooting.sum())} points shot")
-    print(f"  kernel floor: time runs {run_steps:.3g} steps x {ns_step:.1f} ns + classification "
-          f"{tangent_steps:.3g} tangent steps x {ns_tangent:.1f} ns = {kernel_floor:.4f} s of one core")
+    print(f"  kernel floor: time runs {run_steps:.3g} steps x {ns_step:.1f} ns = {run_steps * ns_step * 1e-9:.4f} s "
+          f"+ classification {tangent_steps:.3g} tangent steps x {ns_tangent:.1f} ns (the step, its tangent and "
+          f"the eigenvalues) = {tangent_steps * ns_tangent * 1e-9:.4f} s; {kernel_floor:.4f} s of one core")
     for workers in (1, 2):
         walls, cpus = results[workers][1], results[workers][2]
         print(f"  {workers} worker(s): wall min {min(walls):.4f} s = {min(walls) / (kernel_floor / workers):.2f} x "
@@ -135,26 +139,34 @@ def map_rows(name, repeat):
     return system, result, min(results[1][2])
 
 
-def reference_ratio(system, result, map_seconds, sample, seed):
-    """solve_ivp on a sample of the map's points for the map's periods, extrapolated by the periods."""
-    freq, amplitude = grid()
-    periods = result.periods.ravel()
-    rng = np.random.default_rng(seed)
-    chosen = np.sort(rng.choice(freq.size, size=min(sample, freq.size), replace=False))
-    seconds, spent = 0.0, 0
-    print(f"{'f [Hz]':>8s} {'A [m]':>8s} {'periods':>7s} {'ivp [s]':>8s}")
-    for index in chosen:
-        n_periods = int(max(4, periods[index] + periods[index] % 2))
-        start = time.process_time()
-        harmonic_reference(system, float(freq[index]), float(amplitude[index]), n_periods=n_periods,
-                           **REFERENCE_OPTIONS)
-        elapsed = time.process_time() - start
-        seconds += elapsed
-        spent += n_periods
-        print(f"{freq[index]:8.3f} {amplitude[index]:8.1e} {n_periods:7d} {elapsed:8.3f}")
-    estimate = seconds / spent * float(periods.sum())
-    print(f"  solve_ivp: {seconds / spent * 1e3:.2f} ms per period over the sample; the map's "
-          f"{periods.sum():.0f} periods -> {estimate:.1f} s of one core (extrapolated)")
+def reference_ratio(system, result, map_seconds, blocks):
+    """solve_ivp over the whole map, one core: the grid cut into ``blocks`` (frequency x amplitude)
+    blocks, the middle point of each run by solve_ivp for the periods the map spent there, and each
+    block's periods charged at its sample's seconds per period."""
+    periods = result.periods
+    freq_blocks = np.array_split(np.arange(FREQ_AXIS.size), blocks[0])
+    amplitude_blocks = np.array_split(np.arange(AMPLITUDE_AXIS.size), blocks[1])
+    estimate, sampled_seconds, sampled_periods = 0.0, 0.0, 0
+    # warm-up, not timed: the first call pays for imports and first-use set-up (2.9 s against
+    # 0.2 s for the same 6 periods at the next amplitude)
+    harmonic_reference(system, float(FREQ_AXIS[0]), float(AMPLITUDE_AXIS[0]), n_periods=4, **REFERENCE_OPTIONS)
+    print(f"{'f [Hz]':>8s} {'A [m]':>8s} {'periods':>7s} {'ivp [s]':>8s} {'block periods':>13s}")
+    for rows in freq_blocks:
+        for columns in amplitude_blocks:
+            row, column = rows[rows.size // 2], columns[columns.size // 2]
+            n_periods = int(max(4, periods[row, column] + periods[row, column] % 2))
+            start = time.process_time()
+            harmonic_reference(system, float(FREQ_AXIS[row]), float(AMPLITUDE_AXIS[column]), n_periods=n_periods,
+                               **REFERENCE_OPTIONS)
+            elapsed = time.process_time() - start
+            block_periods = float(periods[np.ix_(rows, columns)].sum())
+            estimate += elapsed / n_periods * block_periods
+            sampled_seconds += elapsed
+            sampled_periods += n_periods
+            print(f"{FREQ_AXIS[row]:8.3f} {AMPLITUDE_AXIS[column]:8.1e} {n_periods:7d} {elapsed:8.3f} {block_periods:13.0f}")
+    print(f"  solve_ivp: {sampled_seconds / sampled_periods * 1e3:.2f} ms per period over the {blocks[0] * blocks[1]} "
+          f"samples; the map's {periods.sum():.0f} periods, each block at its sample's rate -> {estimate:.1f} s of "
+          "one core")
     print(f"  ratio to the 1-worker map ({map_seconds:.4f} s of CPU, min): {estimate / map_seconds:.0f}x")
 
 
@@ -196,9 +208,9 @@ def compile_child():
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sample", type=int, default=8, help="map points run by solve_ivp")
+    parser.add_argument("--blocks", type=int, nargs=2, default=(5, 3), metavar=("FREQ", "AMPLITUDE"),
+                        help="solve_ivp sample: the middle point of each of FREQ x AMPLITUDE blocks of the grid")
     parser.add_argument("--repeat", type=int, default=5, help="repetitions of every timing")
-    parser.add_argument("--seed", type=int, default=2026, help="seed of the point sample")
     parser.add_argument("--skip-compile", action="store_true", help="skip the fresh-process compile timing")
     parser.add_argument("--compile-child", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -211,8 +223,8 @@ def main() -> None:
     system, standard, seconds = map_rows(SYSTEM, args.repeat)
     map_rows(ROPE, args.repeat)
 
-    print(f"\n[2] solve_ivp over the standard map, one core, {args.sample} sampled points")
-    reference_ratio(system, standard, seconds, args.sample, args.seed)
+    print(f"\n[2] solve_ivp over the standard map, one core, {args.blocks[0]} x {args.blocks[1]} blocks")
+    reference_ratio(system, standard, seconds, args.blocks)
 
     if not args.skip_compile:
         print("\n[3] compile time, fresh process, empty numba cache (first call minus second call; s)")

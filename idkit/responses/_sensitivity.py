@@ -14,7 +14,7 @@ here: systems with Bouc-Wen elements use finite differences.
 Tangent layout (rows): ``q (ndof), v (ndof), a (ndof), F (ndof x nj), u (ndof x nm)``;
 columns: the independent initial values ``q, v, F, u`` of real elements (the initial
 acceleration follows from equilibrium; see :func:`tangent_start`). The functions here never
-call the step itself: the period-map kernel (:func:`idkit.responses.periodic._run_periods`)
+call the step itself: the period-map kernels (:func:`idkit.responses.periodic.period_kernel`)
 calls them around it.
 """
 
@@ -125,14 +125,18 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
     n = tangent.shape[1]
     for j in range(ndof):
         force = lanes[j]
-        for c in range(n):
-            if ndof == 2 and j == 0:
+        damping = P[j, 0, 3]
+        stiffness = work[1, j]
+        if ndof == 2 and j == 0:  # the branch outside the loops over the columns: they vectorise
+            for c in range(n):
                 ddy = -(tangent[0, c] - tangent[1, c])
-                dvrel = -(c2 * tangent[0, c] + tangent[ndof, c]) + (c2 * tangent[1, c] + tangent[ndof + 1, c])
-            else:
+                dvrel = -(c2 * tangent[0, c] + tangent[2, c]) + (c2 * tangent[1, c] + tangent[3, c])
+                force[c] = damping * dvrel + stiffness * ddy
+        else:
+            for c in range(n):
                 ddy = -tangent[j, c]
                 dvrel = -(c2 * tangent[j, c] + tangent[ndof + j, c])
-            force[c] = P[j, 0, 3] * dvrel + work[1, j] * ddy
+                force[c] = damping * dvrel + stiffness * ddy
         for i in range(n_jenkin0 if j == 0 else n_jenkin1):
             weight = stuck[j, i]
             index = row_f + j * nj + i
@@ -143,25 +147,37 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
             index = row_u + j * nm + i
             for c in range(n):
                 force[c] += weight * tangent[index, c]
-    for c in range(n):
-        r0 = -m0 * (c4 * tangent[0, c] + 2.0 * c2 * tangent[ndof, c] + tangent[row_a, c]) + lanes[0, c]
-        if ndof == 2:
-            r1 = -m1 * (c4 * tangent[1, c] + 2.0 * c2 * tangent[3, c] + tangent[row_a + 1, c]) - lanes[0, c] \
-                + lanes[1, c]
-            lanes[2, c] = -(j11 * r0 - j01 * r1) / det
-            lanes[3, c] = -(j00 * r1 - j01 * r0) / det
-            lanes[4, c] = (lanes[2, c] - lanes[3, c]) - (tangent[0, c] - tangent[1, c])
-            lanes[5, c] = lanes[3, c] - tangent[1, c]
-        else:
-            lanes[2, c] = -r0 / j00
-            lanes[4, c] = lanes[2, c] - tangent[0, c]
-        for d in range(ndof):
-            new = lanes[2 + d, c]
-            old = tangent[d, c]
-            velocity = tangent[ndof + d, c]
-            tangent[row_a + d, c] = c4 * (new - old) - 2.0 * c2 * velocity - tangent[row_a + d, c]
-            tangent[ndof + d, c] = c2 * (new - old) - velocity
-            tangent[d, c] = new
+    # the mechanical rows, written out per number of masses (fixed rows: each loop runs along
+    # contiguous columns and vectorises)
+    if ndof == 2:
+        inverse = 1.0 / det
+        for c in range(n):
+            r0 = -m0 * (c4 * tangent[0, c] + 2.0 * c2 * tangent[2, c] + tangent[4, c]) + lanes[0, c]
+            r1 = -m1 * (c4 * tangent[1, c] + 2.0 * c2 * tangent[3, c] + tangent[5, c]) - lanes[0, c] + lanes[1, c]
+            new0 = -(j11 * r0 - j01 * r1) * inverse
+            new1 = -(j00 * r1 - j01 * r0) * inverse
+            lanes[2, c] = new0
+            lanes[3, c] = new1
+            lanes[4, c] = (new0 - new1) - (tangent[0, c] - tangent[1, c])
+            lanes[5, c] = new1 - tangent[1, c]
+            change0 = new0 - tangent[0, c]
+            change1 = new1 - tangent[1, c]
+            tangent[4, c] = c4 * change0 - 2.0 * c2 * tangent[2, c] - tangent[4, c]
+            tangent[5, c] = c4 * change1 - 2.0 * c2 * tangent[3, c] - tangent[5, c]
+            tangent[2, c] = c2 * change0 - tangent[2, c]
+            tangent[3, c] = c2 * change1 - tangent[3, c]
+            tangent[0, c] = new0
+            tangent[1, c] = new1
+    else:
+        for c in range(n):
+            r0 = -m0 * (c4 * tangent[0, c] + 2.0 * c2 * tangent[1, c] + tangent[2, c]) + lanes[0, c]
+            new0 = -r0 / j00
+            lanes[2, c] = new0
+            lanes[4, c] = new0 - tangent[0, c]
+            change0 = new0 - tangent[0, c]
+            tangent[2, c] = c4 * change0 - 2.0 * c2 * tangent[1, c] - tangent[2, c]
+            tangent[1, c] = c2 * change0 - tangent[1, c]
+            tangent[0, c] = new0
     for j in range(ndof):
         increment = lanes[4 + j]
         for i in range(n_jenkin0 if j == 0 else n_jenkin1):

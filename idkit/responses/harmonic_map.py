@@ -16,7 +16,8 @@ amplitude (``chained``; chains are never split between workers, so the map does 
 them). Steady-state criterion (the simulator's, ``docs/simulator.md``): over consecutive windows
 of two excitation periods, the largest change of any Fourier coefficient relative to the
 first harmonic, and its geometric extrapolation ``change r / (1 - r)``, are both below
-``tolerance``. Points that reach ``max_periods`` without meeting it (lightly damped wire ropes
+``tolerance``, after at least ``min_periods`` (:data:`MAP_MIN_PERIODS`, three windows: the
+ratio ``r`` of the stopping decision is always measured from two window changes). Points that reach ``max_periods`` without meeting it (lightly damped wire ropes
 far from resonance, where a 5 Hz free oscillation outlives thousands of excitation periods) are
 settled by shooting (:mod:`idkit.responses.periodic`: Newton on the period map of the same
 integrator, from 20 periods of the linear start); they are marked in
@@ -52,7 +53,9 @@ from idkit.responses.linear import _numbers, _order
 from idkit.responses.periodic import (
     STABILITY_MARGIN,
     PeriodMap,
+    classify_multiplier_rows,
     classify_multipliers,
+    leading_multipliers,
     monodromy,
     periodic_response,
     stability_margin,
@@ -60,11 +63,15 @@ from idkit.responses.periodic import (
 from idkit.simulate import harmonic_response
 from idkit.simulate._kernel import FLAG_REASONS
 
-__all__ = ["HarmonicMap", "harmonic_map", "parabolic_peak", "SHOOTING_AFTER_PERIODS"]
+__all__ = ["HarmonicMap", "harmonic_map", "parabolic_peak", "MAP_MIN_PERIODS", "SHOOTING_AFTER_PERIODS"]
 
 #: Default period cap of a map's time integration when the points left over are shot
 #: (:func:`harmonic_map`).
 SHOOTING_AFTER_PERIODS = 200
+
+#: Fewest periods of a map point's time run (:func:`harmonic_map`'s ``min_periods``): three windows of two
+#: periods, the least on which the steady-state test stops on a measured ratio of window changes.
+MAP_MIN_PERIODS = 6
 
 #: Period cap of a map's time integration without shooting, and of the fallback run of the
 #: points that shooting could not close after the default :data:`SHOOTING_AFTER_PERIODS`.
@@ -362,7 +369,7 @@ class HarmonicMap:
 def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_harmonics: int = 3,
                  tolerance: float = 1e-3, workers: int | None = None, executor=None, progress=None,
                  steps_per_period=None, max_periods: int | None = None, start: str = "linear",
-                 shooting: bool = True, chained: bool = True) -> HarmonicMap:
+                 shooting: bool = True, chained: bool = True, min_periods: int = MAP_MIN_PERIODS) -> HarmonicMap:
     """Steady-state harmonic response on a frequency x amplitude grid (SPEC 5).
 
     Parameters
@@ -399,6 +406,12 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
         1.6 s on 2 workers (4000 periods: 38 shot, 8.3 s on one worker) and agree with the
         4000-period map to 3.9e-4 in |H1| and |H3| (its own tolerance is 1e-3).
         With the default cap, points that shooting does not close are run on to 4000 periods.
+    min_periods : int, default :data:`MAP_MIN_PERIODS` (6)
+        Fewest periods a point's time run spans before the steady-state test may stop it. Six
+        periods are three windows: the first is compared with nothing, so the stop is decided on a
+        genuine ratio of two window changes (the geometric extrapolation), as with more; a point
+        started from its settled neighbour spends no more. (``harmonic_response``'s default is 8,
+        for runs from rest.)
     shooting : bool, default True
         Settle the points that reach ``max_periods`` by shooting (module docstring); False
         leaves them unconverged, as a plain grid of time integrations.
@@ -441,7 +454,7 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
     response = harmonic_response(
         system, grid_freq.ravel(), grid_amp.ravel(), n_harmonics=int(n_harmonics), tolerance=tolerance,
         steps_per_period=steps_per_period, max_periods=max_periods, progress=progress, workers=workers,
-        executor=executor, start=start, chain_length=amplitude.size if chained else 1,
+        executor=executor, start=start, chain_length=amplitude.size if chained else 1, min_periods=min_periods,
     )
     shape = grid_freq.shape
     orders = (0.5,) + tuple(float(k) for k in range(1, int(n_harmonics) + 1))
@@ -470,6 +483,7 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
                 system, response.freq[failed], response.amplitude[failed], n_harmonics=int(n_harmonics),
                 tolerance=tolerance, steps_per_period=response.steps_per_period[failed],
                 max_periods=PLAIN_MAX_PERIODS, workers=workers, executor=executor, start=start,
+                min_periods=min_periods,
             )
             points.take_runs(failed, longer, orders)
     _settle_stability(system, points, response.steps_per_period, orders, float(tolerance), workers)
@@ -568,9 +582,7 @@ class _Points:
 
 def _leading(multipliers, margin):
     """The multiplier of largest modulus other than the friction-memory ones at +1 (NaN if none)."""
-    multipliers = np.asarray(multipliers)
-    kept = multipliers[np.isfinite(multipliers) & (np.abs(multipliers - 1.0) > margin)]
-    return complex(kept[np.argmax(np.abs(kept))]) if kept.size else complex(np.nan, np.nan)
+    return complex(leading_multipliers(np.asarray(multipliers)[None, :], margin)[0])
 
 
 def _settle_stability(system, points: _Points, steps, orders, tolerance, workers):
@@ -584,19 +596,19 @@ def _settle_stability(system, points: _Points, steps, orders, tolerance, workers
     states = one.pack(*(values[timed] for values in points.states))
     _, multipliers, jacobians, flags = monodromy(one, points.freq[timed], points.amplitude[timed], states,
                                                steps[timed], workers=workers)
+    for index, flag in zip(timed[flags != 0], flags[flags != 0]):
+        # one period more from a valid end state: not expected, but not hidden
+        points.converged[index] = False
+        points.reasons[index] = f"stability not classified: one more period flagged ({FLAG_REASONS[int(flag)]})"
+    rows = np.flatnonzero(flags == 0)
+    stable, kinds = classify_multiplier_rows(multipliers[rows], margin)
+    points.multiplier[timed[rows]] = leading_multipliers(multipliers[rows], margin)
     unstable = []
-    for row, index in enumerate(timed):
-        if flags[row] != 0:  # one period more from a valid end state: not expected, but not hidden
-            points.converged[index] = False
-            points.reasons[index] = ("stability not classified: one more period flagged "
-                                     f"({FLAG_REASONS[int(flags[row])]})")
-            continue
-        stable, kind = classify_multipliers(multipliers[row], margin)
-        points.multiplier[index] = _leading(multipliers[row], margin)
-        if stable or kind == "neutral":
-            points.stability[index] = kind
+    for row, index, kind, settled in zip(rows, timed[rows], kinds, stable | (kinds == "neutral")):
+        if settled:
+            points.stability[index] = str(kind)
         else:
-            unstable.append((row, index, kind))
+            unstable.append((row, index, str(kind)))
     if unstable:
         _carry(system, one, points, steps, orders, tolerance, workers, states, multipliers, jacobians, unstable)
 

@@ -51,6 +51,7 @@ attracts nothing a time integration could settle on); stable otherwise.
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass
 
 import numba
@@ -65,18 +66,32 @@ from idkit.responses.linear import _numbers, _order
 from idkit.simulate import default_steps_per_period
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays, whole_number
 from idkit.simulate._parallel import run_chunked
+from idkit.simulate import _kernel
 from idkit.simulate._kernel import (
     FLAG_OK,
     FLAG_REASONS,
+    _compiled_per_structure,
     _initial_acceleration,
     _pack,
     _pack_states,
     _step,
     base_motion_table,
 )
+from idkit.simulate._structured import (
+    GENERIC,
+    HYBRID,
+    HYBRID_MODULATED,
+    SDOF_IWAN,
+    SDOF_IWAN_MODULATED,
+    SDOF_MAXWELL,
+    step_hybrid,
+    step_sdof,
+    structure_of,
+)
 from idkit.simulate.harmonic import MAX_PERIOD_TABLE, linear_initial_state
 
-__all__ = ["STABILITY_MARGIN", "PeriodicResponse", "classify_multipliers", "monodromy", "period_map",
+__all__ = ["STABILITY_MARGIN", "PeriodicResponse", "classify_multiplier_rows", "classify_multipliers",
+           "leading_multipliers", "monodromy", "period_map",
            "periodic_response", "stability_margin"]
 
 #: Relative finite-difference step of the period-map Jacobian (times each state's scale).
@@ -101,91 +116,130 @@ MIN_TOLERANCE = 1e-12
 NULL_TOLERANCE = 1e-5
 
 
-@numba.njit(cache=True, nogil=True)
-def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitude, steps_per_period, n_periods,
-                 scale, q0, v0, jforce0, mstate0, bwz0, n_record, with_tangent, columns):
-    """Integrate each member over ``n_periods`` excitation periods from its state at t = 0.
+def _period_kernel(structure):
+    """The compiled :func:`_run_periods` of one structure: the specialised step of
+    :mod:`idkit.simulate._structured` where the structure has one (the numbers of the generic
+    step, in fewer operations), as the map's kernel steps."""
 
-    Same base motion and step as :func:`idkit.simulate._kernel.run_harmonic_batch`. Returns the
-    end states ``(q, v, jforce, mstate, bwz)``, ``flags``, over the first ``n_record`` steps the
-    absolute mass displacements (m) and top acceleration (m/s^2) at each step start, and, if
-    ``with_tangent``, the derivative of the end state with respect to the start
-    (:mod:`idkit.responses._sensitivity`; no Bouc-Wen; one column per entry of ``columns``, the
-    initial values of real elements), else an empty array.
-    """
-    batch = freq.shape[0]
-    ndof = masses.shape[0]
-    nj = jk.shape[1]
-    nm = mk.shape[1]
-    m0 = masses[0]
-    m1 = masses[1] if ndof == 2 else 1.0
-    q_end = np.full((batch, ndof), np.nan)
-    v_end = np.full((batch, ndof), np.nan)
-    j_end = np.full(jforce0.shape, np.nan)
-    m_end = np.full(mstate0.shape, np.nan)
-    z_end = np.full((batch, ndof), np.nan)
-    rec_q = np.full((batch, ndof, n_record), np.nan)
-    rec_a = np.full((batch, n_record), np.nan)
-    flags = np.zeros(batch, dtype=np.int64)
-    n_rows = 3 * ndof + ndof * (nj + nm) if with_tangent else 0
-    n_cols = columns.shape[0] if with_tangent else 0
-    tangents = np.zeros((batch, n_rows, n_cols))
-    old_q = np.zeros(2)
-    old_force = np.zeros((ndof, max(nj, 1)))
-    work = np.zeros((2, 2))
-    lanes = np.zeros((6, max(n_cols, 1)))
-    stuck = np.zeros((2, max(nj, 1)))
-    for b in range(batch):
-        omega = 2.0 * math.pi * freq[b]
-        n_per = steps_per_period[b]
-        h = 1.0 / (freq[b] * n_per)
-        amp = amplitude[b]
-        P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
-        state = np.zeros(6)
-        for d in range(ndof):
-            state[d] = q0[b, d]
-            state[2 + d] = v0[b, d]
-        S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
-        _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
-        # the member's tangent block, bound once: a view made inside the step loop costs numba a
-        # reference-count increment and decrement (atomic) per step
-        tangent = tangents[b]
-        if with_tangent:
-            tangent_start(ndof, masses, P, state, tangent, nj, nm, columns)
-        flag = FLAG_OK
-        base_sin, base_cos = base_motion_table(n_per)  # as the map's kernel reads it
-        at = 0  # n % n_per
-        for n in range(n_per * n_periods):
-            if n < n_record:
-                for d in range(ndof):
-                    rec_q[b, d, n] = state[d]
-                rec_a[b, n] = state[4]
-            base = amp * base_sin[at]
-            at = at + 1 if at + 1 < n_per else 0
-            base_new = amp * base_sin[at]
-            if with_tangent:
-                old_q[0] = state[0]
-                old_q[1] = state[1]
-                for d in range(ndof):
-                    for i in range(nj):
-                        old_force[d, i] = S[d, 0, i]
-            flag = _step(ndof, m0, m1, state, h, 0.0, base, base_new, amp * omega * base_cos[at], P, S, scale[b])
-            if flag != FLAG_OK:
-                break
-            if with_tangent:
-                tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangent, nj, nm, work,
-                             stuck, lanes)
-        flags[b] = flag
-        if flag == FLAG_OK:
+    def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitude, steps_per_period,
+                     n_periods, scale, q0, v0, jforce0, mstate0, bwz0, n_record, with_tangent, columns):
+        """Integrate each member over ``n_periods`` excitation periods from its state at t = 0.
+
+        Same base motion and step as :func:`idkit.simulate._kernel.run_harmonic_batch`. Returns the
+        end states ``(q, v, jforce, mstate, bwz)``, ``flags``, over the first ``n_record`` steps the
+        absolute mass displacements (m) and top acceleration (m/s^2) at each step start, and, if
+        ``with_tangent``, the derivative of the end state with respect to the start
+        (:mod:`idkit.responses._sensitivity`; no Bouc-Wen; one column per entry of ``columns``, the
+        initial values of real elements), else an empty array.
+        """
+        batch = freq.shape[0]
+        ndof = masses.shape[0]
+        nj = jk.shape[1]
+        nm = mk.shape[1]
+        m0 = masses[0]
+        m1 = masses[1] if ndof == 2 else 1.0
+        q_end = np.full((batch, ndof), np.nan)
+        v_end = np.full((batch, ndof), np.nan)
+        j_end = np.full(jforce0.shape, np.nan)
+        m_end = np.full(mstate0.shape, np.nan)
+        z_end = np.full((batch, ndof), np.nan)
+        rec_q = np.full((batch, ndof, n_record), np.nan)
+        rec_a = np.full((batch, n_record), np.nan)
+        flags = np.zeros(batch, dtype=np.int64)
+        n_rows = 3 * ndof + ndof * (nj + nm) if with_tangent else 0
+        n_cols = columns.shape[0] if with_tangent else 0
+        tangents = np.zeros((batch, n_rows, n_cols))
+        old_q = np.zeros(2)
+        old_force = np.zeros((ndof, max(nj, 1)))
+        work = np.zeros((2, 2))
+        lanes = np.zeros((6, max(n_cols, 1)))
+        stuck = np.zeros((2, max(nj, 1)))
+        table_n = -1  # the base motion's table, rebuilt only when the steps per period change
+        base_sin = np.empty(0)
+        base_cos = np.empty(0)
+        for b in range(batch):
+            omega = 2.0 * math.pi * freq[b]
+            n_per = steps_per_period[b]
+            h = 1.0 / (freq[b] * n_per)
+            amp = amplitude[b]
+            P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
+            state = np.zeros(6)
             for d in range(ndof):
-                q_end[b, d] = state[d]
-                v_end[b, d] = state[2 + d]
-                z_end[b, d] = S[d, 2, 0]
-                for i in range(jforce0.shape[2]):
-                    j_end[b, d, i] = S[d, 0, i]
-                for i in range(mstate0.shape[2]):
-                    m_end[b, d, i] = S[d, 1, i]
-    return q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents
+                state[d] = q0[b, d]
+                state[2 + d] = v0[b, d]
+            S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
+            _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
+            # the member's tangent block, bound once: a view made inside the step loop costs numba a
+            # reference-count increment and decrement (atomic) per step
+            tangent = tangents[b]
+            if with_tangent:
+                tangent_start(ndof, masses, P, state, tangent, nj, nm, columns)
+            flag = FLAG_OK
+            if n_per != table_n:
+                base_sin, base_cos = base_motion_table(n_per)  # as the map's kernel reads it
+                table_n = n_per
+            at = 0  # n % n_per
+            for n in range(n_per * n_periods):
+                if n < n_record:
+                    for d in range(ndof):
+                        rec_q[b, d, n] = state[d]
+                    rec_a[b, n] = state[4]
+                base = amp * base_sin[at]
+                at = at + 1 if at + 1 < n_per else 0
+                base_new = amp * base_sin[at]
+                if with_tangent:
+                    old_q[0] = state[0]
+                    old_q[1] = state[1]
+                    for d in range(ndof):
+                        for i in range(nj):
+                            old_force[d, i] = S[d, 0, i]
+                vb_new = amp * omega * base_cos[at]
+                # the step of the kernel's structure, called directly (as in the map's kernel)
+                if structure == SDOF_IWAN:
+                    flag = step_sdof(1, m0, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
+                elif structure == SDOF_MAXWELL:
+                    flag = step_sdof(2, m0, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
+                elif structure == HYBRID:
+                    flag = step_hybrid(1, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
+                elif structure == SDOF_IWAN_MODULATED:
+                    flag = step_sdof(3, m0, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
+                elif structure == HYBRID_MODULATED:
+                    flag = step_hybrid(3, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
+                else:
+                    flag = _step(ndof, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
+                if flag != FLAG_OK:
+                    break
+                if with_tangent:
+                    tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangent, nj, nm, work,
+                                 stuck, lanes)
+            flags[b] = flag
+            if flag == FLAG_OK:
+                for d in range(ndof):
+                    q_end[b, d] = state[d]
+                    v_end[b, d] = state[2 + d]
+                    z_end[b, d] = S[d, 2, 0]
+                    for i in range(jforce0.shape[2]):
+                        j_end[b, d, i] = S[d, 0, i]
+                    for i in range(mstate0.shape[2]):
+                        m_end[b, d, i] = S[d, 1, i]
+        return q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents
+
+    return _compiled_per_structure(_run_periods, structure)
+
+
+_PERIOD_KERNELS: dict = {}
+_PERIOD_KERNELS_LOCK = threading.Lock()
+
+
+def period_kernel(structure: int):
+    """:func:`_period_kernel` of ``structure`` (generic if it is not in
+    :data:`idkit.simulate._kernel.SPECIALISED`, which tests empty to run the generic step); one
+    dispatcher per structure and process."""
+    structure = structure if structure in _kernel.SPECIALISED else GENERIC
+    with _PERIOD_KERNELS_LOCK:
+        if structure not in _PERIOD_KERNELS:
+            _PERIOD_KERNELS[structure] = _period_kernel(structure)
+        return _PERIOD_KERNELS[structure]
 
 
 class PeriodMap:
@@ -225,6 +279,7 @@ class PeriodMap:
         self.state_names = tuple(names)
         self.size = len(names)
         self._kernel_arrays = arrays.as_tuple()
+        self._kernel = period_kernel(structure_of(arrays))
         if jacobian not in ("auto", "exact", "finite differences"):
             raise SimulationError(f"jacobian: found {jacobian!r}, expected 'auto', 'exact' or 'finite differences'")
         if jacobian == "exact" and self.boucwen.size:
@@ -315,7 +370,7 @@ class PeriodMap:
         scale = np.atleast_1d(force_scale(self.arrays, amplitude * (2 * np.pi * freq) ** 2))
         n_periods = self.periods if n_periods is None else int(n_periods)
         q, v, jforce, mstate, bwz = (np.ascontiguousarray(value) for value in self.unpack(states))
-        q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents = _run_periods(
+        q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents = self._kernel(
             *self._kernel_arrays, freq.astype(float), amplitude.astype(float), steps.astype(np.int64),
             n_periods, scale, q, v, jforce, mstate, bwz, int(n_record), bool(with_tangent), self._tangent_columns)
         end = self.pack(q_end, v_end, j_end, m_end, z_end)
@@ -467,20 +522,36 @@ def classify_multipliers(multipliers, margin: float = STABILITY_MARGIN) -> tuple
     a perturbation along it neither grows nor decays by more than the margin a period (an undamped
     system: every multiplier on the unit circle), so no time run settles on the orbit.
     """
-    multipliers = np.asarray(multipliers)
+    stable, kinds = classify_multiplier_rows(np.asarray(multipliers)[None, :], margin)
+    return bool(stable[0]), str(kinds[0])
+
+
+def classify_multiplier_rows(multipliers, margin: float = STABILITY_MARGIN) -> tuple[NDArray[np.bool_], NDArray[np.str_]]:
+    """:func:`classify_multipliers` of every row of ``multipliers`` (n, size) at once (a map
+    classifies every point: one vectorised pass instead of a call per point); returns
+    ``(stable (n,), kinds (n,))``."""
+    multipliers = np.atleast_2d(np.asarray(multipliers, dtype=complex))
     modulus = np.abs(multipliers)
     outside = modulus > 1.0 + margin
-    if not outside.any():
-        memory = np.abs(multipliers - 1.0) <= margin
-        if np.any((modulus >= 1.0 - margin) & ~memory):
-            return False, "neutral"
-        return True, "stable"
-    real = outside & (np.abs(multipliers.imag) <= 1e-6 * np.abs(multipliers))
-    if np.any(real & (multipliers.real < 0)):
-        return False, "period doubling"
-    if np.any(real):
-        return False, "fold"
-    return False, "torus"
+    memory = np.abs(multipliers - 1.0) <= margin
+    neutral = ((modulus >= 1.0 - margin) & ~memory).any(axis=1)
+    real = outside & (np.abs(multipliers.imag) <= 1e-6 * modulus)
+    doubling = (real & (multipliers.real < 0)).any(axis=1)
+    any_outside = outside.any(axis=1)
+    kinds = np.select([~any_outside & neutral, ~any_outside, doubling, real.any(axis=1)],
+                      ["neutral", "stable", "period doubling", "fold"], "torus")
+    return kinds == "stable", kinds
+
+
+def leading_multipliers(multipliers, margin: float = STABILITY_MARGIN) -> NDArray[np.complex128]:
+    """Per row of ``multipliers`` (n, size), the multiplier of largest modulus other than the
+    friction-memory ones within ``margin`` of +1 (NaN if none): the one that decides stability."""
+    multipliers = np.atleast_2d(np.asarray(multipliers, dtype=complex))
+    kept = np.isfinite(multipliers) & (np.abs(multipliers - 1.0) > margin)
+    modulus = np.where(kept, np.abs(np.where(kept, multipliers, 0.0)), -1.0)
+    column = np.argmax(modulus, axis=1)
+    leading = multipliers[np.arange(multipliers.shape[0]), column]
+    return np.where(kept.any(axis=1), leading, complex(np.nan, np.nan))
 
 
 def orbit_harmonics(period_map: PeriodMap, freq, amplitude, states, steps_per_period, n_harmonics):
@@ -905,11 +976,16 @@ def monodromy(period_map: PeriodMap, freq, amplitude, states, steps_per_period, 
         flags = out_flags.reshape(n, -1).max(axis=1)
         jacobian = np.transpose((out[:, 1::2] - out[:, 2::2]) / (2.0 * FD_STEP), (0, 2, 1)) / scale[:, :, None]
     closing = np.max(np.abs(end - states) / scale, axis=1)
-    multipliers = np.full((n, size), np.nan, dtype=complex)
     good = (np.asarray(flags) == FLAG_OK) & np.isfinite(jacobian).all(axis=(1, 2))
-    if good.any():
-        values = np.linalg.eigvals(jacobian[good])
-        multipliers[good] = np.take_along_axis(values, np.argsort(-np.abs(values), axis=1, kind="stable"), axis=1)
+
+    def eigen(part):  # on the workers too (LAPACK releases the GIL): as costly as the tangent runs
+        values = np.full((part.stop - part.start, size), np.nan, dtype=complex)
+        valid = good[part]
+        if valid.any():
+            found = np.linalg.eigvals(jacobian[part][valid])
+            values[valid] = np.take_along_axis(found, np.argsort(-np.abs(found), axis=1, kind="stable"), axis=1)
+        return (values,)
+    (multipliers,) = run_chunked(eigen, n, workers=workers)
     closing[~good] = np.nan
     return closing, multipliers, jacobian, np.asarray(flags)
 

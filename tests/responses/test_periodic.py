@@ -235,3 +235,27 @@ def test_hostile_arguments_are_refused_naming_them(arguments, name):
     call = dict(freq=5.0, amplitude=1e-3) | arguments
     with pytest.raises(SimulationError, match=name):
         periodic_response(_voigt_system(), call.pop("freq"), call.pop("amplitude"), **call)
+
+
+@pytest.mark.parametrize("name", ["hybrid_asymmetric", "system_a1_asymmetric"])
+def test_period_map_runs_the_specialised_step_with_the_generic_steps_numbers(monkeypatch, name):
+    # The period map is compiled per structure and calls the structure's specialised step, as the
+    # map's kernel does; emptying SPECIALISED runs the generic step on the same inputs. Same
+    # operations on the parts the structure has: end states and propagated tangents agree bit for
+    # bit (stuck, slipping and isolated points, two periods).
+    from idkit.responses.periodic import PeriodMap
+    from idkit.simulate import _kernel
+
+    freq, amplitude = np.array([2.0, 10.0, 60.0]), np.array([1e-4, 2e-3, 5e-3])
+
+    def run():
+        one = PeriodMap(library.get(name), 1)
+        return one, one.run(freq, amplitude, one.linear_guess(freq, amplitude), 128, n_periods=2, with_tangent=True)
+
+    specialised_map, specialised = run()
+    with monkeypatch.context() as patch:
+        patch.setattr(_kernel, "SPECIALISED", frozenset())
+        generic_map, generic = run()
+    assert specialised_map._kernel is not generic_map._kernel
+    for got, expected in zip(specialised, generic):
+        np.testing.assert_array_equal(got, expected)
