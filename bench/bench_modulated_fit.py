@@ -30,7 +30,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)  # this checkout's idkit
 
 from idkit.fit import fit_iwan, fit_iwan_measurements  # noqa: E402
-from idkit.fit.measurements import data_valid_range  # noqa: E402
+from idkit.fit.data_set_checks import data_valid_range  # noqa: E402
 from idkit.fit.iwan_modulated import fit_iwan_modulated  # noqa: E402
 from idkit.io.discover import default_data_dir, find_measurement_sets  # noqa: E402
 

@@ -27,13 +27,18 @@ import nlopt
 import numpy as np
 import scipy.optimize
 
+from idkit.checks import Choice
+
 __all__ = [
-    "PENALTY", "CONVERGED", "STALLED", "MAX_EVALS", "FAILED", "INFEASIBLE", "SUCCESSFUL",
+    "BACKEND", "PENALTY", "CONVERGED", "STALLED", "MAX_EVALS", "FAILED", "INFEASIBLE", "SUCCESSFUL",
     "Tracked", "LocalRun", "ConstrainedProblem", "nlopt_result_name",
     "nelder_mead", "sqp", "constrained_global_search", "global_search",
 ]
 
 PENALTY = 1e6  # objective value given to a point where the model is not finite
+
+#: The declared ``backend`` of every fitter: nlopt or scipy, the same algorithm in both.
+BACKEND = Choice(("nlopt", "scipy"))
 
 #: The optimiser met its own convergence test.
 CONVERGED = "converged"

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from idkit.checks import Choice, Whole, accepts
 from idkit.errors import FitError
 
 __all__ = ["BootstrapResult", "bootstrap_loops", "bootstrap_transmissibility", "bootstrap_fit",
@@ -79,6 +80,7 @@ class BootstrapResult:
         return head + "\n" + self.summary().to_string(index=False, float_format=lambda v: f"{v:.5g}")
 
 
+@accepts(method=Choice(_METHODS), n_resamples=Whole(ge=2), error=FitError)
 def bootstrap_fit(fit: Callable[[list[np.ndarray]], object], partitions: Sequence[Sequence], *,
                   method: str = "repetition", n_resamples: int = 20, seed: int = 0,
                   error: Callable[[object], float]) -> BootstrapResult:
@@ -98,8 +100,6 @@ def bootstrap_fit(fit: Callable[[list[np.ndarray]], object], partitions: Sequenc
     error : callable
         ``error(result)`` -> mean fit error (fraction).
     """
-    if method not in _METHODS:
-        raise FitError(f"method: found {method!r}, expected one of {_METHODS}")
     partitions = [list(p) for p in partitions]
     plans: list[tuple[str, list[np.ndarray]]] = []
     if method == "repetition":
@@ -113,8 +113,6 @@ def bootstrap_fit(fit: Callable[[list[np.ndarray]], object], partitions: Sequenc
             raise FitError(f"bootstrap: found {len(plans)} repetition(s) present in every group "
                            f"(labels {labels}), expected at least 2; use method='resample'")
     else:
-        if int(n_resamples) != n_resamples or n_resamples < 2:
-            raise FitError(f"n_resamples: found {n_resamples!r}, expected an integer >= 2")
         rng = np.random.default_rng(int(seed))
         for index in range(int(n_resamples)):
             plans.append((f"resample {index + 1}",
@@ -233,8 +231,8 @@ def bootstrap_measurements(fit, *, method: str = "repetition", n_resamples: int 
         elif fit.kind == "iwan":
             fitter = fit_iwan
             # every refit starts at the full data's optimum (the usual bootstrap start): from the
-            # loops' own start estimate one repetition of an order-3 rope found either of two
-            # minima of near-equal error depending on the CPU's rounding (k_2 29908 or 43953 N/m)
+            # loops' own start estimate a refit can land in another minimum of near-equal error,
+            # which would count the optimiser's choice as spread
             options = {"start": fit.result.model, "backend": settings.backend,
                        "initial_state": settings.initial_state, "valid_range": settings.valid_range}
         else:

@@ -50,13 +50,14 @@ import lmfit
 import numpy as np
 import scipy.optimize
 
+from idkit.checks import Choice, accepts
 from idkit.errors import FitError
-from idkit.fit._optim import global_search as _global_search
+from idkit.fit._optim import BACKEND, global_search as _global_search
 from idkit.fit._optim import nelder_mead
 from idkit.fit._params import Transform, central_jacobian, jacobian_statistics, to_lmfit
 from idkit.fit.iwan_start import iwan_start
 from idkit.fit.loop_objective import BoucWenLoops
-from idkit.fit.loop_objective import boucwen_set_errors, boucwen_set_forces, boucwen_values, check_state
+from idkit.fit.loop_objective import INITIAL_STATE, boucwen_set_errors, boucwen_set_forces, boucwen_values
 from idkit.fit.model_form import loop_model_form_reasons
 from idkit.fit.result import BoucWenFitResult, BoucWenFitSettings, StageResult
 from idkit.models import BoucWenModel
@@ -64,7 +65,6 @@ from idkit.observe.quasi_static import as_loop_sets
 
 __all__ = ["fit_boucwen", "boucwen_set_errors", "boucwen_set_forces"]
 
-_BACKENDS = ("nlopt", "scipy")
 B_FIXED = math.e  # base of the asymmetry factor; only c ln b is identifiable
 _NAMES = ("k1", "alpha", "z_max", "shape", "n", "k2", "k3", "c")
 _STAGE_FREE = {
@@ -123,6 +123,8 @@ def _shape_values(values: dict) -> dict:
 # --------------------------------------------------------------------------- the fit
 
 
+@accepts(backend=BACKEND, global_method=Choice(("crs2", "differential_evolution"), optional=True),
+         initial_state=INITIAL_STATE, error=FitError)
 def fit_boucwen(
     small,
     large,
@@ -202,13 +204,8 @@ def fit_boucwen(
     True
     """
     t0 = time.perf_counter()
-    if backend not in _BACKENDS:
-        raise FitError(f"backend: found {backend!r}, expected one of {_BACKENDS}")
     if global_method is None:
         global_method = "crs2" if backend == "nlopt" else "differential_evolution"
-    if global_method not in ("crs2", "differential_evolution"):
-        raise FitError(f"global_method: found {global_method!r}, expected 'crs2' or 'differential_evolution'")
-    check_state(initial_state)
     small_sets = as_loop_sets(small, "small", points_per_set)
     large_sets = as_loop_sets(large, "large", points_per_set)
     info = iwan_start(small_sets, large_sets, 1)

@@ -47,6 +47,7 @@ import lmfit
 import numpy as np
 from scipy.optimize import least_squares, minimize
 
+from idkit.checks import Choice, Real, accepts
 from idkit.errors import FitError, ParameterError
 from idkit.fit._params import to_lmfit
 from idkit.fit.result import UNDETERMINED_CORRELATION
@@ -120,10 +121,7 @@ def _check_record(force, displacement, sample_rate_hz):
             raise FitError(f"{name}: found non-finite samples, expected finite values in {unit}")
     if np.std(y) == 0.0:
         raise FitError("displacement: found a constant record, expected a response that moves")
-    rate = float(sample_rate_hz)
-    if not (math.isfinite(rate) and rate > 0.0):
-        raise FitError(f"sample_rate_hz: found {sample_rate_hz!r}, expected a positive rate in Hz")
-    return u, y, rate
+    return u, y, float(sample_rate_hz)
 
 
 def _spectral_derivatives(y, rate, bandwidth_hz):
@@ -138,6 +136,7 @@ def _spectral_derivatives(y, rate, bandwidth_hz):
     return x, v, a
 
 
+@accepts(sample_rate_hz=Real(unit="Hz", gt=0), error=FitError)
 def boucwen_output_start(force, displacement, sample_rate_hz: float, *,
                          bandwidth_hz: float | None = None) -> dict[str, float]:
     """Start values by equation error with variable projection (module docstring, step 1).
@@ -299,6 +298,7 @@ class BoucWenOutputFit:
         return "\n".join(lines)
 
 
+@accepts(sample_rate_hz=Real(unit="Hz", gt=0), interpolation=Choice(INTERPOLATIONS), error=FitError)
 def fit_boucwen_output(force, displacement, sample_rate_hz: float, *, start: dict | None = None,
                        vary: tuple[str, ...] = OUTPUT_PARAMETERS, interpolation: str = "cubic",
                        substeps: int = SUBSTEPS_PER_SAMPLE, skip_samples: int = 0, max_simulations: int = 400,
@@ -352,8 +352,6 @@ def fit_boucwen_output(force, displacement, sample_rate_hz: float, *, start: dic
     unknown = [name for name in vary if name not in OUTPUT_PARAMETERS]
     if unknown or not vary:
         raise FitError(f"vary: found {list(vary)}, expected a non-empty subset of {OUTPUT_PARAMETERS}")
-    if interpolation not in INTERPOLATIONS:
-        raise FitError(f"interpolation: found {interpolation!r}, expected one of {INTERPOLATIONS}")
     if not (0 <= int(skip_samples) < y.size - 16):
         raise FitError(f"skip_samples: found {skip_samples!r}, expected 0 <= skip_samples < {y.size - 16}")
     clock = time.perf_counter()

@@ -2,7 +2,7 @@
 
 * :func:`compare_loop_models` - Iwan against Bouc-Wen set by set;
 * :func:`iwan_order_table` - Iwan orders 1-6 on the same loops, with the order rule
-  :data:`ORDER_RULE_FACTOR`;
+  (:mod:`idkit.fit.orders`);
 * :func:`maxwell_order_table` - Maxwell orders and the Voigt model on the same FRFs.
 """
 
@@ -18,7 +18,8 @@ from idkit.errors import FitError
 from idkit.fit.iwan import fit_iwan
 from idkit.fit.iwan_start import smallest_branch_secant
 from idkit.fit.maxwell import fit_maxwell, fit_voigt
-from idkit.fit.model_form import MODEL_FORM_PREFIX
+from idkit.fit.model_form import is_model_form_reason
+from idkit.fit.orders import ORDER_RULE_FACTOR, order_rule
 from idkit.models import GeneralizedMaxwell
 from idkit.observe.quasi_static import as_loop_sets
 
@@ -87,11 +88,6 @@ def compare_loop_models(results: dict) -> LoopModelComparison:
 
 # --------------------------------------------------------------------------- order tables
 
-#: Order rule: the lowest order whose mean loop error (small and large sets weighted
-#: equally) is within this factor of the best order's in the table. An element more
-#: must earn its two parameters by cutting the error by more than a tenth.
-ORDER_RULE_FACTOR = 1.10
-
 
 def iwan_order_table(small, large, *, orders: Sequence[int] = (1, 2, 3, 4, 5, 6), **options) -> pd.DataFrame:
     """Fit orders ``orders`` on the same loops and tabulate what each identifies (SPEC 4).
@@ -124,7 +120,7 @@ def iwan_order_fits(small, large, *, orders: Sequence[int] = (1, 2, 3, 4, 5, 6),
         results[int(order)] = result
         rows.append(iwan_order_row(result, secant))
     table = pd.DataFrame(rows)
-    table["recommended"] = table["order"] == _rule(table, 0.5 * (table["error_small_percent"]
+    table["recommended"] = table["order"] == order_rule(table, 0.5 * (table["error_small_percent"]
                                                                   + table["error_large_percent"]))
     return table, results
 
@@ -138,24 +134,9 @@ def iwan_order_row(result, secant: float) -> dict:
             "stuck_stiffness [N/m]": float(result.model.stuck_stiffness), "smallest_loop_secant [N/m]": secant,
             "spring_negative_below [m]": below, "spring_negative_above [m]": above,
             "success": result.success, "reasons": "; ".join(result.reasons),
-            "model_form_only": bool(result.reasons) and all(reason.startswith(MODEL_FORM_PREFIX)
-                                                            for reason in result.reasons),
+            "model_form_only": bool(result.reasons) and all(map(is_model_form_reason, result.reasons)),
             "family": getattr(result.settings, "family", "plain"),
             "fit": "loops" if getattr(result.settings, "valid_range", None) is None else "valid range"}
-
-
-def _rule(table: pd.DataFrame, error: pd.Series) -> int:
-    """The order rule: the lowest order whose ``error`` is within :data:`ORDER_RULE_FACTOR` of
-    the best, among the rows that succeeded; when none did, among those whose only reasons are
-    the model-form check's (``model_form_only``: every order of the family misses the loops, and
-    the rule still prefers the orders whose parameters the data determine); else all rows."""
-    candidates = table["success"]
-    if not candidates.any() and "model_form_only" in table and table["model_form_only"].any():
-        candidates = table["model_form_only"].astype(bool)
-    if not candidates.any():
-        candidates = pd.Series(True, index=table.index)
-    error = error[candidates]
-    return int(table.loc[error.index[error <= ORDER_RULE_FACTOR * error.min()], "order"].min())
 
 
 def maxwell_order_table(frfs, *, k0: float, orders: Sequence[int] = (1, 2, 3, 4), voigt: bool = True,
@@ -165,8 +146,8 @@ def maxwell_order_table(frfs, *, k0: float, orders: Sequence[int] = (1, 2, 3, 4)
     Each order is fitted from its default start and, when the previous order of the
     table is lower, also from that optimum extended by weak elements (stiffness at the
     lower bound, rates in the widest gaps of log rate); the better fit is kept, so an
-    order never reports a worse error than the model it contains (a Sobol start alone
-    ended order 3 in a local minimum at 2.3 % against 1.0 % for order 2 on one seed in 12).
+    order never reports a worse error than the model it contains (a start of its own can end
+    in a local minimum above the lower order's error).
 
     Returns a DataFrame with one row per model: ``model``, ``order``, ``n_params``,
     ``error_percent`` (objective 7.5), ``at_bound`` (free parameters stuck at a
@@ -197,7 +178,7 @@ def maxwell_order_table(frfs, *, k0: float, orders: Sequence[int] = (1, 2, 3, 4)
                      "at_bound": ", ".join(result.at_bound), "success": result.success})
     table = pd.DataFrame(rows)
     maxwell = table[table["model"] == "maxwell"]
-    table["recommended"] = (table["model"] == "maxwell") & (table["order"] == _rule(maxwell, maxwell["error_percent"]))
+    table["recommended"] = (table["model"] == "maxwell") & (table["order"] == order_rule(maxwell, maxwell["error_percent"]))
     return table
 
 

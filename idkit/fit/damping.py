@@ -26,9 +26,8 @@ hysteresis accounts for the friction loss and the remainder is viscous. At small
 levels a real rope also dissipates by micro-slip, which a low-order model may not
 hold (its first element may slip only beyond the level's deflection): matching the
 peak there would load that hysteretic loss onto ``c_visc`` and over-damp every
-larger level. On the bundled data the peak-matching value is 117, 243 and 9.7 N s/m
-at the levels 0.002, 0.008 and 0.12 m/s (truth: 5 N s/m plus micro-slip); the
-spread is reported (:attr:`ViscousDamping.per_level`) so that a reader sees how
+larger level. The peak-matching value of every level is
+reported (:attr:`ViscousDamping.per_level`) so that a reader sees how
 much damping the hysteresis model misses at small amplitude.
 """
 

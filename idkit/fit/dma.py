@@ -24,10 +24,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from idkit.checks import Real, Whole, accepts
 from idkit.errors import FitError
-from idkit.fit.maxwell import fit_complex_stiffness
-from idkit.fit.measurements import _jsonable
-from idkit.fit.result import MaxwellFitResult
+from idkit.fit.complex_stiffness import fit_complex_stiffness
+from idkit.fit.measurement_fit import _jsonable
+from idkit.fit.maxwell_result import MaxwellFitResult
 from idkit.models import GeneralizedMaxwell
 from idkit.io.complex_stiffness import ComplexStiffnessTable, ShiftFactorTable
 from idkit.signal.shift_factors import (
@@ -155,6 +156,8 @@ def _nested_start(previous: MaxwellFitResult, order: int) -> GeneralizedMaxwell:
     return GeneralizedMaxwell(k0=k0, k=np.asarray(k)[ordered], rate=np.asarray(rate)[ordered])
 
 
+@accepts(factor=Real(ge=1, meaning="error allowed above the smallest"), max_order=Whole(ge=1, optional=True),
+         error=FitError)
 def fit_prony(freq, storage, loss, *, quantity: str = "modulus", max_order: int | None = None,
               orders=None, factor: float = PRUNE_FACTOR, **options) -> PronyFit:
     """Fit Prony series of increasing order and keep the fewest terms the data hold.
@@ -183,14 +186,10 @@ def fit_prony(freq, storage, loss, *, quantity: str = "modulus", max_order: int 
     -------
     PronyFit
     """
-    if not (isinstance(factor, (int, float)) and math.isfinite(factor) and factor >= 1.0):
-        raise FitError(f"factor: found {factor!r}, expected a number >= 1 (error allowed above the smallest)")
     if orders is None:
         # the default: as many orders as the distinct frequencies identify (order n needs n + 1)
         top = min(default_max_order(freq), max(1, np.unique(np.asarray(freq, dtype=float)).size - 1)) \
             if max_order is None else max_order
-        if not (isinstance(top, (int, np.integer)) and top >= 1):
-            raise FitError(f"max_order: found {top!r}, expected a positive integer")
         orders = range(1, int(top) + 1)
     orders = sorted({int(o) for o in orders})
     fits = _nested_fits(freq, storage, loss, orders, quantity, options)

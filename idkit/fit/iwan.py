@@ -15,11 +15,9 @@ and a stage minimises the mean of ``e`` over its sets with Nelder-Mead (nlopt
 
 Stage 3 departs from SPEC 4 (which refines on the small loops only): an element
 whose slip travel ``2 fc_i / k_i`` exceeds the small loops never slips in them, so
-their error is flat in its ``fc_i`` (to 9 digits from 12.5 to 100 N in one case) and
-the simplex wandered along that direction, decided by rounding: the final model was
-up to 80x worse on the large loops than stage 2's and differed between CPUs. Scored
-on all loops every local parameter is seen by some data; on loops of a known model
-the slip force comes back to 0.1 % instead of 5-20 % (docs/fitting.md).
+their error is flat in its ``fc_i`` and a simplex on them wanders along that direction,
+decided by rounding. Scored on all loops every local parameter is seen by some data
+(docs/fitting.md).
 
 **Element order.** Jenkin elements are exchangeable (swapping two leaves the force
 law unchanged), so after every stage they are sorted by slip travel ``fc_i / k_i``,
@@ -68,11 +66,12 @@ import time
 import nlopt
 import numpy as np
 
+from idkit.checks import Whole, accepts
 from idkit.errors import FitError
-from idkit.fit._optim import MAX_EVALS, nelder_mead
+from idkit.fit._optim import BACKEND, MAX_EVALS, nelder_mead
 from idkit.fit._params import Transform, jacobian_statistics, spec_units, to_lmfit, to_physical_statistics
 from idkit.fit.iwan_start import iwan_start
-from idkit.fit.loop_objective import IwanLoops, check_state, iwan_set_errors, iwan_set_forces
+from idkit.fit.loop_objective import INITIAL_STATE, IwanLoops, iwan_set_errors, iwan_set_forces
 from idkit.fit.model_form import loop_model_form_reasons
 from idkit.fit.result import IwanFitResult, IwanFitSettings, StageResult, determinacy_reasons
 from idkit.models import IwanModel
@@ -80,8 +79,6 @@ from idkit.models.laws import lowest_spring_stiffness
 from idkit.observe.quasi_static import LoopSet, as_loop_sets, prepare_loops
 
 __all__ = ["fit_iwan", "iwan_start", "iwan_set_errors", "iwan_set_forces", "LoopSet", "prepare_loops"]
-
-_BACKENDS = ("nlopt", "scipy")
 
 #: Default evaluation limit of a stage per free parameter (at least 10000): enough for the
 #: high orders of a rope whose slip spreads over the whole loop to converge in every stage
@@ -99,6 +96,8 @@ _STAGE_FREE = {
 }
 
 
+@accepts(order=Whole(ge=1, meaning="Jenkin elements"), backend=BACKEND, initial_state=INITIAL_STATE,
+         stage2_starts=Whole(ge=1), error=FitError)
 def fit_iwan(
     small,
     large,
@@ -203,13 +202,6 @@ def fit_iwan(
     True
     """
     t0 = time.perf_counter()
-    if backend not in _BACKENDS:
-        raise FitError(f"backend: found {backend!r}, expected one of {_BACKENDS}")
-    if isinstance(stage2_starts, bool) or int(stage2_starts) != stage2_starts or stage2_starts < 1:
-        raise FitError(f"stage2_starts: found {stage2_starts!r}, expected an integer >= 1")
-    if start is None and (int(order) != order or order < 1):
-        raise FitError(f"order: found {order!r}, expected an integer >= 1")
-    check_state(initial_state)
     small_sets = as_loop_sets(small, "small", points_per_set)
     large_sets = as_loop_sets(large, "large", points_per_set)
     start_info = iwan_start(small_sets, large_sets, order if start is None else start.order)
@@ -439,8 +431,7 @@ def _add_the_step(internal, names) -> None:
     in the new standard errors). With the same force noise (N) on every loop the steps of
     ``g1, g2, g3`` reached 2-3 standard errors (docs/fitting.md, "Iwan uncertainty"). The
     optimum is that of the residuals with one force offset per loop set free (a load-cell zero
-    error the fit holds at 0 is absorbed by ``g2`` and the others; the step measures it): a
-    0.1 N offset per set with 0.05 N noise left ``g2`` off by RMS 8 of its stderr before.
+    error the fit holds at 0 is absorbed by ``g2`` and the others; the step measures it).
     """
     steps = getattr(internal, "gauss_newton_step", None) or {}
     if internal.covar is None or not steps:

@@ -51,15 +51,18 @@ import pandas as pd
 import scipy.optimize
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
+from idkit.checks import Choice, Real, Whole, accepts
 from idkit.errors import FitError
-from idkit.fit.compare import ORDER_RULE_FACTOR, LoopModelComparison, compare_loop_models
+from idkit.fit.compare import LoopModelComparison, compare_loop_models
 from idkit.fit._params import Transform, jacobian_statistics, to_lmfit, to_physical_statistics
 from idkit.fit.iwan import LoopSet, _add_the_step, fit_iwan, prepare_loops
-from idkit.fit.loop_objective import (cycled_flags, modulated_errors, modulated_forces, modulated_set_errors,
+from idkit.fit.loop_objective import (INITIAL_STATE, cycled_flags, modulated_errors, modulated_forces, modulated_set_errors,
                                      modulated_set_forces)
 from idkit.fit.model_form import loop_model_form_reasons
-from idkit.fit.result import IwanFitResult, IwanFitSettings, StageResult, determinacy_reasons
+from idkit.fit.orders import earns_its_place
+from idkit.fit.result import IwanFitResult, IwanFitSettings, LoopErrors, StageResult, determinacy_reasons
 from idkit.models import IwanModel, ModulatedIwanModel
+from idkit.models.laws import polynomial_spring_force
 
 __all__ = [
     "GROWTH_STARTS",
@@ -186,7 +189,7 @@ def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycl
             for j in range(start, stop):
                 y = x_all[j]
                 scale, scale_a, scale_b, scale_length = _scale_with_derivatives(y, a, b, length)
-                total = y * (g1 + y * (g2 + y * g3))
+                total = polynomial_spring_force(y, g1, g2, g3)
                 sum_a = 0.0
                 sum_b = 0.0
                 sum_length = 0.0
@@ -213,6 +216,8 @@ def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycl
     rows = x_all.shape[0]
     for q in range(grid.shape[0]):
         y = grid[q]
+        # the expanded form of the spring's stiffness, as the stage has always summed it (the Horner
+        # form of models.laws rounds differently and moves the fitted parameters in their last digit)
         shortfall = _STIFFNESS_MARGIN - (g1 + 2.0 * g2 * y + 3.0 * g3 * y * y) / g1_ref
         active = shortfall > 0.0
         residual[rows + q] = 10.0 * shortfall if active else 0.0
@@ -235,7 +240,7 @@ def _stage_residuals(u, n, g1_ref, x_ref, x_all, f_all, offsets, inv_norms, cycl
 
 
 @dataclass(frozen=True)
-class ModulatedIwanFitResult:
+class ModulatedIwanFitResult(LoopErrors):
     """Result of :func:`fit_iwan_modulated`.
 
     Attributes
@@ -287,11 +292,6 @@ class ModulatedIwanFitResult:
     history: tuple = field(default=(), repr=False)
     history_start: object = field(default=None, repr=False)
 
-    @property
-    def success(self) -> bool:
-        """True unless :attr:`reasons` names a problem."""
-        return not self.reasons
-
     def stage_result(self) -> StageResult:
         """The modulation stage as a :class:`~idkit.fit.StageResult` (its start error is the
         model it started from: the plain fit, or a modulated model)."""
@@ -340,16 +340,6 @@ class ModulatedIwanFitResult:
         """Free parameters of the modulation stage."""
         return len(self.parameters)
 
-    @property
-    def error_small(self) -> float:
-        """Mean error (fraction) on the small sets."""
-        return float(np.mean(self.small_errors))
-
-    @property
-    def error_large(self) -> float:
-        """Mean error (fraction) on the large sets."""
-        return float(np.mean(self.large_errors))
-
     def stderr(self, name: str) -> float:
         """Standard error of parameter ``name`` in its unit."""
         rows = self.parameters.loc[self.parameters["name"] == name, "stderr"]
@@ -395,6 +385,7 @@ def _prepare(sets, group, points_per_set):
     return prepared
 
 
+@accepts(jacobian=Choice(("exact", "2-point")), initial_state=INITIAL_STATE, error=FitError)
 def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None = None, order: int = 2,
                        points_per_set: int | None = 200, initial_state: str = "auto",
                        modulation_starts: Sequence[float] = MODULATION_STARTS,
@@ -445,8 +436,6 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
     large_sets = _prepare(large, "large", points_per_set)
     if not small_sets or not large_sets:
         raise FitError(f"found {len(small_sets)} small and {len(large_sets)} large sets, expected at least one of each")
-    if jacobian not in ("exact", "2-point"):
-        raise FitError(f"jacobian: found {jacobian!r}, expected 'exact' or '2-point'")
     a_starts = [float(a) for a in modulation_starts]
     if not a_starts or any(not -_A_BOUND < a < _A_BOUND for a in a_starts):
         raise FitError(f"modulation_starts: found {a_starts}, expected values in (-{_A_BOUND}, {_A_BOUND})")
@@ -642,6 +631,8 @@ def fit_iwan_modulated(small, large, *, plain: IwanFitResult | IwanModel | None 
 SPLIT_RATIO = 1.5
 
 
+@accepts(index=Whole(ge=0), ratio=Real(gt=1, meaning="the two halves slip at different displacements"),
+         error=FitError)
 def split_element(model: ModulatedIwanModel, index: int, ratio: float = SPLIT_RATIO) -> ModulatedIwanModel:
     """``model`` with Jenkin element ``index`` (0-based) split into two: stiffness ``k / 2``
     each, slip displacements ``fc / k / ratio`` and ``fc / k * ratio``; one order more.
@@ -655,8 +646,6 @@ def split_element(model: ModulatedIwanModel, index: int, ratio: float = SPLIT_RA
     """
     if not 0 <= index < model.order:
         raise FitError(f"index: found {index!r}, expected 0 <= index < {model.order} (the model's elements)")
-    if not ratio > 1.0:
-        raise FitError(f"ratio: found {ratio!r}, expected > 1 (the two halves must slip at different displacements)")
     k, fc = list(model.k), list(model.fc)
     half, travel = 0.5 * k[index], fc[index] / k[index]
     k[index:index + 1] = [half, half]
@@ -666,6 +655,7 @@ def split_element(model: ModulatedIwanModel, index: int, ratio: float = SPLIT_RA
                               slip_length=model.slip_length)
 
 
+@accepts(max_order=Whole(ge=1), patience=Whole(ge=1, optional=True), error=FitError)
 def fit_modulated_orders(small, large, first: IwanFitResult | IwanModel, *, max_order: int,
                          points_per_set: int | None = 200, initial_state: str = "auto",
                          valid_range: tuple[float, float] | None = None,
@@ -679,7 +669,7 @@ def fit_modulated_orders(small, large, first: IwanFitResult | IwanModel, *, max_
     equal minima reached from two splits are one model with its elements renumbered). The
     chain stops after ``max_order``, at the first fit ``accept(fit)`` is true for, or when
     ``patience`` orders in a row have not lowered the best mean of small and large error by
-    the order rule's factor (:data:`~idkit.fit.compare.ORDER_RULE_FACTOR`): the order rule
+    the order rule's factor (:data:`~idkit.fit.orders.ORDER_RULE_FACTOR`): the order rule
     would not pick them, and elements that do not help leave the loops as they are.
     ``patience=None`` never stops early.
 
@@ -693,8 +683,6 @@ def fit_modulated_orders(small, large, first: IwanFitResult | IwanModel, *, max_
     small_sets = _prepare(small, "small", points_per_set)
     large_sets = _prepare(large, "large", points_per_set)
     options = dict(points_per_set=None, initial_state=initial_state, valid_range=valid_range)
-    if patience is not None and (isinstance(patience, bool) or int(patience) != patience or patience < 1):
-        raise FitError(f"patience: found {patience!r}, expected an integer >= 1 or None")
     current = fit_iwan_modulated(small_sets, large_sets, plain=first, **options)
     fits = {current.model.order: current}
     history = tuple(current.plain.stages) if current.plain is not None else ()
@@ -712,7 +700,7 @@ def fit_modulated_orders(small, large, first: IwanFitResult | IwanModel, *, max_
                        f"{index + 1} split)")
         fits[current.model.order] = current
         mean = 0.5 * (current.error_small + current.error_large)
-        stalled = 0 if mean * ORDER_RULE_FACTOR <= best_mean else stalled + 1
+        stalled = 0 if earns_its_place(mean, best_mean) else stalled + 1
         best_mean = min(best_mean, mean)
     return fits
 

@@ -15,6 +15,7 @@ from collections.abc import Sequence
 import numpy as np
 import scipy.optimize
 
+from idkit.checks import Whole, accepts
 from idkit.errors import FitError
 from idkit.fit.result import IwanStart
 from idkit.models import IwanModel
@@ -127,6 +128,7 @@ def _slip_distribution(sets: Sequence[LoopSet], g1: float, order: int, grid_poin
     return np.asarray(stiffness), np.asarray(friction)
 
 
+@accepts(order=Whole(ge=1, meaning="Jenkin elements"), error=FitError)
 def iwan_start(small: Sequence[LoopSet], large: Sequence[LoopSet], order: int) -> IwanStart:
     """Starting parameters of an order-``n`` Iwan model read off the loops.
 
@@ -150,8 +152,6 @@ def iwan_start(small: Sequence[LoopSet], large: Sequence[LoopSet], order: int) -
        branch is usable: ``k_i = (K_s - g1) / n``, slip travels geometric between
        ``s_on`` and ``s_full``, ``fc_i`` scaled to ``sum fc_i = H``.
     """
-    if int(order) != order or order < 1:
-        raise FitError(f"order: found {order!r}, expected an integer >= 1")
     stuck = _initial_slope(list(small) + list(large))
     loop_set, amplitude, secant, half_height = _largest_loop(large)
     if not (stuck > 0 and math.isfinite(stuck)):

@@ -28,13 +28,14 @@ import numba
 import numpy as np
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
+from idkit.checks import Choice, accepts
 from idkit.errors import FitError
 from idkit.models import BoucWenModel, IwanModel, ModulatedIwanModel
 from idkit.models.laws import (boucwen_z_step, jenkin_step, polynomial_spring_force, scaled_jenkin_step,
                                slip_scale)
 from idkit.observe.quasi_static import LoopSet
 
-__all__ = ["START_STATES", "check_state", "set_start_state", "PackedLoops", "IwanLoops", "BoucWenLoops",
+__all__ = ["START_STATES", "INITIAL_STATE", "set_start_state", "PackedLoops", "IwanLoops", "BoucWenLoops",
            "iwan_set_errors", "iwan_set_forces", "boucwen_set_errors", "boucwen_set_forces", "cycled_flags",
            "modulated_forces", "modulated_errors", "modulated_set_errors", "modulated_set_forces",
            "law_set_forces", "law_set_errors"]
@@ -45,11 +46,8 @@ _MAX_SUBSTEPS = 16  # per sample; only parameter sets far from any fit (tiny z_m
 _MAX_JUMP_SUBSTEPS = 4096  # loading 0 -> x[0] and the return x[-1] -> x[0] span a whole loop
 
 
-def check_state(initial_state: str) -> str:
-    """``initial_state`` if it is one of :data:`START_STATES`, else a :class:`FitError`."""
-    if initial_state not in START_STATES:
-        raise FitError(f"initial_state: found {initial_state!r}, expected one of {START_STATES}")
-    return initial_state
+#: The declared ``initial_state`` of every loop function (:mod:`idkit.checks`).
+INITIAL_STATE = Choice(START_STATES)
 
 
 def set_start_state(loop_set: LoopSet, initial_state: str) -> str:
@@ -189,6 +187,7 @@ def _iwan_args(model: IwanModel):
     return (model.g1, model.g2, model.g3, np.array(model.k, dtype=np.float64), np.array(model.fc, dtype=np.float64))
 
 
+@accepts(initial_state=INITIAL_STATE, error=FitError)
 def iwan_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> np.ndarray:
     """Relative RMS error (7.1) of ``model`` on each prepared set (fractions, 0.01 = 1 %).
 
@@ -212,9 +211,10 @@ def iwan_set_errors(model: IwanModel, sets: Sequence[LoopSet], *, initial_state:
         return modulated_set_errors(model, sets, initial_state=initial_state)
     if type(model) is not IwanModel:
         return law_set_errors(model, sets, initial_state=initial_state)
-    return IwanLoops(list(sets), check_state(initial_state)).set_errors(*_iwan_args(model))
+    return IwanLoops(list(sets), initial_state).set_errors(*_iwan_args(model))
 
 
+@accepts(initial_state=INITIAL_STATE, error=FitError)
 def iwan_set_forces(model: IwanModel, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> list[np.ndarray]:
     """Model force (N) along each prepared set, with the initial element state used by the fit.
 
@@ -233,16 +233,16 @@ def iwan_set_forces(model: IwanModel, sets: Sequence[LoopSet], *, initial_state:
         return modulated_set_forces(model, sets, initial_state=initial_state)
     if type(model) is not IwanModel:
         return law_set_forces(model, sets, initial_state=initial_state)
-    packed = IwanLoops(list(sets), check_state(initial_state))
+    packed = IwanLoops(list(sets), initial_state)
     return packed.split(packed.forces(*_iwan_args(model)))
 
 
+@accepts(initial_state=INITIAL_STATE, error=FitError)
 def law_set_forces(model, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> list[np.ndarray]:
     """Force (N) along each prepared set from the model's own force law (``model.force``), for
     models without a packed loop kernel (e.g. the elements of :mod:`idkit.models.clearance`):
     loaded monotonically from the unloaded state to the first point and, for a cycled set, run
     through the set once before the pass that is kept, as the packed kernels do."""
-    check_state(initial_state)
     forces = []
     for loop_set in sets:
         x = np.asarray(loop_set.deflection, dtype=float)
@@ -282,9 +282,9 @@ def _modulated_set_forces(x, g1, g2, g3, k, fc, a, b, length, cycled, out):
             out[s] = total
 
 
+@accepts(initial_state=INITIAL_STATE, error=FitError)
 def cycled_flags(sets: Sequence[LoopSet], initial_state: str) -> list[bool]:
-    """Whether each set starts from the cycled state (``initial_state`` as in :func:`check_state`)."""
-    check_state(initial_state)
+    """Whether each set starts from the cycled state (``initial_state``: :data:`START_STATES`)."""
     return [set_start_state(loop_set, initial_state) == "cycled" for loop_set in sets]
 
 
@@ -414,6 +414,7 @@ def boucwen_values(model: BoucWenModel) -> dict:
             "gamma": model.gamma, "n": model.n, "c": model.c * math.log(model.b) if model.b > 0 else 0.0}
 
 
+@accepts(initial_state=INITIAL_STATE, error=FitError)
 def boucwen_set_errors(model: BoucWenModel, sets: Sequence[LoopSet], *, initial_state: str = "auto") -> np.ndarray:
     """Relative RMS error (7.1) of a Bouc-Wen ``model`` on each prepared set (fractions).
 
@@ -432,9 +433,10 @@ def boucwen_set_errors(model: BoucWenModel, sets: Sequence[LoopSet], *, initial_
     """
     if type(model) is not BoucWenModel:
         return law_set_errors(model, sets, initial_state=initial_state)
-    return BoucWenLoops(list(sets), check_state(initial_state)).set_errors(boucwen_values(model))
+    return BoucWenLoops(list(sets), initial_state).set_errors(boucwen_values(model))
 
 
+@accepts(initial_state=INITIAL_STATE, error=FitError)
 def boucwen_set_forces(model: BoucWenModel, sets: Sequence[LoopSet], *,
                        initial_state: str = "auto") -> list[np.ndarray]:
     """Model force (N) along each prepared set, with the initial state used by the fit.
@@ -446,5 +448,5 @@ def boucwen_set_forces(model: BoucWenModel, sets: Sequence[LoopSet], *,
     """
     if type(model) is not BoucWenModel:
         return law_set_forces(model, sets, initial_state=initial_state)
-    packed = BoucWenLoops(list(sets), check_state(initial_state))
+    packed = BoucWenLoops(list(sets), initial_state)
     return packed.split(packed.forces(boucwen_values(model)))

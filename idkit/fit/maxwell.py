@@ -1,7 +1,7 @@
 """Generalized Maxwell (elastomer) identification by bounded SQP with a global cross-check.
 
 SPEC section 4 / thesis section 7.2. ``k0`` comes from the quasi-static loops
-(:func:`estimate_k0`); ``[k_1..k_n, rate_1..rate_n, m_eff]`` from the measured
+(:mod:`idkit.observe.k0`); ``[k_1..k_n, rate_1..rate_n, m_eff]`` from the measured
 transmissibilities of all top masses at once with objective (7.5)::
 
     e = sqrt( mean_sets mean_band |H_model - H_meas|^2 / |H_meas|^2 ),
@@ -39,7 +39,9 @@ parameter Jacobian) seen through an observation (:class:`_TransmissibilityProble
 :func:`idkit.models.laws.sdof_transmissibility` of each top mass; :class:`_StiffnessProblem`:
 ``k*`` itself). A new law or observation is a new class, not a new string branch. The data
 (:class:`~idkit.observe.white_noise.TransmissibilitySet`, the band and its checks) come from
-:mod:`idkit.fit.frf_objective`; the order table is :func:`idkit.fit.compare.maxwell_order_table`.
+:mod:`idkit.fit.frf_objective`; the order table is :func:`idkit.fit.compare.maxwell_order_table`;
+complex stiffness and DMA tables (the same law, observed directly) are fitted by
+:mod:`idkit.fit.complex_stiffness`.
 """
 
 from __future__ import annotations
@@ -51,8 +53,10 @@ import time
 import numpy as np
 import scipy.stats
 
+from idkit.checks import Choice, Real, Whole, accepts
 from idkit.errors import FitError
-from idkit.fit._optim import INFEASIBLE, constrained_global_search, sqp
+from idkit.fit.orders import ORDER_RULE_FACTOR, earns_its_place
+from idkit.fit._optim import BACKEND, INFEASIBLE, constrained_global_search, sqp
 from idkit.fit._params import Transform, jacobian_statistics, spec_units, to_lmfit, to_physical_statistics
 from idkit.fit.frf_objective import (
     as_transmissibility_sets,
@@ -60,9 +64,8 @@ from idkit.fit.frf_objective import (
     check_band,
     frf_model_form_reasons,
     frf_noise_floor,
-    maxwell_objective,
 )
-from idkit.fit.result import (
+from idkit.fit.maxwell_result import (
     CONSTRAINT_STEP_LIMIT,
     CrossCheck,
     MaxwellFitResult,
@@ -71,21 +74,13 @@ from idkit.fit.result import (
 )
 from idkit.models import GeneralizedMaxwell, VoigtModel
 from idkit.models.laws import sdof_transmissibility
-from idkit.observe.quasi_static import K0Estimate, estimate_k0
-from idkit.observe.white_noise import TransmissibilitySet
 
-__all__ = [
-    "fit_maxwell",
-    "fit_voigt",
-    "fit_complex_stiffness",
-    "maxwell_objective",
-    "TransmissibilitySet",
-    "K0Estimate",
-    "estimate_k0",
-]
+__all__ = ["fit_maxwell", "fit_voigt", "LOSS_RULE_FACTOR"]
 
-_BACKENDS = ("nlopt", "scipy")
-_GLOBAL_METHODS = ("isres", "differential_evolution")
+#: The declared arguments the Maxwell fits share (:mod:`idkit.checks`).
+ORDER = Whole(ge=1, meaning="Maxwell elements")
+GLOBAL_METHOD = Choice(("isres", "differential_evolution"), optional=True)
+LOSS_GRID_POINTS = Whole(ge=2)
 _AT_BOUND = 1e-6  # scaled distance to a bound below which a parameter is "at the bound"
 
 
@@ -325,15 +320,10 @@ class _StiffnessProblem(_Problem):
 
 
 #: ``monotone_loss="auto"``: the loss-factor constraint is dropped when the free fit's error is
-#: below the constrained fit's by more than this factor, the standard an extra element must
-#: meet in the order rule (:data:`idkit.fit.compare.ORDER_RULE_FACTOR`).
-LOSS_RULE_FACTOR = 1.10
-
-
-def _check_order(order) -> int:
-    if isinstance(order, bool) or int(order) != order or order < 1:
-        raise FitError(f"order: found {order!r}, expected an integer >= 1")
-    return int(order)
+#: below the constrained fit's by more than this factor: the order rule's
+#: (:data:`idkit.fit.orders.ORDER_RULE_FACTOR`, :func:`idkit.fit.orders.earns_its_place`), the
+#: standard an extra element must meet.
+LOSS_RULE_FACTOR = ORDER_RULE_FACTOR
 
 
 def _check_bounds(name: str, bounds, unit: str) -> tuple[float, float]:
@@ -344,8 +334,6 @@ def _check_bounds(name: str, bounds, unit: str) -> tuple[float, float]:
 
 
 def _loss_grid(band, points: int):
-    if points < 2:
-        raise FitError(f"loss_grid_points: found {points!r}, expected an integer >= 2")
     return 2 * np.pi * np.geomspace(band[0], band[1], int(points))
 
 
@@ -418,12 +406,8 @@ def _default_start(problem: _Problem, band, seed: int, samples: int = 64) -> np.
 
 def _solve(problem: _Problem, *, start, band, backend, max_evals, ftol, cross_check, global_method,
            global_max_evals, seed, settings_extra, k0_stderr=None):
-    if backend not in _BACKENDS:
-        raise FitError(f"backend: found {backend!r}, expected one of {_BACKENDS}")
     if global_method is None:
         global_method = "isres" if backend == "nlopt" else "differential_evolution"
-    if global_method not in _GLOBAL_METHODS:
-        raise FitError(f"global_method: found {global_method!r}, expected one of {_GLOBAL_METHODS}")
     if start is None:
         z0 = _default_start(problem, band, seed)
     else:
@@ -588,6 +572,8 @@ def _frf_problem(frfs, *, model, order, k0, band, stiffness_bounds, rate_bounds,
     return problem, band
 
 
+@accepts(order=ORDER, backend=BACKEND, global_method=GLOBAL_METHOD, loss_grid_points=LOSS_GRID_POINTS,
+         monotone_loss=Choice((True, False, "auto")), k0_stderr=Real(unit="N/m", ge=0, optional=True), error=FitError)
 def fit_maxwell(
     frfs,
     *,
@@ -621,7 +607,7 @@ def fit_maxwell(
         Static stiffness in N/m, fixed (from :func:`estimate_k0`).
     k0_stderr : float, optional
         Standard uncertainty of ``k0`` in N/m from its own estimate (e.g.
-        :attr:`~idkit.observe.quasi_static.K0FromLoops.stderr`); reported as the stderr of
+        :attr:`~idkit.observe.k0.K0FromLoops.stderr`); reported as the stderr of
         the fixed ``k0`` parameter, which the fit does not move.
     order : int, default 2
         Number of Maxwell elements, >= 1.
@@ -676,11 +662,6 @@ def fit_maxwell(
     FitError
         Order < 1, NaN or zero transmissibility in the band, too few points, bad bounds.
     """
-    order = _check_order(order)
-    if monotone_loss not in (True, False, "auto"):
-        raise FitError(f"monotone_loss: found {monotone_loss!r}, expected True, False or 'auto'")
-    if k0_stderr is not None and not (math.isfinite(k0_stderr) and k0_stderr >= 0):
-        raise FitError(f"k0_stderr: found {k0_stderr!r}, expected a non-negative uncertainty in N/m or None")
 
     def problem_for(constrained: bool):
         return _frf_problem(frfs, model="maxwell", order=order, k0=k0, band=band, stiffness_bounds=stiffness_bounds,
@@ -703,13 +684,12 @@ def fit_maxwell(
     # drop the constraint
     if constrained.error < free.error:
         free = _better(free, _polish(free_problem, constrained.model, band, common))
-    if free.error * LOSS_RULE_FACTOR < constrained.error:
+    if earns_its_place(free.error, constrained.error):
         constrained = _better(constrained, _polish(problem, free.model, band, common))
-    better = free.error * LOSS_RULE_FACTOR < constrained.error
+    better = earns_its_place(free.error, constrained.error)
     # near the noise floor the errors differ by less than the factor while the constraint still
     # moves the parameters by many standard errors (the data reject it): dropped then too, when
-    # the free fit is a success (a truth whose loss factor falls 5 % between 20 and 50 Hz, 5 %
-    # noise: 5.25 % vs 5.01 %, kept, parameters 13 standard errors off the truth)
+    # the free fit is a success
     step = constraint_step(constrained.statistics)
     rejected = step is not None and step[1] > CONSTRAINT_STEP_LIMIT and free.success
     drop = better or rejected
@@ -746,6 +726,7 @@ def _better(result, other):
     return other
 
 
+@accepts(backend=BACKEND, global_method=GLOBAL_METHOD, error=FitError)
 def fit_voigt(
     frfs,
     *,
@@ -778,149 +759,3 @@ def fit_voigt(
     return _solve(problem, start=None, band=band, backend=backend, max_evals=max_evals, ftol=ftol,
                   cross_check=cross_check, global_method=global_method, global_max_evals=global_max_evals,
                   seed=seed, settings_extra={})
-
-
-#: Magnitudes of a complex stiffness or modulus table the fit takes (N/m or Pa). Above, the fit's
-#: squares overflow; below, lmfit takes bounds closer than 1e-13 (absolute) for equal and refuses
-#: them (k0 is bounded by 1e-6 to 1 x the smallest storage). Real parts and materials lie far inside.
-TABLE_MAGNITUDE_RANGE = (1e-6, 1e100)
-#: Frequencies (Hz) of such a table, for the same reasons; the rates are bounded by 2 pi f_min / 10 to
-#: 2 pi f_max x 10, so the highest frequency must also reach :data:`TABLE_HIGHEST_FREQUENCY`. Master
-#: curves over 40 decades (pyvisco's reach 3e-18 Hz) lie inside.
-TABLE_FREQUENCY_RANGE = (1e-100, 1e100)
-TABLE_HIGHEST_FREQUENCY = 1e-12
-
-
-def _check_table_values(freq, value, order: int, unit: str) -> None:
-    """What a Prony series of ``order`` terms can be fitted to: storage > 0 (the model's
-    ``k0 + sum k_i w^2 / (w^2 + r_i^2)`` is), magnitudes in :data:`TABLE_MAGNITUDE_RANGE`, frequencies
-    in :data:`TABLE_FREQUENCY_RANGE` reaching :data:`TABLE_HIGHEST_FREQUENCY`, and
-    ``order + 1`` distinct frequencies (each gives two numbers for the ``2 order + 1`` parameters)."""
-    low = int(np.argmin(value.real))
-    if not value.real[low] > 0:
-        raise FitError(f"complex stiffness: found storage {value.real[low]:g} {unit} at {freq[low]:g} Hz, "
-                       "expected storage > 0 (a Maxwell model's storage k0 + sum k_i w^2/(w^2 + r_i^2) is)")
-    magnitude = np.abs(value)
-    for index in (int(np.argmin(magnitude)), int(np.argmax(magnitude))):
-        if not TABLE_MAGNITUDE_RANGE[0] <= magnitude[index] <= TABLE_MAGNITUDE_RANGE[1]:
-            raise FitError(f"complex stiffness: found |value| {magnitude[index]:g} {unit} at {freq[index]:g} Hz, "
-                           f"expected {TABLE_MAGNITUDE_RANGE[0]:g} to {TABLE_MAGNITUDE_RANGE[1]:g} {unit} "
-                           "(outside, the fit's squares overflow or its bounds become indistinguishable)")
-    for index in (int(np.argmin(freq)), int(np.argmax(freq))):
-        if not TABLE_FREQUENCY_RANGE[0] <= freq[index] <= TABLE_FREQUENCY_RANGE[1]:
-            raise FitError(f"complex stiffness: found frequency {freq[index]:g} Hz, expected "
-                           f"{TABLE_FREQUENCY_RANGE[0]:g} to {TABLE_FREQUENCY_RANGE[1]:g} Hz (outside, the fit's squares "
-                           "overflow or its rate bounds become indistinguishable)")
-    if freq.max() < TABLE_HIGHEST_FREQUENCY:
-        raise FitError(f"complex stiffness: found the highest frequency {freq.max():g} Hz, expected at least "
-                       f"{TABLE_HIGHEST_FREQUENCY:g} Hz (below, the rate bounds become indistinguishable)")
-    distinct = np.unique(freq).size
-    if distinct < order + 1:
-        raise FitError(f"complex stiffness: found {distinct} distinct frequencies in {freq.size} points, expected "
-                       f"at least {order + 1} for order {order} ({2 * order + 1} parameters, two numbers a "
-                       "frequency)")
-
-
-def fit_complex_stiffness(
-    freq,
-    storage,
-    loss,
-    *,
-    order: int,
-    k0: float | None = None,
-    band=None,
-    backend: str = "nlopt",
-    k0_bounds=None,
-    stiffness_bounds=None,
-    rate_bounds=None,
-    monotone_loss: bool = False,
-    loss_grid_points: int = 25,
-    max_evals: int = 1000,
-    ftol: float = 1e-12,
-    cross_check: bool = False,
-    global_method: str | None = None,
-    global_max_evals: int = 10000,
-    seed: int = 0,
-    quantity: str = "stiffness",
-    start: GeneralizedMaxwell | None = None,
-) -> MaxwellFitResult:
-    """Fit a generalized Maxwell (Prony) model to complex stiffness / DMA data.
-
-    Objective: RMS over the points of ``|k*_model - k*_meas| / |k*_meas|`` with
-    ``k*_meas = storage + i loss`` (storage and loss parts in N/m, or Pa for a
-    modulus). Same SQP, scaling and cross-check as :func:`fit_maxwell`; no mass.
-    The model carries ``quantity``: a modulus model (Pa) is labelled so in its report,
-    model file and plots, and must be converted with
-    :meth:`~idkit.models.GeneralizedMaxwell.to_stiffness` before it enters a system.
-
-    Parameters
-    ----------
-    freq, storage, loss : array_like
-        Frequency in Hz and the real and imaginary part of the complex stiffness.
-    order : int
-        Number of Maxwell elements, >= 1.
-    k0 : float, optional
-        Static stiffness, fixed when given; otherwise fitted within ``k0_bounds``
-        (default ``1e-6 .. 1`` x the smallest storage value).
-    band : (float, float), optional
-        Default: the whole frequency range of the data.
-    stiffness_bounds : (float, float), optional
-        Default ``1e-6 .. 10`` x the largest |k*|.
-    rate_bounds : (float, float), optional
-        Default ``2 pi f_min / 10 .. 2 pi f_max * 10`` in 1/s (one decade beyond the data).
-    monotone_loss : bool, default False
-        DMA master curves have a loss peak, so the constraint is off by default.
-    quantity : {"stiffness", "modulus"}
-        What ``storage`` and ``loss`` are: N/m (a part) or Pa (a material, e.g. a DMA
-        table's ``quantity``).
-    start : GeneralizedMaxwell, optional
-        Start of the SQP (same order; values inside the bounds); default: the seeded
-        default start.
-    """
-    if quantity not in ("stiffness", "modulus"):
-        raise FitError(f"quantity: found {quantity!r}, expected 'stiffness' (N/m) or 'modulus' (Pa)")
-    unit = "N/m" if quantity == "stiffness" else "Pa"
-    order = _check_order(order)
-    freq = np.asarray(freq, dtype=float)
-    try:
-        value = np.asarray(storage, dtype=float) + 1j * np.asarray(loss, dtype=float)
-    except ValueError:
-        raise FitError(f"storage/loss: found shapes {np.shape(storage)} and {np.shape(loss)}, expected equal") from None
-    if freq.ndim != 1 or freq.size == 0 or not np.all(np.isfinite(freq)) or np.any(freq <= 0):
-        raise FitError("freq: expected a non-empty 1-D array of finite frequencies > 0 Hz")
-    band = check_band(band if band is not None else (freq.min(), freq.max() * (1 + 1e-12)))
-    f_in, k_in = band_points(freq, value, band, "complex stiffness", min_points=2 * order + 2)
-    _check_table_values(f_in, k_in, order, unit)
-    magnitude = np.abs(k_in)
-    if k0 is None:
-        k0_bounds = _check_bounds("k0_bounds", k0_bounds or (1e-6 * k_in.real.min(), k_in.real.min()), unit)
-    elif not (math.isfinite(k0) and k0 >= 0):
-        raise FitError(f"k0: found {k0!r}, expected a non-negative {quantity} in {unit} or None (fitted)")
-    stiffness_bounds = _check_bounds("stiffness_bounds", stiffness_bounds or (1e-6 * magnitude.max(),
-                                                                             10 * magnitude.max()), unit)
-    rate_bounds = _check_bounds("rate_bounds", rate_bounds or (2 * np.pi * f_in.min() / 10,
-                                                               2 * np.pi * f_in.max() * 10), "1/s")
-    transforms = _maxwell_transforms(order, stiffness_bounds, rate_bounds,
-                                     k0_bounds=None if k0 is not None else k0_bounds)
-    order_index = np.argsort(f_in)
-    omega = 2 * np.pi * f_in[order_index]
-    law = _MaxwellLaw(order, None if k0 is None else float(k0), with_m_eff=False)
-    problem = _StiffnessProblem(law, omega=omega, measured=k_in[order_index], mass=None,
-                                weights=np.full(omega.size, 1.0 / omega.size), set_index=np.zeros(omega.size, int),
-                                set_names=[f"complex {quantity}"], transforms=transforms,
-                                loss_omega=_loss_grid(band, loss_grid_points) if monotone_loss else None,
-                                monotone_loss=monotone_loss)
-    if start is not None and start.quantity != "stiffness":
-        start = GeneralizedMaxwell(k0=start.k0, k=start.k, rate=start.rate)
-    result = _solve(problem, start=start, band=band, backend=backend, max_evals=max_evals, ftol=ftol,
-                    cross_check=cross_check, global_method=global_method, global_max_evals=global_max_evals,
-                    seed=seed, settings_extra={})
-    if quantity == "stiffness":
-        return result
-    model = GeneralizedMaxwell(k0=result.model.k0, k=result.model.k, rate=result.model.rate, quantity="modulus")
-    units = spec_units(model)
-    parameters = result.parameters.copy()
-    for name, parameter in parameters.items():
-        parameter.user_data = {**(parameter.user_data or {}), "unit": units.get(name, "")}
-    settings = dataclasses.replace(result.settings, data="complex modulus (Pa)")
-    return dataclasses.replace(result, model=model, parameters=parameters, settings=settings)

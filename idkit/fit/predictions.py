@@ -127,7 +127,7 @@ def predict_fit(fit, *, landscape: bool = True) -> FitPrediction:
 
     Loop fits: :func:`predict_loops` on ``fit.data``. Maxwell fits: the measured
     transmissibilities and, with ``landscape``, :func:`idkit.fit.maxwell_error_landscape`
-    at the fit's k0, band and seed (an order-1 fit and a 41 x 41 grid: a few seconds).
+    at the fit's k0, band and seed (an order-1 fit and a 41 x 41 grid).
     """
     if fit.kind in ("iwan", "boucwen"):
         return FitPrediction(fit.kind, fit.model, loops=predict_loops(fit.model, fit.data.small, fit.data.large))

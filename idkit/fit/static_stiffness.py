@@ -1,11 +1,10 @@
 """The elastomer's static stiffness ``k0`` from quasi-static loops that have not fully relaxed.
 
-The secant estimate (:func:`idkit.observe.quasi_static.k0_from_records`) is the slope of the
+The secant estimate (:func:`idkit.observe.k0.k0_from_records`) is the slope of the
 loops around zero deflection. It is ``k0`` only if every Maxwell element has relaxed when
 the loops cross zero; an element whose relaxation time is comparable with the time since the
 last reversal (seconds, on a lathe at ~1 mm/s) still carries force there and biases the slope
-high. On truth "b" (an element of 900 N/m at 2 1/s) the secant read 9090-9137 N/m for
-9000 N/m.
+high.
 
 :func:`k0_with_relaxation` fits the loops' whole time history instead: over the points with
 ``|deflection| <= window`` (where the spring is linear),
@@ -43,7 +42,7 @@ import scipy.optimize
 from idkit.errors import FitError, Message, Suggestion
 from idkit.fit.result import INTERVAL_Z
 from idkit.models.laws import kernel_array, maxwell_states
-from idkit.observe.quasi_static import K0FromLoops, k0_from_records
+from idkit.observe.k0 import K0FromLoops, k0_from_records
 
 __all__ = ["RELAXATION_RATES", "k0_with_relaxation", "K0_METHODS"]
 
@@ -114,13 +113,13 @@ def k0_with_relaxation(records, *, window: float = 1e-3, rates=RELAXATION_RATES)
     K0FromLoops
         ``method="relaxation"``; ``k0`` and ``stderr`` of the fit, ``per_record`` each record's
         own fit, ``secant_k0`` the secant slope of the same points
-        (:func:`~idkit.observe.quasi_static.k0_from_records`), ``relaxation`` the basis
+        (:func:`~idkit.observe.k0.k0_from_records`), ``relaxation`` the basis
         stiffness per rate (N/m, 0 for rates the loops do not use).
 
     Raises
     ------
     FitError
-        Everything :func:`~idkit.observe.quasi_static.k0_from_records` refuses, too few points
+        Everything :func:`~idkit.observe.k0.k0_from_records` refuses, too few points
         for the unknowns, bad rates. A k0 the loops do not separate from the basis is not an
         error: the secant estimate is returned with ``fallback`` saying why (module docstring).
 
@@ -143,8 +142,7 @@ def k0_with_relaxation(records, *, window: float = 1e-3, rates=RELAXATION_RATES)
     -----
     The loops must cross zero at various times after their reversals (ramps of several
     amplitudes, as SPEC 3's protocol): a record of one sine determines only the in-phase and
-    quadrature stiffness at its frequency, and the fit then leans on the basis (6 s sine loops
-    of the example's truth: -0.5 %, where the secant reads +2.0 %).
+    quadrature stiffness at its frequency, and the fit then leans on the basis.
     """
     records = list(records)
     secant = k0_from_records(records, window=window)

@@ -13,15 +13,8 @@ import numpy as np
 
 from idkit.errors import ParameterError, SimulationError
 from idkit.models.laws import boucwen_z_history, kernel_array
-from idkit.models.base import (
-    C_VISC_SPEC,
-    IsolatorArrays,
-    IsolatorModel,
-    _as_deflection,
-    _as_frequency,
-    _as_time,
-    _velocity,
-)
+from idkit.models.base import C_VISC_SPEC, IsolatorArrays, IsolatorModel
+from idkit.models.base import _as_deflection, _as_frequency, _as_time, _velocity
 from idkit.params import ParamSpec
 
 __all__ = ["BoucWenModel", "check_boucwen_shape"]

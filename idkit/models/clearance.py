@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from idkit.errors import ParameterError
-from idkit.models.base import IsolatorArrays, _as_deflection, _as_frequency, _as_time, _velocity
+from idkit.models.base import IsolatorArrays, _as_deflection, _as_frequency
 from idkit.models.iwan import IwanModel
 from idkit.models.laws import clearance_jenkin_forces
 from idkit.params import ParamSpec
@@ -100,14 +100,6 @@ class ClearanceIwanModel(IwanModel):
         x = _as_deflection(deflection)
         start = np.zeros(self.order) if initial_forces is None else np.asarray(initial_forces, float)
         return clearance_jenkin_forces(x, self.k, self.fc, self._gap, start)
-
-    def force(self, deflection, time=None, initial_forces=None) -> np.ndarray:
-        """Isolator force in N along a deflection history in m (see :meth:`IwanModel.force`)."""
-        x = _as_deflection(deflection)
-        total = self.spring_force(x) + self.jenkin_forces(x, initial_forces).sum(axis=1)
-        if time is not None and self.c_visc:
-            total = total + self.c_visc * _velocity(x, _as_time(time, x.size))
-        return total
 
     def small_amplitude_stiffness(self, freq) -> np.ndarray:
         """Complex stiffness (N/m) about the middle of the clearance: ``g1 + i omega c_visc`` (the

@@ -14,15 +14,8 @@ import numpy as np
 
 from idkit.errors import ParameterError
 from idkit.models.laws import kernel_array, polynomial_spring_force, polynomial_spring_stiffness, stop_operator
-from idkit.models.base import (
-    C_VISC_SPEC,
-    IsolatorArrays,
-    IsolatorModel,
-    _as_deflection,
-    _as_frequency,
-    _as_time,
-    _velocity,
-)
+from idkit.models.base import C_VISC_SPEC, IsolatorArrays, IsolatorModel
+from idkit.models.base import _as_deflection, _as_frequency, _as_time, _velocity
 from idkit.params import ParamSpec, check_array
 
 __all__ = ["IwanModel", "jenkin_force"]

@@ -48,7 +48,7 @@ import math
 import numpy as np
 
 from idkit.errors import ParameterError
-from idkit.models.base import IsolatorArrays, _as_deflection, _as_time, _velocity
+from idkit.models.base import IsolatorArrays, _as_deflection
 from idkit.models.iwan import IwanModel
 from idkit.models import laws
 from idkit.models.laws import kernel_array
@@ -213,14 +213,6 @@ class ModulatedIwanModel(IwanModel):
         return modulated_stop_operator(kernel_array(x), kernel_array(self.k), kernel_array(self.fc),
                                        float(self._modulation), float(self._length), kernel_array(start),
                                        float(self._growth))
-
-    def force(self, deflection, time=None, initial_forces=None) -> np.ndarray:
-        """Isolator force in N along a deflection history in m (see :meth:`IwanModel.force`)."""
-        x = _as_deflection(deflection)
-        total = self.spring_force(x) + self.jenkin_forces(x, initial_forces).sum(axis=1)
-        if time is not None and self.c_visc:
-            total = total + self.c_visc * _velocity(x, _as_time(time, x.size))
-        return total
 
     def kernel_arrays(self) -> IsolatorArrays:
         return dataclasses.replace(super().kernel_arrays(),

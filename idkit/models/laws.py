@@ -137,6 +137,17 @@ def stop_operator(deflection, stiffness, friction_force, initial_force, modulati
         Element forces in N. Exact for deflection piecewise linear between samples:
         ``F <- clip(F + k * dx, -s Fc, s Fc)``.
     """
+    scale = np.empty(deflection.shape[0])
+    for i in range(deflection.shape[0]):
+        scale[i] = slip_scale(deflection[i], modulation, growth, length)
+    return _scaled_stop_history(deflection, stiffness, friction_force, scale, initial_force)
+
+
+@numba.njit(cache=True)
+def _scaled_stop_history(deflection, stiffness, friction_force, scale, initial_force):
+    """Element forces (N), shape ``(n_samples, n_elements)``, of the stop operator with the limits
+    ``scale[i] Fc`` at each new sample ``i`` (:func:`scaled_jenkin_step`); the first sample holds
+    ``initial_force``. The history every stop operator of this module runs."""
     n_samples = deflection.shape[0]
     n_elements = stiffness.shape[0]
     forces = np.empty((n_samples, n_elements))
@@ -145,14 +156,13 @@ def stop_operator(deflection, stiffness, friction_force, initial_force, modulati
         state[j] = initial_force[j]
         forces[0, j] = state[j]
     for i in range(1, n_samples):
-        scaled_jenkin_step(state, stiffness, friction_force, slip_scale(deflection[i], modulation, growth, length),
-                           deflection[i] - deflection[i - 1])
+        scaled_jenkin_step(state, stiffness, friction_force, scale[i], deflection[i] - deflection[i - 1])
         for j in range(n_elements):
             forces[i, j] = state[j]
     return forces
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def polynomial_spring_force(deflection, g1, g2, g3):
     """Iwan parallel spring force ``x (g1 + x (g2 + x g3))`` in N (SPEC 1.2).
 
@@ -176,7 +186,7 @@ def polynomial_spring_force(deflection, g1, g2, g3):
     return deflection * (g1 + deflection * (g2 + deflection * g3))
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def polynomial_spring_stiffness(deflection, g1, g2, g3):
     """Local stiffness ``g1 + 2 g2 x + 3 g3 x^2`` (N/m) of the Iwan parallel spring at ``deflection`` m.
 
@@ -335,6 +345,14 @@ def maxwell_states(deflection, time, rate, initial_state):
     return states
 
 
+@numba.njit(cache=True, inline="always")
+def _step_direction(dx):
+    """Sign of a deflection step ``dx``: 1.0, -1.0, or 0.0 for no step."""
+    if dx == 0.0:
+        return 0.0
+    return 1.0 if dx > 0.0 else -1.0
+
+
 @numba.njit(cache=True)
 def boucwen_z_step(z, dx, alpha, beta, gamma, exponent, n_substeps):
     """Advance the Bouc-Wen hysteretic force ``z`` (N) over a deflection step ``dx`` (m).
@@ -343,12 +361,8 @@ def boucwen_z_step(z, dx, alpha, beta, gamma, exponent, n_substeps):
     independent) with ``n_substeps`` classical Runge-Kutta steps in ``x``.
     Returns the new ``z`` and ``dz/dx`` at the end (for Newton tangents).
     """
-    if dx == 0.0:
-        direction = 0.0
-    else:
-        direction = 1.0 if dx > 0.0 else -1.0
+    direction = _step_direction(dx)
     sub = dx / n_substeps
-
     for _ in range(n_substeps):
         k1 = _boucwen_slope(z, direction, alpha, beta, gamma, exponent)
         k2 = _boucwen_slope(z + 0.5 * sub * k1, direction, alpha, beta, gamma, exponent)
@@ -399,17 +413,9 @@ def _boucwen_slope(z, direction, alpha, beta, gamma, exponent):
 @numba.njit(cache=True)
 def boucwen_z_history(deflection, alpha, beta, gamma, exponent, initial_z, n_substeps):
     """Bouc-Wen hysteretic force ``z`` in N along a deflection history in m; each step with
-    at least ``n_substeps`` Runge-Kutta sub-steps (:func:`boucwen_substeps`)."""
-    n_samples = deflection.shape[0]
-    z_history = np.empty(n_samples)
-    z_history[0] = initial_z
-    z = initial_z
-    for i in range(1, n_samples):
-        dx = deflection[i] - deflection[i - 1]
-        z, _ = boucwen_z_step(z, dx, alpha, beta, gamma, exponent,
-                              boucwen_substeps(dx, alpha, beta, gamma, exponent, n_substeps))
-        z_history[i] = z
-    return z_history
+    at least ``n_substeps`` Runge-Kutta sub-steps (:func:`boucwen_substeps`): the pinched history
+    without pinching (:func:`pinched_boucwen_z_history`)."""
+    return pinched_boucwen_z_history(deflection, alpha, beta, gamma, exponent, 0.0, 1.0, 0.0, initial_z, n_substeps)
 
 
 def stiffness_from_transmissibility(transmissibility, moving_mass, omega):
@@ -526,20 +532,11 @@ def rate_dependent_stop_operator(deflection, time, stiffness, friction_force, ra
     is the stop operator ``F <- clip(F + k dx, -fc(v), fc(v))``. Shape ``(n_samples, n_elements)``;
     ``deflection`` in m, ``time`` in s (strictly increasing), ``initial_force`` in N.
     """
-    n_samples = deflection.shape[0]
-    n_elements = stiffness.shape[0]
-    forces = np.empty((n_samples, n_elements))
-    state = np.empty(n_elements)
-    for j in range(n_elements):
-        state[j] = initial_force[j]
-        forces[0, j] = state[j]
-    for i in range(1, n_samples):
-        step = deflection[i] - deflection[i - 1]
-        scaled_jenkin_step(state, stiffness, friction_force,
-                           1.0 + rate_gain * math.tanh(abs(step / (time[i] - time[i - 1])) / slip_speed), step)
-        for j in range(n_elements):
-            forces[i, j] = state[j]
-    return forces
+    scale = np.ones(deflection.shape[0])
+    for i in range(1, deflection.shape[0]):
+        speed = abs((deflection[i] - deflection[i - 1]) / (time[i] - time[i - 1]))
+        scale[i] = 1.0 + rate_gain * math.tanh(speed / slip_speed)
+    return _scaled_stop_history(deflection, stiffness, friction_force, scale, initial_force)
 
 
 @numba.njit(cache=True)
@@ -568,10 +565,7 @@ def pinched_boucwen_z_step(z, dx, alpha, beta, gamma, exponent, pinch, width, sh
     (:func:`pinching_factor`), by ``n_substeps`` classical Runge-Kutta steps in ``x``; ``pinch =
     0`` gives the numbers of :func:`boucwen_z_step`. Returns the new ``z`` and ``dz/dx`` there.
     """
-    if dx == 0.0:
-        direction = 0.0
-    else:
-        direction = 1.0 if dx > 0.0 else -1.0
+    direction = _step_direction(dx)
     sub = dx / n_substeps
     for _ in range(n_substeps):
         z1 = z
@@ -606,14 +600,19 @@ def pinched_substeps(dx, alpha, beta, gamma, exponent, pinch, width, minimum):
 @numba.njit(cache=True)
 def pinched_boucwen_z_history(deflection, alpha, beta, gamma, exponent, pinch, width, shift, initial_z, n_substeps):
     """Pinched Bouc-Wen ``z`` in N along a deflection history in m (:func:`pinched_boucwen_z_step`,
-    at least ``n_substeps`` sub-steps a sample, :func:`pinched_substeps`)."""
+    at least ``n_substeps`` sub-steps a sample, :func:`pinched_substeps`); ``pinch = 0`` runs the
+    plain step (:func:`boucwen_z_step`, the same numbers without the factor's evaluations)."""
     n_samples = deflection.shape[0]
     z_history = np.empty(n_samples)
     z_history[0] = initial_z
     z = initial_z
     for i in range(1, n_samples):
         dx = deflection[i] - deflection[i - 1]
-        z, _ = pinched_boucwen_z_step(z, dx, alpha, beta, gamma, exponent, pinch, width, shift,
-                                      pinched_substeps(dx, alpha, beta, gamma, exponent, pinch, width, n_substeps))
+        if pinch == 0.0:
+            z, _ = boucwen_z_step(z, dx, alpha, beta, gamma, exponent,
+                                  boucwen_substeps(dx, alpha, beta, gamma, exponent, n_substeps))
+        else:
+            z, _ = pinched_boucwen_z_step(z, dx, alpha, beta, gamma, exponent, pinch, width, shift,
+                                          pinched_substeps(dx, alpha, beta, gamma, exponent, pinch, width, n_substeps))
         z_history[i] = z
     return z_history

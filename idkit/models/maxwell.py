@@ -18,17 +18,11 @@ import math
 
 import numpy as np
 
+from idkit.checks import Choice, Real, accepts
 from idkit.errors import ParameterError
 from idkit.models.laws import kernel_array, maxwell_states
-from idkit.models.base import (
-    M_EFF_SPEC,
-    IsolatorArrays,
-    IsolatorModel,
-    _as_deflection,
-    _as_frequency,
-    _as_time,
-    _velocity,
-)
+from idkit.models.base import M_EFF_SPEC, IsolatorArrays, IsolatorModel
+from idkit.models.base import _as_deflection, _as_frequency, _as_time, _velocity
 from idkit.params import ParamSpec, check_array
 
 __all__ = ["GeneralizedMaxwell", "VoigtModel"]
@@ -133,6 +127,8 @@ class GeneralizedMaxwell(_Viscoelastic, IsolatorModel):
         """Unit of ``k0``, ``k`` and the complex value: ``"N/m"`` or ``"Pa"``."""
         return QUANTITIES[self._quantity]
 
+    @accepts(area_m2=Real(unit="m^2", gt=0), thickness_m=Real(unit="m", gt=0), deformation=Choice(DEFORMATIONS),
+             shape_factor=Real(gt=0, optional=True), compression_coefficient=Real(gt=0))
     def to_stiffness(self, *, area_m2: float, thickness_m: float, deformation: str = "tension",
                      shape_factor: float | None = None, compression_coefficient: float = 1.0,
                      m_eff: float = 0.0) -> GeneralizedMaxwell:
@@ -180,17 +176,11 @@ class GeneralizedMaxwell(_Viscoelastic, IsolatorModel):
         name = f"{type(self).__name__}.to_stiffness"
         if self._quantity != "modulus":
             raise ParameterError(f"{name}: the model is already a stiffness (N/m); expected a modulus model (Pa)")
-        for label, value in (("area_m2", area_m2), ("thickness_m", thickness_m)):
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise ParameterError(f"{name}: {label}: found {value!r}, expected a positive finite number (SI)")
-        if deformation not in DEFORMATIONS:
-            raise ParameterError(f"{name}: deformation: found {deformation!r}, expected one of {DEFORMATIONS}")
         factor = area_m2 / thickness_m
         if deformation == "compression":
-            for label, value in (("shape_factor", shape_factor), ("compression_coefficient", compression_coefficient)):
-                if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                    raise ParameterError(f"{name}: {label}: found {value!r}, expected a positive finite number "
-                                         "(compression of a bonded block needs the shape factor)")
+            if shape_factor is None:
+                raise ParameterError(f"{name}: shape_factor: found None for 'compression', expected a positive "
+                                     "number (compression of a bonded block needs the shape factor)")
             factor *= 1.0 + 2.0 * compression_coefficient * shape_factor ** 2
         elif shape_factor is not None:
             raise ParameterError(f"{name}: shape_factor: found {shape_factor!r} for {deformation!r}, expected "
@@ -227,22 +217,19 @@ class GeneralizedMaxwell(_Viscoelastic, IsolatorModel):
         """High-frequency limit ``k0 + sum k_i`` in N/m."""
         return self._k0 + float(self._k.sum())
 
+    @accepts(static_stiffness=Real(gt=0, optional=True, meaning="N/m, or Pa for a modulus"))
     def preloaded(self, static_stiffness: float | None) -> GeneralizedMaxwell:
         """The model linearised about a static preload: ``k0`` replaced by the static tangent
-        stiffness there (N/m; :func:`idkit.observe.quasi_static.static_operating_point`), the
+        stiffness there (N/m; :func:`idkit.observe.k0.static_operating_point`), the
         elements unchanged. ``None`` returns the model itself."""
         if static_stiffness is None:
             return self
-        if not (math.isfinite(static_stiffness) and static_stiffness > 0):
-            raise ParameterError(f"preloaded: found static_stiffness={static_stiffness!r}, expected a positive "
-                                 f"finite stiffness in {self.unit}")
         return GeneralizedMaxwell(k0=float(static_stiffness), k=self._k, rate=self._rate, m_eff=self._m_eff,
                                   quantity=self._quantity)
 
+    @accepts(factor=Real(gt=0))
     def scaled(self, factor: float) -> GeneralizedMaxwell:
         """Model with every stiffness multiplied by ``factor`` (rates unchanged)."""
-        if not (math.isfinite(factor) and factor > 0):
-            raise ParameterError(f"scaled: found factor={factor!r}, expected a positive finite number")
         return GeneralizedMaxwell(k0=self._k0 * factor, k=self._k * factor, rate=self._rate, m_eff=self._m_eff,
                                   quantity=self._quantity)
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from idkit.errors import DataError
@@ -15,3 +17,22 @@ def _require(measurement, cls, function: str):
 def _sample_rate(time: np.ndarray) -> float:
     return 1.0 / float(np.median(np.diff(time)))
 
+
+
+@dataclass(frozen=True)
+class MeasuredRecord:
+    """The record an observable was read from; the first fields of every per-record observable.
+
+    Attributes
+    ----------
+    measurement_id : str
+        ``info.id``.
+    isolator : str or None
+        Isolator name.
+    top_mass_kg : float or None
+        Top mass, kg.
+    """
+
+    measurement_id: str
+    isolator: str | None
+    top_mass_kg: float | None

@@ -8,28 +8,18 @@ import numpy as np
 import pandas as pd
 
 from idkit.signal.drop import DropResult, process_drop
-from idkit.io import (
-    DropMeasurement,
-)
-from idkit.observe._common import _require
-
-
-# ---------------------------------------------------------------------------------------------
-# drops
+from idkit.io import DropMeasurement
+from idkit.observe._common import MeasuredRecord, _require
 
 
 @dataclass(frozen=True)
-class DropMeasurementResult:
+class DropMeasurementResult(MeasuredRecord):
     """Characteristic values of one drop test.
 
     Attributes
     ----------
-    measurement_id : str
-        ``info.id``.
-    isolator : str or None
-        Isolator name.
-    top_mass_kg : float or None
-        Top mass, kg.
+    measurement_id, isolator, top_mass_kg
+        The record (:class:`~idkit.observe._common.MeasuredRecord`).
     drop_height_m : float or None
         Declared drop height, m.
     result : DropResult
@@ -37,9 +27,6 @@ class DropMeasurementResult:
         deflections and the processed records.
     """
 
-    measurement_id: str
-    isolator: str | None
-    top_mass_kg: float | None
     drop_height_m: float | None
     result: DropResult
 

@@ -44,6 +44,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from scipy import signal as sps
 
+from idkit.checks import Choice, Real, Whole, accepts
 from idkit.errors import DataError, Message, Suggestion
 from idkit.io import AccelerationRecord
 from idkit.signal.srs import MIN_SAMPLES_PER_PERIOD, ShockSpectra, shock_spectra
@@ -120,6 +121,12 @@ class ConditionedShock:
         return "\n".join(lines)
 
 
+#: A fraction of a pulse's largest deviation (trigger, duration).
+FRACTION = Real(gt=0, lt=1)
+
+
+@accepts(offset=Choice(("pre-trigger", "none")), trigger_fraction=FRACTION, lowpass_hz=Real(unit="Hz", gt=0, optional=True),
+         filter_order=Whole(ge=1, le=10), error=DataError)
 def condition_shock(record: AccelerationRecord, *, offset: str = "pre-trigger", trigger_fraction: float = 0.1,
                     pre_trigger_s: float | None = None, lowpass_hz: float | None = None,
                     filter_order: int = 4) -> ConditionedShock:
@@ -158,10 +165,6 @@ def condition_shock(record: AccelerationRecord, *, offset: str = "pre-trigger", 
     5.0
     """
     record = _require_record(record, "condition_shock")
-    if offset not in ("pre-trigger", "none"):
-        raise DataError(f"offset: found {offset!r}, expected 'pre-trigger' or 'none'")
-    if not (0 < trigger_fraction < 1):
-        raise DataError(f"trigger_fraction: found {trigger_fraction!r}, expected a fraction in (0, 1)")
     fs = record.sample_rate_hz
     accel = np.array(record.accel, dtype=float)
     offsets = np.zeros(record.n_tests)
@@ -187,7 +190,7 @@ def condition_shock(record: AccelerationRecord, *, offset: str = "pre-trigger", 
             offsets[j] = float(np.median(accel[:window, j]))
     accel -= offsets
     if lowpass_hz is not None:
-        if not (np.isfinite(lowpass_hz) and 0 < lowpass_hz < fs / 2 * (1 - 1e-6)):
+        if not lowpass_hz < fs / 2 * (1 - 1e-6):
             raise DataError(f"lowpass_hz: found {lowpass_hz!r}, expected a cut-off in (0, {fs / 2:g}) Hz "
                             f"(below the Nyquist frequency of {_where(record)})")
         span = float(record.time[-1] - record.time[0])
@@ -196,8 +199,6 @@ def condition_shock(record: AccelerationRecord, *, offset: str = "pre-trigger", 
                             f"({_where(record)}, {span:.6g} s): a cut-off whose period exceeds the record leaves only "
                             f"its mean and trend (below 1e-5 Hz the filter design was singular); expected a cut-off "
                             f"in [{1.0 / span:.6g}, {fs / 2:g}) Hz")
-        if int(filter_order) != filter_order or not 1 <= filter_order <= 10:
-            raise DataError(f"filter_order: found {filter_order!r}, expected an integer in 1..10")
         sos = sps.butter(int(filter_order), lowpass_hz, fs=fs, output="sos")
         accel = sps.sosfiltfilt(sos, accel, axis=0)
     conditioned = AccelerationRecord(time=record.time, accel=accel, channel=record.channel, source=record.source)
@@ -244,6 +245,7 @@ class ShockPulses:
         return self.to_dataframe().to_string(index=False, float_format=lambda v: f"{v:.4g}")
 
 
+@accepts(duration_fraction=FRACTION, error=DataError)
 def shock_pulses(record: AccelerationRecord, *, duration_fraction: float = 0.1) -> ShockPulses:
     """Peak, time of peak, duration and velocity change of every test (module docstring).
 
@@ -264,8 +266,6 @@ def shock_pulses(record: AccelerationRecord, *, duration_fraction: float = 0.1) 
     1.0
     """
     record = _require_record(record, "shock_pulses")
-    if not (0 < duration_fraction < 1):
-        raise DataError(f"duration_fraction: found {duration_fraction!r}, expected a fraction in (0, 1)")
     time = np.asarray(record.time)
     peak, at, duration, change = (np.empty(record.n_tests) for _ in range(4))
     for j in range(record.n_tests):

@@ -10,28 +10,18 @@ import pandas as pd
 
 from idkit.signal.harmonics import hosidf, HosidfResult, input_flatness, InputFlatness
 from idkit.errors import DataError
-from idkit.io import (
-    SteppedSineMeasurement,
-)
-from idkit.observe._common import _require
-
-
-# ---------------------------------------------------------------------------------------------
-# stepped sine
+from idkit.io import SteppedSineMeasurement
+from idkit.observe._common import MeasuredRecord, _require
 
 
 @dataclass(frozen=True)
-class SteppedSinePoint:
+class SteppedSinePoint(MeasuredRecord):
     """HOSIDFs of one stepped-sine point (v_base -> v_top).
 
     Attributes
     ----------
-    measurement_id : str
-        ``info.id``.
-    isolator : str or None
-        Isolator name.
-    top_mass_kg : float or None
-        Top mass, kg.
+    measurement_id, isolator, top_mass_kg
+        The record (:class:`~idkit.observe._common.MeasuredRecord`).
     freq : float
         Excitation frequency, Hz.
     nominal_amplitude : float or None
@@ -40,9 +30,6 @@ class SteppedSinePoint:
         Harmonic fits of input and output and the HOSIDFs.
     """
 
-    measurement_id: str
-    isolator: str | None
-    top_mass_kg: float | None
     freq: float
     nominal_amplitude: float | None
     result: HosidfResult

@@ -9,13 +9,13 @@ all call it, with :data:`FRF_RESOLUTION_HZ` by default, so they see the same H1.
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
 
+from idkit.checks import Choice, Real, accepts
 from idkit.errors import DataError, FitError
 from idkit.io import WhiteNoiseMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
@@ -111,6 +111,11 @@ class WhiteNoiseFrf:
                 f"{self.estimate.n_segments} segments of {self.estimate.nperseg}")
 
 
+#: The declared frequency step of the H1 estimates.
+RESOLUTION = Real(unit="Hz", gt=0, meaning="frequency step")
+
+
+@accepts(signals=Choice(("velocity", "acceleration"), optional=True), resolution_hz=RESOLUTION, error=DataError)
 def frf_from_white_noise(measurement: WhiteNoiseMeasurement, *,
                          band: tuple[float, float] | None = None,
                          resolution_hz: float = FRF_RESOLUTION_HZ, overlap: float = 0.5,
@@ -167,17 +172,13 @@ def frf_from_white_noise(measurement: WhiteNoiseMeasurement, *,
         signals = "velocity" if measurement.v_base is not None else "acceleration"
     if signals == "velocity":
         base, top = measurement.v_base, measurement.v_top
-    elif signals == "acceleration":
-        base, top = measurement.a_base, measurement.a_top
     else:
-        raise DataError(f"signals: found {signals!r}, expected 'velocity' or 'acceleration'")
+        base, top = measurement.a_base, measurement.a_top
     if base is None or top is None:
         raise DataError(f"{measurement.id}: no {signals} signals in the measurement")
-    if isinstance(resolution_hz, bool) or not (math.isfinite(resolution_hz) and resolution_hz > 0):
-        raise DataError(f"resolution_hz: found {resolution_hz!r}, expected a positive frequency step in Hz")
-    # the rate of the time column to 10 significant digits: a column written as decimals
-    # (0.0005 s steps) reads as 1999.9999999999984 Hz, which would move every frequency line
-    # by a hair and drop the line at a band edge (1.0 Hz) that the exact rate keeps
+    # the rate of the time column to 10 significant digits: a time column written as decimals
+    # reads a hair off the exact rate, which would move every frequency line and drop a line
+    # at a band edge that the exact rate keeps
     fs = float(f"{measurement.sample_rate_hz:.10g}")
     nyquist = fs / 2
     notes = []
@@ -216,7 +217,7 @@ class TransmissibilitySet:
     name : str
     static_stiffness : float or None
         Tangent static stiffness (N/m) at the deflection the top mass's weight causes,
-        read off the quasi-static loops (:func:`~idkit.observe.quasi_static.static_operating_point`);
+        read off the quasi-static loops (:func:`~idkit.observe.k0.static_operating_point`);
         small-amplitude motion around that preload sees it in place of ``k0``. None: ``k0``.
     random_error : ndarray or None
         Normalized random error of the H1 estimate at each frequency,
@@ -233,6 +234,7 @@ class TransmissibilitySet:
     random_error: np.ndarray | None = None
 
 
+@accepts(resolution_hz=RESOLUTION, error=FitError)
 def transmissibility_sets(
     measurements,
     *,
@@ -270,8 +272,6 @@ def transmissibility_sets(
         No matching record.
     """
     records, provenance = select_measurements(measurements, kind="white_noise", isolator=isolator, split=split)
-    if isinstance(resolution_hz, bool) or not (math.isfinite(resolution_hz) and resolution_hz > 0):
-        raise FitError(f"resolution_hz: found {resolution_hz!r}, expected a positive frequency step in Hz")
     low, high = (float(v) for v in band)
     sets = []
     for position, record in enumerate(records, start=1):

@@ -8,7 +8,7 @@ structure each and carry only its parts:
 * :data:`SDOF_IWAN`: one mass on an isolator of Jenkin elements (Iwan, the wire ropes), a
   cubic spring and a dashpot; :data:`SDOF_IWAN_MODULATED` the same with a slip modulation
   (:mod:`idkit.models.iwan_modulated`; a separate structure, so the plain rope's step does
-  not carry the modulation's branch and multiplications: 5-14 % of its time);
+  not carry the modulation's branch and multiplications);
 * :data:`SDOF_MAXWELL`: one mass on Maxwell elements (generalized Maxwell, Voigt), a cubic
   spring and a dashpot;
 * :data:`HYBRID`: the series hybrid, a Maxwell-only isolator under the top mass above an
@@ -31,6 +31,7 @@ import math
 import numba
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
+from idkit.models.laws import polynomial_spring_force, polynomial_spring_stiffness
 
 GENERIC = 0
 SDOF_IWAN = 1
@@ -143,42 +144,30 @@ def jenkin_elements(kind, j, y, dy, vrel, h, P, S, force, tangent):
                 sticking = False  # within the clearance: no force, no stiffness
             if sticking:
                 tangent += stiffness
-    elif kind == 5:
-        gain = P[j, 0, _RATE]
-        inverse_speed = P[j, 0, _RATE + 1]  # 1 / v_ref, packed once
-        x = abs(vrel) * inverse_speed
-        e = math.exp(-2.0 * x)
-        th = (1.0 - e) / (1.0 + e)  # tanh(x), x >= 0, as the modulated law computes it
-        slip_scale = 1.0 + gain * th
-        slip_slope = gain * (1.0 - th * th) * inverse_speed * (2.0 / h)
-        if vrel < 0.0:
-            slip_slope = -slip_slope
-        for i in range(int(P[j, 0, _NJ])):
-            trial = S[j, 0, i] + P[j, 1, i] * dy
-            limit = P[j, 2, i] * slip_scale
-            if trial > limit:
-                trial = limit
-                tangent += P[j, 2, i] * slip_slope
-            elif trial < -limit:
-                trial = -limit
-                tangent -= P[j, 2, i] * slip_slope
-            else:
-                tangent += P[j, 1, i]
-            force += trial
-            S[j, _TRIAL, i] = trial
-    elif kind == 3:
-        # tanh(x) = (1 - e) / (1 + e) with e = exp(-2 |x|): within 2.3e-16 of libm's tanh, at a
-        # third of its cost (4 against 14 ns, measured); it runs at every Newton evaluation
-        inverse_length = P[j, 0, _SM + 2]  # 1 / y_ref, packed once
-        x = y * inverse_length
-        e = math.exp(-2.0 * abs(x))
-        th = (1.0 - e) / (1.0 + e)
-        if x < 0.0:
-            th = -th
-        growth = P[j, 0, _SM + 3]
-        slip_scale = 1.0 + th * (growth * th - P[j, 0, _SM])
-        slip_slope = (2.0 * growth * th - P[j, 0, _SM]) * (1.0 - th * th) * inverse_length
-        for i in range(int(P[j, 0, _NJ])):
+    elif kind == 5 or kind == 3:
+        if kind == 5:
+            gain = P[j, 0, _RATE]
+            inverse_speed = P[j, 0, _RATE + 1]  # 1 / v_ref, packed once
+            x = abs(vrel) * inverse_speed
+            e = math.exp(-2.0 * x)
+            th = (1.0 - e) / (1.0 + e)  # tanh(x), x >= 0, as the modulated law computes it
+            slip_scale = 1.0 + gain * th
+            slip_slope = gain * (1.0 - th * th) * inverse_speed * (2.0 / h)
+            if vrel < 0.0:
+                slip_slope = -slip_slope
+        else:
+            # tanh(x) = (1 - e) / (1 + e) with e = exp(-2 |x|): within 2.3e-16 of libm's tanh and
+            # cheaper; it runs at every Newton evaluation
+            inverse_length = P[j, 0, _SM + 2]  # 1 / y_ref, packed once
+            x = y * inverse_length
+            e = math.exp(-2.0 * abs(x))
+            th = (1.0 - e) / (1.0 + e)
+            if x < 0.0:
+                th = -th
+            growth = P[j, 0, _SM + 3]
+            slip_scale = 1.0 + th * (growth * th - P[j, 0, _SM])
+            slip_slope = (2.0 * growth * th - P[j, 0, _SM]) * (1.0 - th * th) * inverse_length
+        for i in range(int(P[j, 0, _NJ])):  # limits slip_scale fc_i, their slope in a slipping element's tangent
             trial = S[j, 0, i] + P[j, 1, i] * dy
             limit = P[j, 2, i] * slip_scale
             if trial > limit:
@@ -211,11 +200,8 @@ def _part_force(kind, j, y, dy, vrel, h, P, S):
     """Force (N) and tangent (N/m) of isolator ``j`` made of the parts ``kind`` only at a trial
     deflection; the same operations as the generic ``_isolator_force`` (a constant ``kind``: the
     other branch is pruned). Jenkin element forces go to the trial row; nothing is committed."""
-    g1 = P[j, 0, 0]
-    g2 = P[j, 0, 1]
-    g3 = P[j, 0, 2]
-    force = y * (g1 + y * (g2 + y * g3)) + P[j, 0, 3] * vrel
-    tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
+    force = polynomial_spring_force(y, P[j, 0, 0], P[j, 0, 1], P[j, 0, 2]) + P[j, 0, 3] * vrel
+    tangent = polynomial_spring_stiffness(y, P[j, 0, 0], P[j, 0, 1], P[j, 0, 2]) + P[j, 0, 3] * 2.0 / h
     if kind == 1 or kind == 3:  # _IWAN, _IWAN_MODULATED (literals: numba prunes the other branches)
         force, tangent = jenkin_elements(kind, j, y, dy, vrel, h, P, S, force, tangent)
     else:
@@ -267,13 +253,52 @@ def _residual_sdof(kind, m0, qn0, vn0, an0, q0, h, c2, c4, load, xb_old, xb_new,
     return r0, t0, magnitude
 
 
-# The specialised steps run the generic step's damped Newton iteration (the same operations in
-# the same order) written with one evaluation of the residual: the constant-acceleration
-# predictor is evaluated, then each Newton direction is tried at full length and halved up to
-# 40 times until the residual's norm drops; 60 accepted trials at most. One call site keeps
-# the compiled step half the size (numba copies an inlined body at every site), and the last
-# evaluation is always at the point the step ends on, so its Jenkin forces are committed by a
-# copy instead of a second evaluation.
+#: Outcomes of :func:`newton_search`: take a new Newton direction from the accepted point, try
+#: the same direction at half the length, or stop (converged or not).
+SEARCH_NEW_DIRECTION = 0
+SEARCH_HALVE = 1
+SEARCH_END = 2
+#: Halvings of one Newton direction before the search stops where it ended.
+_MAX_HALVINGS = 40
+
+
+@numba.njit(cache=True, inline="always")
+def newton_search(accepted_trials, halvings, scale, new_norm, rnorm, floor, step_norm, size):
+    """The damped Newton iteration's decision after one evaluation of the residual: the one line
+    search every Newmark step runs (the specialised steps here, the generic step).
+
+    The constant-acceleration predictor is evaluated first (``accepted_trials`` -1); then each
+    Newton direction is tried at full length and halved up to :data:`_MAX_HALVINGS` times until
+    the residual's norm drops; :data:`_NEWTON_MAX_ITER` accepted trials at most. A step converges
+    when the norm is at most ``floor``, or, once the step length ``step_norm`` is below ``1e-15``
+    of the state's ``size``, when it is within ``1e3 floor``.
+
+    Parameters: the search's state (``accepted_trials``, ``halvings``, ``scale``: the length
+    factor of the trial along the current direction, ``rnorm``: the accepted point's norm), the
+    trial's residual norm ``new_norm`` and ``floor`` (N), ``step_norm`` (sum of ``|scale dq|``,
+    m) and ``size`` (sum of the trial's and the start's ``|q|``, m).
+
+    Returns ``(outcome, accepted_trials, halvings, scale, rnorm, converged)``; on every outcome
+    but :data:`SEARCH_HALVE` the trial becomes the accepted point (the caller's ``q <- trial``),
+    so the last evaluation is always at the point a step ends on and its Jenkin forces are
+    committed by a copy (:func:`commit_jenkin`) instead of a second evaluation.
+    """
+    if accepted_trials < 0:
+        return SEARCH_NEW_DIRECTION, 0, halvings, scale, new_norm, False
+    if new_norm < rnorm or new_norm <= floor:
+        if new_norm <= floor:
+            return SEARCH_END, accepted_trials, halvings, scale, new_norm, True
+        if step_norm <= 1e-15 * size:
+            return SEARCH_END, accepted_trials, halvings, scale, new_norm, new_norm <= 1e3 * floor
+        accepted_trials += 1
+        if accepted_trials == _NEWTON_MAX_ITER:
+            return SEARCH_END, accepted_trials, halvings, scale, new_norm, False
+        return SEARCH_NEW_DIRECTION, accepted_trials, halvings, scale, new_norm, False
+    scale *= 0.5
+    halvings += 1
+    if halvings < _MAX_HALVINGS:
+        return SEARCH_HALVE, accepted_trials, halvings, scale, rnorm, False
+    return SEARCH_END, accepted_trials, halvings, scale, new_norm, new_norm <= 1e3 * floor  # no decrease: stop
 
 
 @numba.njit(cache=True, error_model="numpy", _nrt=False)
@@ -291,38 +316,18 @@ def step_sdof(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scal
     rnorm = 0.0
     accepted_trials = -1  # -1 while the predictor is evaluated
     halvings = 0
-    converged = False
     while True:
         r0, t0, magnitude = _residual_sdof(kind, m0, qn0, vn0, an0, trial0, h, c2, c4, load, xb_old, xb_new,
                                            vb_new, P, S)
-        new_norm = math.sqrt(r0 * r0)
-        floor = _RES_TOL * (magnitude + force_scale)
-        if accepted_trials >= 0:
-            if new_norm < rnorm or new_norm <= floor:
-                q0 = trial0
-                rnorm = new_norm
-                if rnorm <= floor:
-                    converged = True
-                    break
-                if abs(scale * dq0) <= 1e-15 * (abs(q0) + abs(qn0)):
-                    converged = rnorm <= 1e3 * floor
-                    break
-                accepted_trials += 1
-                if accepted_trials == _NEWTON_MAX_ITER:
-                    break
-            else:
-                scale *= 0.5
-                halvings += 1
-                if halvings < 40:
-                    trial0 = q0 + scale * dq0
-                    continue
-                q0 = trial0  # no decrease along the direction: stop where the search ended
-                rnorm = new_norm
-                converged = rnorm <= 1e3 * floor
-                break
-        else:
-            rnorm = new_norm
-            accepted_trials = 0
+        outcome, accepted_trials, halvings, scale, rnorm, converged = newton_search(
+            accepted_trials, halvings, scale, math.sqrt(r0 * r0), rnorm, _RES_TOL * (magnitude + force_scale),
+            abs(scale * dq0), abs(trial0) + abs(qn0))
+        if outcome == SEARCH_HALVE:
+            trial0 = q0 + scale * dq0
+            continue
+        q0 = trial0
+        if outcome == SEARCH_END:
+            break
         dq0 = -r0 / (c4 * m0 + t0)
         scale = 1.0
         halvings = 0
@@ -337,7 +342,7 @@ def step_sdof(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scal
     state[4] = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
     if not (math.isfinite(state[0]) and math.isfinite(state[2]) and math.isfinite(state[4])):
         return _FLAG_NON_FINITE
-    if P[0, 0, 0] + y * (2.0 * P[0, 0, 1] + 3.0 * P[0, 0, 2] * y) < 0.0:
+    if polynomial_spring_stiffness(y, P[0, 0, 0], P[0, 0, 1], P[0, 0, 2]) < 0.0:
         return _FLAG_NEGATIVE_STIFFNESS
     return _FLAG_OK
 
@@ -383,41 +388,21 @@ def step_hybrid(lower, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, for
     rnorm = 0.0
     accepted_trials = -1  # -1 while the predictor is evaluated
     halvings = 0
-    converged = False
     while True:
         r0, r1, t0, t1, magnitude = _residual_hybrid(lower, m0, m1, qn0, qn1, vn0, vn1, an0, an1, trial0, trial1, h,
                                                      c2, c4, load, xb_old, xb_new, vb_new, P, S)
-        new_norm = math.sqrt(r0 * r0 + r1 * r1)
-        floor = _RES_TOL * (magnitude + force_scale)
-        if accepted_trials >= 0:
-            if new_norm < rnorm or new_norm <= floor:
-                q0 = trial0
-                q1 = trial1
-                rnorm = new_norm
-                if rnorm <= floor:
-                    converged = True
-                    break
-                if abs(scale * dq0) + abs(scale * dq1) <= 1e-15 * (abs(q0) + abs(q1) + abs(qn0)):
-                    converged = rnorm <= 1e3 * floor
-                    break
-                accepted_trials += 1
-                if accepted_trials == _NEWTON_MAX_ITER:
-                    break
-            else:
-                scale *= 0.5
-                halvings += 1
-                if halvings < 40:
-                    trial0 = q0 + scale * dq0
-                    trial1 = q1 + scale * dq1
-                    continue
-                q0 = trial0  # no decrease along the direction: stop where the search ended
-                q1 = trial1
-                rnorm = new_norm
-                converged = rnorm <= 1e3 * floor
-                break
-        else:
-            rnorm = new_norm
-            accepted_trials = 0
+        outcome, accepted_trials, halvings, scale, rnorm, converged = newton_search(
+            accepted_trials, halvings, scale, math.sqrt(r0 * r0 + r1 * r1), rnorm,
+            _RES_TOL * (magnitude + force_scale), abs(scale * dq0) + abs(scale * dq1),
+            abs(trial0) + abs(trial1) + abs(qn0))
+        if outcome == SEARCH_HALVE:
+            trial0 = q0 + scale * dq0
+            trial1 = q1 + scale * dq1
+            continue
+        q0 = trial0
+        q1 = trial1
+        if outcome == SEARCH_END:
+            break
         j00 = c4 * m0 + t0
         j01 = -t0
         j11 = c4 * m1 + t0 + t1
@@ -445,8 +430,8 @@ def step_hybrid(lower, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, for
     for d in range(6):
         if not math.isfinite(state[d]):
             return _FLAG_NON_FINITE
-    if P[0, 0, 0] + y_up * (2.0 * P[0, 0, 1] + 3.0 * P[0, 0, 2] * y_up) < 0.0:
+    if polynomial_spring_stiffness(y_up, P[0, 0, 0], P[0, 0, 1], P[0, 0, 2]) < 0.0:
         return _FLAG_NEGATIVE_STIFFNESS
-    if P[1, 0, 0] + y_low * (2.0 * P[1, 0, 1] + 3.0 * P[1, 0, 2] * y_low) < 0.0:
+    if polynomial_spring_stiffness(y_low, P[1, 0, 0], P[1, 0, 1], P[1, 0, 2]) < 0.0:
         return _FLAG_NEGATIVE_STIFFNESS
     return _FLAG_OK

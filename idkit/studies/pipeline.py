@@ -43,14 +43,9 @@ import pandas as pd
 from idkit.errors import DataError
 from idkit.fit import maxwell_order_table
 from idkit.forked import Forked, fork_call
-from idkit.fit.measurements import (
-    VALID_RANGE_MARGIN,
-    MeasurementFit,
-    data_valid_range,
-    fit_boucwen_measurements,
-    fit_iwan_measurements,
-    fit_maxwell_measurements,
-)
+from idkit.fit.data_set_checks import VALID_RANGE_MARGIN, data_valid_range
+from idkit.fit.measurement_fit import MeasurementFit
+from idkit.fit.measurements import fit_boucwen_measurements, fit_iwan_measurements, fit_maxwell_measurements
 from idkit.fit.predictions import LoopFitPrediction, predict_loops
 from idkit.io.discover import default_data_dir, find_measurement_sets
 from idkit.models import GeneralizedMaxwell, HybridSystem, IwanModel
@@ -319,7 +314,7 @@ class ReportData:
 
 def valid_range_of(measurement_set, margin: float = VALID_RANGE_MARGIN) -> tuple[float, float]:
     """``margin`` times the lowest and highest deflection (m) of every record of the set that has one
-    (:func:`idkit.fit.measurements.data_valid_range` over every isolator of the set)."""
+    (:func:`idkit.fit.data_set_checks.data_valid_range` over every isolator of the set)."""
     return data_valid_range(measurement_set, isolator=None, margin=margin)
 
 

@@ -107,16 +107,6 @@ def test_comparison_table_iwan_against_bouc_wen(fit, loops):
         compare_loop_models({"iwan": iwan, "other": fit_iwan(loops[0][:2], loops[1], order=1)})
 
 
-@pytest.mark.parametrize("options, match", [
-    ({"backend": "matlab"}, "backend"),
-    ({"global_method": "anneal"}, "global_method"),
-    ({"initial_state": "warm"}, "initial_state"),
-])
-def test_bad_options_raise_fit_error(loops, options, match):
-    with pytest.raises(FitError, match=match):
-        fit_boucwen(*loops, **options)
-
-
 def test_bad_loops_raise_fit_error(loops):
     with pytest.raises(FitError, match="at least 20"):
         fit_boucwen([(np.zeros(5), np.zeros(5))], loops[1])

@@ -172,15 +172,15 @@ def test_a_model_that_cannot_run_the_largest_sweep_level_is_not_a_success(iwan_f
     # the fitted rope runs the data set's largest stepped-sine level (0.12 m/s, base amplitudes
     # up to ~2 mm near resonance); the same rope with a cubic that turns the spring negative
     # at +-1.4 mm cannot, and the measurement-level check names the level and the first point
-    from idkit.fit.measurements import _survives_the_largest_sweep_level
+    from idkit.fit.data_set_checks import survives_the_largest_sweep_level
     from idkit.models import IwanModel
 
     wire_rope = load_measurement_set(DATA / "wire_rope")  # every record, the sweeps included
     model = iwan_fit.model
-    assert _survives_the_largest_sweep_level(model, wire_rope, "wire_rope") == ()
+    assert survives_the_largest_sweep_level(model, wire_rope, "wire_rope") == ()
     soft = IwanModel(g1=model.g1, g2=model.g2, g3=-3e9, k=model.k, fc=model.fc, c_visc=model.c_visc)
     assert max(abs(x) for x in soft.valid_deflection_range()) < 2e-3
-    reasons = _survives_the_largest_sweep_level(soft, wire_rope, "wire_rope")
+    reasons = survives_the_largest_sweep_level(soft, wire_rope, "wire_rope")
     assert reasons and "largest sweep level (0.12" in reasons[0] and "negative local stiffness" in reasons[0]
 
 

@@ -1,4 +1,4 @@
-"""The Iwan family rule (idkit.fit.measurements.choose_iwan_family) and the default valid range."""
+"""The Iwan family rule (idkit.fit.family.choose_iwan_family) and the default valid range."""
 
 import itertools
 
@@ -7,7 +7,10 @@ import pytest
 
 from idkit.errors import DataError, FitError
 from idkit.fit import fit_iwan, prepare_loops
-from idkit.fit.measurements import FLOOR_MARGIN, choose_iwan_family, data_valid_range, fit_iwan_measurements
+from idkit.fit.data_set_checks import data_valid_range
+from idkit.fit.family import choose_iwan_family
+from idkit.fit.measurements import fit_iwan_measurements
+from idkit.fit.model_form import FLOOR_MARGIN
 from idkit.io import MeasurementInfo, QuasiStaticMeasurement
 from idkit.models import IwanModel, ModulatedIwanModel
 
@@ -79,8 +82,7 @@ def test_data_valid_range_spans_every_record_of_the_isolator_and_straddles_zero(
         data_valid_range(records, isolator="bouc")
 
 
-def test_bad_family_and_valid_range_are_named():
-    with pytest.raises(FitError, match="family: found 'cubic'"):
-        fit_iwan_measurements([_record(np.linspace(-1e-3, 1e-3, 50))], family="cubic", isolator=None)
+def test_bad_valid_range_is_named():
+    """family is declared (idkit.checks): tests/test_checks.py feeds it its bad values."""
     with pytest.raises(FitError, match="valid_range: found 'loops'"):
         fit_iwan_measurements([_record(np.linspace(-1e-3, 1e-3, 50))], valid_range="loops", isolator=None)

@@ -1,10 +1,10 @@
-"""The elastomer fit's resolution check (idkit.fit.measurements): an H1 whose lines are wider than
+"""The elastomer fit's resolution check (idkit.fit.frf_resolution): an H1 whose lines are wider than
 its resonance cannot hold the peak, whether or not the measured peak shows both half-power points."""
 
 import numpy as np
 import pytest
 
-from idkit.fit.measurements import _resolution_checks
+from idkit.fit.frf_resolution import resolution_checks
 from idkit.models import GeneralizedMaxwell
 from idkit.models.laws import sdof_transmissibility
 from idkit.observe.white_noise import TransmissibilitySet
@@ -20,7 +20,7 @@ def test_resonance_at_the_band_edge_is_checked_on_the_fitted_model(k0):
     model = GeneralizedMaxwell(k0=k0, k=[150.0], rate=[30.0], m_eff=0.0)
     item = TransmissibilitySet(6.4, FREQ, sdof_transmissibility(model.complex_stiffness(FREQ), 6.4,
                                                                 2 * np.pi * FREQ), "6.4 kg")
-    checks = _resolution_checks([item], model)
+    checks = resolution_checks([item], model)
     assert len(checks) == 1 and "6.4 kg" in checks[0] and "fitted model's exact curve" in checks[0], checks
 
 
@@ -29,4 +29,4 @@ def test_resolved_resonance_passes():
     model = GeneralizedMaxwell(k0=12e3, k=[6e3], rate=[300.0], m_eff=0.0)
     freq = np.arange(1.0, 100.1, 0.25)
     item = TransmissibilitySet(2.0, freq, sdof_transmissibility(model.complex_stiffness(freq), 2.0, 2 * np.pi * freq))
-    assert _resolution_checks([item], model) == ()
+    assert resolution_checks([item], model) == ()

@@ -169,8 +169,6 @@ def test_exact_and_difference_jacobians_reach_the_same_optimum():
     differences = fit_iwan_modulated(small, large, plain=plain, jacobian="2-point")
     np.testing.assert_allclose(differences.small_errors, exact.small_errors, rtol=1e-6)
     np.testing.assert_allclose(differences.large_errors, exact.large_errors, rtol=1e-6)
-    with pytest.raises(FitError, match="jacobian: found 'central'"):
-        fit_iwan_modulated(small, large, plain=plain, jacobian="central")
 
 
 def test_set_errors_and_forces_of_a_modulated_model_carry_its_modulation():
@@ -227,8 +225,6 @@ def test_continuation_stops_when_elements_stop_helping():
     patient = fit_modulated_orders(small, large, start, max_order=4, points_per_set=None, patience=1)
     assert sorted(patient) == [1, 2, 3]
     assert sorted(fit_modulated_orders(small, large, start, max_order=4, points_per_set=None, patience=None)) == [1, 2, 3, 4]
-    with pytest.raises(FitError, match="patience"):
-        fit_modulated_orders(small, large, start, max_order=4, points_per_set=None, patience=0)
 
 
 def test_standard_errors_match_the_spread_over_noise_realisations():

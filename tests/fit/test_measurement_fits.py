@@ -67,7 +67,7 @@ def test_a_model_invalid_inside_the_data_sets_deflections_is_not_a_success():
     """The spring of TRUTH-like g3 < 0 turns negative at -x0; records reaching beyond fail the check."""
     from types import SimpleNamespace
 
-    from idkit.fit.measurements import _valid_over_the_data
+    from idkit.fit.data_set_checks import valid_over_the_data
 
     model = IwanModel(g1=3e3, g2=0.0, g3=-3e7, k=[3e3], fc=[8.0])  # g1 + 3 g3 x^2 < 0 beyond 5.77 mm
     lower, upper = model.valid_deflection_range()
@@ -76,19 +76,19 @@ def test_a_model_invalid_inside_the_data_sets_deflections_is_not_a_success():
         return SimpleNamespace(deflection=np.array([low, 0.0, high]), info=SimpleNamespace(isolator=isolator))
 
     inside = [record(0.9 * lower, 0.9 * upper)]
-    assert _valid_over_the_data(model, inside, "wire_rope") == ()
+    assert valid_over_the_data(model, inside, "wire_rope") == ()
     beyond = inside + [record(1.1 * lower, 0.0)]  # a drop compressing past the root
-    (reason,) = _valid_over_the_data(model, beyond, "wire_rope")
+    (reason,) = valid_over_the_data(model, beyond, "wire_rope")
     assert "negative-stiff" in reason and f"{1e3 * 1.1 * lower:.4g}" in reason
     other_isolator = inside + [record(2 * lower, 0.0, isolator="elastomer")]
-    assert _valid_over_the_data(model, other_isolator, "wire_rope") == ()
+    assert valid_over_the_data(model, other_isolator, "wire_rope") == ()
 
 
 def test_a_model_that_cannot_simulate_the_highest_drop_is_not_a_success():
     """The data set's most severe drop is simulated; a flagged run is a reason, a clean one is not."""
     from types import SimpleNamespace
 
-    from idkit.fit.measurements import _survives_the_largest_drops
+    from idkit.fit.data_set_checks import survives_the_largest_drops
 
     def drop(height, mass=5.0):
         info = SimpleNamespace(drop_height_m=height, top_mass_kg=mass, isolator="wire_rope")
@@ -97,10 +97,10 @@ def test_a_model_that_cannot_simulate_the_highest_drop_is_not_a_success():
     softening = IwanModel(g1=3e3, g3=-3e7, k=[3e3], fc=[8.0])  # negative-stiff beyond 5.8 mm
     hardening = IwanModel(g1=3e3, g3=3e7, k=[3e3], fc=[8.0])
     records = [drop(0.01), drop(0.2)]  # 0.2 m compresses far beyond 5.8 mm
-    (reason,) = _survives_the_largest_drops(softening, records, "wire_rope")
+    (reason,) = survives_the_largest_drops(softening, records, "wire_rope")
     assert "highest drop (0.2 m on 5 kg)" in reason and "negative local stiffness" in reason
-    assert _survives_the_largest_drops(hardening, records, "wire_rope") == ()
-    assert _survives_the_largest_drops(softening, [drop(0.2)], "elastomer") == ()  # another isolator's drops
+    assert survives_the_largest_drops(hardening, records, "wire_rope") == ()
+    assert survives_the_largest_drops(softening, [drop(0.2)], "elastomer") == ()  # another isolator's drops
 
 
 def test_sweeps_without_a_resonance_inside_leave_c_visc_0_and_say_why(monkeypatch):
@@ -124,7 +124,7 @@ def test_sweeps_without_a_resonance_inside_leave_c_visc_0_and_say_why(monkeypatc
 def test_loop_noise_floor_is_the_force_noise_over_the_force_rms():
     # white noise of a known standard deviation on a smooth loop: the median-based estimate
     # is within 3 % (its spread for 20000 samples is about 1 %)
-    from idkit.fit.measurements import loop_noise_floor
+    from idkit.fit.model_form import loop_noise_floor
     from idkit.io import MeasurementInfo, QuasiStaticMeasurement
 
     rng = np.random.default_rng(4)
@@ -140,7 +140,7 @@ def test_loop_noise_floor_is_the_force_noise_over_the_force_rms():
 def test_a_loop_fit_far_above_its_noise_floor_is_not_a_success(dataset):
     # the order-2 truth with 0.05 N noise: order 2 reaches the floor; one element cannot
     # follow two slip forces and stays more than FLOOR_MARGIN above it, which is a reason
-    from idkit.fit.measurements import FLOOR_MARGIN
+    from idkit.fit.model_form import FLOOR_MARGIN
     from idkit.io import load_measurement_set
 
     data = load_measurement_set(dataset)

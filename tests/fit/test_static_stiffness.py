@@ -7,7 +7,7 @@ from idkit.errors import FitError
 from idkit.fit.static_stiffness import RELAXATION_RATES, k0_with_relaxation
 from idkit.io import MeasurementInfo, QuasiStaticMeasurement
 from idkit.models import GeneralizedMaxwell
-from idkit.observe.quasi_static import k0_from_records
+from idkit.observe.k0 import k0_from_records
 
 NOISE_N = 0.05  # force noise, N (the bundled loop records' level)
 

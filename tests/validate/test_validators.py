@@ -339,7 +339,7 @@ def test_a_damping_matched_on_runs_that_did_not_settle_is_not_an_identification(
     # Table A.1 set, 3 of 6 points at c_visc = 0 (4000 periods, not settled) decided "the
     # hysteresis alone damps enough: c_visc = 0" and the Iwan fit stayed a success
     import idkit.fit.damping as damping
-    from idkit.fit.measurements import _damping_settled
+    from idkit.fit.data_set_checks import damping_settled
 
     simulate_points = damping.harmonic_response
     monkeypatch.setattr(damping, "harmonic_response",  # one window: no run can be judged settled
@@ -349,7 +349,7 @@ def test_a_damping_matched_on_runs_that_did_not_settle_is_not_an_identification(
     result = damping.fit_viscous_damping(undamped, stepped_sine_points, level="largest")
     assert result.unsettled_points == result.points == 12
     assert "12 of 12 simulated points did not settle" in result.message
-    (reason,) = _damping_settled(result)
+    (reason,) = damping_settled(result)
     assert "did not reach steady state" in reason and "not identified" in reason
 
 
