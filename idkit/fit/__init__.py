@@ -59,7 +59,7 @@ from idkit.fit.iwan import fit_iwan
 from idkit.fit.iwan_start import iwan_start
 from idkit.fit.landscape import ErrorLandscape, maxwell_error_landscape
 from idkit.fit.loop_objective import boucwen_set_errors, boucwen_set_forces, iwan_set_errors, iwan_set_forces
-from idkit.fit.complex_stiffness import fit_complex_stiffness
+from idkit.fit.maxwell_table import fit_complex_stiffness
 from idkit.fit.maxwell import LOSS_RULE_FACTOR, fit_maxwell, fit_voigt
 from idkit.fit.orders import ORDER_RULE_FACTOR
 from idkit.fit.dma import DmaFit, PronyFit, fit_dma_table, fit_prony

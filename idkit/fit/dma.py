@@ -26,7 +26,7 @@ import pandas as pd
 
 from idkit.checks import Real, Whole, accepts
 from idkit.errors import FitError
-from idkit.fit.complex_stiffness import fit_complex_stiffness
+from idkit.fit.maxwell_table import fit_complex_stiffness
 from idkit.fit.measurement_fit import _jsonable
 from idkit.fit.maxwell_result import MaxwellFitResult
 from idkit.models import GeneralizedMaxwell

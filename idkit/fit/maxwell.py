@@ -41,7 +41,7 @@ parameter Jacobian) seen through an observation (:class:`_TransmissibilityProble
 (:class:`~idkit.observe.white_noise.TransmissibilitySet`, the band and its checks) come from
 :mod:`idkit.fit.frf_objective`; the order table is :func:`idkit.fit.compare.maxwell_order_table`;
 complex stiffness and DMA tables (the same law, observed directly) are fitted by
-:mod:`idkit.fit.complex_stiffness`.
+:mod:`idkit.fit.maxwell_table`.
 """
 
 from __future__ import annotations

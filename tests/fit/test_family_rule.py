@@ -9,7 +9,7 @@ from idkit.errors import DataError, FitError
 from idkit.fit import fit_iwan, prepare_loops
 from idkit.fit.data_set_checks import data_valid_range
 from idkit.fit.family import choose_iwan_family
-from idkit.fit.measurements import fit_iwan_measurements
+from idkit.fit import fit_iwan_measurements
 from idkit.fit.model_form import FLOOR_MARGIN
 from idkit.io import MeasurementInfo, QuasiStaticMeasurement
 from idkit.models import IwanModel, ModulatedIwanModel

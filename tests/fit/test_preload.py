@@ -143,7 +143,7 @@ def test_the_model_file_records_each_top_mass_preload(tmp_path):
     # fitted about is in its provenance, so a later comparison can use the same preloads
     from pathlib import Path
 
-    from idkit.fit.measurements import fit_maxwell_measurements
+    from idkit.fit import fit_maxwell_measurements
     from idkit.io import load_measurement_set
     from idkit.models import load_model_document
 

@@ -35,7 +35,7 @@ import numpy as np
 import pytest
 
 from idkit.fit import iwan_set_errors
-from idkit.fit.measurements import fit_iwan_measurements, fit_maxwell_measurements
+from idkit.fit import fit_iwan_measurements, fit_maxwell_measurements
 from idkit.io import load_measurement_set
 from idkit.synth import (
     FILE_UNITS,
