@@ -26,9 +26,8 @@ import dataclasses
 import numpy as np
 import pandas as pd
 
-from idkit.checks import Choice, Real, accepts
+from idkit.checks import Choice, accepts
 from idkit.errors import DataError, FitError
-from idkit.fit._optim import BACKEND
 from idkit.fit.boucwen import fit_boucwen
 from idkit.fit.compare import iwan_order_fits, iwan_order_row, maxwell_order_table
 from idkit.fit.damping import fit_viscous_damping
@@ -61,8 +60,7 @@ VALID_RANGE_FIT = "valid-range refit"
 
 
 
-@accepts(family=Choice(IWAN_FAMILIES), small_threshold=Real(unit="m", gt=0, optional=True), backend=BACKEND,
-         error=FitError)
+@accepts(family=Choice(IWAN_FAMILIES), error=FitError)  # small_threshold, backend: loop_sets, fit_iwan
 def fit_iwan_measurements(
     measurements,
     *,
@@ -263,7 +261,6 @@ def _above_the_noise_floor(result, measurements, isolator, split) -> tuple[str, 
     return record_floor_reasons(result, records)
 
 
-@accepts(small_threshold=Real(unit="m", gt=0, optional=True), backend=BACKEND, error=FitError)
 def fit_boucwen_measurements(
     measurements,
     *,
