@@ -58,7 +58,8 @@ def prepared(name, n_steps):
     return arrays, (*arrays.as_tuple(), h, disp[None, :].copy(), vel[None, :].copy(), 0.0, np.zeros((1, ndof)),
                     np.zeros((1, ndof)), np.zeros((1, ndof, arrays.jk.shape[1])),
                     np.zeros((1, ndof, arrays.mk.shape[1])), np.zeros((1, ndof)), 1000,
-                    force_scale(arrays, np.array([4e2])))  # one scale per member of the batch
+                    force_scale(arrays, np.array([4e2])),  # one scale per member of the batch
+                    np.full((1, ndof), np.nan))  # a0: NaN, a run from equilibrium
 
 
 def compile_time(label, name):
