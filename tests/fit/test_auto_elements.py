@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from idkit.fit.auto import FAMILIES, Family, fit_auto, fit_boucwen_family, fit_plain_iwan
+from idkit.fit.elements import fit_pinched_boucwen
 from idkit.observe.histories import histories_from_records
 from idkit.synth.devices import DEVICES, protocol_records
 from idkit.validate.history import validate_histories
@@ -71,15 +72,40 @@ def test_a_rate_dependent_damper_trained_at_two_rates_is_identified_and_generali
     _within_the_floor(fit.model, device, held_out)
 
 
-@pytest.mark.parametrize("seed", [1])
-def test_a_pinched_rope_is_identified_as_pinched_and_predicts_within_the_noise_floor(seed):
-    """The pinched family wins by prediction; its beta and n are determined only in combination on
-    these loops (all saturating), which the verdict says: not a success for that reason alone."""
-    device = DEVICES["pinched_rope"]
+@functools.lru_cache(maxsize=1)
+def _pinched_rope_choice(seed=1):
     training, held_out = _protocol("pinched_rope", seed)
-    fit = fit_auto(training, families=[BOUC_WEN, BY_NAME["pinched_boucwen"]])
-    assert fit.chosen.family.name == "pinched_boucwen", fit.report()
-    assert all("determined only in combination" in reason for reason in fit.chosen.fit.reasons), fit.report()
+    return fit_auto(training, families=[BOUC_WEN, BY_NAME["pinched_boucwen"]]), held_out
+
+
+def _pinched_truth(device) -> dict:
+    """The pinched rope's parameters in the pinched fit's coordinates (fit_pinched_boucwen)."""
+    saturated = device.ultimate_z
+    return {"k1": device.k1, "alpha": device.alpha, "saturated_force": saturated,
+            "beta_share": device.beta / (device.beta + device.gamma), "n": device.n, "pinch": device.pinching,
+            "pinch_width": device.width / saturated, "pinch_shift": device.position}
+
+
+def test_a_pinched_rope_is_identified_as_pinched_and_predicts_within_the_noise_floor():
+    """The pinched family wins by prediction, and succeeds: fitted in the loop's own coordinates
+    (saturated force, beta share, n) every parameter is determined and recovered."""
+    device = DEVICES["pinched_rope"]
+    fit, held_out = _pinched_rope_choice()
+    assert fit.chosen.family.name == "pinched_boucwen" and fit.success, fit.report()
+    _recovered(fit.chosen.fit, _pinched_truth(device))
     plain = next(score for score in fit.scores if score.family.name == "boucwen")
     assert plain.cv_error > 3 * fit.chosen.cv_error
     _within_the_floor(fit.model, device, held_out)
+
+
+@pytest.mark.parametrize("seed", [2, 3])
+def test_the_pinched_fit_is_determined_for_other_seeds(seed):
+    """Seeds 2 and 3 of the pinched rope: the pinched fit, warm-started from seed 1's optimum (a
+    different noise draw, not the truth), is a success with every parameter within its standard
+    errors of the truth (cold starts reach the same optima: commit message)."""
+    device = DEVICES["pinched_rope"]
+    training, _ = _protocol("pinched_rope", seed)
+    first = _pinched_rope_choice()[0].chosen.fit.result
+    fit = fit_pinched_boucwen(training, start=first, seed=seed)
+    assert fit.success and fit.undetermined == [], fit.report()
+    _recovered(fit, _pinched_truth(device))
