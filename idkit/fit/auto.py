@@ -140,12 +140,12 @@ def _candidate(family: str, result, model, parameters) -> CandidateFit:
 
 @functools.lru_cache(maxsize=4)
 def _plain_order_rule(histories: tuple, seed: int, orders: tuple, points_per_set):
-    """The plain Iwan order table on the histories' loops and the fit the order rule recommends,
-    shared by the plain and the slip-modulated family within one :func:`fit_auto` (the histories
-    are keyed by identity)."""
+    """The plain Iwan fits of every order on the histories' loops and the order the order rule
+    recommends, shared by the plain and the slip-modulated family within one :func:`fit_auto`
+    (the histories are keyed by identity): ``(small, large, fits by order, recommended order)``."""
     small, large = history_loops(histories, points_per_set)
     table, fits = iwan_order_fits(small, large, orders=orders, points_per_set=None, seed=seed)
-    return small, large, fits[int(table.loc[table["recommended"], "order"].iloc[0])]
+    return small, large, fits, int(table.loc[table["recommended"], "order"].iloc[0])
 
 
 def fit_plain_iwan(histories: Sequence[ForceHistory], *, start: CandidateFit | None = None, seed: int = 0,
@@ -159,25 +159,31 @@ def fit_plain_iwan(histories: Sequence[ForceHistory], *, start: CandidateFit | N
         small, large = history_loops(histories, points_per_set)
         result = fit_iwan(small, large, start=start.model, points_per_set=None, seed=seed)
     else:
-        _, _, result = _plain_order_rule(tuple(histories), seed, tuple(orders), points_per_set)
+        _, _, fits, order = _plain_order_rule(tuple(histories), seed, tuple(orders), points_per_set)
+        result = fits[order]
     return _candidate("iwan", result, result.model, result.params)
 
 
 def fit_modulated_iwan(histories: Sequence[ForceHistory], *, start: CandidateFit | None = None, seed: int = 0,
                        orders: Sequence[int] = IWAN_ORDERS, points_per_set: int | None = LOOP_POINTS_PER_SET
                        ) -> CandidateFit:
-    """The slip-modulated Iwan family: the modulation stage (:func:`~idkit.fit.fit_iwan_modulated`,
-    every ``(a, b)`` start) from the plain fit the order rule recommends (the plain family's, computed
-    once); with ``start``, the stage refitted from that model."""
+    """The slip-modulated Iwan family, ordered as ``fit iwan --family modulated`` orders it (one
+    order rule, :func:`~idkit.fit.measurements.choose_iwan_family`): the modulation stage
+    (:func:`~idkit.fit.fit_iwan_modulated`) from the lowest plain fit (the plain family's, computed
+    once), elements added by continuation in the order up to ``max(orders)`` until a fit succeeds
+    with every parameter determined, else the order rule over the chain; with ``start``, the stage
+    refitted from that model at its order."""
     from idkit.fit.iwan_modulated import fit_iwan_modulated
+    from idkit.fit.measurements import choose_iwan_family
 
     if start is not None:
         small, large = history_loops(histories, points_per_set)
         result = fit_iwan_modulated(small, large, plain=start.model, points_per_set=None)
-    else:
-        small, large, plain = _plain_order_rule(tuple(histories), seed, tuple(orders), points_per_set)
-        result = fit_iwan_modulated(small, large, plain=plain, points_per_set=None)
-    return _candidate("iwan_modulated", result, result.model, result.lmfit_parameters)
+        return _candidate("iwan_modulated", result, result.model, result.lmfit_parameters)
+    small, large, fits, order = _plain_order_rule(tuple(histories), seed, tuple(orders), points_per_set)
+    # the loops' own model-form check is in every fit's reasons: no record-level floor check here
+    result, _, _ = choose_iwan_family(small, large, fits, plain_order=order, family="modulated")
+    return _candidate("iwan_modulated", result, result.model, result.params)
 
 
 def fit_boucwen_family(histories: Sequence[ForceHistory], *, start: CandidateFit | None = None, seed: int = 0,
@@ -219,7 +225,7 @@ def element_family(name: str, fitter: Callable, description: str) -> Family:
 #: element of :mod:`idkit.fit.elements` through :func:`element_family`.
 FAMILIES: list[Family] = [
     Family("iwan", fit_plain_iwan, "plain Iwan model, orders 1-6 and the order rule"),
-    Family("iwan_modulated", fit_modulated_iwan, "slip-modulated Iwan model from the plain order rule's fit"),
+    Family("iwan_modulated", fit_modulated_iwan, "slip-modulated Iwan model, orders by continuation (fit iwan's chain)"),
     Family("boucwen", fit_boucwen_family, "modified Bouc-Wen model"),
     element_family("clearance_jenkin", fit_clearance_jenkin,
                    "Jenkin element through a clearance (dead zone), with a parallel spring"),
