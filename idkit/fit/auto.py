@@ -51,6 +51,7 @@ from idkit.observe.quasi_static import LOOP_POINTS_PER_SET, LoopSet, prepare_loo
 __all__ = [
     "CandidateFit", "Family", "FAMILIES", "element_family", "GENERALISATION_FACTOR", "AutoFit", "fit_auto", "history_loops",
     "cross_validation_folds", "fit_plain_iwan", "fit_modulated_iwan", "fit_boucwen_family", "IWAN_ORDERS",
+    "EARLY_STOP_FACTOR", "screen_boucwen",
 ]
 
 #: A family generalises when each held-out group's mean cross-validated error is at most this
@@ -64,6 +65,17 @@ GENERALISATION_FACTOR = 1.5
 FOLD_BOUCWEN_EVALS = 500
 #: Orders the plain and slip-modulated Iwan families try (the order rule picks among them).
 IWAN_ORDERS = (1, 2, 3, 4, 5, 6)
+#: A family with a screen (:class:`Family`) is stopped when its mean training error after the
+#: screen is above this factor times the lowest mean training error of the families fully fitted
+#: before it. 2: a right family's screen ends within 1.2 x the noise floor on the truths of
+#: :mod:`idkit.synth.devices` (docs/fitting.md, "Stopping wrong families early"), and no family's
+#: training error is far below the floor, so the true family keeps a margin of 1.7.
+EARLY_STOP_FACTOR = 2.0
+#: Evaluations of a pinched Bouc-Wen screen (its first start only, thinned records): an evaluation of
+#: that family costs tens of ms on short records (the pinched law's sub-steps), its full fit hundreds.
+PINCHED_SCREEN_EVALS = 30
+#: Evaluations per local stage of a Bouc-Wen screen (no global search, no restarts, 100-point loops).
+BOUCWEN_SCREEN_EVALS = 200
 
 
 @dataclass(frozen=True)
@@ -101,11 +113,19 @@ class CandidateFit:
 
 @dataclass(frozen=True)
 class Family:
-    """A candidate family: ``fit(histories, *, start=None, seed=0) -> CandidateFit``."""
+    """A candidate family: ``fit(histories, *, start=None, seed=0) -> CandidateFit``.
+
+    ``screen``, optional: ``screen(histories, *, seed=0) -> model``, a cheap first stage of the fit
+    (a fraction of its cost). :func:`fit_auto` runs it first and stops the family there when the
+    model's mean training error is above :data:`EARLY_STOP_FACTOR` times the lowest of the
+    families fully fitted before it; else the full fit runs as without a screen. Worth giving to
+    a family whose fit is expensive where it does not belong (the pinched Bouc-Wen and Bouc-Wen
+    families: a wrong family's optimiser wanders to costly parameters)."""
 
     name: str
     fit: Callable[..., CandidateFit]
     description: str
+    screen: Callable | None = None
 
 
 def history_loops(histories: Sequence[ForceHistory], points_per_set: int | None = LOOP_POINTS_PER_SET):
@@ -186,6 +206,16 @@ def fit_modulated_iwan(histories: Sequence[ForceHistory], *, start: CandidateFit
     return _candidate("iwan_modulated", result, result.model, result.params)
 
 
+def screen_boucwen(histories: Sequence[ForceHistory], *, seed: int = 0, points_per_set: int | None = 100):
+    """The Bouc-Wen family's screen: its staged fit without the global search and restarts, at most
+    :data:`BOUCWEN_SCREEN_EVALS` evaluations a stage, on loops of ``points_per_set`` points."""
+    from idkit.fit.boucwen import fit_boucwen
+
+    small, large = history_loops(histories, points_per_set)
+    return fit_boucwen(small, large, points_per_set=None, global_search=False, max_evals=BOUCWEN_SCREEN_EVALS,
+                       restarts=0, seed=seed).model
+
+
 def fit_boucwen_family(histories: Sequence[ForceHistory], *, start: CandidateFit | None = None, seed: int = 0,
                        points_per_set: int | None = LOOP_POINTS_PER_SET, global_max_evals: int = 1000,
                        fold_max_evals: int = FOLD_BOUCWEN_EVALS) -> CandidateFit:
@@ -202,14 +232,15 @@ def fit_boucwen_family(histories: Sequence[ForceHistory], *, start: CandidateFit
     return _candidate("boucwen", result, result.model, result.params)
 
 
-def element_family(name: str, fitter: Callable, description: str) -> Family:
+def element_family(name: str, fitter: Callable, description: str, screen_evals: int | None = None) -> Family:
     """A :class:`Family` of one of the physical elements of :mod:`idkit.fit.elements` (a fitter
     ``fitter(histories, *, start=None, seed=0, statistics=True)`` returning an
     :class:`~idkit.fit.elements.ElementFitResult`); a fold is warm-started from the full fit.
 
     Folds are fitted like the full fit, polished on the full records: a fold fitted on thinned
     records only would score a rate-dependent element at other step rates than the held-out
-    records it predicts."""
+    records it predicts. With ``screen_evals``, the family's screen is the fitter's first start
+    alone, at most ``screen_evals`` evaluations on the thinned records, without statistics."""
 
     def fit(histories: Sequence[ForceHistory], *, start: CandidateFit | None = None, seed: int = 0) -> CandidateFit:
         result = fitter(histories, start=None if start is None else start.result, seed=seed)
@@ -217,21 +248,26 @@ def element_family(name: str, fitter: Callable, description: str) -> Family:
                             params=dict(result.params), stderr=dict(result.stderr),
                             undetermined=list(result.undetermined), n_params=result.n_params, result=result)
 
-    return Family(name, fit, description)
+    def screen(histories: Sequence[ForceHistory], *, seed: int = 0):
+        return fitter(histories, seed=seed, statistics=False, max_nfev=screen_evals, max_starts=1).model
+
+    return Family(name, fit, description, screen if screen_evals is not None else None)
 
 
-#: The candidate set of :func:`fit_auto`, in the order the table lists them. To add a family,
+#: The candidate set of :func:`fit_auto`, in the order they are fitted and listed: the cheap families
+#: first, so that the screened expensive ones meet a low best training error. To add a family,
 #: append ``Family(name, fit, description)`` here (docs/fitting.md, "How to add a family"); an
 #: element of :mod:`idkit.fit.elements` through :func:`element_family`.
 FAMILIES: list[Family] = [
     Family("iwan", fit_plain_iwan, "plain Iwan model, orders 1-6 and the order rule"),
     Family("iwan_modulated", fit_modulated_iwan, "slip-modulated Iwan model, orders by continuation (fit iwan's chain)"),
-    Family("boucwen", fit_boucwen_family, "modified Bouc-Wen model"),
     element_family("clearance_jenkin", fit_clearance_jenkin,
                    "Jenkin element through a clearance (dead zone), with a parallel spring"),
-    element_family("pinched_boucwen", fit_pinched_boucwen, "Bouc-Wen model with Baber-Noori pinching"),
     element_family("rate_dependent_jenkin", fit_rate_dependent_jenkin,
                    "Jenkin element whose slip force rises with sliding speed, with a parallel spring"),
+    Family("boucwen", fit_boucwen_family, "modified Bouc-Wen model", screen_boucwen),
+    element_family("pinched_boucwen", fit_pinched_boucwen, "Bouc-Wen model with Baber-Noori pinching",
+                   screen_evals=PINCHED_SCREEN_EVALS),
 ]
 
 
@@ -270,9 +306,16 @@ class FamilyScore:
     problem: str = ""
     not_generalising: tuple = ()
     extrapolated: tuple = ()
+    #: mean training error after the family's screen (NaN without one)
+    screen_error: float = math.nan
+    #: stopped after its screen (:data:`EARLY_STOP_FACTOR`): no full fit, no folds
+    stopped_early: bool = False
 
     @property
     def training_error(self) -> float:
+        """Mean training error of the full fit (of the screen when the family was stopped there)."""
+        if self.stopped_early:
+            return self.screen_error
         return float(np.mean(list(self.training.values()))) if self.training else math.nan
 
     @property
@@ -346,6 +389,7 @@ class AutoFit:
                 "determined": (f"{fit.n_params - len(fit.undetermined)}/{fit.n_params}" if fit else "-"),
                 "success": bool(fit.success) if fit else False,
                 "generalises": score.generalises,
+                "stopped_early": score.stopped_early,
                 "fit_time_s": score.fit_time_s,
                 "cv_time_s": score.cv_time_s,
                 "chosen": score is self.chosen,
@@ -427,6 +471,7 @@ def _checked_histories(data, isolator, split):
 
 def fit_auto(data, *, families: Sequence[Family] | None = None, isolator: str | None = None,
              split: str | None = "fit", seed: int = 0, generalisation_factor: float = GENERALISATION_FACTOR,
+             early_stop_factor: float | None = EARLY_STOP_FACTOR,
              progress: Callable[[str], None] | None = None) -> AutoFit:
     """Fit every candidate family and choose by cross-validated prediction error (module docstring).
 
@@ -440,6 +485,9 @@ def fit_auto(data, *, families: Sequence[Family] | None = None, isolator: str | 
     seed : int
         Passed to every family's fit.
     generalisation_factor : float, default :data:`GENERALISATION_FACTOR`
+    early_stop_factor : float or None, default :data:`EARLY_STOP_FACTOR`
+        A family with a screen stops there when its training error is above this factor times the
+        lowest of the families fully fitted before it; None: every family is fitted in full.
     progress : callable, optional
         Called with a line per family as it finishes.
 
@@ -460,6 +508,8 @@ def fit_auto(data, *, families: Sequence[Family] | None = None, isolator: str | 
         raise FitError(f"families: found repeated names {names}, expected one family per name")
     if not (math.isfinite(generalisation_factor) and generalisation_factor >= 1.0):
         raise FitError(f"generalisation_factor: found {generalisation_factor!r}, expected a finite number >= 1")
+    if early_stop_factor is not None and not (math.isfinite(early_stop_factor) and early_stop_factor >= 1.0):
+        raise FitError(f"early_stop_factor: found {early_stop_factor!r}, expected a finite number >= 1 or None")
     histories, provenance = _checked_histories(data, isolator, split)
     if len(histories) < 2:
         raise FitError(f"records: found {len(histories)} force history, expected at least two: cross-validation "
@@ -468,9 +518,15 @@ def fit_auto(data, *, families: Sequence[Family] | None = None, isolator: str | 
     floors = {h.name: noise_floor(h) for h in histories}
     scores = []
     for family in families:
-        score = _score(family, histories, folds, seed)
-        judged, extrapolated = _beyond(score, folds, floors, generalisation_factor, histories)
-        scores.append(dataclasses.replace(score, not_generalising=judged, extrapolated=extrapolated))
+        fitted_so_far = [s.training_error for s in scores if s.fit is not None and math.isfinite(s.training_error)]
+        best = min(fitted_so_far) if fitted_so_far else None
+        score, screen_time, screen_error = _screened(family, histories, seed, best, early_stop_factor)
+        if score is None:
+            score = _score(family, histories, folds, seed)
+            judged, extrapolated = _beyond(score, folds, floors, generalisation_factor, histories)
+            score = dataclasses.replace(score, not_generalising=judged, extrapolated=extrapolated,
+                                        fit_time_s=score.fit_time_s + screen_time, screen_error=screen_error)
+        scores.append(score)
         if progress is not None:
             s = scores[-1]
             progress(f"{family.name}: training {100 * s.training_error:.3g} %, cross-validated "
@@ -541,6 +597,29 @@ def _cross_validate(family: Family, histories, folds, full: CandidateFit, seed: 
                 cross_validated[history.name], problem = _predict(fold.model, history)
                 problems += [problem] if problem else []
     return cross_validated, problems
+
+
+def _screened(family: Family, histories, seed: int, best: float | None,
+              factor: float | None) -> tuple[FamilyScore | None, float, float]:
+    """``(score, seconds, error)``: the family stopped after its screen (a :class:`FamilyScore`
+    without a fit), or None when it has no screen, nothing was fitted before it, or its screen's
+    mean training error is within ``factor`` times ``best``; the screen's wall time and error (NaN
+    without a screen)."""
+    if family.screen is None or best is None or factor is None:
+        return None, 0.0, math.nan
+    started = _time.perf_counter()
+    try:
+        model = family.screen(histories, seed=seed)
+    except FitError:
+        return None, _time.perf_counter() - started, math.nan  # the full fit says why
+    error = float(np.mean([_predict(model, history)[0] for history in histories]))
+    elapsed = _time.perf_counter() - started
+    if error <= factor * best:
+        return None, elapsed, error
+    problem = (f"stopped after its first stage: training error {100 * error:.3g} % above {factor:g} x the lowest "
+               f"of the families fitted before it ({100 * best:.3g} %)")
+    return (FamilyScore(family, None, {}, {}, elapsed, 0.0, problem, screen_error=error, stopped_early=True),
+            elapsed, error)
 
 
 def _score(family: Family, histories, folds, seed) -> FamilyScore:

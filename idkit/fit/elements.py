@@ -446,6 +446,12 @@ def _scales(records):
     return amplitude, force, force / amplitude, speed
 
 
+def _checked_starts(max_starts: int | None) -> int | None:
+    if max_starts is not None and (isinstance(max_starts, bool) or int(max_starts) != max_starts or max_starts < 1):
+        raise FitError(f"max_starts: found {max_starts!r}, expected an integer >= 1 or None (every start)")
+    return max_starts
+
+
 def _warm(start, family_name: str, family: _Family):
     if start is None:
         return None
@@ -458,7 +464,7 @@ def _warm(start, family_name: str, family: _Family):
 
 def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 0,
                          max_nfev: int = 400, initial_state: str = "auto",
-        statistics: bool = True) -> ElementFitResult:
+        statistics: bool = True, max_starts: int | None = None) -> ElementFitResult:
     """Fit a Jenkin element acting through a clearance, with a parallel spring, to force records.
 
     ``F = g1 x + dead_zone(V, k gap)``, ``V`` the virtual force of a Jenkin element of stiffness
@@ -484,6 +490,9 @@ def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, se
         empty), and long records are not polished at full length after the thinned search:
         for the folds of a cross-validation, warm started from the full fit (a fold of ten
         20,000-sample pinched Bouc-Wen records then costs a few evaluations of thinned records).
+    max_starts : int, optional
+        Only the first ``max_starts`` starts (default every one): with a small ``max_nfev`` and
+        ``statistics=False`` a cheap first stage (``fit auto``'s screen of a family).
 
     Returns
     -------
@@ -511,12 +520,12 @@ def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, se
         starts = [np.array([gap * x_small / amplitude, k0 + math.log(ratio), math.log(0.8 * force), 0.02])
                   * (1.0 + 0.01 * rng.standard_normal(4))
                   for gap in (0.1, 0.4) for ratio in (10.0, 100.0)]
-    return _fit(family, records, starts, max_nfev, initial_state, statistics)
+    return _fit(family, records, starts[:_checked_starts(max_starts)], max_nfev, initial_state, statistics)
 
 
 def fit_rate_dependent_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 0,
                               max_nfev: int = 400, initial_state: str = "auto",
-        statistics: bool = True) -> ElementFitResult:
+        statistics: bool = True, max_starts: int | None = None) -> ElementFitResult:
     """Fit a Jenkin element with slip force ``fc (1 + r tanh(|v| / v_ref))`` and a parallel spring.
 
     :class:`~idkit.models.RateDependentIwanModel` of order 1; the records' sample times give
@@ -548,7 +557,7 @@ def fit_rate_dependent_jenkin(histories, *, start: ElementFitResult | None = Non
         starts = [np.array([k0 + math.log(20.0), math.log(0.7 * force), gain, math.log(share * speed), 0.02])
                   + 0.01 * rng.standard_normal(5)
                   for gain in (0.2, 1.0) for share in (0.1, 0.5)]
-    return _fit(family, records, starts, max_nfev, initial_state, statistics)
+    return _fit(family, records, starts[:_checked_starts(max_starts)], max_nfev, initial_state, statistics)
 
 
 #: The pinched Bouc-Wen fit's parameters, one per internal coordinate (:func:`fit_pinched_boucwen`).
@@ -557,7 +566,7 @@ PINCHED_PARAMETERS = ("k1", "alpha", "saturated_force", "beta_share", "n", "pinc
 
 def fit_pinched_boucwen(histories, *, start: ElementFitResult | None = None, seed: int = 0,
                         max_nfev: int = 400, initial_state: str = "auto",
-        statistics: bool = True) -> ElementFitResult:
+        statistics: bool = True, max_starts: int | None = None) -> ElementFitResult:
     """Fit the pinched Bouc-Wen model (``k2 = k3 = 0``, ``b = 1``, ``c = 0``, no viscous part).
 
     Fitted, reported and judged in the loop's own coordinates (:data:`PINCHED_PARAMETERS`):
@@ -604,7 +613,7 @@ def fit_pinched_boucwen(histories, *, start: ElementFitResult | None = None, see
         starts = [np.array([0.1, a0 + math.log(ratio), math.log(0.7 * force), 0.5, 0.0, pinch, math.log(0.3), 0.0])
                   + 0.01 * rng.standard_normal(8)
                   for ratio in (5.0, 30.0) for pinch in (0.4, 0.8)]
-    return _fit(family, records, starts, max_nfev, initial_state, statistics)
+    return _fit(family, records, starts[:_checked_starts(max_starts)], max_nfev, initial_state, statistics)
 
 
 #: The families of this module by name, for the model-choice registry (``idkit fit auto``).

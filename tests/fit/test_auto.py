@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from idkit.errors import FitError
-from idkit.fit.auto import Family, fit_auto, fit_boucwen_family, fit_modulated_iwan, fit_plain_iwan
+from idkit.fit.auto import (Family, fit_auto, fit_boucwen_family, fit_modulated_iwan, fit_plain_iwan,
+                            screen_boucwen)
 from idkit.models import ModulatedIwanModel
 from idkit.observe.histories import ForceHistory, histories_from_records, noise_floor
 from idkit.synth.devices import DEVICES, device_records, protocol_records, sine_history
@@ -22,6 +23,7 @@ FAMILIES = [
     Family("boucwen", functools.partial(fit_boucwen_family, points_per_set=100, global_max_evals=200,
                                         fold_max_evals=400), "Bouc-Wen"),
 ]
+SCREENED_BOUC_WEN = Family("boucwen", FAMILIES[1].fit, "Bouc-Wen, screened", screen_boucwen)
 NOISE = 3.0  # N, on forces of 300-900 N: noise floors of 0.5-1.5 %
 
 
@@ -62,8 +64,12 @@ def device_as_model(device):
 
 def test_a_bouc_wen_device_is_identified_as_bouc_wen_and_predicts_within_the_noise_floor():
     device = DEVICES["boucwen"]
-    fit = fit_auto(training(device, 3), families=FAMILIES)
+    fit = fit_auto(training(device, 3), families=[FAMILIES[0], SCREENED_BOUC_WEN])
     assert fit.chosen.family.name == "boucwen" and fit.success, fit.report()
+    # its screen (no global search) ends near the truth's own error: never stopped (fit.auto.EARLY_STOP_FACTOR)
+    truth_error = np.mean([np.sqrt(np.mean((device.force(h.deflection, h.time) - h.force) ** 2)
+                                   / np.mean(h.force ** 2)) for h in training(device, 3)])
+    assert not fit.chosen.stopped_early and fit.chosen.screen_error <= 1.2 * truth_error
     for name in ("k1", "alpha", "beta", "gamma", "n"):
         true = device.true_params()[name]
         assert abs(fit.chosen.fit.params[name] - true) <= 5 * fit.chosen.fit.stderr[name], name
