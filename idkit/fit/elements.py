@@ -52,12 +52,12 @@ from idkit.errors import FitError, IdkitError
 from idkit.fit._params import jacobian_statistics, to_lmfit
 from idkit.fit.model_form import FLOOR_MARGIN, MODEL_FORM_PREFIX, REPEAT_TOLERANCE, residual_floor
 from idkit.fit.result import _interval_reaches_zero, determinacy_reasons, undetermined_groups
-from idkit.models import ClearanceIwanModel, PinchedBoucWenModel, RateDependentIwanModel
+from idkit.models import ClearanceIwanModel, IwanModel, PinchedBoucWenModel, RateDependentIwanModel
 from idkit.models.base import IsolatorModel
 from idkit.observe.quasi_static import UNLOADED_FRACTION
 from idkit.signal.cycles import noise_level
 
-__all__ = ["ElementFitResult", "ElementHistory", "fit_clearance_jenkin", "fit_pinched_boucwen",
+__all__ = ["ElementFitResult", "ElementHistory", "fit_clearance_jenkin", "fit_jenkin", "fit_pinched_boucwen",
            "fit_rate_dependent_jenkin", "ELEMENT_FITTERS", "SEARCH_SAMPLES", "PINCHED_PARAMETERS"]
 
 #: Residual value of a record sample where the model cannot be evaluated (parameters outside the
@@ -557,6 +557,35 @@ def fit_rate_dependent_jenkin(histories, *, start: ElementFitResult | None = Non
         starts = [np.array([k0 + math.log(20.0), math.log(0.7 * force), gain, math.log(share * speed), 0.02])
                   + 0.01 * rng.standard_normal(5)
                   for gain in (0.2, 1.0) for share in (0.1, 0.5)]
+    return _fit(family, records, starts[:_checked_starts(max_starts)], max_nfev, initial_state, statistics)
+
+
+def fit_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 0, max_nfev: int = 400,
+               initial_state: str = "auto", statistics: bool = True,
+               max_starts: int | None = None) -> ElementFitResult:
+    """Fit a plain Jenkin element (spring ``k_1`` in series with a slider ``fc_1``) with a parallel
+    spring ``g1``: the Iwan model of order 1 (:class:`~idkit.models.IwanModel`), on force records of
+    any deflection history, e.g. the simple baseline a model must out-predict
+    (:func:`idkit.fit.baselines.fit_baselines`). Arguments as :func:`fit_clearance_jenkin`; varied
+    ``k_1`` (N/m), ``fc_1`` (N), ``g1`` (N/m)."""
+    records = _checked_histories(histories)
+    _, force, secant, _ = _scales(records)
+
+    def build(u):
+        return IwanModel(g1=u[2] * secant, k=[math.exp(u[0])], fc=[math.exp(u[1])])
+
+    k0 = math.log(secant)
+    family = _Family("jenkin", ("log_k_1", "log_fc_1", "g1"),
+                     lower=np.array([k0 - math.log(10.0), math.log(force) - math.log(1e3), 0.0]),
+                     upper=np.array([k0 + math.log(1e5), math.log(force) + math.log(10.0), 10.0]),
+                     build=build, varied=("k_1", "fc_1", "g1"), needs_time=False, parallel_index=2)
+    warm = _warm(start, "jenkin", family)
+    if warm is not None:
+        starts = [warm]
+    else:
+        rng = np.random.default_rng(seed)
+        starts = [np.array([k0 + math.log(ratio), math.log(share * force), 0.1]) + 0.01 * rng.standard_normal(3)
+                  for ratio in (3.0, 30.0) for share in (0.3, 0.8)]
     return _fit(family, records, starts[:_checked_starts(max_starts)], max_nfev, initial_state, statistics)
 
 
