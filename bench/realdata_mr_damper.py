@@ -1,8 +1,9 @@
 """Real device check: ``fit auto`` and ``validate`` on a measured MR damper against the simple baselines.
 
-    OMP_NUM_THREADS=1 python bench/realdata_mr_damper.py [--folder /work/shared/realdata/mr_damper_labcontrol/data]
+    OMP_NUM_THREADS=1 python bench/realdata_mr_damper.py [--folder FOLDER]
 
-The data (read in place, never copied; SOURCE.txt there: labcontrol-data/mr-damper, MIT): a small
+The data (read in place from ``idkit.datasets.realdata_dir("mr_damper_labcontrol") / "data"``, never
+copied; SOURCE.txt there: labcontrol-data/mr-damper, MIT): a small
 MR damper on a shaking table, position (mm), velocity and force (N) at 100 Hz. The series
 ``ensaioN.1`` (N = 1..10) are sines of 24.8 to 11.2 mm stroke at 0.84 to 1.22 Hz, each starting
 at rest at position 0. Read here as force histories: deflection = position / 1000 (m, from the rest
@@ -36,12 +37,12 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)  # this checkout's idkit
 
+from idkit.datasets import realdata_dir  # noqa: E402
 from idkit.fit.auto import fit_auto  # noqa: E402
 from idkit.fit.baselines import fit_baselines  # noqa: E402
 from idkit.observe.histories import ForceHistory  # noqa: E402
 from idkit.validate.history import validate_histories  # noqa: E402
 
-DEFAULT_FOLDER = Path(ROOT).parent / "shared" / "realdata" / "mr_damper_labcontrol" / "data"
 #: seconds at rest at the start of every record used for the load cell's tare
 REST_S = 1.0
 
@@ -61,8 +62,11 @@ def read_record(path: Path, group: str) -> ForceHistory:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--folder", type=Path, default=DEFAULT_FOLDER)
+    parser.add_argument("--folder", type=Path, default=None, help="default: the shared real-data folder's copy")
     options = parser.parse_args()
+    if options.folder is None:
+        found = realdata_dir("mr_damper_labcontrol")
+        options.folder = Path(found) / "data" if found is not None else Path("mr_damper_labcontrol/data")
     if not options.folder.is_dir():
         raise SystemExit(f"{options.folder}: not found (the real data are read in place, never copied)")
     records = {n: read_record(options.folder / f"ensaio{n}.1.mat", f"stroke {n}") for n in range(1, 11)}
