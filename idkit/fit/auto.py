@@ -21,7 +21,12 @@ names the records. A held-out group whose amplitudes lie outside the other recor
 amplitude, which the model finally fitted on every record does not do there: its error counts in the
 choice, and a group beyond the factor is reported (``extrapolated``), not judged.
 
-**A family** is a :class:`Family` ``(name, fit, description)`` with ``fit(histories, *, start=None,
+**Families are fitted in order**, the cheap ones first; a family with a screen (a cheap first
+stage, :class:`Family`) is stopped after it when its training error is above
+:data:`EARLY_STOP_FACTOR` times the lowest of the families fitted before it (no full fit, no
+folds; ``stopped_early`` in the table): a wrong expensive family costs its screen only.
+
+**A family** is a :class:`Family` ``(name, fit, description, screen=None)`` with ``fit(histories, *, start=None,
 seed=0) -> CandidateFit``; ``start`` is the same family's full fit, to warm-start the folds. Adding
 one to the candidate set is one line: append it to :data:`FAMILIES` (or pass ``families=`` to
 :func:`fit_auto`). The families of this module fit the rate-independent loop models on loops cut
