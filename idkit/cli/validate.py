@@ -41,8 +41,9 @@ def _cmd_validate(args) -> int:
     else:
         raise IdkitError(f"DATA {args.data}: no such file or folder; expected a measurement set (folder with "
                          "manifest.json) or a data file of force records")
+    baselines = None if args.no_baselines else _baselines(data, args.isolator, split, args.seed)
     result = validate_histories(model, data, isolator=args.isolator, split=split,
-                                name=f"force histories, {Path(args.model).name}")
+                                name=f"force histories, {Path(args.model).name}", baselines=baselines)
     if args.plots is not None:  # refused before anything is written
         from idkit.plot.histories import history_plot_paths
 
@@ -50,8 +51,9 @@ def _cmd_validate(args) -> int:
         if existing:
             raise FileExistsError(f"refusing to overwrite existing plot(s): {', '.join(existing)}")
     print(result.report())
-    columns = ["record", "group", "nrms_error", "nrms_error_strong_motion", "model_error_strong_motion",
-               "peak_force_error", "energy_error", "noise_floor", "error_over_floor"]
+    columns = ["record", "group", "nrms_error", "nrms_error_strong_motion",
+               *[column for column in result.metrics.columns if column.startswith("baseline ")],
+               "model_error_strong_motion", "peak_force_error", "energy_error", "noise_floor", "error_over_floor"]
     print(result.metrics[columns].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
     if args.output is not None:
         write_table(result.metrics, args.output)
@@ -63,6 +65,14 @@ def _cmd_validate(args) -> int:
     if result.verdict != "PASS":
         print(f"idkit: {result.verdict}: " + "; ".join(result.why), file=sys.stderr)
     return VERDICT_EXIT[result.verdict]
+
+
+def _baselines(data, isolator, split, seed) -> dict:
+    from idkit.fit.baselines import baselines_for_records
+
+    baselines, where = baselines_for_records(data, isolator=isolator, split=split, seed=seed)
+    print(f"baselines fitted on {where}", file=sys.stderr)
+    return baselines
 
 
 def register(commands) -> None:
@@ -78,4 +88,8 @@ def register(commands) -> None:
     validate.add_argument("--isolator", default=None, help="only this isolator's records (default: any)")
     validate.add_argument("-o", "--output", help="per-record table, CSV or JSON (never overwritten)")
     validate.add_argument("--plots", help="folder for one figure per record (PNG; existing files are not overwritten)")
+    validate.add_argument("--no-baselines", action="store_true",
+                          help="do not fit and score the simple baselines (linear spring and dashpot, Jenkin element, "
+                               "zero force) beside the model")
+    validate.add_argument("--seed", type=int, default=0, help="seed of the Jenkin baseline's starts (default 0)")
     validate.set_defaults(handler=_cmd_validate)

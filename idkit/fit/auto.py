@@ -21,7 +21,12 @@ names the records. A held-out group whose amplitudes lie outside the other recor
 amplitude, which the model finally fitted on every record does not do there: its error counts in the
 choice, and a group beyond the factor is reported (``extrapolated``), not judged.
 
-**A family** is a :class:`Family` ``(name, fit, description)`` with ``fit(histories, *, start=None,
+**Families are fitted in order**, the cheap ones first; a family with a screen (a cheap first
+stage, :class:`Family`) is stopped after it when its training error is above
+:data:`EARLY_STOP_FACTOR` times the lowest of the families fitted before it (no full fit, no
+folds; ``stopped_early`` in the table): a wrong expensive family costs its screen only.
+
+**A family** is a :class:`Family` ``(name, fit, description, screen=None)`` with ``fit(histories, *, start=None,
 seed=0) -> CandidateFit``; ``start`` is the same family's full fit, to warm-start the folds. Adding
 one to the candidate set is one line: append it to :data:`FAMILIES` (or pass ``families=`` to
 :func:`fit_auto`). The families of this module fit the rate-independent loop models on loops cut
@@ -51,6 +56,7 @@ from idkit.observe.quasi_static import LOOP_POINTS_PER_SET, LoopSet, prepare_loo
 __all__ = [
     "CandidateFit", "Family", "FAMILIES", "element_family", "GENERALISATION_FACTOR", "AutoFit", "fit_auto", "history_loops",
     "cross_validation_folds", "fit_plain_iwan", "fit_modulated_iwan", "fit_boucwen_family", "IWAN_ORDERS",
+    "EARLY_STOP_FACTOR", "screen_boucwen",
 ]
 
 #: A family generalises when each held-out group's mean cross-validated error is at most this
@@ -64,6 +70,19 @@ GENERALISATION_FACTOR = 1.5
 FOLD_BOUCWEN_EVALS = 500
 #: Orders the plain and slip-modulated Iwan families try (the order rule picks among them).
 IWAN_ORDERS = (1, 2, 3, 4, 5, 6)
+#: A family with a screen (:class:`Family`) is stopped when its mean training error after the
+#: screen is above this factor times the lowest mean training error of the families fully fitted
+#: before it. 2: a right family's screen ends within 1.2 x the noise floor on the truths of
+#: :mod:`idkit.synth.devices` (docs/fitting.md, "Stopping wrong families early"), and no family's
+#: training error is far below the floor, so the true family keeps a margin of 1.7.
+EARLY_STOP_FACTOR = 2.0
+#: Least-squares iterations of a pinched Bouc-Wen screen (its first start only, thinned records; each
+#: iteration also evaluates a finite-difference Jacobian, eight evaluations): an evaluation costs
+#: tens of ms on short records and up to a second where a wrong fit drives ``z`` stiff (the pinched
+#: law's sub-steps). 10: on the pinched rope (seeds 1-3) the screen ends at the noise floor as 30 do.
+PINCHED_SCREEN_EVALS = 10
+#: Evaluations per local stage of a Bouc-Wen screen (no global search, no restarts, 100-point loops).
+BOUCWEN_SCREEN_EVALS = 200
 
 
 @dataclass(frozen=True)
@@ -101,11 +120,19 @@ class CandidateFit:
 
 @dataclass(frozen=True)
 class Family:
-    """A candidate family: ``fit(histories, *, start=None, seed=0) -> CandidateFit``."""
+    """A candidate family: ``fit(histories, *, start=None, seed=0) -> CandidateFit``.
+
+    ``screen``, optional: ``screen(histories, *, seed=0) -> model``, a cheap first stage of the fit
+    (a fraction of its cost). :func:`fit_auto` runs it first and stops the family there when the
+    model's mean training error is above :data:`EARLY_STOP_FACTOR` times the lowest of the
+    families fully fitted before it; else the full fit runs as without a screen. Worth giving to
+    a family whose fit is expensive where it does not belong (the pinched Bouc-Wen and Bouc-Wen
+    families: a wrong family's optimiser wanders to costly parameters)."""
 
     name: str
     fit: Callable[..., CandidateFit]
     description: str
+    screen: Callable | None = None
 
 
 def history_loops(histories: Sequence[ForceHistory], points_per_set: int | None = LOOP_POINTS_PER_SET):
@@ -140,12 +167,12 @@ def _candidate(family: str, result, model, parameters) -> CandidateFit:
 
 @functools.lru_cache(maxsize=4)
 def _plain_order_rule(histories: tuple, seed: int, orders: tuple, points_per_set):
-    """The plain Iwan order table on the histories' loops and the fit the order rule recommends,
-    shared by the plain and the slip-modulated family within one :func:`fit_auto` (the histories
-    are keyed by identity)."""
+    """The plain Iwan fits of every order on the histories' loops and the order the order rule
+    recommends, shared by the plain and the slip-modulated family within one :func:`fit_auto`
+    (the histories are keyed by identity): ``(small, large, fits by order, recommended order)``."""
     small, large = history_loops(histories, points_per_set)
     table, fits = iwan_order_fits(small, large, orders=orders, points_per_set=None, seed=seed)
-    return small, large, fits[int(table.loc[table["recommended"], "order"].iloc[0])]
+    return small, large, fits, int(table.loc[table["recommended"], "order"].iloc[0])
 
 
 def fit_plain_iwan(histories: Sequence[ForceHistory], *, start: CandidateFit | None = None, seed: int = 0,
@@ -159,25 +186,41 @@ def fit_plain_iwan(histories: Sequence[ForceHistory], *, start: CandidateFit | N
         small, large = history_loops(histories, points_per_set)
         result = fit_iwan(small, large, start=start.model, points_per_set=None, seed=seed)
     else:
-        _, _, result = _plain_order_rule(tuple(histories), seed, tuple(orders), points_per_set)
+        _, _, fits, order = _plain_order_rule(tuple(histories), seed, tuple(orders), points_per_set)
+        result = fits[order]
     return _candidate("iwan", result, result.model, result.params)
 
 
 def fit_modulated_iwan(histories: Sequence[ForceHistory], *, start: CandidateFit | None = None, seed: int = 0,
                        orders: Sequence[int] = IWAN_ORDERS, points_per_set: int | None = LOOP_POINTS_PER_SET
                        ) -> CandidateFit:
-    """The slip-modulated Iwan family: the modulation stage (:func:`~idkit.fit.fit_iwan_modulated`,
-    every ``(a, b)`` start) from the plain fit the order rule recommends (the plain family's, computed
-    once); with ``start``, the stage refitted from that model."""
+    """The slip-modulated Iwan family, ordered as ``fit iwan --family modulated`` orders it (one
+    order rule, :func:`~idkit.fit.measurements.choose_iwan_family`): the modulation stage
+    (:func:`~idkit.fit.fit_iwan_modulated`) from the lowest plain fit (the plain family's, computed
+    once), elements added by continuation in the order up to ``max(orders)`` until a fit succeeds
+    with every parameter determined, else the order rule over the chain; with ``start``, the stage
+    refitted from that model at its order."""
     from idkit.fit.iwan_modulated import fit_iwan_modulated
+    from idkit.fit.measurements import choose_iwan_family
 
     if start is not None:
         small, large = history_loops(histories, points_per_set)
         result = fit_iwan_modulated(small, large, plain=start.model, points_per_set=None)
-    else:
-        small, large, plain = _plain_order_rule(tuple(histories), seed, tuple(orders), points_per_set)
-        result = fit_iwan_modulated(small, large, plain=plain, points_per_set=None)
-    return _candidate("iwan_modulated", result, result.model, result.lmfit_parameters)
+        return _candidate("iwan_modulated", result, result.model, result.lmfit_parameters)
+    small, large, fits, order = _plain_order_rule(tuple(histories), seed, tuple(orders), points_per_set)
+    # the loops' own model-form check is in every fit's reasons: no record-level floor check here
+    result, _, _ = choose_iwan_family(small, large, fits, plain_order=order, family="modulated")
+    return _candidate("iwan_modulated", result, result.model, result.params)
+
+
+def screen_boucwen(histories: Sequence[ForceHistory], *, seed: int = 0, points_per_set: int | None = 100):
+    """The Bouc-Wen family's screen: its staged fit without the global search and restarts, at most
+    :data:`BOUCWEN_SCREEN_EVALS` evaluations a stage, on loops of ``points_per_set`` points."""
+    from idkit.fit.boucwen import fit_boucwen
+
+    small, large = history_loops(histories, points_per_set)
+    return fit_boucwen(small, large, points_per_set=None, global_search=False, max_evals=BOUCWEN_SCREEN_EVALS,
+                       restarts=0, seed=seed).model
 
 
 def fit_boucwen_family(histories: Sequence[ForceHistory], *, start: CandidateFit | None = None, seed: int = 0,
@@ -196,14 +239,15 @@ def fit_boucwen_family(histories: Sequence[ForceHistory], *, start: CandidateFit
     return _candidate("boucwen", result, result.model, result.params)
 
 
-def element_family(name: str, fitter: Callable, description: str) -> Family:
+def element_family(name: str, fitter: Callable, description: str, screen_evals: int | None = None) -> Family:
     """A :class:`Family` of one of the physical elements of :mod:`idkit.fit.elements` (a fitter
     ``fitter(histories, *, start=None, seed=0, statistics=True)`` returning an
     :class:`~idkit.fit.elements.ElementFitResult`); a fold is warm-started from the full fit.
 
     Folds are fitted like the full fit, polished on the full records: a fold fitted on thinned
     records only would score a rate-dependent element at other step rates than the held-out
-    records it predicts."""
+    records it predicts. With ``screen_evals``, the family's screen is the fitter's first start
+    alone, at most ``screen_evals`` evaluations on the thinned records, without statistics."""
 
     def fit(histories: Sequence[ForceHistory], *, start: CandidateFit | None = None, seed: int = 0) -> CandidateFit:
         result = fitter(histories, start=None if start is None else start.result, seed=seed)
@@ -211,21 +255,26 @@ def element_family(name: str, fitter: Callable, description: str) -> Family:
                             params=dict(result.params), stderr=dict(result.stderr),
                             undetermined=list(result.undetermined), n_params=result.n_params, result=result)
 
-    return Family(name, fit, description)
+    def screen(histories: Sequence[ForceHistory], *, seed: int = 0):
+        return fitter(histories, seed=seed, statistics=False, max_nfev=screen_evals, max_starts=1).model
+
+    return Family(name, fit, description, screen if screen_evals is not None else None)
 
 
-#: The candidate set of :func:`fit_auto`, in the order the table lists them. To add a family,
+#: The candidate set of :func:`fit_auto`, in the order they are fitted and listed: the cheap families
+#: first, so that the screened expensive ones meet a low best training error. To add a family,
 #: append ``Family(name, fit, description)`` here (docs/fitting.md, "How to add a family"); an
 #: element of :mod:`idkit.fit.elements` through :func:`element_family`.
 FAMILIES: list[Family] = [
     Family("iwan", fit_plain_iwan, "plain Iwan model, orders 1-6 and the order rule"),
-    Family("iwan_modulated", fit_modulated_iwan, "slip-modulated Iwan model from the plain order rule's fit"),
-    Family("boucwen", fit_boucwen_family, "modified Bouc-Wen model"),
+    Family("iwan_modulated", fit_modulated_iwan, "slip-modulated Iwan model, orders by continuation (fit iwan's chain)"),
     element_family("clearance_jenkin", fit_clearance_jenkin,
                    "Jenkin element through a clearance (dead zone), with a parallel spring"),
-    element_family("pinched_boucwen", fit_pinched_boucwen, "Bouc-Wen model with Baber-Noori pinching"),
     element_family("rate_dependent_jenkin", fit_rate_dependent_jenkin,
                    "Jenkin element whose slip force rises with sliding speed, with a parallel spring"),
+    Family("boucwen", fit_boucwen_family, "modified Bouc-Wen model", screen_boucwen),
+    element_family("pinched_boucwen", fit_pinched_boucwen, "Bouc-Wen model with Baber-Noori pinching",
+                   screen_evals=PINCHED_SCREEN_EVALS),
 ]
 
 
@@ -264,9 +313,16 @@ class FamilyScore:
     problem: str = ""
     not_generalising: tuple = ()
     extrapolated: tuple = ()
+    #: mean training error after the family's screen (NaN without one)
+    screen_error: float = math.nan
+    #: stopped after its screen (:data:`EARLY_STOP_FACTOR`): no full fit, no folds
+    stopped_early: bool = False
 
     @property
     def training_error(self) -> float:
+        """Mean training error of the full fit (of the screen when the family was stopped there)."""
+        if self.stopped_early:
+            return self.screen_error
         return float(np.mean(list(self.training.values()))) if self.training else math.nan
 
     @property
@@ -340,6 +396,7 @@ class AutoFit:
                 "determined": (f"{fit.n_params - len(fit.undetermined)}/{fit.n_params}" if fit else "-"),
                 "success": bool(fit.success) if fit else False,
                 "generalises": score.generalises,
+                "stopped_early": score.stopped_early,
                 "fit_time_s": score.fit_time_s,
                 "cv_time_s": score.cv_time_s,
                 "chosen": score is self.chosen,
@@ -421,6 +478,7 @@ def _checked_histories(data, isolator, split):
 
 def fit_auto(data, *, families: Sequence[Family] | None = None, isolator: str | None = None,
              split: str | None = "fit", seed: int = 0, generalisation_factor: float = GENERALISATION_FACTOR,
+             early_stop_factor: float | None = EARLY_STOP_FACTOR,
              progress: Callable[[str], None] | None = None) -> AutoFit:
     """Fit every candidate family and choose by cross-validated prediction error (module docstring).
 
@@ -434,6 +492,9 @@ def fit_auto(data, *, families: Sequence[Family] | None = None, isolator: str | 
     seed : int
         Passed to every family's fit.
     generalisation_factor : float, default :data:`GENERALISATION_FACTOR`
+    early_stop_factor : float or None, default :data:`EARLY_STOP_FACTOR`
+        A family with a screen stops there when its training error is above this factor times the
+        lowest of the families fully fitted before it; None: every family is fitted in full.
     progress : callable, optional
         Called with a line per family as it finishes.
 
@@ -454,6 +515,8 @@ def fit_auto(data, *, families: Sequence[Family] | None = None, isolator: str | 
         raise FitError(f"families: found repeated names {names}, expected one family per name")
     if not (math.isfinite(generalisation_factor) and generalisation_factor >= 1.0):
         raise FitError(f"generalisation_factor: found {generalisation_factor!r}, expected a finite number >= 1")
+    if early_stop_factor is not None and not (math.isfinite(early_stop_factor) and early_stop_factor >= 1.0):
+        raise FitError(f"early_stop_factor: found {early_stop_factor!r}, expected a finite number >= 1 or None")
     histories, provenance = _checked_histories(data, isolator, split)
     if len(histories) < 2:
         raise FitError(f"records: found {len(histories)} force history, expected at least two: cross-validation "
@@ -462,9 +525,15 @@ def fit_auto(data, *, families: Sequence[Family] | None = None, isolator: str | 
     floors = {h.name: noise_floor(h) for h in histories}
     scores = []
     for family in families:
-        score = _score(family, histories, folds, seed)
-        judged, extrapolated = _beyond(score, folds, floors, generalisation_factor, histories)
-        scores.append(dataclasses.replace(score, not_generalising=judged, extrapolated=extrapolated))
+        fitted_so_far = [s.training_error for s in scores if s.fit is not None and math.isfinite(s.training_error)]
+        best = min(fitted_so_far) if fitted_so_far else None
+        score, screen_time, screen_error = _screened(family, histories, seed, best, early_stop_factor)
+        if score is None:
+            score = _score(family, histories, folds, seed)
+            judged, extrapolated = _beyond(score, folds, floors, generalisation_factor, histories)
+            score = dataclasses.replace(score, not_generalising=judged, extrapolated=extrapolated,
+                                        fit_time_s=score.fit_time_s + screen_time, screen_error=screen_error)
+        scores.append(score)
         if progress is not None:
             s = scores[-1]
             progress(f"{family.name}: training {100 * s.training_error:.3g} %, cross-validated "
@@ -535,6 +604,29 @@ def _cross_validate(family: Family, histories, folds, full: CandidateFit, seed: 
                 cross_validated[history.name], problem = _predict(fold.model, history)
                 problems += [problem] if problem else []
     return cross_validated, problems
+
+
+def _screened(family: Family, histories, seed: int, best: float | None,
+              factor: float | None) -> tuple[FamilyScore | None, float, float]:
+    """``(score, seconds, error)``: the family stopped after its screen (a :class:`FamilyScore`
+    without a fit), or None when it has no screen, nothing was fitted before it, or its screen's
+    mean training error is within ``factor`` times ``best``; the screen's wall time and error (NaN
+    without a screen)."""
+    if family.screen is None or best is None or factor is None:
+        return None, 0.0, math.nan
+    started = _time.perf_counter()
+    try:
+        model = family.screen(histories, seed=seed)
+    except FitError:
+        return None, _time.perf_counter() - started, math.nan  # the full fit says why
+    error = float(np.mean([_predict(model, history)[0] for history in histories]))
+    elapsed = _time.perf_counter() - started
+    if error <= factor * best:
+        return None, elapsed, error
+    problem = (f"stopped after its first stage: training error {100 * error:.3g} % above {factor:g} x the lowest "
+               f"of the families fitted before it ({100 * best:.3g} %)")
+    return (FamilyScore(family, None, {}, {}, elapsed, 0.0, problem, screen_error=error, stopped_early=True),
+            elapsed, error)
 
 
 def _score(family: Family, histories, folds, seed) -> FamilyScore:

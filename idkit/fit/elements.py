@@ -4,8 +4,9 @@
   (:class:`~idkit.models.ClearanceIwanModel` of order 1): ``gap``, ``k_1``, ``fc_1`` and a
   parallel spring ``g1``;
 * :func:`fit_pinched_boucwen` - the pinched Bouc-Wen model
-  (:class:`~idkit.models.PinchedBoucWenModel`): ``k1``, ``alpha``, ``beta``, ``gamma``, ``n``,
-  ``pinch``, ``pinch_width``, ``pinch_shift``;
+  (:class:`~idkit.models.PinchedBoucWenModel`): ``k1``, ``alpha``, the saturated force
+  ``saturated_force``, ``beta_share``, ``n``, ``pinch``, ``pinch_width``, ``pinch_shift`` (the
+  model's ``beta`` and ``gamma`` computed from them);
 * :func:`fit_rate_dependent_jenkin` - a Jenkin element whose slip force rises with speed
   (:class:`~idkit.models.RateDependentIwanModel` of order 1): ``k_1``, ``fc_1``,
   ``slip_rate_gain``, ``slip_speed`` and ``g1``.
@@ -50,14 +51,14 @@ import scipy.optimize
 from idkit.errors import FitError, IdkitError
 from idkit.fit._params import jacobian_statistics, to_lmfit
 from idkit.fit.model_form import FLOOR_MARGIN, MODEL_FORM_PREFIX, REPEAT_TOLERANCE, residual_floor
-from idkit.fit.result import determinacy_reasons
-from idkit.models import ClearanceIwanModel, PinchedBoucWenModel, RateDependentIwanModel
+from idkit.fit.result import _interval_reaches_zero, determinacy_reasons, undetermined_groups
+from idkit.models import ClearanceIwanModel, IwanModel, PinchedBoucWenModel, RateDependentIwanModel
 from idkit.models.base import IsolatorModel
 from idkit.observe.quasi_static import UNLOADED_FRACTION
 from idkit.signal.cycles import noise_level
 
-__all__ = ["ElementFitResult", "ElementHistory", "fit_clearance_jenkin", "fit_pinched_boucwen",
-           "fit_rate_dependent_jenkin", "ELEMENT_FITTERS", "SEARCH_SAMPLES"]
+__all__ = ["ElementFitResult", "ElementHistory", "fit_clearance_jenkin", "fit_jenkin", "fit_pinched_boucwen",
+           "fit_rate_dependent_jenkin", "ELEMENT_FITTERS", "SEARCH_SAMPLES", "PINCHED_PARAMETERS"]
 
 #: Residual value of a record sample where the model cannot be evaluated (parameters outside the
 #: model's domain, a non-finite force): large against the normalised residuals (order 1).
@@ -125,6 +126,10 @@ class ElementFitResult:
     elapsed_s: float
     internal: np.ndarray = field(repr=False)
     start_states: dict = field(default_factory=dict)
+    #: unit of every parameter in :attr:`params`
+    units: dict = field(default_factory=dict)
+    #: model parameters computed from the varied ones (the pinched Bouc-Wen's ``beta``, ``gamma``)
+    computed: tuple = ()
 
     @property
     def success(self) -> bool:
@@ -143,14 +148,13 @@ class ElementFitResult:
 
     def report(self) -> str:
         """Text for people: verdict, parameters with standard errors, errors per record."""
-        units = {spec.name: spec.unit for spec in self.model.param_specs()}
         lines = [f"{self.family} fit: {'success' if self.success else 'NOT a success'} "
                  f"({self.n_params} parameters, {self.evaluations} evaluations, {self.elapsed_s:.2f} s)"]
         for name, value in self.params.items():
             error = self.stderr.get(name)
             shown = f" +- {error:.3g}" if error is not None and math.isfinite(error) else ""
-            state = "" if name in self.varied else "  (held)"
-            lines.append(f"  {name:<15} {value:12.6g}{shown} {units[name]}{state}")
+            state = "" if name in self.varied else "  (from the fitted)" if name in self.computed else "  (held)"
+            lines.append(f"  {name:<15} {value:12.6g}{shown} {self.units.get(name, '')}{state}")
         lines += [f"  error {name}: {100 * value:.2f} %" for name, value in self.errors.items()]
         lines += [f"  note: {note}" for note in self.notes]
         lines += [f"  reason: {reason}" for reason in self.reasons]
@@ -172,6 +176,19 @@ class _Family:
     needs_time: bool
     #: internal index of a parallel stiffness that is fixed at 0 when the fit puts it there
     parallel_index: int | None = None
+    #: derived parameters reported and judged beside the model's own: name -> (unit, lower bound,
+    #: meaning, value of a model); ``varied`` may name them (the pinched Bouc-Wen's ``z_u``)
+    derived: dict = field(default_factory=dict)
+    #: model parameters that are functions of the varied ones (reported, not judged)
+    computed: tuple = ()
+
+    def parameters(self, model) -> dict:
+        """The model's parameters and the family's derived ones, by name (SI units)."""
+        return {**model.params(), **{name: float(spec[3](model)) for name, spec in self.derived.items()}}
+
+    def units(self, model) -> dict:
+        return {**{spec.name: spec.unit for spec in model.param_specs()},
+                **{name: spec[0] for name, spec in self.derived.items()}}
 
 
 def _checked_histories(histories) -> list[ElementHistory]:
@@ -343,7 +360,7 @@ def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray
         notes.append(f"{family.varied[index]} = 0: the parallel spring is not needed (fitted at its bound 0), held "
                      "there")
     model = family.build(u)
-    physical = model.params()
+    physical = family.parameters(model)
     if best.status <= 0:
         reasons.append(f"least squares stopped without converging: {best.message}")
     for index in np.flatnonzero(at_bound & free):
@@ -378,7 +395,7 @@ def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray
             up, down = u.copy(), u.copy()
             up[i] += step
             down[i] -= step
-            p_up, p_down = family.build(up).params(), family.build(down).params()
+            p_up, p_down = family.parameters(family.build(up)), family.parameters(family.build(down))
             columns.append([(p_up[name] - p_down[name]) / (2.0 * step) for name in varied])
         mapping = np.array(columns).T  # (varied, free)
         covariance = mapping @ stats.covar @ mapping.T
@@ -387,9 +404,10 @@ def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray
             stderr[name] = float(sigma[a])
             correl[name] = {other: float(covariance[a, b] / (sigma[a] * sigma[b])) if sigma[a] * sigma[b] > 0 else 0.0
                             for b, other in enumerate(varied) if b != a}
-    specs = {spec.name: spec for spec in model.param_specs()}
-    parameters = to_lmfit(varied, [physical[name] for name in varied], units=[specs[n].unit for n in varied],
-                          lower=[specs[n].lower for n in varied], upper=[specs[n].upper for n in varied],
+    specs = {spec.name: (spec.unit, spec.lower, spec.upper) for spec in model.param_specs()}
+    specs.update({name: (unit, lower, math.inf) for name, (unit, lower, _, _) in family.derived.items()})
+    parameters = to_lmfit(varied, [physical[name] for name in varied], units=[specs[n][0] for n in varied],
+                          lower=[specs[n][1] for n in varied], upper=[specs[n][2] for n in varied],
                           vary=[True] * len(varied), stderr=[stderr.get(n) for n in varied])
     for name in varied:
         parameters[name].correl = correl.get(name)
@@ -397,14 +415,27 @@ def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray
     reasons.extend(determinacy)
     errors = _errors(model, family, records, cycled)
     reasons.extend(_model_form_reasons(model, family, records, cycled, errors))
-    undetermined = [name for name in varied if statistics and (not math.isfinite(stderr.get(name, math.nan))
-                                                                or any(name in reason for reason in determinacy))]
+    undetermined = [] if not statistics else _undetermined(parameters, stats)
     return ElementFitResult(
         family=family.name, model=model, params=physical,
         stderr={name: stderr.get(name, math.nan) for name in varied}, varied=varied, undetermined=undetermined,
         reasons=list(dict.fromkeys(reasons)), notes=notes, errors=errors,
         evaluations=evaluations, elapsed_s=_time.perf_counter() - begin, internal=u,
-        start_states={record.name: "cycled" if state else "unloaded" for record, state in zip(records, cycled)})
+        start_states={record.name: "cycled" if state else "unloaded" for record, state in zip(records, cycled)},
+        units=family.units(model), computed=family.computed)
+
+
+def _undetermined(parameters, stats) -> list[str]:
+    """The varied parameters :func:`~idkit.fit.result.determinacy_reasons` finds undetermined, by
+    name: every one without statistics or a finite standard error, a positive one whose 95 %
+    interval reaches zero, and each member of a group determined only in combination."""
+    names = list(parameters)
+    if stats is None:
+        return names
+    found = {name for name in names if parameters[name].stderr is None
+             or not math.isfinite(float(parameters[name].stderr)) or _interval_reaches_zero(parameters[name])}
+    found.update(name for group in undetermined_groups(parameters) for name in group)
+    return [name for name in names if name in found]
 
 
 def _scales(records):
@@ -413,6 +444,12 @@ def _scales(records):
     force = max(0.5 * float(np.ptp(r.force)) for r in records)
     speed = max(float(np.max(np.abs(np.diff(r.deflection) / np.diff(r.time)))) for r in records)
     return amplitude, force, force / amplitude, speed
+
+
+def _checked_starts(max_starts: int | None) -> int | None:
+    if max_starts is not None and (isinstance(max_starts, bool) or int(max_starts) != max_starts or max_starts < 1):
+        raise FitError(f"max_starts: found {max_starts!r}, expected an integer >= 1 or None (every start)")
+    return max_starts
 
 
 def _warm(start, family_name: str, family: _Family):
@@ -427,7 +464,7 @@ def _warm(start, family_name: str, family: _Family):
 
 def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 0,
                          max_nfev: int = 400, initial_state: str = "auto",
-        statistics: bool = True) -> ElementFitResult:
+        statistics: bool = True, max_starts: int | None = None) -> ElementFitResult:
     """Fit a Jenkin element acting through a clearance, with a parallel spring, to force records.
 
     ``F = g1 x + dead_zone(V, k gap)``, ``V`` the virtual force of a Jenkin element of stiffness
@@ -453,6 +490,9 @@ def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, se
         empty), and long records are not polished at full length after the thinned search:
         for the folds of a cross-validation, warm started from the full fit (a fold of ten
         20,000-sample pinched Bouc-Wen records then costs a few evaluations of thinned records).
+    max_starts : int, optional
+        Only the first ``max_starts`` starts (default every one): with a small ``max_nfev`` and
+        ``statistics=False`` a cheap first stage (``fit auto``'s screen of a family).
 
     Returns
     -------
@@ -480,12 +520,12 @@ def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, se
         starts = [np.array([gap * x_small / amplitude, k0 + math.log(ratio), math.log(0.8 * force), 0.02])
                   * (1.0 + 0.01 * rng.standard_normal(4))
                   for gap in (0.1, 0.4) for ratio in (10.0, 100.0)]
-    return _fit(family, records, starts, max_nfev, initial_state, statistics)
+    return _fit(family, records, starts[:_checked_starts(max_starts)], max_nfev, initial_state, statistics)
 
 
 def fit_rate_dependent_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 0,
                               max_nfev: int = 400, initial_state: str = "auto",
-        statistics: bool = True) -> ElementFitResult:
+        statistics: bool = True, max_starts: int | None = None) -> ElementFitResult:
     """Fit a Jenkin element with slip force ``fc (1 + r tanh(|v| / v_ref))`` and a parallel spring.
 
     :class:`~idkit.models.RateDependentIwanModel` of order 1; the records' sample times give
@@ -517,17 +557,58 @@ def fit_rate_dependent_jenkin(histories, *, start: ElementFitResult | None = Non
         starts = [np.array([k0 + math.log(20.0), math.log(0.7 * force), gain, math.log(share * speed), 0.02])
                   + 0.01 * rng.standard_normal(5)
                   for gain in (0.2, 1.0) for share in (0.1, 0.5)]
-    return _fit(family, records, starts, max_nfev, initial_state, statistics)
+    return _fit(family, records, starts[:_checked_starts(max_starts)], max_nfev, initial_state, statistics)
+
+
+def fit_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 0, max_nfev: int = 400,
+               initial_state: str = "auto", statistics: bool = True,
+               max_starts: int | None = None) -> ElementFitResult:
+    """Fit a plain Jenkin element (spring ``k_1`` in series with a slider ``fc_1``) with a parallel
+    spring ``g1``: the Iwan model of order 1 (:class:`~idkit.models.IwanModel`), on force records of
+    any deflection history, e.g. the simple baseline a model must out-predict
+    (:func:`idkit.fit.baselines.fit_baselines`). Arguments as :func:`fit_clearance_jenkin`; varied
+    ``k_1`` (N/m), ``fc_1`` (N), ``g1`` (N/m)."""
+    records = _checked_histories(histories)
+    _, force, secant, _ = _scales(records)
+
+    def build(u):
+        return IwanModel(g1=u[2] * secant, k=[math.exp(u[0])], fc=[math.exp(u[1])])
+
+    k0 = math.log(secant)
+    family = _Family("jenkin", ("log_k_1", "log_fc_1", "g1"),
+                     lower=np.array([k0 - math.log(10.0), math.log(force) - math.log(1e3), 0.0]),
+                     upper=np.array([k0 + math.log(1e5), math.log(force) + math.log(10.0), 10.0]),
+                     build=build, varied=("k_1", "fc_1", "g1"), needs_time=False, parallel_index=2)
+    warm = _warm(start, "jenkin", family)
+    if warm is not None:
+        starts = [warm]
+    else:
+        rng = np.random.default_rng(seed)
+        starts = [np.array([k0 + math.log(ratio), math.log(share * force), 0.1]) + 0.01 * rng.standard_normal(3)
+                  for ratio in (3.0, 30.0) for share in (0.3, 0.8)]
+    return _fit(family, records, starts[:_checked_starts(max_starts)], max_nfev, initial_state, statistics)
+
+
+#: The pinched Bouc-Wen fit's parameters, one per internal coordinate (:func:`fit_pinched_boucwen`).
+PINCHED_PARAMETERS = ("k1", "alpha", "saturated_force", "beta_share", "n", "pinch", "pinch_width", "pinch_shift")
 
 
 def fit_pinched_boucwen(histories, *, start: ElementFitResult | None = None, seed: int = 0,
                         max_nfev: int = 400, initial_state: str = "auto",
-        statistics: bool = True) -> ElementFitResult:
+        statistics: bool = True, max_starts: int | None = None) -> ElementFitResult:
     """Fit the pinched Bouc-Wen model (``k2 = k3 = 0``, ``b = 1``, ``c = 0``, no viscous part).
 
-    Internally ``alpha`` (N/m), the saturated force ``z_u`` (N), the share ``s = beta / (beta +
-    gamma)``, ``n`` and the three pinching parameters; reported as the model's ``k1``, ``alpha``,
-    ``beta``, ``gamma`` (N^(1-n)/m), ``n``, ``pinch``, ``pinch_width``, ``pinch_shift``.
+    Fitted, reported and judged in the loop's own coordinates (:data:`PINCHED_PARAMETERS`):
+    ``k1`` (N/m), ``alpha`` (N/m, the slope of ``z`` at ``z = 0`` before pinching), the saturated
+    hysteretic force ``saturated_force`` ``z_u = (alpha / (beta + gamma))^(1/n)`` (N), the share
+    ``beta_share = beta / (beta + gamma)`` (the slope just after a reversal from saturation is
+    ``2 beta_share alpha``), the exponent ``n`` (the sharpness of the knee) and ``pinch``,
+    ``pinch_width``, ``pinch_shift``. The model's ``beta = beta_share alpha / z_u^n`` and
+    ``gamma`` are computed from them and reported without a verdict of their own: their unit
+    N^(1-n)/m carries ``n``, so a change of ``n`` by ``dn`` rescales both by ``z_u^-dn`` (a
+    factor 1.6 for ``dn = 0.1`` at ``z_u = 100 N``) while the loop hardly moves; in the
+    ``(beta, gamma, n)`` coordinates the data then determine ``beta`` and ``n`` only in
+    combination, in these they determine each one (docs/fitting.md, "Pinched Bouc-Wen").
     Arguments as :func:`fit_clearance_jenkin`.
     """
     records = _checked_histories(histories)
@@ -547,8 +628,12 @@ def fit_pinched_boucwen(histories, *, start: ElementFitResult | None = None, see
                                      math.log(0.02), -0.9]),
                      upper=np.array([10.0, a0 + math.log(1e4), math.log(force * 10.0), 4.0, math.log(6.0), 0.98,
                                      math.log(3.0), 0.9]),
-                     build=build, varied=("k1", "alpha", "beta", "gamma", "n", "pinch", "pinch_width",
-                                          "pinch_shift"), needs_time=False, parallel_index=0)
+                     build=build, varied=PINCHED_PARAMETERS, needs_time=False, parallel_index=0,
+                     derived={"saturated_force": ("N", 0.0, "saturated hysteretic force z_u",
+                                                  lambda model: model.saturated_force),
+                              "beta_share": ("-", -math.inf, "beta / (beta + gamma)",
+                                             lambda model: model.beta / (model.beta + model.gamma))},
+                     computed=("beta", "gamma"))
     warm = _warm(start, "pinched_boucwen", family)
     if warm is not None:
         starts = [warm]
@@ -557,7 +642,7 @@ def fit_pinched_boucwen(histories, *, start: ElementFitResult | None = None, see
         starts = [np.array([0.1, a0 + math.log(ratio), math.log(0.7 * force), 0.5, 0.0, pinch, math.log(0.3), 0.0])
                   + 0.01 * rng.standard_normal(8)
                   for ratio in (5.0, 30.0) for pinch in (0.4, 0.8)]
-    return _fit(family, records, starts, max_nfev, initial_state, statistics)
+    return _fit(family, records, starts[:_checked_starts(max_starts)], max_nfev, initial_state, statistics)
 
 
 #: The families of this module by name, for the model-choice registry (``idkit fit auto``).

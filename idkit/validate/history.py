@@ -21,6 +21,14 @@ the predicted force with the measured one. Per record (:func:`history_metrics`):
   ``sqrt(max(error^2 - floor^2, 0))`` (the FRF fits' model-form reading; the floor is a lower bound
   of the noise, so this never removes more than noise).
 
+**Baselines** (``baselines=``: name -> a fitted simple model, e.g.
+:func:`idkit.fit.baselines.fit_baselines` on the training records): each baseline's strong-motion
+error per record (column ``baseline <name>``) beside the model's, and predicting zero (1 by
+definition). ``summary["median_error_over_best_baseline"]``: the model's median strong-motion
+error over the lowest median of the baselines (zero included); with baselines it is judged, at
+most :data:`BASELINE_LIMIT`: a model that does not predict better than every simple baseline
+fails.
+
 Verdict (:data:`HISTORY_THRESHOLDS`, documented in docs/validation.md): FAIL when the median
 strong-motion model error over the records exceeds 0.20 or the worst exceeds 0.35, or the median
 |peak force error| or |energy error| exceeds 0.25 (the drops' peak limit), over the records that
@@ -49,7 +57,8 @@ from idkit.observe.histories import (
 )
 from idkit.validate.result import ValidationResult, check_thresholds
 
-__all__ = ["HISTORY_THRESHOLDS", "MIN_WINDOW_SAMPLES", "history_metrics", "predict_histories", "validate_histories"]
+__all__ = ["HISTORY_THRESHOLDS", "BASELINE_LIMIT", "MIN_WINDOW_SAMPLES", "history_metrics", "predict_histories",
+           "validate_histories"]
 
 #: Limits of :func:`validate_histories` (module docstring; docs/validation.md says why).
 HISTORY_THRESHOLDS = {
@@ -58,6 +67,9 @@ HISTORY_THRESHOLDS = {
     "median_abs_peak_force_error": 0.25,
     "median_abs_energy_error": 0.25,
 }
+#: With ``baselines``, the model's median strong-motion error over the best baseline's at most this:
+#: no simple baseline predicts the records better than the model.
+BASELINE_LIMIT = 1.0
 #: Fewest samples in a strong-motion window for its error to be judged (a few cycles of 20).
 MIN_WINDOW_SAMPLES = 40
 #: A record's dissipated-energy error is judged only when it dissipates at least this share of the
@@ -115,7 +127,8 @@ def history_metrics(history: ForceHistory, predicted) -> dict:
 
 
 def validate_histories(model, data, *, isolator: str | None = None, split: str | None = "validation",
-                       thresholds: dict | None = None, name: str = "force histories") -> ValidationResult:
+                       thresholds: dict | None = None, name: str = "force histories",
+                       baselines: dict | None = None) -> ValidationResult:
     """Validate an isolator model on held-out force histories (module docstring).
 
     Parameters
@@ -128,6 +141,9 @@ def validate_histories(model, data, *, isolator: str | None = None, split: str |
     thresholds : dict, optional
         Overrides of :data:`HISTORY_THRESHOLDS`.
     name : str
+    baselines : dict, optional
+        Baseline name -> model with ``force(deflection, time=time)``, fitted elsewhere (module
+        docstring); the comparison joins the table, the summary and the verdict.
 
     Returns
     -------
@@ -146,6 +162,10 @@ def validate_histories(model, data, *, isolator: str | None = None, split: str |
         raise ValidationError(f"model: found {type(model).__name__}, expected an isolator model with "
                               "force(deflection, time=...)")
     limits = check_thresholds(HISTORY_THRESHOLDS, thresholds)
+    if baselines is not None and (not isinstance(baselines, dict) or not all(
+            isinstance(key, str) and callable(getattr(value, "force", None)) for key, value in baselines.items())):
+        raise ValidationError(f"baselines: found {baselines!r}, expected a dict of name -> model with "
+                              "force(deflection, time=...)")
     if isinstance(data, (list, tuple)) and data and all(isinstance(h, ForceHistory) for h in data):
         histories = list(data)
     else:
@@ -199,6 +219,27 @@ def validate_histories(model, data, *, isolator: str | None = None, split: str |
     }
     if len(rows) and not len(energy_rows):  # no record dissipates enough to judge its energy: not a limit here
         limits = {key: value for key, value in limits.items() if key != "median_abs_energy_error"}
+    if baselines:
+        medians = {"zero": 1.0}
+        for label, baseline in baselines.items():
+            column = f"baseline {label}"
+            forces = predict_histories(baseline, histories)
+            table[column] = [math.nan if isinstance(forces[h.name], str) else
+                             normalised_rms_error(forces[h.name], h.force, strong_motion_window(h.time, h.deflection))
+                             for h in histories]
+            values = table.loc[table["judged"], column].to_numpy(dtype=float)
+            medians[label] = float(np.median(values)) if values.size and np.all(np.isfinite(values)) else math.nan
+            summary[f"median_baseline_{label.replace(' ', '_')}_strong_motion"] = medians[label]
+        best_label = min((label for label in medians if math.isfinite(medians[label])), key=medians.get)
+        ratio = summary["median_nrms_error_strong_motion"] / medians[best_label]
+        summary["median_error_over_best_baseline"] = ratio
+        limits = {**limits, "median_error_over_best_baseline": BASELINE_LIMIT}
+        notes += (f"baselines (median strong-motion error over the judged records): model "
+                  f"{summary['median_nrms_error_strong_motion']:.3g}, " + ", ".join(
+                      f"{label} {value:.3g}" for label, value in medians.items())
+                  + f"; the model's over the best ({best_label}): {ratio:.3g} "
+                  + ("(better than every baseline)" if ratio <= BASELINE_LIMIT else
+                     "(NOT better than every baseline)"),)
     return ValidationResult(name=name, metrics=table, summary=summary, thresholds=limits,
                             details={"predictions": predictions, "histories": histories},
                             inconclusive=tuple(inconclusive), notes=notes)

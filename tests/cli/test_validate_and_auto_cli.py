@@ -37,6 +37,8 @@ def test_validate_exit_statuses_table_and_plots(device_set, tmp_path, capsys):
                  "--plots", str(tmp_path / "plots")]) == 0
     printed = capsys.readouterr().out
     assert "force histories" in printed and "PASS" in printed and "quake" in printed
+    # the simple baselines, fitted on the set's fit split, printed beside the model's error
+    assert "baseline Jenkin element" in printed and "better than every baseline" in printed
     assert (tmp_path / "t.csv").read_text().startswith("record,")
     assert (tmp_path / "plots" / "history_quake.png").stat().st_size > 1000
     wrong = model_file(tmp_path, "wrong.json", fc=[180.0, 600.0])

@@ -59,3 +59,22 @@ def test_the_energy_error_of_thin_loops_is_reported_not_judged():
     assert result.metrics["dissipated_share"].iloc[0] < 0.05
     assert result.verdict == "PASS" and "not judged" in result.notes[0]
     assert "median_abs_energy_error" not in result.thresholds
+
+
+def test_baselines_are_scored_beside_the_model_and_judged():
+    """The true model beside two simple baselines (fitted to the same held-out records: the best
+    they can do there): it predicts better than every one and passes; the linear spring and dashpot
+    fitted to the records, validated as "the model", is exactly its own baseline (ratio 1, within
+    the limit) and a Jenkin element is better still, so the dashpot FAILS against it."""
+    from idkit.fit.baselines import fit_baselines
+
+    records = held_out()
+    baselines = fit_baselines(records)
+    result = validate_histories(TRUE_MODEL, records, baselines=baselines)
+    assert result.verdict == "PASS", result.why
+    assert result.summary["median_error_over_best_baseline"] < 0.5
+    assert {"baseline linear spring and dashpot", "baseline Jenkin element"} <= set(result.metrics.columns)
+    assert any("better than every baseline" in note for note in result.notes)
+    dashpot = validate_histories(baselines["linear spring and dashpot"], records, baselines=baselines)
+    assert dashpot.verdict == "FAIL"
+    assert any(line.startswith("median_error_over_best_baseline") for line in dashpot.why)
