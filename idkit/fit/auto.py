@@ -201,7 +201,7 @@ def fit_modulated_iwan(histories: Sequence[ForceHistory], *, start: CandidateFit
     with every parameter determined, else the order rule over the chain; with ``start``, the stage
     refitted from that model at its order."""
     from idkit.fit.iwan_modulated import fit_iwan_modulated
-    from idkit.fit.measurements import choose_iwan_family
+    from idkit.fit.family import choose_iwan_family
 
     if start is not None:
         small, large = history_loops(histories, points_per_set)
@@ -436,7 +436,7 @@ class AutoFit:
 
     def provenance_dict(self) -> dict:
         from idkit import __version__
-        from idkit.fit.measurements import _jsonable
+        from idkit.fit.measurement_fit import _jsonable
 
         table = self.table()
         return _jsonable({
