@@ -46,12 +46,13 @@ import numpy as np
 import pandas as pd
 
 from idkit.errors import FitError, IdkitError
-from idkit.fit.compare import ORDER_RULE_FACTOR, iwan_order_fits
+from idkit.fit.compare import iwan_order_fits
 from idkit.fit.elements import fit_clearance_jenkin, fit_pinched_boucwen, fit_rate_dependent_jenkin
+from idkit.fit.orders import ORDER_RULE_FACTOR, within_order_rule
 from idkit.fit.result import undetermined_groups
 from idkit.forked import fork_call
 from idkit.observe.histories import ForceHistory, force_histories, noise_floor, normalised_rms_error
-from idkit.observe.quasi_static import LOOP_POINTS_PER_SET, LoopSet, prepare_loops, split_threshold
+from idkit.observe.quasi_static import LOOP_POINTS_PER_SET, prepare_loops, split_threshold
 
 __all__ = [
     "CandidateFit", "Family", "FAMILIES", "element_family", "GENERALISATION_FACTOR", "AutoFit", "fit_auto", "history_loops",
@@ -200,8 +201,8 @@ def fit_modulated_iwan(histories: Sequence[ForceHistory], *, start: CandidateFit
     once), elements added by continuation in the order up to ``max(orders)`` until a fit succeeds
     with every parameter determined, else the order rule over the chain; with ``start``, the stage
     refitted from that model at its order."""
-    from idkit.fit.iwan_modulated import fit_iwan_modulated
     from idkit.fit.family import choose_iwan_family
+    from idkit.fit.iwan_modulated import fit_iwan_modulated
 
     if start is not None:
         small, large = history_loops(histories, points_per_set)
@@ -545,7 +546,7 @@ def fit_auto(data, *, families: Sequence[Family] | None = None, isolator: str | 
                        "; ".join(f"{s.family.name}: {s.problem}" for s in scores))
     candidates = [s for s in fitted if s.fit.success] or fitted
     best = min(s.cv_error for s in candidates)
-    within = sorted((s for s in candidates if s.cv_error <= ORDER_RULE_FACTOR * best),
+    within = sorted((s for s in candidates if within_order_rule(s.cv_error, best)),
                     key=lambda s: (s.fit.n_params, s.cv_error))
     chosen = within[0]
     pool = "successful families" if any(s.fit.success for s in fitted) else "families (none is a success)"

@@ -50,7 +50,8 @@ import scipy.optimize
 
 from idkit.errors import FitError, IdkitError
 from idkit.fit._params import jacobian_statistics, to_lmfit
-from idkit.fit.model_form import FLOOR_MARGIN, MODEL_FORM_PREFIX, REPEAT_TOLERANCE, residual_floor
+from idkit.fit.model_form import (FLOOR_MARGIN, MODEL_FORM_PREFIX, REPEAT_TOLERANCE, ModelFormReason, misses_the_floor,
+                                  residual_floor)
 from idkit.fit.result import _interval_reaches_zero, determinacy_reasons, undetermined_groups
 from idkit.models import ClearanceIwanModel, IwanModel, PinchedBoucWenModel, RateDependentIwanModel
 from idkit.models.base import IsolatorModel
@@ -314,11 +315,11 @@ def _model_form_reasons(model, family: _Family, records, cycled, errors: dict) -
     if not floors:
         return []
     error, floor = float(np.mean(list(errors.values()))), float(np.mean(floors))
-    if error - floor <= FLOOR_MARGIN:
+    if not misses_the_floor(error, floor):
         return []
-    return [f"{MODEL_FORM_PREFIX} records: their mean error {100 * error:.3g} % is {100 * (error - floor):.3g} "
+    return [ModelFormReason(f"{MODEL_FORM_PREFIX} records: their mean error {100 * error:.3g} % is {100 * (error - floor):.3g} "
             f"points above the noise floor {100 * floor:.2g} % read off the residual (limit {100 * FLOOR_MARGIN:g} "
-            "points): the residual is systematic, not noise (another element, docs/elements.md)"]
+            "points): the residual is systematic, not noise (another element, docs/elements.md)", "records")]
 
 
 def _fit(family: _Family, records: list[ElementHistory], starts: list[np.ndarray], max_nfev: int,
