@@ -37,8 +37,8 @@ import numpy as np
 
 from idkit.errors import ParameterError
 
-__all__ = ["Spec", "Real", "Whole", "Choice", "Flag", "Samples", "Seed", "accepts", "refuse", "DECLARED",
-           "Contract"]
+__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Samples", "Seed", "accepts", "refuse",
+           "DECLARED", "Contract"]
 
 #: Values that ``float()`` converts but that are not numbers.
 _NOT_NUMBERS = (bool, np.bool_, str, bytes)
@@ -214,10 +214,13 @@ class Choice(Spec):
 
 @dataclass(frozen=True)
 class Flag(Spec):
-    """``True`` or ``False`` (numpy booleans accepted; ``1`` and ``"yes"`` refused)."""
+    """``True`` or ``False`` (numpy booleans accepted; ``1`` and ``"yes"`` refused); ``None``
+    too when ``optional`` (a default decided by the function)."""
+
+    optional: bool = False
 
     def expected(self) -> str:
-        return "True or False"
+        return "True, False or None" if self.optional else "True or False"
 
     def coerce(self, value: Any) -> bool:
         if isinstance(value, (bool, np.bool_)):
@@ -226,6 +229,72 @@ class Flag(Spec):
 
     def bad_values(self) -> list:
         return super().bad_values() + [1, "yes"]
+
+
+@dataclass(frozen=True)
+class Reals(Spec):
+    """Real numbers in ``unit``, each within the bounds of :class:`Real`: a number or an array
+    of any shape (a frequency axis, amplitudes that broadcast with it) with at least
+    ``min_size`` values. Returned as a read-only float64 array (``numpy.asarray`` of the value:
+    the caller's array is never altered)."""
+
+    unit: str = "-"
+    gt: float | None = None
+    ge: float | None = None
+    lt: float | None = None
+    le: float | None = None
+    min_size: int = 1
+    meaning: str = ""
+    optional: bool = False
+
+    def expected(self) -> str:
+        bounds = _bounds(self.gt, self.ge, self.lt, self.le, self.unit)
+        unit = "" if bounds or self.unit in ("", "-") else f" in {self.unit}"
+        text = f"finite real numbers {bounds}".rstrip() + unit
+        return f"{text} ({self.meaning})" if self.meaning else text
+
+    def coerce(self, value: Any) -> np.ndarray:
+        if isinstance(value, (str, bytes, bool, np.bool_)):
+            raise _Refused(_found(value), self.expected())
+        try:
+            array = np.asarray(value)
+        except (TypeError, ValueError):
+            raise _Refused(f"<{type(value).__name__}>", self.expected()) from None
+        if array.dtype.kind not in "iuf":
+            raise _Refused(_shown(value), self.expected())
+        array = array.astype(np.float64, copy=False)
+        if array.size < self.min_size:
+            raise _Refused(f"{array.size} values", self.expected())
+        outside = ~np.isfinite(array)
+        for bound, refused in ((self.gt, np.less_equal), (self.ge, np.less), (self.lt, np.greater_equal),
+                               (self.le, np.greater)):
+            if bound is not None:
+                with np.errstate(invalid="ignore"):
+                    outside |= refused(array, bound)
+        if outside.any():
+            index = tuple(int(i) for i in np.unravel_index(int(np.argmax(outside)), array.shape))
+            where = f" at index {index[0] if len(index) == 1 else index}" if index else ""
+            raise _Refused(f"{float(array[index])!r}{where}", self.expected())
+        view = array.view()
+        view.setflags(write=False)
+        return view
+
+    def bad_values(self) -> list:
+        bad = super().bad_values() + ["abc", [1.0, math.nan], True, [[1.0, math.inf]]]
+        if self.min_size > 0:
+            bad.append(np.zeros(0))
+        low = self.gt if self.gt is not None else self.ge
+        if low is not None:
+            bad.append([low if self.gt is not None else low - max(1.0, abs(low))])
+        high = self.lt if self.lt is not None else self.le
+        if high is not None:
+            bad.append([high if self.lt is not None else high + max(1.0, abs(high))])
+        return bad
+
+
+def _shown(value: Any) -> str:
+    text = repr(value)
+    return text[:80] + ("..." if len(text) > 80 else "")
 
 
 @dataclass(frozen=True)

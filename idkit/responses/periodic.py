@@ -60,11 +60,12 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
+from idkit.checks import Choice, Flag, Real, Reals, Whole, accepts
 from idkit.errors import SimulationError
+from idkit.limits import MIN_TOLERANCE
 from idkit.responses._sensitivity import tangent_start, tangent_step
-from idkit.responses.linear import _numbers, _order
 from idkit.simulate import default_steps_per_period
-from idkit.simulate._arrays import force_scale, resolve_system, system_arrays, whole_number
+from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
 from idkit.simulate._parallel import run_chunked
 from idkit.simulate import _kernel
 from idkit.simulate._kernel import (
@@ -107,11 +108,6 @@ STABILITY_MARGIN = 1e-4
 #: when a few periods do not reach a stable orbit (``_escape``), and the cap on those periods.
 ESCAPE_GROWTH = 1e3
 ESCAPE_MAX_PERIODS = 4000
-#: Smallest closing tolerance: the closing error of an orbit is a difference of states integrated over
-#: a period's steps, whose round-off is about 2e-14 of the state scale at 128 steps (measured) and
-#: grows with the steps; ``tolerance=1e-300`` ran 30 Newton iterations and reported "did not converge"
-#: at 2.1e-14. 1e-12 is also the harmonic simulator's smallest steady-state tolerance.
-MIN_TOLERANCE = 1e-12
 #: Singular values of the scaled ``I - dPhi/dx`` below this are conserved quantities (friction memory).
 NULL_TOLERANCE = 1e-5
 
@@ -259,13 +255,12 @@ class PeriodMap:
         isolator 1 is the one below the top mass.
     """
 
+    @accepts(periods=Whole(ge=1, le=2, meaning="2 for the 1/2 subharmonic"),
+             jacobian=Choice(("auto", "exact", "finite differences")), error=SimulationError)
     def __init__(self, system, periods: int = 1, *, jacobian: str = "auto"):
         self.system = resolve_system(system)
         self.arrays = system_arrays(self.system)
-        if isinstance(periods, (bool, np.bool_)) or not isinstance(periods, (int, np.integer, float, np.floating)) \
-                or periods not in (1, 2):  # 1.5 is refused, never truncated
-            raise SimulationError(f"periods: found {periods!r}, expected 1 or 2 (the 1/2 subharmonic)")
-        self.periods = int(periods)
+        self.periods = periods
         arrays = self.arrays
         ndof = arrays.ndof
         self.ndof = ndof
@@ -280,8 +275,6 @@ class PeriodMap:
         self.size = len(names)
         self._kernel_arrays = arrays.as_tuple()
         self._kernel = period_kernel(structure_of(arrays))
-        if jacobian not in ("auto", "exact", "finite differences"):
-            raise SimulationError(f"jacobian: found {jacobian!r}, expected 'auto', 'exact' or 'finite differences'")
         if jacobian == "exact" and self.boucwen.size:
             raise SimulationError("jacobian: found 'exact' for a system with Bouc-Wen elements, expected "
                                   "'finite differences' (z is not differentiated through its sub-steps)")
@@ -642,9 +635,9 @@ class PeriodicResponse:
     half_range: NDArray[np.float64]
     peak_acceleration: NDArray[np.float64]
 
+    @accepts(order=Real(ge=0, meaning="0, 0.5, 1, ..."), error=SimulationError)
     def harmonic(self, order: float) -> NDArray[np.complex128]:
         """Complex amplitude (m) of the top displacement at ``order`` x f (0, 0.5, 1, 2, ...)."""
-        order = _order(order, f"0, 0.5, 1, ..., {(self.coefficients.shape[1] - 1) // 2}")
         index = int(round(2 * order))
         if not (0 <= index < self.coefficients.shape[1]) or abs(2 * order - index) > 1e-9:
             raise SimulationError(f"order: found {order!r}, expected 0, 0.5, 1, ..., "
@@ -706,6 +699,10 @@ def settle(period_map: PeriodMap, freq, amplitude, steps_per_period, n_periods: 
     return end, flags
 
 
+@accepts(freq=Reals(unit="Hz", gt=0), amplitude=Reals(unit="m", gt=0),
+         initial_states=Reals(unit="state units", optional=True), settle_periods=Whole(ge=0),
+         n_harmonics=Whole(ge=1), tolerance=Real(ge=MIN_TOLERANCE, lt=1, meaning="closing error over the state scale"),
+         max_iterations=Whole(ge=0), seek_stable=Flag(optional=True), error=SimulationError)
 def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods: int = 1, initial_states=None,
                       settle_periods: int = 20, steps_per_period=None, n_harmonics: int = 3,
                       tolerance: float = 1e-9, max_iterations: int = 30,
@@ -734,7 +731,7 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
         Harmonics kept in the coefficients (orders 0, 1/2, ..., K).
     tolerance : float, default 1e-9
         Newton stops when the closing error ``max |Phi(x) - x| / scale`` is below this
-        (:data:`MIN_TOLERANCE` = 1e-12 to below 1).
+        (:data:`idkit.limits.MIN_TOLERANCE` = 1e-12 to below 1).
     max_iterations : int, default 30
     seek_stable : bool, optional
         If an orbit found is unstable with a real multiplier outside the unit circle, push the
@@ -758,22 +755,18 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
     (True, True)
     """
     period_map = PeriodMap(system, periods, jacobian=jacobian)
-    freq = _numbers(freq, "freq", "positive finite frequencies in Hz")
-    amplitude = _numbers(amplitude, "amplitude", "positive finite amplitudes in m")
     try:
         freq, amplitude = np.broadcast_arrays(np.atleast_1d(freq), np.atleast_1d(amplitude))
     except ValueError:
         raise SimulationError(f"freq, amplitude: found shapes {np.shape(freq)} and {np.shape(amplitude)}, "
                               "expected shapes that broadcast together") from None
     freq, amplitude = freq.ravel().copy(), amplitude.ravel().copy()
-    if freq.size == 0:
-        raise SimulationError("freq, amplitude: found no points, expected at least one")
     if initial_states is not None:
         # rows of starting states broadcast with the points: one (freq, amplitude) from several
         # starts (coexisting orbits), or one start for every point
-        guesses = np.atleast_2d(np.asarray(initial_states, dtype=float))
-        rows = guesses.shape[0] if guesses.ndim == 2 else -1
-        if guesses.ndim != 2 or guesses.shape[1] != period_map.size or rows < 1 or not (
+        guesses = np.atleast_2d(initial_states)
+        rows = guesses.shape[0]
+        if guesses.ndim != 2 or guesses.shape[1] != period_map.size or not (
                 rows == freq.size or rows == 1 or freq.size == 1):
             raise SimulationError(
                 f"initial_states: found shape {np.shape(initial_states)} for {freq.size} (freq, amplitude) point(s), "
@@ -783,36 +776,16 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
         count = max(rows, freq.size)
         freq, amplitude = np.resize(freq, count), np.resize(amplitude, count)
         guesses = np.repeat(guesses, count, axis=0) if rows == 1 and count > 1 else guesses
-    if np.any(~np.isfinite(freq)) or np.any(freq <= 0):
-        raise SimulationError(f"freq: found {freq[~(freq > 0) | ~np.isfinite(freq)][:1]}, "
-                              "expected positive finite frequencies in Hz")
-    if np.any(~np.isfinite(amplitude)) or np.any(amplitude <= 0):
-        raise SimulationError(f"amplitude: found {amplitude[~(amplitude > 0) | ~np.isfinite(amplitude)][:1]}, "
-                              "expected positive finite amplitudes in m")
     with np.errstate(over="ignore"):
         base_accel = amplitude * (2 * np.pi * freq) ** 2
     if not np.isfinite(base_accel).all():
         worst = int(np.argmin(np.isfinite(base_accel)))
         raise SimulationError(f"freq, amplitude: found {freq[worst]:g} Hz and {amplitude[worst]:g} m, whose base "
                               f"acceleration A (2 pi f)^2 overflows; expected a finite one")
-    if isinstance(tolerance, (bool, np.bool_)) or not isinstance(tolerance, (int, float, np.integer, np.floating)) \
-            or not (np.isfinite(tolerance) and MIN_TOLERANCE <= tolerance < 1):
-        raise SimulationError(f"tolerance: found {tolerance!r}, expected a closing error (over the state scale) "
-                              f"from {MIN_TOLERANCE:g} (round-off of a period's integration: a smaller one is never "
-                              "met) to below 1")
-    n_harmonics = whole_number(n_harmonics, "n_harmonics", 1)
-    settle_periods = whole_number(settle_periods, "settle_periods", 0)
-    max_iterations = whole_number(max_iterations, "max_iterations", 0)
-    if seek_stable is not None and not isinstance(seek_stable, (bool, np.bool_)):
-        raise SimulationError(f"seek_stable: found {seek_stable!r}, expected True, False or None")
     steps = check_steps_per_period(period_map, freq, steps_per_period, n_harmonics)
     if initial_states is None:
         guesses, flags = settle(period_map, freq, amplitude, steps, settle_periods)
     else:
-        if not np.isfinite(guesses).all():
-            row, column = np.argwhere(~np.isfinite(guesses))[0]
-            raise SimulationError(f"initial_states: found {guesses[row, column]} in row {row}, column "
-                                  f"{period_map.state_names[column]}, expected finite values")
         guesses, flags = settle(period_map, freq, amplitude, steps, settle_periods, guesses)
     return _solve_points(period_map, freq, amplitude, steps, guesses, flags, n_harmonics, tolerance, max_iterations,
                          settle_periods, seek_stable)
