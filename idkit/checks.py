@@ -18,7 +18,7 @@ declares (``DataError`` for signals and records, ``ParameterError`` for model an
 >>> nyquist(fs=True)
 Traceback (most recent call last):
 ...
-idkit.errors.DataError: fs: found True (bool), expected a real number > 0 Hz
+idkit.errors.DataError: fs: found True (bool), expected a finite real number > 0 Hz
 
 Each spec also lists values it must refuse (:meth:`Spec.bad_values`); the test suite feeds them
 to every declared argument of every declared function (:data:`DECLARED`), so a new argument is
@@ -27,6 +27,7 @@ covered by declaring it.
 
 from __future__ import annotations
 
+import argparse
 import functools
 import inspect
 import math
@@ -36,9 +37,10 @@ from typing import Any, Callable
 import numpy as np
 
 from idkit.errors import ParameterError
+from idkit.limits import SMALLEST_NORMAL
 
 __all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Samples", "Seed", "accepts", "refuse",
-           "DECLARED", "Contract"]
+           "DECLARED", "Contract", "OptionValueError"]
 
 #: Values that ``float()`` converts but that are not numbers.
 _NOT_NUMBERS = (bool, np.bool_, str, bytes)
@@ -64,6 +66,11 @@ def _found(value: Any) -> str:
     if isinstance(value, np.ndarray):
         return f"an array of shape {value.shape}"
     return repr(value)
+
+
+class OptionValueError(argparse.ArgumentTypeError, ValueError):
+    """A command-line value refused by :meth:`Spec.parse` (argparse prints its message after
+    ``argument --option:`` and exits with status 2)."""
 
 
 class Spec:
@@ -92,15 +99,18 @@ class Spec:
             raise error(f"{name}: found {refusal.found}, expected {refusal.expected}") from None
 
     def parse(self, text: str) -> Any:
-        """An argparse ``type=``: ``text`` read as a number and checked (``ValueError`` on refusal)."""
+        """An argparse ``type=``: ``text`` read as a number and checked (:class:`OptionValueError`,
+        a ``ValueError``, on refusal). A whole number's digits are read exactly (``int`` first)."""
         try:
-            number = float(text)
+            number = int(text, 10) if isinstance(self, Whole) and text.strip().lstrip("+-").isdigit() \
+                else float(text)
         except ValueError:
-            raise ValueError(f"found {text!r}, expected {self.expected()}") from None
+            raise OptionValueError(f"found {text!r}, expected {self.expected()}") from None
         try:
-            return self.coerce(int(number) if isinstance(self, Whole) and number.is_integer() else number)
+            return self.coerce(int(number) if isinstance(self, Whole) and isinstance(number, float)
+                               and number.is_integer() else number)
         except _Refused as refusal:
-            raise ValueError(f"found {text!r}, expected {refusal.expected}") from None
+            raise OptionValueError(f"found {text!r}, expected {refusal.expected}") from None
 
 
 def _bounds(gt, ge, lt, le, unit: str) -> str:
@@ -138,18 +148,21 @@ class Real(Spec):
     def expected(self) -> str:
         bounds = _bounds(self.gt, self.ge, self.lt, self.le, self.unit)
         unit = "" if bounds or self.unit in ("", "-") else f" in {self.unit}"
-        text = f"a real number {bounds}".rstrip() + unit
+        text = f"a finite real number {bounds}".rstrip() + unit
         return f"{text} ({self.meaning})" if self.meaning else text
 
     def coerce(self, value: Any) -> float:
         number = _number(value, self.expected())
+        if number != 0 and abs(number) < SMALLEST_NORMAL:  # fewer significant bits; ratios overflow
+            raise _Refused(f"{number!r}", f"{self.expected()}, of magnitude 0 or >= {SMALLEST_NORMAL:.4g} (a "
+                           "subnormal float64 has fewer than 53 significant bits)")
         if ((self.gt is not None and not number > self.gt) or (self.ge is not None and not number >= self.ge)
                 or (self.lt is not None and not number < self.lt) or (self.le is not None and not number <= self.le)):
             raise _Refused(f"{number:g}", self.expected())
         return number
 
     def bad_values(self) -> list:
-        bad = super().bad_values() + [math.nan, math.inf, True, "abc"]
+        bad = super().bad_values() + [math.nan, math.inf, True, "abc", 5e-310]
         low = self.gt if self.gt is not None else self.ge
         high = self.lt if self.lt is not None else self.le
         if low is not None:
@@ -169,7 +182,9 @@ class Whole(Spec):
     optional: bool = False
 
     def expected(self) -> str:
-        text = f"a whole number {_bounds(None, self.ge, None, self.le, '')}".rstrip()
+        bounds = (f"from {self.ge} to {self.le}" if self.ge is not None and self.le is not None
+                  else _bounds(None, self.ge, None, self.le, ""))
+        text = f"a whole number {bounds}".rstrip()
         return f"{text} ({self.meaning})" if self.meaning else text
 
     def coerce(self, value: Any) -> int:

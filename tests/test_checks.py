@@ -36,7 +36,7 @@ def test_every_declared_argument_refuses_its_bad_values_naming_itself(contract, 
 def test_real_coerces_and_states_its_bounds_in_one_template():
     spec = Real(unit="Hz", gt=0, le=100)
     assert spec.check(np.float32(2.5), "freq") == 2.5 and type(spec.check(3, "freq")) is float
-    with pytest.raises(ParameterError, match=r"^freq: found 0, expected a real number > 0 and <= 100 Hz$"):
+    with pytest.raises(ParameterError, match=r"^freq: found 0, expected a finite real number > 0 and <= 100 Hz$"):
         spec.check(0, "freq")
     with pytest.raises(ParameterError, match=r"^freq: found nan, expected"):
         spec.check(math.nan, "freq")
