@@ -39,7 +39,7 @@ import numpy as np
 from idkit.errors import ParameterError
 from idkit.limits import SMALLEST_NORMAL
 
-__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Samples", "Seed", "accepts", "refuse",
+__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Samples", "Seed", "Instance", "accepts", "refuse",
            "DECLARED", "Contract", "OptionValueError"]
 
 #: Values that ``float()`` converts but that are not numbers.
@@ -219,12 +219,14 @@ class Choice(Spec):
         return "one of " + ", ".join(repr(option) for option in self.options)
 
     def coerce(self, value: Any) -> Any:
-        if isinstance(value, (str, bool, int, float, type(None))) and value in self.options:
-            return value
+        if isinstance(value, (str, bool, int, float, type(None))) and value in self.options \
+                and (not isinstance(value, bool) or any(option is value for option in self.options)):
+            return value  # True == 1, but True is not the option 1
         raise _Refused(_found(value), self.expected())
 
     def bad_values(self) -> list:
-        return super().bad_values() + ["no-such-option", 3.5]
+        bad = super().bad_values() + ["no-such-option", 3.5]
+        return bad + [True] if not any(isinstance(option, bool) for option in self.options) else bad
 
 
 @dataclass(frozen=True)
@@ -249,9 +251,9 @@ class Flag(Spec):
 @dataclass(frozen=True)
 class Reals(Spec):
     """Real numbers in ``unit``, each within the bounds of :class:`Real`: a number or an array
-    of any shape (a frequency axis, amplitudes that broadcast with it) with at least
-    ``min_size`` values. Returned as a read-only float64 array (``numpy.asarray`` of the value:
-    the caller's array is never altered)."""
+    of any shape (amplitudes that broadcast with frequencies) with at least ``min_size`` values;
+    with ``increasing``, an axis: one number or a 1-D array, strictly increasing. Returned as a
+    read-only float64 array (``numpy.asarray`` of the value: the caller's array is never altered)."""
 
     unit: str = "-"
     gt: float | None = None
@@ -259,13 +261,19 @@ class Reals(Spec):
     lt: float | None = None
     le: float | None = None
     min_size: int = 1
+    max_size: int | None = None
+    increasing: bool = False
     meaning: str = ""
     optional: bool = False
 
     def expected(self) -> str:
         bounds = _bounds(self.gt, self.ge, self.lt, self.le, self.unit)
         unit = "" if bounds or self.unit in ("", "-") else f" in {self.unit}"
-        text = f"finite real numbers {bounds}".rstrip() + unit
+        kind = "a strictly increasing 1-D axis of finite real numbers" if self.increasing else "finite real numbers"
+        if self.max_size is not None:
+            count = f"{self.min_size}" if self.min_size == self.max_size else f"{self.min_size} to {self.max_size}"
+            kind = f"{kind} ({count} values)"
+        text = f"{kind} {bounds}".rstrip() + unit
         return f"{text} ({self.meaning})" if self.meaning else text
 
     def coerce(self, value: Any) -> np.ndarray:
@@ -278,7 +286,7 @@ class Reals(Spec):
         if array.dtype.kind not in "iuf":
             raise _Refused(_shown(value), self.expected())
         array = array.astype(np.float64, copy=False)
-        if array.size < self.min_size:
+        if array.size < self.min_size or (self.max_size is not None and array.size > self.max_size):
             raise _Refused(f"{array.size} values", self.expected())
         outside = ~np.isfinite(array)
         for bound, refused in ((self.gt, np.less_equal), (self.ge, np.less), (self.lt, np.greater_equal),
@@ -290,14 +298,27 @@ class Reals(Spec):
             index = tuple(int(i) for i in np.unravel_index(int(np.argmax(outside)), array.shape))
             where = f" at index {index[0] if len(index) == 1 else index}" if index else ""
             raise _Refused(f"{float(array[index])!r}{where}", self.expected())
+        if self.increasing:
+            if array.ndim > 1:
+                raise _Refused(f"an array of shape {array.shape}", self.expected())
+            steps = np.flatnonzero(np.diff(array) <= 0) if array.ndim else np.zeros(0, dtype=int)
+            if steps.size:
+                raise _Refused(f"{float(array[steps[0] + 1])!r} at index {steps[0] + 1} not above its predecessor",
+                               self.expected())
         view = array.view()
         view.setflags(write=False)
         return view
 
     def bad_values(self) -> list:
         bad = super().bad_values() + ["abc", [1.0, math.nan], True, [[1.0, math.inf]]]
+        if self.increasing:
+            inside = (self.gt if self.gt is not None else self.ge if self.ge is not None else 0.0) + 1.0
+            bad += [[inside, inside], [[inside], [inside + 1.0]]]
         if self.min_size > 0:
             bad.append(np.zeros(0))
+        if self.max_size is not None:
+            start = (self.gt if self.gt is not None else self.ge if self.ge is not None else 0.0) + 1.0
+            bad.append(start + np.arange(self.max_size + 1.0))
         low = self.gt if self.gt is not None else self.ge
         if low is not None:
             bad.append([low if self.gt is not None else low - max(1.0, abs(low))])
@@ -375,6 +396,27 @@ class Seed(Spec):
 
     def bad_values(self) -> list:
         return super().bad_values() + [-1, 2**32, 1.5, True, "1"]
+
+
+@dataclass(frozen=True)
+class Instance(Spec):
+    """An object of one of ``types`` (a system, a model, a result); ``what`` names them in the
+    message (default: the class names). Found values are named by their type."""
+
+    types: tuple = ()
+    what: str = ""
+    optional: bool = False
+
+    def expected(self) -> str:
+        return self.what or " or ".join(kind.__name__ for kind in self.types)
+
+    def coerce(self, value: Any) -> Any:
+        if isinstance(value, self.types):
+            return value
+        raise _Refused(type(value).__name__, self.expected())
+
+    def bad_values(self) -> list:
+        return super().bad_values() + ["abc", 3.0]
 
 
 @dataclass(frozen=True)

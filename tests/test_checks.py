@@ -50,7 +50,7 @@ def test_whole_never_truncates_and_reads_exponent_notation():
         with pytest.raises(ParameterError, match="^count: found"):
             spec.check(bad, "count")
     assert spec.parse("1e6") == 10**6
-    with pytest.raises(ValueError, match="expected a whole number >= 1"):
+    with pytest.raises(ValueError, match="expected a whole number from 1 to 1000000"):
         spec.parse("2.5")
 
 

@@ -582,8 +582,27 @@ def orbit_harmonics(period_map: PeriodMap, freq, amplitude, states, steps_per_pe
     return coefficients, deflection, half_range, peak, flags
 
 
+class HarmonicAccessors:
+    """``harmonic`` and ``hosidf`` of a result of orbits (:class:`PeriodicResponse`, a
+    continuation :class:`~idkit.responses.continuation.Branch`) holding ``coefficients`` of the
+    top displacement at orders 0, 1/2, ..., K, one row a point, and the base ``amplitude`` (m)."""
+
+    @accepts(order=Real(ge=0, meaning="0, 0.5, 1, ..."), error=SimulationError)
+    def harmonic(self, order: float) -> NDArray[np.complex128]:
+        """Complex amplitude (m) of the top displacement at ``order`` x f (0, 0.5, 1, 2, ...)."""
+        index = int(round(2 * order))
+        if not (0 <= index < self.coefficients.shape[1]) or abs(2 * order - index) > 1e-9:
+            raise SimulationError(f"order: found {order!r}, expected 0, 0.5, 1, ..., "
+                                  f"{(self.coefficients.shape[1] - 1) // 2}")
+        return self.coefficients[:, index]
+
+    def hosidf(self, order: float) -> NDArray[np.complex128]:
+        """``k X_k / X_b1`` (dimensionless), as :meth:`idkit.simulate.HarmonicResponse.hosidf`."""
+        return order * self.harmonic(order) / (-1j * self.amplitude)
+
+
 @dataclass(frozen=True)
-class PeriodicResponse:
+class PeriodicResponse(HarmonicAccessors):
     """Periodic steady states found by shooting, one per (frequency, amplitude) point.
 
     The base moves as ``x_b = A sin(2 pi f t)``. Coefficients follow
@@ -634,19 +653,6 @@ class PeriodicResponse:
     deflection_coefficients: NDArray[np.complex128]
     half_range: NDArray[np.float64]
     peak_acceleration: NDArray[np.float64]
-
-    @accepts(order=Real(ge=0, meaning="0, 0.5, 1, ..."), error=SimulationError)
-    def harmonic(self, order: float) -> NDArray[np.complex128]:
-        """Complex amplitude (m) of the top displacement at ``order`` x f (0, 0.5, 1, 2, ...)."""
-        index = int(round(2 * order))
-        if not (0 <= index < self.coefficients.shape[1]) or abs(2 * order - index) > 1e-9:
-            raise SimulationError(f"order: found {order!r}, expected 0, 0.5, 1, ..., "
-                                  f"{(self.coefficients.shape[1] - 1) // 2}")
-        return self.coefficients[:, index]
-
-    def hosidf(self, order: float) -> NDArray[np.complex128]:
-        """``k X_k / X_b1`` (dimensionless), as :meth:`idkit.simulate.HarmonicResponse.hosidf`."""
-        return order * self.harmonic(order) / (-1j * self.amplitude)
 
     @property
     def max_multiplier(self) -> NDArray[np.float64]:

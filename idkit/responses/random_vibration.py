@@ -60,6 +60,7 @@ from numpy.typing import ArrayLike, NDArray
 from idkit.checks import Choice, Real, Reals, Whole, accepts
 from idkit.errors import SimulationError
 from idkit.limits import MAX_SAMPLES
+from idkit.responses.linear import LINEAR_SYSTEM
 from idkit.models import HybridSystem, SDOFSystem
 from idkit.models.laws import hybrid_displacements, sdof_transmissibility
 from idkit.models.iwan_modulated import lowest_slip_scale
@@ -117,10 +118,9 @@ def flat_input_psds(levels: ArrayLike = FLAT_LEVELS, *, f_lo: float = 0.1,
     return {float(level): PsdProfile.flat(float(level), f_lo=f_lo, f_hi=f_hi) for level in np.ravel(levels)}
 
 
+@accepts(system=LINEAR_SYSTEM, error=SimulationError)
 def is_linear_system(system) -> bool:
     """True when every isolator is linear (no Jenkin/Bouc-Wen part, no ``g2``/``g3``)."""
-    if not isinstance(system, (SDOFSystem, HybridSystem)):
-        raise SimulationError(f"system: found {type(system).__name__}, expected SDOFSystem or HybridSystem")
     for isolator in system.isolators:
         arrays = isolator.kernel_arrays()
         if arrays.poly[1] != 0 or arrays.poly[2] != 0 or arrays.jenkin_stiffness.size or arrays.boucwen[0] != 0:
@@ -604,7 +604,7 @@ def _linear_start(system, signals: NDArray[np.float64], rate: float) -> dict[str
     }
 
 
-@accepts(n_realizations=Whole(ge=1), fs=Real(unit="Hz", gt=0), freq_step=Real(unit="Hz", gt=0),
+@accepts(system=LINEAR_SYSTEM, n_realizations=Whole(ge=1), fs=Real(unit="Hz", gt=0), freq_step=Real(unit="Hz", gt=0),
          oversample=Whole(ge=1), settle_records=Real(ge=0, meaning="records"),
          nperseg=Whole(ge=8, optional=True, meaning="samples at fs"), method=Choice(("time", "frequency", "auto")),
          start=Choice(("rest", "linear")), settle_until=Real(gt=0, optional=True, meaning="a settling error"),
@@ -690,8 +690,6 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
     >>> result.is_linear, round(result.input_rms, 2)
     (True, 0.1)
     """
-    if not isinstance(system, (SDOFSystem, HybridSystem)):
-        raise SimulationError(f"system: found {type(system).__name__}, expected SDOFSystem or HybridSystem")
     samples = n_realizations * fs * oversample / freq_step
     if samples > MAX_SAMPLES:
         raise SimulationError(f"n_realizations, fs, oversample, freq_step: found {n_realizations:.4g} x {fs:g} Hz x "
