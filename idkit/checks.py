@@ -174,17 +174,19 @@ class Real(Spec):
 
 @dataclass(frozen=True)
 class Whole(Spec):
-    """A whole number (``2.5`` refused, never truncated; ``1e3`` read as 1000) within ``[ge, le]``."""
+    """A whole number (``2.5`` refused, never truncated; ``1e3`` read as 1000) within ``[ge, le]``,
+    even if ``even``."""
 
     ge: int | None = None
     le: int | None = None
+    even: bool = False
     meaning: str = ""
     optional: bool = False
 
     def expected(self) -> str:
         bounds = (f"from {self.ge} to {self.le}" if self.ge is not None and self.le is not None
                   else _bounds(None, self.ge, None, self.le, ""))
-        text = f"a whole number {bounds}".rstrip()
+        text = f"{'an even' if self.even else 'a'} whole number {bounds}".rstrip()
         return f"{text} ({self.meaning})" if self.meaning else text
 
     def coerce(self, value: Any) -> int:
@@ -195,7 +197,8 @@ class Whole(Spec):
             if not real.is_integer():
                 raise _Refused(_found(value), self.expected())
             number = int(real)
-        if (self.ge is not None and number < self.ge) or (self.le is not None and number > self.le):
+        if (self.ge is not None and number < self.ge) or (self.le is not None and number > self.le) \
+                or (self.even and number % 2):
             raise _Refused(repr(number), self.expected())
         return number
 
@@ -205,6 +208,8 @@ class Whole(Spec):
             bad.append(self.ge - 1)
         if self.le is not None:
             bad.append(self.le + 1)
+        if self.even:
+            bad.append((self.ge if self.ge is not None else 0) // 2 * 2 + 3)
         return bad
 
 
