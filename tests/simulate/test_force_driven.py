@@ -141,22 +141,6 @@ def test_runaway_is_reported_not_returned_as_numbers():
     assert np.isnan(response.displacement[-1])
 
 
-@pytest.mark.parametrize("kwargs, word", [
-    ({"force": np.ones(3)}, "force"),
-    ({"force": np.array([1.0, np.nan, 0.0, 1.0])}, "non-finite"),
-    ({"force": np.ones(10), "sample_rate_hz": -1.0}, "sample_rate_hz"),
-    ({"force": np.ones(10), "interpolation": "spline"}, "interpolation"),
-    ({"force": np.ones(10), "substeps": 0}, "substeps"),
-])
-def test_bad_input_is_named(kwargs, word):
-    arguments = {"sample_rate_hz": RATE_HZ} | kwargs
-    with pytest.raises(SimulationError, match=word):
-        ForceInput.from_samples(arguments.pop("force"), arguments.pop("sample_rate_hz"), **arguments)
-    model, _ = benchmark_truth()
-    with pytest.raises(ParameterError, match="mass_kg"):
-        simulate_force_driven(model, 0.0, np.ones(10), RATE_HZ)
-
-
 def _benchmark():
     folder = realdata_dir("boucwen_benchmark")
     if folder is None:
