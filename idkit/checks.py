@@ -39,7 +39,7 @@ import numpy as np
 from idkit.errors import ParameterError
 from idkit.limits import SMALLEST_NORMAL
 
-__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Samples", "Seed", "Instance", "accepts", "refuse",
+__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Samples", "Seed", "Instance", "accepts", "unchecked", "refuse",
            "DECLARED", "Contract", "OptionValueError"]
 
 #: Values that ``float()`` converts but that are not numbers.
@@ -472,3 +472,10 @@ def accepts(*, error: type[Exception] = ParameterError, **specs: Spec) -> Callab
         return checked
 
     return decorate
+
+
+def unchecked(function: Callable) -> Callable:
+    """The body of a function declared with :func:`accepts`, without its checks: for a public
+    function that has checked the same arguments itself and calls another (inner layers trust
+    the boundary)."""
+    return function.__wrapped__
