@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import integrate
 from scipy import signal as sps
 
-from idkit.checks import Real, Samples, Seed, Whole, accepts
+from idkit.checks import Real, Reals, Samples, Seed, Whole, accepts
 from idkit.errors import DataError
 
 __all__ = [
@@ -332,21 +332,18 @@ def welch_psd(
     )
 
 
-def _check_spectrum(freq: ArrayLike, psd: ArrayLike) -> tuple[NDArray, NDArray]:
-    f = np.asarray(freq, dtype=float)
-    s = np.asarray(psd, dtype=float)
-    if f.ndim != 1 or s.shape != f.shape or f.size < 2:
-        raise DataError(
-            f"freq and psd must be 1-D of equal length >= 2; found {f.shape} and {s.shape}"
-        )
-    if not np.all(np.diff(f) > 0):
-        raise DataError("freq must be strictly increasing (Hz)")
-    if not np.all(np.isfinite(s) & (s >= 0)):
-        bad = s[~(np.isfinite(s) & (s >= 0))][0]
-        raise DataError(f"psd: found {bad!r}, expected finite levels >= 0 (a power spectral density)")
+#: The contract of a one-sided spectrum: frequencies (Hz) and levels (unit^2/Hz) of one length.
+_SPECTRUM = dict(freq=Reals(unit="Hz", min_size=2, increasing=True),
+                 psd=Reals(unit="unit^2/Hz", ge=0, meaning="a power spectral density"), error=DataError)
+
+
+def _paired(f: NDArray, s: NDArray) -> tuple[NDArray, NDArray]:
+    if s.shape != f.shape:
+        raise DataError(f"freq, psd: found shapes {f.shape} and {s.shape}, expected one length")
     return f, s
 
 
+@accepts(**_SPECTRUM)
 def rms_from_psd(freq: ArrayLike, psd: ArrayLike) -> float:
     """RMS from a one-sided PSD by the trapezoidal rule, ``sqrt(int S df)``.
 
@@ -367,10 +364,11 @@ def rms_from_psd(freq: ArrayLike, psd: ArrayLike) -> float:
     >>> round(rms_from_psd([0.0, 100.0], [1e-2, 1e-2]), 6)
     1.0
     """
-    f, s = _check_spectrum(freq, psd)
+    f, s = _paired(freq, psd)
     return float(np.sqrt(integrate.trapezoid(s, f)))
 
 
+@accepts(**_SPECTRUM)
 def cumulative_rms(freq: ArrayLike, psd: ArrayLike) -> NDArray[np.float64]:
     """Cumulative RMS ``sqrt(int_{f_0}^{f} S df)`` at every frequency (trapezoidal rule).
 
@@ -386,7 +384,7 @@ def cumulative_rms(freq: ArrayLike, psd: ArrayLike) -> NDArray[np.float64]:
     ndarray, shape (n,)
         Cumulative RMS (unit of the signal), 0 at ``freq[0]``, :func:`rms_from_psd` at the end.
     """
-    f, s = _check_spectrum(freq, psd)
+    f, s = _paired(freq, psd)
     return np.sqrt(integrate.cumulative_trapezoid(s, f, initial=0.0))
 
 
