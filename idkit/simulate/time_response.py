@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from idkit.checks import Real, Reals, Samples, Whole, accepts
+from idkit.checks import Instance, Real, Reals, Samples, Whole, accepts
 from idkit.errors import SimulationError
 from idkit.limits import MAX_STEPS
 from idkit.models.laws import kernel_array
@@ -255,6 +255,8 @@ def initial_states(system, deflections):
 
 @accepts(time=Samples(unit="s", min_size=2), base_acceleration=Samples(unit="m/s^2", ndim=(1, 2), optional=True),
          initial_velocity=Reals(unit="m/s", optional=True), initial_deflection=Reals(unit="m", optional=True),
+         initial_state=Instance((TimeState,), optional=True, what="a TimeState (the final_state of an earlier "
+                                                                   "response)"),
          record_every=Whole(ge=1), error=SimulationError)
 def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=None,
              initial_velocity=None, initial_deflection=None, initial_state: TimeState | None = None,
@@ -440,9 +442,6 @@ def _unchanged_runs(state: TimeState) -> np.ndarray:
 
 def _check_state(state: TimeState, arrays) -> None:
     """``state`` fits the system (``arrays``): shapes, one batch size, finite values."""
-    if not isinstance(state, TimeState):
-        raise SimulationError(f"initial_state: found {type(state).__name__}, expected a TimeState "
-                              "(the final_state of an earlier response)")
     ndof = arrays.ndof
     batch = len(state)
     expected = {"displacement": (batch, ndof), "velocity": (batch, ndof),
