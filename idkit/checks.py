@@ -120,15 +120,16 @@ def _bounds(gt, ge, lt, le, unit: str) -> str:
     return f"{text} {unit}".rstrip() if unit not in ("", "-") else text
 
 
-def _number(value: Any, expected: str) -> float:
+def _number(value: Any, spec: Spec) -> float:
+    """``value`` as a finite float; the expectation is spelled out only on refusal."""
     if isinstance(value, _NOT_NUMBERS):  # float() would take True as 1 and "8" as 8
-        raise _Refused(_found(value), expected)
+        raise _Refused(_found(value), spec.expected())
     try:
         number = float(value)
     except (TypeError, ValueError):
-        raise _Refused(_found(value), expected) from None
+        raise _Refused(_found(value), spec.expected()) from None
     if not math.isfinite(number):
-        raise _Refused(repr(number), expected)
+        raise _Refused(repr(number), spec.expected())
     return number
 
 
@@ -152,7 +153,7 @@ class Real(Spec):
         return f"{text} ({self.meaning})" if self.meaning else text
 
     def coerce(self, value: Any) -> float:
-        number = _number(value, self.expected())
+        number = _number(value, self)
         if number != 0 and abs(number) < SMALLEST_NORMAL:  # fewer significant bits; ratios overflow
             raise _Refused(f"{number!r}", f"{self.expected()}, of magnitude 0 or >= {SMALLEST_NORMAL:.4g} (a "
                            "subnormal float64 has fewer than 53 significant bits)")
@@ -193,7 +194,7 @@ class Whole(Spec):
         if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)):
             number = int(value)
         else:
-            real = _number(value, self.expected())
+            real = _number(value, self)
             if not real.is_integer():
                 raise _Refused(_found(value), self.expected())
             number = int(real)
@@ -457,14 +458,21 @@ def accepts(*, error: type[Exception] = ParameterError, **specs: Spec) -> Callab
         if unknown:
             raise TypeError(f"accepts: {function.__qualname__} has no argument {sorted(unknown)}")
 
+        positional = [parameter.name for parameter in signature.parameters.values()
+                      if parameter.kind in (parameter.POSITIONAL_ONLY, parameter.POSITIONAL_OR_KEYWORD)]
+        checks = [(name, spec, positional.index(name) if name in positional else None) for name, spec in specs.items()]
+        first = min((index for _, _, index in checks if index is not None), default=len(positional))
+
         @functools.wraps(function)
         def checked(*args, **kwargs):
-            bound = signature.bind_partial(*args, **kwargs)
-            given = bound.arguments
-            for name, spec in specs.items():
-                if name in given:
-                    given[name] = spec.check(given[name], name, error)
-            return function(*bound.args, **bound.kwargs)
+            if len(args) > first:  # a declared argument given by position
+                args = list(args)
+            for name, spec, index in checks:
+                if index is not None and index < len(args):
+                    args[index] = spec.check(args[index], name, error)
+                elif name in kwargs:
+                    kwargs[name] = spec.check(kwargs[name], name, error)
+            return function(*args, **kwargs)
 
         contract = Contract(checked, dict(specs), error)
         checked.contract = contract
