@@ -35,6 +35,11 @@ __all__ = [
 _DB_PER_OCTAVE_PER_EXPONENT = 10.0 * np.log10(2.0)  # 3.0103 dB/octave for S ~ f^1
 
 
+#: Breakpoints and levels of a :class:`PsdProfile`.
+_BREAKPOINTS = Reals(unit="Hz", gt=0, min_size=2, increasing=True)
+_LEVELS = Reals(unit="(m/s^2)^2/Hz", gt=0, min_size=2, meaning="positive: log-log interpolation")
+
+
 @dataclass(frozen=True)
 class PsdProfile:
     """A one-sided PSD given by breakpoints, log-log interpolated between them.
@@ -63,21 +68,12 @@ class PsdProfile:
     level: NDArray[np.float64]
 
     def __post_init__(self) -> None:
-        freq = np.asarray(self.freq, dtype=float)
-        level = np.asarray(self.level, dtype=float)
-        if freq.ndim != 1 or freq.shape != level.shape or freq.size < 2:
-            raise DataError(
-                f"freq and level must be 1-D of equal length >= 2; found {freq.shape} and "
-                f"{level.shape}"
-            )
-        if not (np.all(np.isfinite(freq)) and np.all(freq > 0) and np.all(np.diff(freq) > 0)):
-            raise DataError(f"freq must be positive and strictly increasing in Hz; found {freq}")
-        if not (np.all(np.isfinite(level)) and np.all(level > 0)):
-            raise DataError(
-                f"level must be positive (m/s^2)^2/Hz (log-log interpolation); found {level}"
-            )
-        object.__setattr__(self, "freq", freq)
-        object.__setattr__(self, "level", level)
+        freq = _BREAKPOINTS.check(self.freq, "freq", DataError)
+        level = _LEVELS.check(self.level, "level", DataError)
+        if freq.shape != level.shape:
+            raise DataError(f"freq, level: found shapes {freq.shape} and {level.shape}, expected one length")
+        object.__setattr__(self, "freq", np.array(freq))
+        object.__setattr__(self, "level", np.array(level))
 
     @classmethod
     def flat(cls, level: float, *, f_lo: float, f_hi: float) -> PsdProfile:
@@ -86,6 +82,8 @@ class PsdProfile:
         return cls(np.array([f_lo, f_hi], dtype=float), np.array([level, level], dtype=float))
 
     @classmethod
+    @accepts(freq=Reals(unit="Hz", gt=0), start_level=Real(unit="(m/s^2)^2/Hz", gt=0),
+             slopes_db_per_octave=Reals(unit="dB/octave", min_size=0), error=DataError)
     def from_slopes(
         cls, freq: ArrayLike, *, start_level: float, slopes_db_per_octave: ArrayLike
     ) -> PsdProfile:
@@ -107,15 +105,12 @@ class PsdProfile:
         >>> round(float(profile.level[1]), 6)
         0.002
         """
-        freq = np.asarray(freq, dtype=float)
-        slopes = np.asarray(slopes_db_per_octave, dtype=float)
+        slopes = slopes_db_per_octave
         if slopes.shape != (freq.size - 1,):
             raise DataError(
                 f"slopes_db_per_octave has shape {slopes.shape}; expected ({freq.size - 1},), "
                 "one per segment"
             )
-        if not np.all(freq > 0):
-            raise DataError(f"freq must be positive Hz; found {freq}")
         octaves = np.log2(freq[1:] / freq[:-1])
         gains_db = np.concatenate([[0.0], np.cumsum(slopes * octaves)])
         return cls(freq, start_level * 10.0 ** (gains_db / 10.0))
