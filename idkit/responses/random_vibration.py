@@ -92,10 +92,10 @@ WELCH_OVERLAP = 2.0 / 3.0
 FLAT_LEVELS = (1e-8, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2)
 """Flat floor-acceleration levels of SPEC 5 / thesis ch. 8, (m/s^2)^2/Hz over 0.1-100 Hz."""
 
-#: Highest frequency (Hz) of a flat input PSD: the Nyquist frequency ``1 / (2 x 1e-9 s)`` of the
-#: smallest time step idkit integrates with (``idkit.cli.options.MIN_TIME_STEP``); a floor band
-#: above it can be neither synthesized nor simulated (``f_hi=1e300`` was accepted).
-MAX_PSD_FREQ = 5e8
+#: Highest frequency (Hz) of a flat input PSD: the Nyquist frequency of the smallest time step
+#: idkit integrates with (:data:`idkit.limits.MIN_TIME_STEP`); a floor band above it can be
+#: neither synthesized nor simulated.
+MAX_PSD_FREQ = 5e8  # 0.5 / MIN_TIME_STEP, written exactly
 
 
 @accepts(levels=Reals(unit="(m/s^2)^2/Hz", ge=0), f_lo=Real(unit="Hz", gt=0, le=MAX_PSD_FREQ),
