@@ -8,11 +8,9 @@ from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline
 
 from idkit.datasets import read_boucwen_benchmark, realdata_dir
-from idkit.errors import ParameterError, SimulationError
 from idkit.models import BoucWenModel, SDOFSystem
 from idkit.simulate import (
     BaseMotion,
-    ForceInput,
     benchmark_truth,
     simulate,
     simulate_force_driven,
