@@ -257,6 +257,9 @@ class RandomResponse:
         return text
 
 
+@accepts(system=LINEAR_SYSTEM, freq_step=Real(unit="Hz", gt=0), time_constants=Real(gt=0),
+         freq_range=Reals(unit="Hz", gt=0, min_size=2, max_size=2, increasing=True),
+         max_records=Real(gt=0, meaning="records"), error=SimulationError)
 def settle_records_for(system, *, freq_step: float = 0.05, time_constants: float = 5.0,
                        freq_range: tuple[float, float] = (1.0, 20.0), max_records: float = 1.0) -> float:
     """Settling for :func:`random_response`: a few small-amplitude time constants, in records.

@@ -540,6 +540,7 @@ def fit_shift_polynomial(temperature_k, log_a_t, *, reference_temperature_k: flo
                        float(np.sqrt(np.mean(r ** 2))), float(np.max(np.abs(r))))
 
 
+@accepts(tolerance_decades=Real(gt=0), temperature_tol_k=Real(unit="K", gt=0), error=DataError)
 def compare_shift_factors(given_temperature_k, given_log_a_t, estimate: ShiftFactorEstimate, *,
                           tolerance_decades: float = CHECK_TOLERANCE_DECADES,
                           temperature_tol_k: float = 1.0) -> ShiftFactorCheck:

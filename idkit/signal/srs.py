@@ -78,6 +78,7 @@ _SPECTRUM_ARGUMENTS = dict(acceleration=Samples(min_size=2), fs=Real(unit="Hz", 
                            error=DataError)
 
 
+@accepts(freq=Reals(unit="Hz", gt=0), fs=Real(unit="Hz", gt=0), damping_ratio=Real(ge=0, lt=1), error=DataError)
 def smallwood_coefficients(
     freq: ArrayLike, *, fs: float, damping_ratio: float = 0.05
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -150,6 +151,7 @@ def _ramp_invariant_modes(fn: NDArray[np.float64], fs: float, damping_ratio: flo
     return pole, period * phi2, period * (phi1 - phi2), omega * root
 
 
+@accepts(freq=Reals(unit="Hz", gt=0), fs=Real(unit="Hz", gt=0), damping_ratio=Real(ge=0, lt=1), error=DataError)
 def relative_displacement_coefficients(
     freq: ArrayLike, *, fs: float, damping_ratio: float = 0.05
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
