@@ -18,7 +18,7 @@ declares (``DataError`` for signals and records, ``ParameterError`` for model an
 >>> nyquist(fs=True)
 Traceback (most recent call last):
 ...
-idkit.errors.DataError: fs: found True (bool), expected a real number > 0 Hz
+idkit.errors.DataError: fs: found True (bool), expected a finite real number > 0 Hz
 
 Each spec also lists values it must refuse (:meth:`Spec.bad_values`); the test suite feeds them
 to every declared argument of every declared function (:data:`DECLARED`), so a new argument is
@@ -27,6 +27,7 @@ covered by declaring it.
 
 from __future__ import annotations
 
+import argparse
 import functools
 import inspect
 import math
@@ -36,9 +37,10 @@ from typing import Any, Callable
 import numpy as np
 
 from idkit.errors import ParameterError
+from idkit.limits import SMALLEST_NORMAL
 
-__all__ = ["Spec", "Real", "Whole", "Choice", "Flag", "Samples", "Seed", "accepts", "refuse", "DECLARED",
-           "Contract"]
+__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Samples", "Seed", "Instance", "accepts", "unchecked", "refuse",
+           "DECLARED", "Contract", "OptionValueError"]
 
 #: Values that ``float()`` converts but that are not numbers.
 _NOT_NUMBERS = (bool, np.bool_, str, bytes)
@@ -64,6 +66,11 @@ def _found(value: Any) -> str:
     if isinstance(value, np.ndarray):
         return f"an array of shape {value.shape}"
     return repr(value)
+
+
+class OptionValueError(argparse.ArgumentTypeError, ValueError):
+    """A command-line value refused by :meth:`Spec.parse` (argparse prints its message after
+    ``argument --option:`` and exits with status 2)."""
 
 
 class Spec:
@@ -92,15 +99,18 @@ class Spec:
             raise error(f"{name}: found {refusal.found}, expected {refusal.expected}") from None
 
     def parse(self, text: str) -> Any:
-        """An argparse ``type=``: ``text`` read as a number and checked (``ValueError`` on refusal)."""
+        """An argparse ``type=``: ``text`` read as a number and checked (:class:`OptionValueError`,
+        a ``ValueError``, on refusal). A whole number's digits are read exactly (``int`` first)."""
         try:
-            number = float(text)
+            number = int(text, 10) if isinstance(self, Whole) and text.strip().lstrip("+-").isdigit() \
+                else float(text)
         except ValueError:
-            raise ValueError(f"found {text!r}, expected {self.expected()}") from None
+            raise OptionValueError(f"found {text!r}, expected {self.expected()}") from None
         try:
-            return self.coerce(int(number) if isinstance(self, Whole) and number.is_integer() else number)
+            return self.coerce(int(number) if isinstance(self, Whole) and isinstance(number, float)
+                               and number.is_integer() else number)
         except _Refused as refusal:
-            raise ValueError(f"found {text!r}, expected {refusal.expected}") from None
+            raise OptionValueError(f"found {text!r}, expected {refusal.expected}") from None
 
 
 def _bounds(gt, ge, lt, le, unit: str) -> str:
@@ -110,15 +120,16 @@ def _bounds(gt, ge, lt, le, unit: str) -> str:
     return f"{text} {unit}".rstrip() if unit not in ("", "-") else text
 
 
-def _number(value: Any, expected: str) -> float:
+def _number(value: Any, spec: Spec) -> float:
+    """``value`` as a finite float; the expectation is spelled out only on refusal."""
     if isinstance(value, _NOT_NUMBERS):  # float() would take True as 1 and "8" as 8
-        raise _Refused(_found(value), expected)
+        raise _Refused(_found(value), spec.expected())
     try:
         number = float(value)
     except (TypeError, ValueError):
-        raise _Refused(_found(value), expected) from None
+        raise _Refused(_found(value), spec.expected()) from None
     if not math.isfinite(number):
-        raise _Refused(repr(number), expected)
+        raise _Refused(repr(number), spec.expected())
     return number
 
 
@@ -138,18 +149,21 @@ class Real(Spec):
     def expected(self) -> str:
         bounds = _bounds(self.gt, self.ge, self.lt, self.le, self.unit)
         unit = "" if bounds or self.unit in ("", "-") else f" in {self.unit}"
-        text = f"a real number {bounds}".rstrip() + unit
+        text = f"a finite real number {bounds}".rstrip() + unit
         return f"{text} ({self.meaning})" if self.meaning else text
 
     def coerce(self, value: Any) -> float:
-        number = _number(value, self.expected())
+        number = _number(value, self)
+        if number != 0 and abs(number) < SMALLEST_NORMAL:  # fewer significant bits; ratios overflow
+            raise _Refused(f"{number!r}", f"{self.expected()}, of magnitude 0 or >= {SMALLEST_NORMAL:.4g} (a "
+                           "subnormal float64 has fewer than 53 significant bits)")
         if ((self.gt is not None and not number > self.gt) or (self.ge is not None and not number >= self.ge)
                 or (self.lt is not None and not number < self.lt) or (self.le is not None and not number <= self.le)):
             raise _Refused(f"{number:g}", self.expected())
         return number
 
     def bad_values(self) -> list:
-        bad = super().bad_values() + [math.nan, math.inf, True, "abc"]
+        bad = super().bad_values() + [math.nan, math.inf, True, "abc", 5e-310]
         low = self.gt if self.gt is not None else self.ge
         high = self.lt if self.lt is not None else self.le
         if low is not None:
@@ -161,26 +175,31 @@ class Real(Spec):
 
 @dataclass(frozen=True)
 class Whole(Spec):
-    """A whole number (``2.5`` refused, never truncated; ``1e3`` read as 1000) within ``[ge, le]``."""
+    """A whole number (``2.5`` refused, never truncated; ``1e3`` read as 1000) within ``[ge, le]``,
+    even if ``even``."""
 
     ge: int | None = None
     le: int | None = None
+    even: bool = False
     meaning: str = ""
     optional: bool = False
 
     def expected(self) -> str:
-        text = f"a whole number {_bounds(None, self.ge, None, self.le, '')}".rstrip()
+        bounds = (f"from {self.ge} to {self.le}" if self.ge is not None and self.le is not None
+                  else _bounds(None, self.ge, None, self.le, ""))
+        text = f"{'an even' if self.even else 'a'} whole number {bounds}".rstrip()
         return f"{text} ({self.meaning})" if self.meaning else text
 
     def coerce(self, value: Any) -> int:
         if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)):
             number = int(value)
         else:
-            real = _number(value, self.expected())
+            real = _number(value, self)
             if not real.is_integer():
                 raise _Refused(_found(value), self.expected())
             number = int(real)
-        if (self.ge is not None and number < self.ge) or (self.le is not None and number > self.le):
+        if (self.ge is not None and number < self.ge) or (self.le is not None and number > self.le) \
+                or (self.even and number % 2):
             raise _Refused(repr(number), self.expected())
         return number
 
@@ -190,6 +209,8 @@ class Whole(Spec):
             bad.append(self.ge - 1)
         if self.le is not None:
             bad.append(self.le + 1)
+        if self.even:
+            bad.append((self.ge if self.ge is not None else 0) // 2 * 2 + 3)
         return bad
 
 
@@ -204,20 +225,25 @@ class Choice(Spec):
         return "one of " + ", ".join(repr(option) for option in self.options)
 
     def coerce(self, value: Any) -> Any:
-        if isinstance(value, (str, bool, int, float, type(None))) and value in self.options:
-            return value
+        if isinstance(value, (str, bool, int, float, type(None))) and value in self.options \
+                and (not isinstance(value, bool) or any(option is value for option in self.options)):
+            return value  # True == 1, but True is not the option 1
         raise _Refused(_found(value), self.expected())
 
     def bad_values(self) -> list:
-        return super().bad_values() + ["no-such-option", 3.5]
+        bad = super().bad_values() + ["no-such-option", 3.5]
+        return bad + [True] if not any(isinstance(option, bool) for option in self.options) else bad
 
 
 @dataclass(frozen=True)
 class Flag(Spec):
-    """``True`` or ``False`` (numpy booleans accepted; ``1`` and ``"yes"`` refused)."""
+    """``True`` or ``False`` (numpy booleans accepted; ``1`` and ``"yes"`` refused); ``None``
+    too when ``optional`` (a default decided by the function)."""
+
+    optional: bool = False
 
     def expected(self) -> str:
-        return "True or False"
+        return "True, False or None" if self.optional else "True or False"
 
     def coerce(self, value: Any) -> bool:
         if isinstance(value, (bool, np.bool_)):
@@ -226,6 +252,91 @@ class Flag(Spec):
 
     def bad_values(self) -> list:
         return super().bad_values() + [1, "yes"]
+
+
+@dataclass(frozen=True)
+class Reals(Spec):
+    """Real numbers in ``unit``, each within the bounds of :class:`Real`: a number or an array
+    of any shape (amplitudes that broadcast with frequencies) with at least ``min_size`` values;
+    with ``increasing``, an axis: one number or a 1-D array, strictly increasing. Returned as a
+    read-only float64 array (``numpy.asarray`` of the value: the caller's array is never altered)."""
+
+    unit: str = "-"
+    gt: float | None = None
+    ge: float | None = None
+    lt: float | None = None
+    le: float | None = None
+    min_size: int = 1
+    max_size: int | None = None
+    increasing: bool = False
+    meaning: str = ""
+    optional: bool = False
+
+    def expected(self) -> str:
+        bounds = _bounds(self.gt, self.ge, self.lt, self.le, self.unit)
+        unit = "" if bounds or self.unit in ("", "-") else f" in {self.unit}"
+        kind = "a strictly increasing 1-D axis of finite real numbers" if self.increasing else "finite real numbers"
+        if self.max_size is not None:
+            count = f"{self.min_size}" if self.min_size == self.max_size else f"{self.min_size} to {self.max_size}"
+            kind = f"{kind} ({count} values)"
+        text = f"{kind} {bounds}".rstrip() + unit
+        return f"{text} ({self.meaning})" if self.meaning else text
+
+    def coerce(self, value: Any) -> np.ndarray:
+        if isinstance(value, (str, bytes, bool, np.bool_)):
+            raise _Refused(_found(value), self.expected())
+        try:
+            array = np.asarray(value)
+        except (TypeError, ValueError):
+            raise _Refused(f"<{type(value).__name__}>", self.expected()) from None
+        if array.dtype.kind not in "iuf":
+            raise _Refused(_shown(value), self.expected())
+        array = array.astype(np.float64, copy=False)
+        if array.size < self.min_size or (self.max_size is not None and array.size > self.max_size):
+            raise _Refused(f"{array.size} values", self.expected())
+        outside = ~np.isfinite(array)
+        for bound, refused in ((self.gt, np.less_equal), (self.ge, np.less), (self.lt, np.greater_equal),
+                               (self.le, np.greater)):
+            if bound is not None:
+                with np.errstate(invalid="ignore"):
+                    outside |= refused(array, bound)
+        if outside.any():
+            index = tuple(int(i) for i in np.unravel_index(int(np.argmax(outside)), array.shape))
+            where = f" at index {index[0] if len(index) == 1 else index}" if index else ""
+            raise _Refused(f"{float(array[index])!r}{where}", self.expected())
+        if self.increasing:
+            if array.ndim > 1:
+                raise _Refused(f"an array of shape {array.shape}", self.expected())
+            steps = np.flatnonzero(np.diff(array) <= 0) if array.ndim else np.zeros(0, dtype=int)
+            if steps.size:
+                raise _Refused(f"{float(array[steps[0] + 1])!r} at index {steps[0] + 1} not above its predecessor",
+                               self.expected())
+        view = array.view()
+        view.setflags(write=False)
+        return view
+
+    def bad_values(self) -> list:
+        bad = super().bad_values() + ["abc", [1.0, math.nan], True, [[1.0, math.inf]]]
+        if self.increasing:
+            inside = (self.gt if self.gt is not None else self.ge if self.ge is not None else 0.0) + 1.0
+            bad += [[inside, inside], [[inside], [inside + 1.0]]]
+        if self.min_size > 0:
+            bad.append(np.zeros(0))
+        if self.max_size is not None:
+            start = (self.gt if self.gt is not None else self.ge if self.ge is not None else 0.0) + 1.0
+            bad.append(start + np.arange(self.max_size + 1.0))
+        low = self.gt if self.gt is not None else self.ge
+        if low is not None:
+            bad.append([low if self.gt is not None else low - max(1.0, abs(low))])
+        high = self.lt if self.lt is not None else self.le
+        if high is not None:
+            bad.append([high if self.lt is not None else high + max(1.0, abs(high))])
+        return bad
+
+
+def _shown(value: Any) -> str:
+    text = repr(value)
+    return text[:80] + ("..." if len(text) > 80 else "")
 
 
 @dataclass(frozen=True)
@@ -294,6 +405,27 @@ class Seed(Spec):
 
 
 @dataclass(frozen=True)
+class Instance(Spec):
+    """An object of one of ``types`` (a system, a model, a result); ``what`` names them in the
+    message (default: the class names). Found values are named by their type."""
+
+    types: tuple = ()
+    what: str = ""
+    optional: bool = False
+
+    def expected(self) -> str:
+        return self.what or " or ".join(kind.__name__ for kind in self.types)
+
+    def coerce(self, value: Any) -> Any:
+        if isinstance(value, self.types):
+            return value
+        raise _Refused(type(value).__name__, self.expected())
+
+    def bad_values(self) -> list:
+        return super().bad_values() + ["abc", 3.0]
+
+
+@dataclass(frozen=True)
 class Contract:
     """What :func:`accepts` recorded of one function (the checked function, as callers see it):
     its declared arguments and error class."""
@@ -326,14 +458,21 @@ def accepts(*, error: type[Exception] = ParameterError, **specs: Spec) -> Callab
         if unknown:
             raise TypeError(f"accepts: {function.__qualname__} has no argument {sorted(unknown)}")
 
+        positional = [parameter.name for parameter in signature.parameters.values()
+                      if parameter.kind in (parameter.POSITIONAL_ONLY, parameter.POSITIONAL_OR_KEYWORD)]
+        checks = [(name, spec, positional.index(name) if name in positional else None) for name, spec in specs.items()]
+        first = min((index for _, _, index in checks if index is not None), default=len(positional))
+
         @functools.wraps(function)
         def checked(*args, **kwargs):
-            bound = signature.bind_partial(*args, **kwargs)
-            given = bound.arguments
-            for name, spec in specs.items():
-                if name in given:
-                    given[name] = spec.check(given[name], name, error)
-            return function(*bound.args, **bound.kwargs)
+            if len(args) > first:  # a declared argument given by position
+                args = list(args)
+            for name, spec, index in checks:
+                if index is not None and index < len(args):
+                    args[index] = spec.check(args[index], name, error)
+                elif name in kwargs:
+                    kwargs[name] = spec.check(kwargs[name], name, error)
+            return function(*args, **kwargs)
 
         contract = Contract(checked, dict(specs), error)
         checked.contract = contract
@@ -341,3 +480,10 @@ def accepts(*, error: type[Exception] = ParameterError, **specs: Spec) -> Callab
         return checked
 
     return decorate
+
+
+def unchecked(function: Callable) -> Callable:
+    """The body of a function declared with :func:`accepts`, without its checks: for a public
+    function that has checked the same arguments itself and calls another (inner layers trust
+    the boundary)."""
+    return function.__wrapped__

@@ -11,8 +11,8 @@ import math
 
 import numpy as np
 
-__all__ = ["MAX_STEPS", "MAX_SAMPLES", "MIN_TOLERANCE", "MIN_TIME_STEP", "MAX_WORKERS", "MAX_SEED",
-           "SMALLEST_NORMAL", "MAX_FORCE_SCALE"]
+__all__ = ["MAX_STEPS", "MAX_SAMPLES", "MAX_GRID_POINTS", "MAX_DROP_SAMPLES", "MIN_TOLERANCE",
+           "MIN_TIME_STEP", "MAX_WORKERS", "MAX_SEED", "SMALLEST_NORMAL", "MAX_FORCE_SCALE"]
 
 #: Most integration steps of one simulated run (a time response, one harmonic point, one drop):
 #: each step stores a few float64 per degree of freedom, so 10^8 steps already fill gigabytes.
@@ -21,6 +21,15 @@ MAX_STEPS = 10**8
 #: Most samples one array of a signal computation holds at once (a synthesized floor record of
 #: all realizations, an SRS residual window): 10^8 float64 are 800 MB.
 MAX_SAMPLES = 10**8
+
+#: Most points of one harmonic grid (``simulate harmonic --max-points``): each point holds its
+#: harmonic coefficients, state and table row, at least 350 bytes at 3 harmonics, so 10^8 points
+#: need over 35 GB, beyond the 24 GiB machines idkit runs on.
+MAX_GRID_POINTS = 10**8
+
+#: Most stored samples of one batch of drops (``simulate drop --max-samples``): each is at least 7
+#: float64 records per degree of freedom (56 bytes), so 10^9 samples need 56 GB.
+MAX_DROP_SAMPLES = 10**9
 
 #: Smallest relative tolerance of a steady state or closed orbit: the round-off of a state
 #: integrated over a period is about 1e-14 of its scale, so a smaller tolerance is never met.

@@ -1,7 +1,8 @@
 """Types and checks of the ``idkit`` command-line numbers: every number is validated at the boundary.
 
 One option, one check, one message. A single value is checked by its argparse ``type=``
-callable (:func:`real`, :func:`integer`); argparse then stops with exit status 2 and
+callable (:func:`real`, :func:`integer`: the ``parse`` of an :mod:`idkit.checks` spec, the
+contract the library functions declare, with the same message); argparse then stops with exit status 2 and
 ``idkit <command>: error: argument --height: found '-0.05', expected a finite number >= 0 m``.
 Checks that need two options at once (a grid's START STOP COUNT and its size, a time
 step against a duration, a band's two ends) run at the start of the command, before any
@@ -17,30 +18,17 @@ Limits and why (also in docs/cli-reference.md):
 * ``--harmonics``: 1 to :data:`MAX_HARMONICS` (32). The harmonic simulator takes at
   least 128 steps per period, which resolve orders up to 64 (Nyquist); 32 keeps a
   factor 2 against aliasing.
-* ``--tolerance``: from :data:`MIN_TOLERANCE` (1e-12, the round-off of the Fourier
-  coefficients: a smaller one is never met and every point runs to the period limit)
-  to below 1 (a relative change).
-* ``--time-step``: at least :data:`MIN_TIME_STEP` (1e-9 s); the number of steps
-  ``duration / time_step`` at most :data:`MAX_STEPS` (10^8, the simulator's own limit).
+* ``--time-step``, ``--tolerance``, ``--max-points``, ``--max-samples``, ``--workers``, ``--seed``
+  and every real number's subnormal floor: the size, memory and precision limits of
+  :mod:`idkit.limits` (the library's own), each stated there with its reason.
 * Grid sizes: ``simulate harmonic`` refuses more than :data:`DEFAULT_MAX_POINTS` (10^6)
-  points (``--max-points`` raises it); ``simulate drop`` refuses more than
-  :data:`DEFAULT_MAX_SAMPLES` (10^7) stored samples, drops x (steps + 1), about
-  80 MB per recorded signal and degree of freedom (``--max-samples`` raises it).
-  Both are counted from the options before anything is allocated. The limits themselves are
-  capped: ``--max-points`` at :data:`MAX_GRID_POINTS` (10^8; each point holds its harmonic
-  coefficients, state and table row, at least 350 bytes at the default 3 harmonics, so 10^8
-  points need over 35 GB, beyond the 24 GiB machines idkit runs on), ``--max-samples`` at
-  :data:`MAX_DROP_SAMPLES` (10^9; each stored sample is at least 7 float64 records per degree of
-  freedom: position, velocity, acceleration, force, displacement, relative velocity,
-  deflection, 56 bytes, so 10^9 samples need 56 GB). A larger limit could never be used
-  (``--max-points 1e300`` was taken).
+  points (``--max-points`` raises it, up to ``limits.MAX_GRID_POINTS``); ``simulate drop``
+  refuses more than :data:`DEFAULT_MAX_SAMPLES` (10^7) stored samples, drops x (steps + 1),
+  about 80 MB per recorded signal and degree of freedom (``--max-samples`` raises it, up to
+  ``limits.MAX_DROP_SAMPLES``). Both are counted from the options before anything is allocated.
 * ``fit maxwell --k0``: :data:`MIN_K0` (1e-12 N/m) to :data:`MAX_K0` (1.3e153 N/m): the element
   stiffnesses are searched in 0.1-10 k0; a narrower span is "min == max" to lmfit, a larger one
   overflows when squared.
-* Every real number: 0 or at least :data:`SMALLEST_NORMAL` (2.2e-308) in magnitude; a subnormal
-  one has lost precision, and a response divided by it overflows.
-* ``--workers``: 1 to :data:`MAX_WORKERS` (256) threads; ``--seed``: 0 to 2^32 - 1, the
-  range every random generator idkit uses (numpy, nlopt) accepts.
 """
 
 from __future__ import annotations
@@ -52,7 +40,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from idkit.checks import Real, Whole
 from idkit.errors import IdkitError
+from idkit.limits import (MAX_DROP_SAMPLES, MAX_GRID_POINTS, MAX_SEED, MAX_STEPS, MAX_WORKERS, MIN_TIME_STEP,
+                          MIN_TOLERANCE, SMALLEST_NORMAL)
 
 __all__ = [
     "IdkitArgumentParser", "OptionError", "real", "integer", "Axis", "parse_axis", "check_grid_size",
@@ -66,28 +57,15 @@ MAX_ORDER = 12
 MAX_DMA_ORDER = 40
 MAX_EVALS = 10**7
 MAX_HARMONICS = 32
-MIN_TOLERANCE = 1e-12
-MIN_TIME_STEP = 1e-9
-MAX_STEPS = 10**8
 DEFAULT_MAX_POINTS = 10**6
 DEFAULT_MAX_SAMPLES = 10**7
-#: Highest ``--max-points``: 10^8 points of >= 350 bytes each exceed a 24 GiB machine (module docstring).
-MAX_GRID_POINTS = 10**8
-#: Highest ``--max-samples``: 10^9 samples of >= 56 bytes each exceed a 24 GiB machine (module docstring).
-MAX_DROP_SAMPLES = 10**9
-MAX_WORKERS = 256
-MAX_SEED = 2**32 - 1
 #: ``fit maxwell --k0`` (N/m): the element stiffnesses are searched in 0.1 k0 .. 10 k0 and the order
 #: table's Voigt damping in k0 / 1e4 .. k0 / 1 s (idkit.fit.maxwell). The narrower, the damping box,
-#: spans 0.9999 k0; at or below lmfit's absolute 1e-13 its Parameter refuses "min == max" (--k0
-#: 1e-150 and 1e-300 ended in that traceback, 1e-13 in the Voigt's), so MIN_K0 = 1e-12 keeps every
-#: box nine times wider than that; above MAX_K0, 10 k0 squared in lmfit's bound transform overflows
-#: float64 (--k0 1e300: OverflowError traceback).
+#: spans 0.9999 k0; at or below lmfit's absolute 1e-13 its Parameter refuses "min == max", so
+#: MIN_K0 = 1e-12 keeps every box nine times wider than that; above MAX_K0, 10 k0 squared in
+#: lmfit's bound transform overflows float64.
 MIN_K0 = 1e-12
 MAX_K0 = math.sqrt(np.finfo(np.float64).max) / 10.0
-#: Smallest normal float64 (2.2e-308): a nonzero number below it is subnormal, with fewer significant
-#: bits; ``simulate harmonic --amplitude 1e-310`` gave |H1| = inf with status "ok".
-SMALLEST_NORMAL = float(np.finfo(np.float64).tiny)
 
 
 class OptionError(IdkitError, ValueError):
@@ -110,22 +88,9 @@ class IdkitArgumentParser(argparse.ArgumentParser):
         self._negative_number_matcher = self._NUMBER
 
 
-def _bounds_text(above, at_least, below, at_most, unit) -> str:
-    parts = []
-    if above is not None:
-        parts.append(f"> {above:g}")
-    if at_least is not None:
-        parts.append(f">= {at_least:g}")
-    if below is not None:
-        parts.append(f"< {below:g}")
-    if at_most is not None:
-        parts.append(f"<= {at_most:g}")
-    text = "a finite number" + (" " + " and ".join(parts) if parts else "")
-    return text + (f" {unit}" if unit else "")
-
-
 def real(*, above=None, at_least=None, below=None, at_most=None, unit: str = "", why: str = ""):
-    """argparse ``type=``: a finite float within the given bounds.
+    """argparse ``type=``: a finite float within the given bounds, checked by
+    :class:`idkit.checks.Real` (the contract the library declares, with its one message).
 
     Parameters
     ----------
@@ -141,61 +106,20 @@ def real(*, above=None, at_least=None, below=None, at_most=None, unit: str = "",
     >>> real(above=0, unit="kg")("2.5")
     2.5
     """
-    expected = _bounds_text(above, at_least, below, at_most, unit) + (f" ({why})" if why else "")
-
-    def convert(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"found {text!r}, expected {expected}") from None
-        if not (math.isfinite(value)
-                and (above is None or value > above) and (at_least is None or value >= at_least)
-                and (below is None or value < below) and (at_most is None or value <= at_most)):
-            raise argparse.ArgumentTypeError(f"found {text!r}, expected {expected}")
-        if value != 0 and abs(value) < SMALLEST_NORMAL:
-            raise argparse.ArgumentTypeError(
-                f"found {text!r}, a subnormal float64 (below {SMALLEST_NORMAL:.4g}: fewer than 53 significant bits, "
-                f"and ratios to it overflow); expected {expected}, of magnitude 0 or >= {SMALLEST_NORMAL:.4g}")
-        return value
-
-    convert.__name__ = "number"
-    return convert
-
-
-def _whole(text: str) -> int | None:
-    """``text`` as an int if it is a whole number (``"3"``, ``"1e6"``), else None (``"2.5"``)."""
-    try:
-        return int(text, 10)
-    except ValueError:
-        pass
-    try:
-        value = float(text)
-    except ValueError:
-        return None
-    return int(value) if math.isfinite(value) and value == int(value) else None
+    return Real(unit=unit or "-", gt=above, ge=at_least, lt=below, le=at_most, meaning=why).parse
 
 
 def integer(*, at_least: int = 1, at_most: int | None = None, why: str = ""):
-    """argparse ``type=``: a whole number from ``at_least`` to ``at_most``.
-
-    A fractional value (``2.5``) is refused, never truncated; ``1e6`` is taken as 1000000.
+    """argparse ``type=``: a whole number from ``at_least`` to ``at_most``, checked by
+    :class:`idkit.checks.Whole` (a fractional value is refused, never truncated; ``1e6`` is
+    taken as 1000000).
 
     Examples
     --------
     >>> integer(at_most=12)("3")
     3
     """
-    expected = (f"a whole number from {at_least} to {at_most}" if at_most is not None
-                else f"a whole number >= {at_least}") + (f" ({why})" if why else "")
-
-    def convert(text: str) -> int:
-        value = _whole(text)
-        if value is None or value < at_least or (at_most is not None and value > at_most):
-            raise argparse.ArgumentTypeError(f"found {text!r}, expected {expected}")
-        return value
-
-    convert.__name__ = "integer"
-    return convert
+    return Whole(ge=at_least, le=at_most, meaning=why).parse
 
 
 seed = integer(at_least=0, at_most=MAX_SEED, why="the range of the numpy and nlopt generators")

@@ -58,13 +58,11 @@ class HarmonicTableGrid:
 
     def resonance(self) -> np.ndarray:
         """Frequency (Hz) of the largest ``|H1|`` at each amplitude, refined by a parabola in
-        log frequency (:func:`idkit.responses.harmonic_map.parabolic_peak`); NaN for an
-        amplitude without a valid point."""
-        from idkit.responses.harmonic_map import parabolic_peak
+        log-log (:func:`idkit.signal.harmonics.resonance_peak`); NaN for an amplitude without a
+        valid point."""
+        from idkit.signal.harmonics import resonance_peak
 
-        log_freq = np.log10(self.freq)
-        return np.array([10.0 ** parabolic_peak(log_freq, column)[0] if np.isfinite(column).any() else np.nan
-                         for column in self.magnitude[1.0].T])
+        return np.array([resonance_peak(self.freq, column)[0] for column in self.magnitude[1.0].T])
 
 
 def harmonic_table_grid(table) -> HarmonicTableGrid:

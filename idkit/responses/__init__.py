@@ -16,7 +16,6 @@ Each function takes a model or system (:mod:`idkit.models`), runs the simulator
 from idkit.responses.harmonic_map import (
     harmonic_map,
     HarmonicMap,
-    parabolic_peak,
 )
 from idkit.responses.periodic import (
     periodic_response,
@@ -74,7 +73,6 @@ __all__ = [
     "LinearFrf",
     "LinearResonance",
     "loss_factor",
-    "parabolic_peak",
     "random_response",
     "RandomResponse",
     "shock_sweep",

@@ -31,9 +31,11 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
+from idkit.checks import Choice, Real, Reals, Whole, accepts
 from idkit.errors import SimulationError
 from idkit.responses.periodic import (
     NULL_TOLERANCE,
+    HarmonicAccessors,
     PeriodMap,
     check_steps_per_period,
     classify_multipliers,
@@ -42,8 +44,6 @@ from idkit.responses.periodic import (
     periodic_response,
     stability_margin,
 )
-from idkit.responses.linear import _order
-from idkit.simulate._arrays import whole_number
 from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS
 
 __all__ = ["Branch", "SpecialPoint", "continue_in_amplitude", "continue_in_frequency"]
@@ -79,7 +79,7 @@ class SpecialPoint:
 
 
 @dataclass(frozen=True)
-class Branch:
+class Branch(HarmonicAccessors):
     """A branch of periodic steady states under ``x_b = A sin(2 pi f t)``.
 
     Attributes
@@ -149,19 +149,6 @@ class Branch:
     def amplitude_ratio(self) -> NDArray[np.float64]:
         """Peak-peak/2 of the top mass over the base amplitude (as :attr:`HarmonicMap.amplitude_ratio`)."""
         return self.half_range[:, 0] / self.amplitude
-
-    def harmonic(self, order: float) -> NDArray[np.complex128]:
-        """Complex amplitude (m) of the top displacement at ``order`` x f (0, 0.5, 1, ...)."""
-        order = _order(order, f"0, 0.5, 1, ..., {(self.coefficients.shape[1] - 1) // 2}")
-        index = int(round(2 * order))
-        if not (0 <= index < self.coefficients.shape[1]) or abs(2 * order - index) > 1e-9:
-            raise SimulationError(f"order: found {order!r}, expected 0, 0.5, 1, ..., "
-                                  f"{(self.coefficients.shape[1] - 1) // 2}")
-        return self.coefficients[:, index]
-
-    def hosidf(self, order: float) -> NDArray[np.complex128]:
-        """``k X_k / X_b1`` (dimensionless) as in the harmonic maps."""
-        return order * self.harmonic(order) / (-1j * self.amplitude)
 
     def points(self, kind: str) -> tuple[SpecialPoint, ...]:
         """Special points of ``kind`` ("fold" or "period doubling")."""
@@ -371,43 +358,18 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
               max_points, n_harmonics, tolerance, initial_state, settle_periods, direction, jacobian) -> Branch:
     unit = "Hz" if parameter == "freq" else "m"
     name = "freq_range" if parameter == "freq" else "amplitude_range"
-    fixed_name = "amplitude" if parameter == "freq" else "freq"
-    try:
-        low, high = (float(value) for value in bounds)
-    except (TypeError, ValueError):
-        raise SimulationError(f"{name}: found {bounds!r}, expected (low, high) with 0 < low < high in {unit}") from None
-    try:
-        fixed = float(fixed)
-    except (TypeError, ValueError):
-        raise SimulationError(f"{fixed_name}: found {fixed!r}, expected one positive value in "
-                              f"{'m' if parameter == 'freq' else 'Hz'}") from None
-    if not (np.isfinite(low) and np.isfinite(high) and 0 < low < high):
-        raise SimulationError(f"{name}: found {bounds!r}, expected (low, high) with 0 < low < high in {unit}")
-    if not (np.isfinite(fixed) and fixed > 0):
-        raise SimulationError(f"{fixed_name}: found {fixed!r}, expected a "
-                              f"positive value in {'m' if parameter == 'freq' else 'Hz'}")
-    if direction not in (1, -1):
-        raise SimulationError(f"direction: found {direction!r}, expected +1 (towards higher {parameter}) or -1")
+    low, high = (float(value) for value in bounds)
     given_start = start
-    try:
-        start = (low if direction == 1 else high) if start is None else float(start)
-    except (TypeError, ValueError):
-        start = math.nan
+    start = (low if direction == 1 else high) if start is None else start
     if not (low <= start <= high):
         raise SimulationError(f"start: found {given_start!r}, expected a value within {name} [{low:g}, {high:g}] "
                               f"{unit}")
-    max_points = whole_number(max_points, "max_points", 2)
-    try:
-        min_step, max_step = float(min_step), float(max_step)
-        step = max_step / 5 if step is None else float(step)
-    except (TypeError, ValueError):
-        min_step = step = max_step = math.nan
-    if not (np.isfinite([min_step, step, max_step]).all() and 0 < min_step <= step <= max_step):
+    step = max_step / 5 if step is None else step
+    if not min_step <= step <= max_step:
         raise SimulationError(f"step: found min_step={min_step!r}, step={step!r}, max_step={max_step!r}, "
-                              "expected finite 0 < min_step <= step <= max_step")
+                              "expected 0 < min_step <= step <= max_step")
     period_map = PeriodMap(system, periods, jacobian=jacobian)
     freq0, amplitude0 = (start, fixed) if parameter == "freq" else (fixed, start)
-    n_harmonics = whole_number(n_harmonics, "n_harmonics", 1)
     if steps_per_period is not None and np.ndim(steps_per_period) != 0:
         raise SimulationError(f"steps_per_period: found {steps_per_period!r}, expected one even integer >= 8 "
                               "(fixed along the branch)")
@@ -499,6 +461,9 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
     )
 
 
+@accepts(amplitude=Real(unit="m", gt=0), freq_range=Reals(unit="Hz", gt=0, min_size=2, max_size=2, increasing=True),
+         start=Real(unit="Hz", gt=0, optional=True), n_harmonics=Whole(ge=1), max_points=Whole(ge=2), step=Real(gt=0, optional=True), min_step=Real(gt=0),
+         max_step=Real(gt=0), direction=Choice((1, -1)), error=SimulationError)
 def continue_in_frequency(system, amplitude: float, freq_range, *, start: float | None = None, periods: int = 1,
                           steps_per_period: int | None = None, step: float | None = None, min_step: float = 1e-6,
                           max_step: float = 0.05, max_points: int = 400, n_harmonics: int = 3,
@@ -560,6 +525,9 @@ def continue_in_frequency(system, amplitude: float, freq_range, *, start: float 
                      jacobian=jacobian)
 
 
+@accepts(freq=Real(unit="Hz", gt=0), amplitude_range=Reals(unit="m", gt=0, min_size=2, max_size=2, increasing=True),
+         start=Real(unit="m", gt=0, optional=True), n_harmonics=Whole(ge=1), max_points=Whole(ge=2), step=Real(gt=0, optional=True), min_step=Real(gt=0),
+         max_step=Real(gt=0), direction=Choice((1, -1)), error=SimulationError)
 def continue_in_amplitude(system, freq: float, amplitude_range, *, start: float | None = None, periods: int = 1,
                           steps_per_period: int | None = None, step: float | None = None, min_step: float = 1e-6,
                           max_step: float = 0.2, max_points: int = 400, n_harmonics: int = 3,

@@ -48,8 +48,8 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
+from idkit.checks import Choice, Flag, Real, Reals, Whole, accepts
 from idkit.errors import SimulationError
-from idkit.responses.linear import _numbers, _order
 from idkit.responses.periodic import (
     STABILITY_MARGIN,
     PeriodMap,
@@ -60,10 +60,11 @@ from idkit.responses.periodic import (
     periodic_response,
     stability_margin,
 )
+from idkit.signal.harmonics import resonance_peak
 from idkit.simulate import harmonic_response
 from idkit.simulate._kernel import FLAG_REASONS
 
-__all__ = ["HarmonicMap", "harmonic_map", "parabolic_peak", "MAP_MIN_PERIODS", "SHOOTING_AFTER_PERIODS"]
+__all__ = ["HarmonicMap", "harmonic_map", "MAP_MIN_PERIODS", "SHOOTING_AFTER_PERIODS"]
 
 #: Default period cap of a map's time integration when the points left over are shot
 #: (:func:`harmonic_map`).
@@ -76,81 +77,6 @@ MAP_MIN_PERIODS = 6
 #: Period cap of a map's time integration without shooting, and of the fallback run of the
 #: points that shooting could not close after the default :data:`SHOOTING_AFTER_PERIODS`.
 PLAIN_MAX_PERIODS = 4000
-
-
-def _check_axis(values: ArrayLike, name: str, unit: str) -> NDArray[np.float64]:
-    raw = np.asarray(values)
-    if raw.dtype.kind not in "biuf":  # text ("5", "abc"), None, objects: not read as numbers
-        raise SimulationError(f"{name}: found {values!r:.60}, expected numbers in {unit}")
-    axis = np.atleast_1d(raw.astype(float))
-    if axis.ndim != 1 or axis.size == 0:
-        raise SimulationError(f"{name}: found shape {np.shape(values)}, expected a non-empty 1-D axis in {unit}")
-    if not np.all(np.isfinite(axis) & (axis > 0)):
-        bad = axis[~(np.isfinite(axis) & (axis > 0))][0]
-        raise SimulationError(f"{name}: found {bad!r}, expected positive finite values in {unit}")
-    if np.any(np.diff(axis) <= 0):
-        index = int(np.flatnonzero(np.diff(axis) <= 0)[0]) + 1
-        raise SimulationError(
-            f"{name}: found {axis[index]!r} at index {index} not above its predecessor, "
-            f"expected a strictly increasing axis in {unit}"
-        )
-    return axis
-
-
-def parabolic_peak(x: ArrayLike, y: ArrayLike) -> tuple[float, float, int]:
-    """Location and height of the maximum of sampled ``y(x)``, refined by a parabola.
-
-    The parabola passes through the largest sample and its two neighbours (any spacing).
-
-    Parameters
-    ----------
-    x, y : array_like, shape (n,)
-        Abscissae (increasing) and values; NaN values are ignored.
-
-    Returns
-    -------
-    x_peak, y_peak : float
-        Vertex of the parabola; the sample itself if the maximum lies at an end of the
-        axis (then ``index`` is 0 or n-1) or the vertex is outside the bracket.
-    index : int
-        Index of the largest sample (-1 if every value is NaN).
-
-    Examples
-    --------
-    >>> x = np.array([0.0, 1.0, 2.0, 3.0])
-    >>> x_peak, y_peak, index = parabolic_peak(x, -(x - 1.3) ** 2)
-    >>> round(x_peak, 12), index
-    (1.3, 1)
-    """
-    x = _numbers(x, "x", "a 1-D array of abscissae")
-    y = _numbers(y, "y", "a 1-D array of values")
-    if x.ndim != 1 or x.shape != y.shape:  # zip-like reads paired the wrong samples
-        raise SimulationError(f"x, y: found shapes {x.shape} and {y.shape}, expected two 1-D arrays of one length")
-    # a NaN abscissa gave a NaN peak location, a repeated one a division by zero
-    bad = np.flatnonzero(~np.isfinite(x))
-    bad = bad if bad.size else np.flatnonzero(np.diff(x) <= 0) + 1
-    if bad.size:
-        raise SimulationError(f"x: found {float(x[bad[0]])!r} at index {int(bad[0])}, expected finite, strictly "
-                              "increasing abscissae")
-    if not np.any(np.isfinite(y)):
-        return float("nan"), float("nan"), -1
-    index = int(np.nanargmax(y))
-    if index == 0 or index == y.size - 1 or not np.all(np.isfinite(y[index - 1:index + 2])):
-        return float(x[index]), float(y[index]), index
-    x0, x1, x2 = x[index - 1:index + 2]
-    y0, y1, y2 = y[index - 1:index + 2]
-    # Newton divided differences: y = y1 + b (x - x1) + c (x - x1)(x - x0) ...
-    d01 = (y1 - y0) / (x1 - x0)
-    d12 = (y2 - y1) / (x2 - x1)
-    curvature = (d12 - d01) / (x2 - x0)
-    if curvature >= 0:
-        return float(x1), float(y1), index
-    slope_at_x1 = d01 + curvature * (x1 - x0)
-    shift = -slope_at_x1 / (2.0 * curvature)
-    vertex = x1 + shift
-    if not (x0 <= vertex <= x2):
-        return float(x1), float(y1), index
-    return float(vertex), float(y1 + slope_at_x1 * shift + curvature * shift**2), index
 
 
 #: Stability of the orbits a settled map point may show (:attr:`HarmonicMap.stability`).
@@ -264,9 +190,9 @@ class HarmonicMap:
         """Points that converged and stayed inside the model's valid range."""
         return self.converged & (self.flags == 0)
 
+    @accepts(order=Real(ge=0, meaning="0.5, 1, ..., K"), error=SimulationError)
     def hosidf(self, order: float) -> NDArray[np.complex128]:
         """Complex HOSIDF of ``order`` (0.5, 1, ..., K), shape (n_freq, n_amp), dimensionless."""
-        order = _order(order, f"one of {list(self.orders)}")
         for index, held in enumerate(self.orders):
             if abs(held - order) < 1e-9:
                 return self.hosidf_values[index]
@@ -281,33 +207,28 @@ class HarmonicMap:
         angle = np.angle(self.hosidf(order))
         return np.unwrap(angle, axis=0) if unwrap else angle
 
+    @accepts(amplitude=Real(unit="m", gt=0), error=SimulationError)
     def amplitude_index(self, amplitude: float) -> int:
         """Index of the grid amplitude nearest (in log) to ``amplitude`` (m)."""
-        if isinstance(amplitude, (bool, np.bool_)) or not isinstance(amplitude, (int, float, np.integer, np.floating)) \
-                or not (np.isfinite(amplitude) and amplitude > 0):
-            raise SimulationError(f"amplitude: found {amplitude!r}, expected a positive value in m")
         return int(np.argmin(np.abs(np.log(self.amplitude / amplitude))))
 
     def resonance_frequency(self, order: float = 1) -> NDArray[np.float64]:
         """Frequency (Hz) of the peak of ``|HOSIDF_order|`` at every amplitude.
 
         The peak sample of ``log |H|`` versus ``log f`` and its two neighbours are fitted
-        by a parabola (:func:`parabolic_peak`); its vertex is the resonance. Points that
-        did not converge or carry a flag are ignored. NaN where the maximum lies at an end
-        of the frequency axis (the resonance is outside the grid).
+        by a parabola (:func:`idkit.signal.harmonics.resonance_peak`); its vertex is the
+        resonance. Points that did not converge or carry a flag are ignored. NaN where the
+        maximum lies at an end of the frequency axis (the resonance is outside the grid).
 
         Returns
         -------
         ndarray, shape (n_amp,)
         """
-        log_f = np.log(self.freq)
-        with np.errstate(divide="ignore"):
-            log_magnitude = np.where(self.valid, np.log(self.magnitude(order)), np.nan)
+        magnitude = np.where(self.valid, self.magnitude(order), np.nan)
         result = np.full(self.amplitude.size, np.nan)
-        for column in range(self.amplitude.size):
-            peak, _, index = parabolic_peak(log_f, log_magnitude[:, column])
-            if 0 < index < self.freq.size - 1:
-                result[column] = np.exp(peak)
+        for column, values in enumerate(magnitude.T):
+            if not np.isnan(values).all() and 0 < int(np.nanargmax(values)) < self.freq.size - 1:
+                result[column] = resonance_peak(self.freq, values)[0]
         return result
 
     def to_dataframe(self) -> pd.DataFrame:
@@ -366,6 +287,9 @@ class HarmonicMap:
     summary = report
 
 
+@accepts(freq_axis=Reals(unit="Hz", gt=0, increasing=True), amplitude_axis=Reals(unit="m", gt=0, increasing=True),
+         n_harmonics=Whole(ge=1), tolerance=Real(gt=0, meaning="a relative change"), start=Choice(("linear", "rest")),
+         shooting=Flag(), chained=Flag(), error=SimulationError)
 def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_harmonics: int = 3,
                  tolerance: float = 1e-3, workers: int | None = None, executor=None, progress=None,
                  steps_per_period=None, max_periods: int | None = None, start: str = "linear",
@@ -437,17 +361,7 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
     capped = max_periods is None and shooting  # the 200-period cap is ours, not the caller's
     if max_periods is None:
         max_periods = SHOOTING_AFTER_PERIODS if shooting else PLAIN_MAX_PERIODS
-    freq = _check_axis(freq_axis, "freq_axis", "Hz")
-    amplitude = _check_axis(amplitude_axis, "amplitude_axis", "m")
-    if isinstance(n_harmonics, (bool, np.bool_)) or not isinstance(n_harmonics, (int, float, np.integer, np.floating)) \
-            or not np.isfinite(n_harmonics) or int(n_harmonics) != n_harmonics or n_harmonics < 1:
-        raise SimulationError(f"n_harmonics: found {n_harmonics!r}, expected an integer >= 1")
-    if not isinstance(shooting, (bool, np.bool_)):  # shooting="no" shot (a truthy string)
-        raise SimulationError(f"shooting: found {shooting!r}, expected True or False")
-    if not isinstance(chained, (bool, np.bool_)):
-        raise SimulationError(f"chained: found {chained!r}, expected True or False")
-    if not (np.isfinite(tolerance) and tolerance > 0):
-        raise SimulationError(f"tolerance: found {tolerance!r}, expected a positive relative change")
+    freq, amplitude = np.atleast_1d(freq_axis), np.atleast_1d(amplitude_axis)
     grid_freq, grid_amp = np.meshgrid(freq, amplitude, indexing="ij")
     # frequency-major: each frequency's amplitudes form a chain, every point starting from the
     # steady state of the amplitude below it (scaled to its own amplitude)

@@ -23,6 +23,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from scipy import optimize
 
+from idkit.checks import Instance, Real, Reals, Whole, accepts
 from idkit.errors import SimulationError
 from idkit.models import HybridSystem, IsolatorModel, SDOFSystem
 
@@ -39,35 +40,13 @@ __all__ = [
 ]
 
 
-def _numbers(value, name: str, what: str, dtype=float) -> np.ndarray:
-    """``value`` as a numpy array of ``dtype``, or a :class:`SimulationError` naming ``name``
-    (a string or an object that is no number raised numpy's bare ValueError/TypeError)."""
-    if isinstance(value, (str, bytes)):
-        raise SimulationError(f"{name}: found {value!r}, expected {what}")
-    try:
-        return np.asarray(value, dtype=dtype)
-    except (TypeError, ValueError):
-        shown = repr(value)
-        raise SimulationError(f"{name}: found {shown[:80] + ('...' if len(shown) > 80 else '')}, "
-                              f"expected {what}") from None
+#: The systems whose small-amplitude response is linear algebra (a Coulomb-spring system has none).
+LINEAR_SYSTEM = Instance((SDOFSystem, HybridSystem))
+#: Positive frequencies, Hz.
+FREQUENCIES = Reals(unit="Hz", gt=0)
 
 
-def _order(order, expected: str) -> float:
-    """A harmonic order as a float, or a :class:`SimulationError` (a string, ``None``, ``True`` or NaN
-    raised TypeError/ValueError, or ``True`` was read as order 1)."""
-    if isinstance(order, (bool, np.bool_)) or not isinstance(order, (int, float, np.integer, np.floating)) \
-            or not np.isfinite(order):
-        raise SimulationError(f"order: found {order!r}, expected {expected}")
-    return float(order)
-
-
-def _freq(freq: ArrayLike) -> NDArray[np.float64]:
-    values = _numbers(freq, "freq", "positive finite frequencies in Hz")
-    if values.size == 0 or not np.all(np.isfinite(values) & (values > 0)):
-        raise SimulationError(f"freq: found {values.ravel()[:3]!r}..., expected positive finite frequencies in Hz")
-    return values
-
-
+@accepts(model=Instance((IsolatorModel,), "an idkit isolator model"), freq=FREQUENCIES, error=SimulationError)
 def complex_stiffness(model: IsolatorModel, freq: ArrayLike) -> NDArray[np.complex128]:
     """Small-amplitude complex stiffness ``k*(2 pi i f)`` of an isolator model, N/m.
 
@@ -89,9 +68,7 @@ def complex_stiffness(model: IsolatorModel, freq: ArrayLike) -> NDArray[np.compl
     >>> complex_stiffness(VoigtModel(k=1e3, damping=10.0), 1.0 / (2 * np.pi))
     array(1000.+10.j)
     """
-    if not isinstance(model, IsolatorModel):
-        raise SimulationError(f"model: found {type(model).__name__}, expected an idkit isolator model")
-    return np.asarray(model.small_amplitude_stiffness(_freq(freq)), dtype=complex)
+    return np.asarray(model.small_amplitude_stiffness(freq), dtype=complex)
 
 
 def loss_factor(stiffness: ArrayLike) -> NDArray[np.float64]:
@@ -100,23 +77,27 @@ def loss_factor(stiffness: ArrayLike) -> NDArray[np.float64]:
     NaN where the storage stiffness ``Re k*`` is 0 and the loss too, +-inf where only the storage is 0
     (IEEE division, without numpy's warning: the ratio is undefined or unbounded there).
     """
-    values = _numbers(stiffness, "stiffness", "complex stiffness values in N/m", dtype=complex)
+    if isinstance(stiffness, (str, bytes)):  # numpy reads text as a complex number
+        raise SimulationError(f"stiffness: found {stiffness!r}, expected complex stiffness values in N/m")
+    try:
+        values = np.asarray(stiffness, dtype=complex)
+    except (TypeError, ValueError):
+        raise SimulationError(f"stiffness: found <{type(stiffness).__name__}>, expected complex stiffness "
+                              "values in N/m") from None
     with np.errstate(divide="ignore", invalid="ignore"):
         return values.imag / values.real
 
 
+@accepts(system=LINEAR_SYSTEM, freq=FREQUENCIES, error=SimulationError)
 def effective_stiffness(system, freq: ArrayLike) -> NDArray[np.complex128]:
     """Small-amplitude stiffness between base and top mass, N/m.
 
     SDOF: the isolator's ``k*``; hybrid: the series stiffness of both isolators
     (:meth:`HybridSystem.series_stiffness`, intermediate mass neglected).
     """
-    freq = _freq(freq)
     if isinstance(system, HybridSystem):
         return np.asarray(system.series_stiffness(freq), dtype=complex)
-    if isinstance(system, SDOFSystem):
-        return complex_stiffness(system.isolator, freq)
-    raise SimulationError(f"system: found {type(system).__name__}, expected SDOFSystem or HybridSystem")
+    return complex_stiffness(system.isolator, freq)
 
 
 @dataclass(frozen=True)
@@ -157,9 +138,10 @@ class StiffnessResponse:
         })
 
 
+@accepts(freq=FREQUENCIES, error=SimulationError)
 def stiffness_response(model: IsolatorModel, freq: ArrayLike) -> StiffnessResponse:
     """:class:`StiffnessResponse` of ``model`` at ``freq`` (Hz)."""
-    freq = _freq(freq).ravel()
+    freq = freq.ravel()
     return StiffnessResponse(freq=freq, stiffness=complex_stiffness(model, freq))
 
 
@@ -201,6 +183,8 @@ class LinearResonance:
         }
 
 
+@accepts(f_min=Real(unit="Hz", gt=0), f_max=Real(unit="Hz", gt=0),
+         n_grid=Whole(ge=3, meaning="a peak needs a sample on each side"), error=SimulationError)
 def linear_resonance(system, *, f_min: float = 1e-2, f_max: float = 1e4, n_grid: int = 4000) -> LinearResonance:
     """Resonance frequency and equivalent damping ratios of the small-amplitude transmissibility.
 
@@ -228,12 +212,8 @@ def linear_resonance(system, *, f_min: float = 1e-2, f_max: float = 1e4, n_grid:
     >>> round(resonance.freq, 3), round(resonance.damping_ratio_half_power, 4)
     (5.0, 0.01)
     """
-    if any(isinstance(f, (bool, np.bool_)) or not isinstance(f, (int, float, np.integer, np.floating))
-           for f in (f_min, f_max)) or not (0 < f_min < f_max < np.inf):  # f_min="a": TypeError before
-        raise SimulationError(f"f_min, f_max: found {f_min!r}, {f_max!r}, expected 0 < f_min < f_max in Hz")
-    if isinstance(n_grid, bool) or not (isinstance(n_grid, (int, np.integer)) and n_grid >= 3):
-        raise SimulationError(f"n_grid: found {n_grid!r}, expected a whole number >= 3 (a peak needs a sample "
-                              "on each side)")
+    if not f_min < f_max:
+        raise SimulationError(f"f_min, f_max: found {f_min!r}, {f_max!r}, expected f_min < f_max in Hz")
 
     def magnitude(freq):
         return np.abs(system.transmissibility(freq))
@@ -317,6 +297,7 @@ class LinearFrf:
         )
 
 
+@accepts(system=LINEAR_SYSTEM, freq=FREQUENCIES, error=SimulationError)
 def linear_frf(system, freq: ArrayLike) -> LinearFrf:
     """Transmissibility, stiffnesses and resonance of the small-amplitude system at ``freq`` (Hz).
 
@@ -327,9 +308,7 @@ def linear_frf(system, freq: ArrayLike) -> LinearFrf:
     >>> round(frf.resonance.freq, 2)
     4.99
     """
-    if not isinstance(system, (SDOFSystem, HybridSystem)):
-        raise SimulationError(f"system: found {type(system).__name__}, expected SDOFSystem or HybridSystem")
-    freq = _freq(freq).ravel()
+    freq = freq.ravel()
     return LinearFrf(
         freq=freq, transmissibility=np.asarray(system.transmissibility(freq), dtype=complex),
         stiffness=effective_stiffness(system, freq),

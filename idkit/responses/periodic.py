@@ -51,51 +51,24 @@ attracts nothing a time integration could settle on); stable otherwise.
 from __future__ import annotations
 
 import math
-import threading
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
+from idkit.checks import Flag, Real, Reals, Whole, accepts
 from idkit.errors import SimulationError
-from idkit.responses._sensitivity import tangent_start, tangent_step
-from idkit.responses.linear import _numbers, _order
+from idkit.limits import MIN_TOLERANCE
+from idkit.responses.period_map import FD_STEP, PeriodMap, monodromy, period_map  # noqa: F401 - re-exported
 from idkit.simulate import default_steps_per_period
-from idkit.simulate._arrays import force_scale, resolve_system, system_arrays, whole_number
-from idkit.simulate._parallel import run_chunked
-from idkit.simulate import _kernel
-from idkit.simulate._kernel import (
-    FLAG_OK,
-    FLAG_REASONS,
-    _compiled_per_structure,
-    _initial_acceleration,
-    _pack,
-    _pack_states,
-    _step,
-    base_motion_table,
-)
-from idkit.simulate._structured import (
-    GENERIC,
-    HYBRID,
-    HYBRID_MODULATED,
-    SDOF_IWAN,
-    SDOF_IWAN_MODULATED,
-    SDOF_MAXWELL,
-    step_hybrid,
-    step_sdof,
-    structure_of,
-)
-from idkit.simulate.harmonic import MAX_PERIOD_TABLE, linear_initial_state
+from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS
+from idkit.simulate.harmonic import MAX_PERIOD_TABLE
 
 __all__ = ["STABILITY_MARGIN", "PeriodicResponse", "classify_multiplier_rows", "classify_multipliers",
            "leading_multipliers", "monodromy", "period_map",
            "periodic_response", "stability_margin"]
 
-#: Relative finite-difference step of the period-map Jacobian (times each state's scale).
-FD_STEP = 1e-6
 #: A multiplier is unstable when ``|mu| > 1 + margin`` and neutral when within ``margin`` of the unit
 #: circle, with ``margin = max(STABILITY_MARGIN, tolerance)``: 100x the error of the difference
 #: Jacobian (1e-6; the propagated one is finer, and both must classify an orbit alike), widened to the
@@ -107,330 +80,8 @@ STABILITY_MARGIN = 1e-4
 #: when a few periods do not reach a stable orbit (``_escape``), and the cap on those periods.
 ESCAPE_GROWTH = 1e3
 ESCAPE_MAX_PERIODS = 4000
-#: Smallest closing tolerance: the closing error of an orbit is a difference of states integrated over
-#: a period's steps, whose round-off is about 2e-14 of the state scale at 128 steps (measured) and
-#: grows with the steps; ``tolerance=1e-300`` ran 30 Newton iterations and reported "did not converge"
-#: at 2.1e-14. 1e-12 is also the harmonic simulator's smallest steady-state tolerance.
-MIN_TOLERANCE = 1e-12
 #: Singular values of the scaled ``I - dPhi/dx`` below this are conserved quantities (friction memory).
 NULL_TOLERANCE = 1e-5
-
-
-def _period_kernel(structure):
-    """The compiled :func:`_run_periods` of one structure: the specialised step of
-    :mod:`idkit.simulate._structured` where the structure has one (the numbers of the generic
-    step, in fewer operations), as the map's kernel steps."""
-
-    def _run_periods(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, freq, amplitude, steps_per_period,
-                     n_periods, scale, q0, v0, jforce0, mstate0, bwz0, n_record, with_tangent, columns):
-        """Integrate each member over ``n_periods`` excitation periods from its state at t = 0.
-
-        Same base motion and step as :func:`idkit.simulate._kernel.run_harmonic_batch`. Returns the
-        end states ``(q, v, jforce, mstate, bwz)``, ``flags``, over the first ``n_record`` steps the
-        absolute mass displacements (m) and top acceleration (m/s^2) at each step start, and, if
-        ``with_tangent``, the derivative of the end state with respect to the start
-        (:mod:`idkit.responses._sensitivity`; no Bouc-Wen; one column per entry of ``columns``, the
-        initial values of real elements), else an empty array.
-        """
-        batch = freq.shape[0]
-        ndof = masses.shape[0]
-        nj = jk.shape[1]
-        nm = mk.shape[1]
-        m0 = masses[0]
-        m1 = masses[1] if ndof == 2 else 1.0
-        q_end = np.full((batch, ndof), np.nan)
-        v_end = np.full((batch, ndof), np.nan)
-        j_end = np.full(jforce0.shape, np.nan)
-        m_end = np.full(mstate0.shape, np.nan)
-        z_end = np.full((batch, ndof), np.nan)
-        rec_q = np.full((batch, ndof, n_record), np.nan)
-        rec_a = np.full((batch, n_record), np.nan)
-        flags = np.zeros(batch, dtype=np.int64)
-        n_rows = 3 * ndof + ndof * (nj + nm) if with_tangent else 0
-        n_cols = columns.shape[0] if with_tangent else 0
-        tangents = np.zeros((batch, n_rows, n_cols))
-        old_q = np.zeros(2)
-        old_force = np.zeros((ndof, max(nj, 1)))
-        work = np.zeros((2, 2))
-        lanes = np.zeros((6, max(n_cols, 1)))
-        stuck = np.zeros((2, max(nj, 1)))
-        table_n = -1  # the base motion's table, rebuilt only when the steps per period change
-        base_sin = np.empty(0)
-        base_cos = np.empty(0)
-        for b in range(batch):
-            omega = 2.0 * math.pi * freq[b]
-            n_per = steps_per_period[b]
-            h = 1.0 / (freq[b] * n_per)
-            amp = amplitude[b]
-            P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
-            state = np.zeros(6)
-            for d in range(ndof):
-                state[d] = q0[b, d]
-                state[2 + d] = v0[b, d]
-            S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
-            _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
-            # the member's tangent block, bound once: a view made inside the step loop costs numba a
-            # reference-count increment and decrement (atomic) per step
-            tangent = tangents[b]
-            if with_tangent:
-                tangent_start(ndof, masses, P, state, tangent, nj, nm, columns)
-            flag = FLAG_OK
-            if n_per != table_n:
-                base_sin, base_cos = base_motion_table(n_per)  # as the map's kernel reads it
-                table_n = n_per
-            at = 0  # n % n_per
-            for n in range(n_per * n_periods):
-                if n < n_record:
-                    for d in range(ndof):
-                        rec_q[b, d, n] = state[d]
-                    rec_a[b, n] = state[4]
-                base = amp * base_sin[at]
-                at = at + 1 if at + 1 < n_per else 0
-                base_new = amp * base_sin[at]
-                if with_tangent:
-                    old_q[0] = state[0]
-                    old_q[1] = state[1]
-                    for d in range(ndof):
-                        for i in range(nj):
-                            old_force[d, i] = S[d, 0, i]
-                vb_new = amp * omega * base_cos[at]
-                # the step of the kernel's structure, called directly (as in the map's kernel)
-                if structure == SDOF_IWAN:
-                    flag = step_sdof(1, m0, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
-                elif structure == SDOF_MAXWELL:
-                    flag = step_sdof(2, m0, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
-                elif structure == HYBRID:
-                    flag = step_hybrid(1, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
-                elif structure == SDOF_IWAN_MODULATED:
-                    flag = step_sdof(3, m0, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
-                elif structure == HYBRID_MODULATED:
-                    flag = step_hybrid(3, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
-                else:
-                    flag = _step(ndof, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
-                if flag != FLAG_OK:
-                    break
-                if with_tangent:
-                    tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangent, nj, nm, work,
-                                 stuck, lanes)
-            flags[b] = flag
-            if flag == FLAG_OK:
-                for d in range(ndof):
-                    q_end[b, d] = state[d]
-                    v_end[b, d] = state[2 + d]
-                    z_end[b, d] = S[d, 2, 0]
-                    for i in range(jforce0.shape[2]):
-                        j_end[b, d, i] = S[d, 0, i]
-                    for i in range(mstate0.shape[2]):
-                        m_end[b, d, i] = S[d, 1, i]
-        return q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents
-
-    return _compiled_per_structure(_run_periods, structure)
-
-
-_PERIOD_KERNELS: dict = {}
-_PERIOD_KERNELS_LOCK = threading.Lock()
-
-
-def period_kernel(structure: int):
-    """:func:`_period_kernel` of ``structure`` (generic if it is not in
-    :data:`idkit.simulate._kernel.SPECIALISED`, which tests empty to run the generic step); one
-    dispatcher per structure and process."""
-    structure = structure if structure in _kernel.SPECIALISED else GENERIC
-    with _PERIOD_KERNELS_LOCK:
-        if structure not in _PERIOD_KERNELS:
-            _PERIOD_KERNELS[structure] = _period_kernel(structure)
-        return _PERIOD_KERNELS[structure]
-
-
-class PeriodMap:
-    """The period map of a system under harmonic base displacement, on packed state vectors.
-
-    Parameters
-    ----------
-    system : SDOFSystem, HybridSystem or CoulombSpringSystem
-    periods : int
-        Excitation periods per map application (1, or 2 for the 1/2 subharmonic).
-
-    Attributes
-    ----------
-    state_names : tuple of str
-        Name and unit of every state component (``"x1 [m]"`` top mass first, ``"v1 [m/s]"``,
-        ``"F_J1.2 [N]"`` Jenkin element 2 of isolator 1, ``"u_M1.3 [m]"``, ``"z1 [N]"``);
-        isolator 1 is the one below the top mass.
-    """
-
-    def __init__(self, system, periods: int = 1, *, jacobian: str = "auto"):
-        self.system = resolve_system(system)
-        self.arrays = system_arrays(self.system)
-        if isinstance(periods, (bool, np.bool_)) or not isinstance(periods, (int, np.integer, float, np.floating)) \
-                or periods not in (1, 2):  # 1.5 is refused, never truncated
-            raise SimulationError(f"periods: found {periods!r}, expected 1 or 2 (the 1/2 subharmonic)")
-        self.periods = int(periods)
-        arrays = self.arrays
-        ndof = arrays.ndof
-        self.ndof = ndof
-        self.jenkin = np.argwhere(arrays.jk > 0)
-        self.maxwell = np.argwhere(arrays.mk > 0)
-        self.boucwen = np.flatnonzero(arrays.bw[:, 0] != 0)
-        names = [f"x{d + 1} [m]" for d in range(ndof)] + [f"v{d + 1} [m/s]" for d in range(ndof)]
-        names += [f"F_J{j + 1}.{i + 1} [N]" for j, i in self.jenkin]
-        names += [f"u_M{j + 1}.{i + 1} [m]" for j, i in self.maxwell]
-        names += [f"z{j + 1} [N]" for j in self.boucwen]
-        self.state_names = tuple(names)
-        self.size = len(names)
-        self._kernel_arrays = arrays.as_tuple()
-        self._kernel = period_kernel(structure_of(arrays))
-        if jacobian not in ("auto", "exact", "finite differences"):
-            raise SimulationError(f"jacobian: found {jacobian!r}, expected 'auto', 'exact' or 'finite differences'")
-        if jacobian == "exact" and self.boucwen.size:
-            raise SimulationError("jacobian: found 'exact' for a system with Bouc-Wen elements, expected "
-                                  "'finite differences' (z is not differentiated through its sub-steps)")
-        # slip limits that follow the deflection or its rate, or elements behind a clearance
-        modulated = bool(np.any(arrays.slip_limits_vary))
-        if jacobian == "exact" and modulated:
-            raise SimulationError("jacobian: found 'exact' for a system with modulated, rate-dependent or clearance "
-                                  "slip elements, expected 'finite differences' (the exact sensitivities assume the "
-                                  "plain stop operator)")
-        self.jacobian_method = ("finite differences" if jacobian == "finite differences" or self.boucwen.size
-                                or modulated else "exact")
-        nj, nm = arrays.jk.shape[1], arrays.mk.shape[1]
-        jenkin_flat = [j * nj + i for j, i in self.jenkin]
-        maxwell_flat = [j * nm + i for j, i in self.maxwell]
-        # rows of the compiled tangent in packed order, and the initial values its columns follow
-        # (see idkit.responses._sensitivity)
-        self._tangent_rows = np.array(list(range(2 * ndof)) + [3 * ndof + k for k in jenkin_flat]
-                                      + [3 * ndof + ndof * nj + k for k in maxwell_flat], dtype=int)
-        self._tangent_columns = np.array(list(range(2 * ndof)) + [2 * ndof + k for k in jenkin_flat]
-                                         + [2 * ndof + ndof * nj + k for k in maxwell_flat], dtype=int)
-
-    # -- packing -----------------------------------------------------------------------------
-    def pack(self, q, v, jforce, mstate, bwz) -> NDArray[np.float64]:
-        """State vectors (batch, size) from kernel-shaped arrays (batch, ndof[, n])."""
-        parts = [q, v, jforce[:, self.jenkin[:, 0], self.jenkin[:, 1]],
-                 mstate[:, self.maxwell[:, 0], self.maxwell[:, 1]], bwz[:, self.boucwen]]
-        return np.concatenate([np.asarray(p, dtype=float).reshape(q.shape[0], -1) for p in parts], axis=1)
-
-    def unpack(self, states):
-        """Kernel-shaped ``q, v, jforce, mstate, bwz`` from state vectors (batch, size)."""
-        states = np.atleast_2d(states)
-        batch, ndof = states.shape[0], self.ndof
-        q = np.ascontiguousarray(states[:, :ndof])
-        v = np.ascontiguousarray(states[:, ndof:2 * ndof])
-        position = 2 * ndof
-        jforce = np.zeros((batch,) + self.arrays.jk.shape)
-        jforce[:, self.jenkin[:, 0], self.jenkin[:, 1]] = states[:, position:position + len(self.jenkin)]
-        position += len(self.jenkin)
-        mstate = np.zeros((batch,) + self.arrays.mk.shape)
-        mstate[:, self.maxwell[:, 0], self.maxwell[:, 1]] = states[:, position:position + len(self.maxwell)]
-        position += len(self.maxwell)
-        bwz = np.zeros((batch, ndof))
-        bwz[:, self.boucwen] = states[:, position:]
-        return q, v, jforce, mstate, bwz
-
-    def push(self, state, mechanical):
-        """``state`` with displacements and velocities moved by ``mechanical`` (2 ndof values), the
-        Jenkin forces following as in stick (``k dy``, clipped to ``+-Fc``), other internal states
-        kept: the friction memory ``F - k y`` of a sticking element is unchanged."""
-        pushed = np.array(state, dtype=float)
-        ndof = self.ndof
-        pushed[:2 * ndof] += mechanical
-        dq = np.asarray(mechanical[:ndof], dtype=float)
-        deflection_change = np.array([dq[0] - dq[1], dq[1]]) if ndof == 2 else dq
-        for column, (j, i) in enumerate(self.jenkin):
-            position = 2 * ndof + column
-            limit = self.arrays.jfc[j, i]
-            pushed[position] = np.clip(pushed[position] + self.arrays.jk[j, i] * deflection_change[j], -limit, limit)
-        return pushed
-
-    def linear_guess(self, freq, amplitude) -> NDArray[np.float64]:
-        """Small-amplitude (all stuck, linearized) steady state at t = 0, packed (batch, size)."""
-        return self.pack(*linear_initial_state(self.system, np.atleast_1d(freq), np.atleast_1d(amplitude)))
-
-    def scales(self, freq, amplitude, length) -> NDArray[np.float64]:
-        """Scale of every state component for a response of displacement scale ``length`` (m)."""
-        freq, amplitude, length = (np.atleast_1d(np.asarray(value, dtype=float)) for value in (freq, amplitude, length))
-        length = np.maximum(length, amplitude)
-        omega = 2.0 * np.pi * freq
-        columns = [length] * self.ndof + [omega * length] * self.ndof
-        arrays = self.arrays
-        columns += [np.minimum(arrays.jfc[j, i], arrays.jk[j, i] * length) for j, i in self.jenkin]
-        columns += [length] * len(self.maxwell)
-        columns += [max(arrays.bw[j, 4], 1.0) * length for j in self.boucwen]
-        return np.column_stack(np.broadcast_arrays(*columns))
-
-    # -- evaluation ----------------------------------------------------------------------------
-    def run(self, freq, amplitude, states, steps_per_period, *, n_periods=None, n_record=0, with_tangent=False):
-        """Integrate packed states; returns ``(end_states, flags, record_q, record_a)``, or
-        ``(end_states, flags, tangents)`` with ``with_tangent`` (compiled-tangent layout)."""
-        states = np.atleast_2d(np.asarray(states, dtype=float))
-        batch = states.shape[0]
-        freq, amplitude, steps = (np.ascontiguousarray(np.broadcast_to(value, (batch,)))
-                                  for value in (np.asarray(freq, dtype=float), np.asarray(amplitude, dtype=float),
-                                                np.asarray(steps_per_period, dtype=np.int64)))
-        scale = np.atleast_1d(force_scale(self.arrays, amplitude * (2 * np.pi * freq) ** 2))
-        n_periods = self.periods if n_periods is None else int(n_periods)
-        q, v, jforce, mstate, bwz = (np.ascontiguousarray(value) for value in self.unpack(states))
-        q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents = self._kernel(
-            *self._kernel_arrays, freq.astype(float), amplitude.astype(float), steps.astype(np.int64),
-            n_periods, scale, q, v, jforce, mstate, bwz, int(n_record), bool(with_tangent), self._tangent_columns)
-        end = self.pack(q_end, v_end, j_end, m_end, z_end)
-        if with_tangent:
-            return end, flags, tangents
-        return end, flags, rec_q, rec_a
-
-    def jacobian(self, freq, amplitude, state, scale, steps_per_period, *, parameter=None):
-        """Map value and central-difference Jacobian, in scaled variables.
-
-        Returns ``(phi, jacobian, parameter_derivative, flag)``: ``phi = Phi(x)`` (unscaled),
-        ``jacobian[i, k] = d(Phi_i / s_i) / d(x_k / s_k)``, and, when ``parameter`` is
-        ``"freq"`` or ``"amplitude"``, ``d(Phi_i / s_i) / d ln(parameter)`` (else None).
-        """
-        if self.jacobian_method == "exact":
-            return self._exact_jacobian(freq, amplitude, state, scale, steps_per_period, parameter)
-        n = self.size
-        perturbation = FD_STEP * scale
-        members = [state]
-        for k in range(n):
-            for sign in (1.0, -1.0):
-                shifted = state.copy()
-                shifted[k] += sign * perturbation[k]
-                members.append(shifted)
-        freqs = [freq] * (2 * n + 1)
-        amplitudes = [amplitude] * (2 * n + 1)
-        if parameter is not None:
-            for sign in (1.0, -1.0):
-                members.append(state)
-                factor = math.exp(sign * FD_STEP)
-                freqs.append(freq * factor if parameter == "freq" else freq)
-                amplitudes.append(amplitude * factor if parameter == "amplitude" else amplitude)
-        end, flags, _, _ = self.run(np.array(freqs), np.array(amplitudes), np.array(members), steps_per_period)
-        flag = int(flags.max(initial=0)) if np.any(flags) else FLAG_OK
-        phi = end[0]
-        plus = end[1:2 * n + 1:2]
-        minus = end[2:2 * n + 2:2]
-        jacobian = ((plus - minus) / (2.0 * FD_STEP)).T / scale[:, None]
-        derivative = None
-        if parameter is not None:
-            derivative = (end[-2] - end[-1]) / (2.0 * FD_STEP) / scale
-        return phi, jacobian, derivative, flag
-
-
-    def _exact_jacobian(self, freq, amplitude, state, scale, steps_per_period, parameter):
-        """As :meth:`jacobian`, the state derivatives propagated through the step
-        (:mod:`idkit.responses._sensitivity`); the parameter derivative by
-        central differences of ``ln(parameter)`` (step :data:`FD_STEP`)."""
-        end, flags, tangents = self.run(freq, amplitude, state[None], steps_per_period, with_tangent=True)
-        phi, flag = end[0], int(flags[0])
-        jacobian = tangents[0][self._tangent_rows] * scale[None, :] / scale[:, None]
-        derivative = None
-        if parameter is not None and flag == FLAG_OK:
-            factors = np.exp([FD_STEP, -FD_STEP])
-            freqs = freq * factors if parameter == "freq" else np.full(2, freq)
-            amplitudes = amplitude * factors if parameter == "amplitude" else np.full(2, amplitude)
-            end, flags, _, _ = self.run(freqs, amplitudes, np.array([state, state]), steps_per_period)
-            flag = int(flags.max())
-            derivative = (end[0] - end[1]) / (2.0 * FD_STEP) / scale
-        return phi, jacobian, derivative, int(flag)
 
 
 def conserved_directions(matrix):
@@ -589,8 +240,27 @@ def orbit_harmonics(period_map: PeriodMap, freq, amplitude, states, steps_per_pe
     return coefficients, deflection, half_range, peak, flags
 
 
+class HarmonicAccessors:
+    """``harmonic`` and ``hosidf`` of a result of orbits (:class:`PeriodicResponse`, a
+    continuation :class:`~idkit.responses.continuation.Branch`) holding ``coefficients`` of the
+    top displacement at orders 0, 1/2, ..., K, one row a point, and the base ``amplitude`` (m)."""
+
+    @accepts(order=Real(ge=0, meaning="0, 0.5, 1, ..."), error=SimulationError)
+    def harmonic(self, order: float) -> NDArray[np.complex128]:
+        """Complex amplitude (m) of the top displacement at ``order`` x f (0, 0.5, 1, 2, ...)."""
+        index = int(round(2 * order))
+        if not (0 <= index < self.coefficients.shape[1]) or abs(2 * order - index) > 1e-9:
+            raise SimulationError(f"order: found {order!r}, expected 0, 0.5, 1, ..., "
+                                  f"{(self.coefficients.shape[1] - 1) // 2}")
+        return self.coefficients[:, index]
+
+    def hosidf(self, order: float) -> NDArray[np.complex128]:
+        """``k X_k / X_b1`` (dimensionless), as :meth:`idkit.simulate.HarmonicResponse.hosidf`."""
+        return order * self.harmonic(order) / (-1j * self.amplitude)
+
+
 @dataclass(frozen=True)
-class PeriodicResponse:
+class PeriodicResponse(HarmonicAccessors):
     """Periodic steady states found by shooting, one per (frequency, amplitude) point.
 
     The base moves as ``x_b = A sin(2 pi f t)``. Coefficients follow
@@ -641,19 +311,6 @@ class PeriodicResponse:
     deflection_coefficients: NDArray[np.complex128]
     half_range: NDArray[np.float64]
     peak_acceleration: NDArray[np.float64]
-
-    def harmonic(self, order: float) -> NDArray[np.complex128]:
-        """Complex amplitude (m) of the top displacement at ``order`` x f (0, 0.5, 1, 2, ...)."""
-        order = _order(order, f"0, 0.5, 1, ..., {(self.coefficients.shape[1] - 1) // 2}")
-        index = int(round(2 * order))
-        if not (0 <= index < self.coefficients.shape[1]) or abs(2 * order - index) > 1e-9:
-            raise SimulationError(f"order: found {order!r}, expected 0, 0.5, 1, ..., "
-                                  f"{(self.coefficients.shape[1] - 1) // 2}")
-        return self.coefficients[:, index]
-
-    def hosidf(self, order: float) -> NDArray[np.complex128]:
-        """``k X_k / X_b1`` (dimensionless), as :meth:`idkit.simulate.HarmonicResponse.hosidf`."""
-        return order * self.harmonic(order) / (-1j * self.amplitude)
 
     @property
     def max_multiplier(self) -> NDArray[np.float64]:
@@ -706,6 +363,10 @@ def settle(period_map: PeriodMap, freq, amplitude, steps_per_period, n_periods: 
     return end, flags
 
 
+@accepts(freq=Reals(unit="Hz", gt=0), amplitude=Reals(unit="m", gt=0),
+         initial_states=Reals(unit="state units", optional=True), settle_periods=Whole(ge=0),
+         n_harmonics=Whole(ge=1), tolerance=Real(ge=MIN_TOLERANCE, lt=1, meaning="closing error over the state scale"),
+         max_iterations=Whole(ge=0), seek_stable=Flag(optional=True), error=SimulationError)
 def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods: int = 1, initial_states=None,
                       settle_periods: int = 20, steps_per_period=None, n_harmonics: int = 3,
                       tolerance: float = 1e-9, max_iterations: int = 30,
@@ -734,7 +395,7 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
         Harmonics kept in the coefficients (orders 0, 1/2, ..., K).
     tolerance : float, default 1e-9
         Newton stops when the closing error ``max |Phi(x) - x| / scale`` is below this
-        (:data:`MIN_TOLERANCE` = 1e-12 to below 1).
+        (:data:`idkit.limits.MIN_TOLERANCE` = 1e-12 to below 1).
     max_iterations : int, default 30
     seek_stable : bool, optional
         If an orbit found is unstable with a real multiplier outside the unit circle, push the
@@ -758,22 +419,18 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
     (True, True)
     """
     period_map = PeriodMap(system, periods, jacobian=jacobian)
-    freq = _numbers(freq, "freq", "positive finite frequencies in Hz")
-    amplitude = _numbers(amplitude, "amplitude", "positive finite amplitudes in m")
     try:
         freq, amplitude = np.broadcast_arrays(np.atleast_1d(freq), np.atleast_1d(amplitude))
     except ValueError:
         raise SimulationError(f"freq, amplitude: found shapes {np.shape(freq)} and {np.shape(amplitude)}, "
                               "expected shapes that broadcast together") from None
     freq, amplitude = freq.ravel().copy(), amplitude.ravel().copy()
-    if freq.size == 0:
-        raise SimulationError("freq, amplitude: found no points, expected at least one")
     if initial_states is not None:
         # rows of starting states broadcast with the points: one (freq, amplitude) from several
         # starts (coexisting orbits), or one start for every point
-        guesses = np.atleast_2d(np.asarray(initial_states, dtype=float))
-        rows = guesses.shape[0] if guesses.ndim == 2 else -1
-        if guesses.ndim != 2 or guesses.shape[1] != period_map.size or rows < 1 or not (
+        guesses = np.atleast_2d(initial_states)
+        rows = guesses.shape[0]
+        if guesses.ndim != 2 or guesses.shape[1] != period_map.size or not (
                 rows == freq.size or rows == 1 or freq.size == 1):
             raise SimulationError(
                 f"initial_states: found shape {np.shape(initial_states)} for {freq.size} (freq, amplitude) point(s), "
@@ -783,36 +440,16 @@ def periodic_response(system, freq: ArrayLike, amplitude: ArrayLike, *, periods:
         count = max(rows, freq.size)
         freq, amplitude = np.resize(freq, count), np.resize(amplitude, count)
         guesses = np.repeat(guesses, count, axis=0) if rows == 1 and count > 1 else guesses
-    if np.any(~np.isfinite(freq)) or np.any(freq <= 0):
-        raise SimulationError(f"freq: found {freq[~(freq > 0) | ~np.isfinite(freq)][:1]}, "
-                              "expected positive finite frequencies in Hz")
-    if np.any(~np.isfinite(amplitude)) or np.any(amplitude <= 0):
-        raise SimulationError(f"amplitude: found {amplitude[~(amplitude > 0) | ~np.isfinite(amplitude)][:1]}, "
-                              "expected positive finite amplitudes in m")
     with np.errstate(over="ignore"):
         base_accel = amplitude * (2 * np.pi * freq) ** 2
     if not np.isfinite(base_accel).all():
         worst = int(np.argmin(np.isfinite(base_accel)))
         raise SimulationError(f"freq, amplitude: found {freq[worst]:g} Hz and {amplitude[worst]:g} m, whose base "
                               f"acceleration A (2 pi f)^2 overflows; expected a finite one")
-    if isinstance(tolerance, (bool, np.bool_)) or not isinstance(tolerance, (int, float, np.integer, np.floating)) \
-            or not (np.isfinite(tolerance) and MIN_TOLERANCE <= tolerance < 1):
-        raise SimulationError(f"tolerance: found {tolerance!r}, expected a closing error (over the state scale) "
-                              f"from {MIN_TOLERANCE:g} (round-off of a period's integration: a smaller one is never "
-                              "met) to below 1")
-    n_harmonics = whole_number(n_harmonics, "n_harmonics", 1)
-    settle_periods = whole_number(settle_periods, "settle_periods", 0)
-    max_iterations = whole_number(max_iterations, "max_iterations", 0)
-    if seek_stable is not None and not isinstance(seek_stable, (bool, np.bool_)):
-        raise SimulationError(f"seek_stable: found {seek_stable!r}, expected True, False or None")
     steps = check_steps_per_period(period_map, freq, steps_per_period, n_harmonics)
     if initial_states is None:
         guesses, flags = settle(period_map, freq, amplitude, steps, settle_periods)
     else:
-        if not np.isfinite(guesses).all():
-            row, column = np.argwhere(~np.isfinite(guesses))[0]
-            raise SimulationError(f"initial_states: found {guesses[row, column]} in row {row}, column "
-                                  f"{period_map.state_names[column]}, expected finite values")
         guesses, flags = settle(period_map, freq, amplitude, steps, settle_periods, guesses)
     return _solve_points(period_map, freq, amplitude, steps, guesses, flags, n_harmonics, tolerance, max_iterations,
                          settle_periods, seek_stable)
@@ -931,65 +568,3 @@ def _solve_points(period_map, freq, amplitude, steps, guesses, flags, n_harmonic
         converged=converged, reasons=tuple(reasons), coefficients=coefficients, deflection_coefficients=deflection,
         half_range=half_range, peak_acceleration=peak,
     )
-
-
-def monodromy(period_map: PeriodMap, freq, amplitude, states, steps_per_period, *, workers=None):
-    """Closing error and Floquet multipliers of many approximate orbits at once.
-
-    ``states`` (n, size): packed states at t = 0 (a settled time run's end states). Over
-    ``period_map.periods`` periods, returns ``(closing, multipliers, jacobians, flags)``:
-    ``closing`` (n,) ``max |Phi(x) - x| / scale``, ``multipliers`` (n, size) complex, by
-    decreasing modulus, ``jacobians`` (n, size, size) the monodromy matrices in scaled
-    variables (as :meth:`PeriodMap.jacobian`), ``flags`` (n,). The monodromy matrix is propagated through the steps (or
-    central differences, :meth:`PeriodMap.jacobian`), one compiled batch over every point
-    (chunks on ``workers`` threads); multipliers do not depend on the variables' scaling.
-    """
-    states = np.atleast_2d(np.asarray(states, dtype=float))
-    n, size = states.shape
-    freq, amplitude, steps = (np.ascontiguousarray(np.broadcast_to(value, (n,))) for value in (
-        np.asarray(freq, dtype=float), np.asarray(amplitude, dtype=float), np.asarray(steps_per_period, np.int64)))
-    length = np.maximum(amplitude, np.max(np.abs(states[:, :period_map.ndof]), axis=1))
-    scale = period_map.scales(freq, amplitude, length)
-    if period_map.jacobian_method == "exact":
-        def task(part):
-            end, flags, tangents = period_map.run(freq[part], amplitude[part], states[part], steps[part],
-                                                  with_tangent=True)
-            return end, flags, tangents
-        end, flags, tangents = run_chunked(task, n, workers=workers)
-        jacobian = tangents[:, period_map._tangent_rows]
-        jacobian = jacobian * scale[:, None, :] / scale[:, :, None]
-    else:
-        members = np.repeat(states[:, None, :], 2 * size + 1, axis=1)
-        offsets = FD_STEP * scale
-        for k in range(size):
-            members[:, 1 + 2 * k, k] += offsets[:, k]
-            members[:, 2 + 2 * k, k] -= offsets[:, k]
-        repeat = (lambda values: np.repeat(values, 2 * size + 1))
-
-        def task(part):
-            out, out_flags, _, _ = period_map.run(repeat(freq)[part], repeat(amplitude)[part],
-                                                  members.reshape(-1, size)[part], repeat(steps)[part])
-            return out, out_flags
-        out, out_flags = run_chunked(task, n * (2 * size + 1), workers=workers)
-        out = out.reshape(n, 2 * size + 1, size)
-        end = out[:, 0]
-        flags = out_flags.reshape(n, -1).max(axis=1)
-        jacobian = np.transpose((out[:, 1::2] - out[:, 2::2]) / (2.0 * FD_STEP), (0, 2, 1)) / scale[:, :, None]
-    closing = np.max(np.abs(end - states) / scale, axis=1)
-    good = (np.asarray(flags) == FLAG_OK) & np.isfinite(jacobian).all(axis=(1, 2))
-
-    def eigen(part):  # on the workers too (LAPACK releases the GIL): as costly as the tangent runs
-        values = np.full((part.stop - part.start, size), np.nan, dtype=complex)
-        valid = good[part]
-        if valid.any():
-            found = np.linalg.eigvals(jacobian[part][valid])
-            values[valid] = np.take_along_axis(found, np.argsort(-np.abs(found), axis=1, kind="stable"), axis=1)
-        return (values,)
-    (multipliers,) = run_chunked(eigen, n, workers=workers)
-    closing[~good] = np.nan
-    return closing, multipliers, jacobian, np.asarray(flags)
-
-
-def period_map(system, periods: int = 1) -> PeriodMap:
-    """The :class:`PeriodMap` of ``system`` over ``periods`` excitation periods (1 or 2)."""
-    return PeriodMap(system, periods)

@@ -57,8 +57,10 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
+from idkit.checks import Choice, Real, Reals, Whole, accepts
 from idkit.errors import SimulationError
-from idkit.responses.linear import _numbers
+from idkit.limits import MAX_SAMPLES
+from idkit.responses.linear import LINEAR_SYSTEM
 from idkit.models import HybridSystem, SDOFSystem
 from idkit.models.laws import hybrid_displacements, sdof_transmissibility
 from idkit.models.iwan_modulated import lowest_slip_scale
@@ -71,7 +73,6 @@ from idkit.signal.psd import (
     welch_psd,
 )
 from idkit.simulate import simulate
-from idkit.simulate._arrays import whole_number
 
 __all__ = [
     "FLAT_LEVELS",
@@ -91,16 +92,14 @@ WELCH_OVERLAP = 2.0 / 3.0
 FLAT_LEVELS = (1e-8, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2)
 """Flat floor-acceleration levels of SPEC 5 / thesis ch. 8, (m/s^2)^2/Hz over 0.1-100 Hz."""
 
-#: Most floor samples :func:`random_response` synthesizes at once (all realizations, at
-#: ``oversample x fs``): 8e8 bytes; the default 30 x 3200 Hz / 0.05 Hz is 1.9e6.
-MAX_SYNTHESIZED_SAMPLES = 10**8
-
-#: Highest frequency (Hz) of a flat input PSD: the Nyquist frequency ``1 / (2 x 1e-9 s)`` of the
-#: smallest time step idkit integrates with (``idkit.cli.options.MIN_TIME_STEP``); a floor band
-#: above it can be neither synthesized nor simulated (``f_hi=1e300`` was accepted).
-MAX_PSD_FREQ = 5e8
+#: Highest frequency (Hz) of a flat input PSD: the Nyquist frequency of the smallest time step
+#: idkit integrates with (:data:`idkit.limits.MIN_TIME_STEP`); a floor band above it can be
+#: neither synthesized nor simulated.
+MAX_PSD_FREQ = 5e8  # 0.5 / MIN_TIME_STEP, written exactly
 
 
+@accepts(levels=Reals(unit="(m/s^2)^2/Hz", ge=0), f_lo=Real(unit="Hz", gt=0, le=MAX_PSD_FREQ),
+         f_hi=Real(unit="Hz", gt=0, le=MAX_PSD_FREQ), error=SimulationError)
 def flat_input_psds(levels: ArrayLike = FLAT_LEVELS, *, f_lo: float = 0.1,
                     f_hi: float = 100.0) -> dict[float, PsdProfile]:
     """The flat input PSDs of SPEC 5 as profiles, keyed by level in (m/s^2)^2/Hz.
@@ -114,22 +113,14 @@ def flat_input_psds(levels: ArrayLike = FLAT_LEVELS, *, f_lo: float = 0.1,
     >>> sorted(profiles)[0], round(profiles[1e-2].rms(), 4)
     (1e-08, 0.9995)
     """
-    for name, value in (("f_lo", f_lo), ("f_hi", f_hi)):
-        if isinstance(value, (bool, np.bool_)) or not (isinstance(value, (int, float, np.integer, np.floating))
-                                                      and 0 < value <= MAX_PSD_FREQ):
-            raise SimulationError(f"{name}: found {value!r}, expected a frequency > 0 and at most "
-                                  f"{MAX_PSD_FREQ:g} Hz (the Nyquist frequency of a 1e-9 s step, the smallest "
-                                  "idkit integrates with)")
     if not f_lo < f_hi:
         raise SimulationError(f"f_lo, f_hi: found {f_lo!r} and {f_hi!r} Hz, expected f_lo < f_hi")
-    values = np.atleast_1d(_numbers(levels, "levels", "PSD levels in (m/s^2)^2/Hz"))
-    return {float(level): PsdProfile.flat(float(level), f_lo=f_lo, f_hi=f_hi) for level in values.ravel()}
+    return {float(level): PsdProfile.flat(float(level), f_lo=f_lo, f_hi=f_hi) for level in np.ravel(levels)}
 
 
+@accepts(system=LINEAR_SYSTEM, error=SimulationError)
 def is_linear_system(system) -> bool:
     """True when every isolator is linear (no Jenkin/Bouc-Wen part, no ``g2``/``g3``)."""
-    if not isinstance(system, (SDOFSystem, HybridSystem)):
-        raise SimulationError(f"system: found {type(system).__name__}, expected SDOFSystem or HybridSystem")
     for isolator in system.isolators:
         arrays = isolator.kernel_arrays()
         if arrays.poly[1] != 0 or arrays.poly[2] != 0 or arrays.jenkin_stiffness.size or arrays.boucwen[0] != 0:
@@ -137,6 +128,7 @@ def is_linear_system(system) -> bool:
     return True
 
 
+@accepts(freq=Reals(unit="Hz", ge=0, min_size=0), error=SimulationError)
 def linear_output_psd(system, input_psd, freq: ArrayLike) -> NDArray[np.float64]:
     """``S_yy = |H(f)|^2 S_xx(f)`` of the top-mass acceleration, (m/s^2)^2/Hz.
 
@@ -150,7 +142,6 @@ def linear_output_psd(system, input_psd, freq: ArrayLike) -> NDArray[np.float64]
         Hz (0 allowed: ``H(0) = 1``). At the resonance of an undamped system ``|H|`` is
         infinite (NaN where ``S_xx`` is 0 there).
     """
-    freq = _numbers(freq, "freq", "frequencies >= 0 in Hz")
     positive = np.where(freq > 0, freq, 1.0)
     with np.errstate(divide="ignore", invalid="ignore"):  # an undamped resonance: see above
         response = np.where(freq > 0, np.asarray(system.transmissibility(positive)), 1.0)
@@ -266,6 +257,9 @@ class RandomResponse:
         return text
 
 
+@accepts(system=LINEAR_SYSTEM, freq_step=Real(unit="Hz", gt=0), time_constants=Real(gt=0),
+         freq_range=Reals(unit="Hz", gt=0, min_size=2, max_size=2, increasing=True),
+         max_records=Real(gt=0, meaning="records"), error=SimulationError)
 def settle_records_for(system, *, freq_step: float = 0.05, time_constants: float = 5.0,
                        freq_range: tuple[float, float] = (1.0, 20.0), max_records: float = 1.0) -> float:
     """Settling for :func:`random_response`: a few small-amplitude time constants, in records.
@@ -613,6 +607,11 @@ def _linear_start(system, signals: NDArray[np.float64], rate: float) -> dict[str
     }
 
 
+@accepts(system=LINEAR_SYSTEM, n_realizations=Whole(ge=1), fs=Real(unit="Hz", gt=0), freq_step=Real(unit="Hz", gt=0),
+         oversample=Whole(ge=1), settle_records=Real(ge=0, meaning="records"),
+         nperseg=Whole(ge=8, optional=True, meaning="samples at fs"), method=Choice(("time", "frequency", "auto")),
+         start=Choice(("rest", "linear")), settle_until=Real(gt=0, optional=True, meaning="a settling error"),
+         max_extra_records=Whole(ge=0), error=SimulationError)
 def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, fs: float = 800.0,
                     freq_step: float = 0.05, oversample: int = 4, settle_records: float = 1.0,
                     nperseg: int | None = None, method: str = "time", start: str = "rest",
@@ -694,39 +693,19 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
     >>> result.is_linear, round(result.input_rms, 2)
     (True, 0.1)
     """
-    if not isinstance(system, (SDOFSystem, HybridSystem)):
-        raise SimulationError(f"system: found {type(system).__name__}, expected SDOFSystem or HybridSystem")
-    if int(oversample) != oversample or oversample < 1:
-        raise SimulationError(f"oversample: found {oversample!r}, expected an integer >= 1")
-    for name, value in (("fs", fs), ("freq_step", freq_step)):
-        if isinstance(value, bool) or not (isinstance(value, (int, float, np.integer, np.floating))
-                                           and np.isfinite(value) and value > 0):
-            raise SimulationError(f"{name}: found {value!r}, expected a finite frequency > 0 Hz")
-    n_realizations = whole_number(n_realizations, "n_realizations", 1)  # True was 1, 2.5 taken as 2
-    samples = n_realizations * float(fs) * int(oversample) / float(freq_step)
-    if samples > MAX_SYNTHESIZED_SAMPLES:  # numpy's "Maximum allowed size exceeded" at 1e300
-        raise SimulationError(f"n_realizations, fs, oversample, freq_step: found {n_realizations:.4g} x {float(fs):g} Hz x "
-                              f"{int(oversample)} / {float(freq_step):g} Hz = {samples:.3g} floor samples to "
-                              f"synthesize, expected at most {MAX_SYNTHESIZED_SAMPLES:.0e} "
-                              f"({8 * MAX_SYNTHESIZED_SAMPLES / 2**20:.0f} MiB)")
+    samples = n_realizations * fs * oversample / freq_step
+    if samples > MAX_SAMPLES:
+        raise SimulationError(f"n_realizations, fs, oversample, freq_step: found {n_realizations:.4g} x {fs:g} Hz x "
+                              f"{oversample} / {freq_step:g} Hz = {samples:.3g} floor samples to "
+                              f"synthesize, expected at most {MAX_SAMPLES:.0e} ({8 * MAX_SAMPLES / 2**20:.0f} MiB)")
     if not callable(input_psd):
         raise SimulationError(f"input_psd: found {type(input_psd).__name__}, expected a PsdProfile "
                               "(or a callable psd(freq_Hz) in (m/s^2)^2/Hz)")
-    if isinstance(input_psd, PsdProfile) and np.isfinite(fs) and input_psd.freq[-1] > fs * oversample / 2:
+    if isinstance(input_psd, PsdProfile) and input_psd.freq[-1] > fs * oversample / 2:
         raise SimulationError(
             f"input_psd: found a profile reaching {input_psd.freq[-1]:g} Hz, expected none above "
             f"oversample x fs / 2 = {oversample:g} x {fs:g} / 2 = {fs * oversample / 2:g} Hz, the Nyquist "
             "frequency of the simulated floor (the profile's band above would be cut off); raise fs")
-    if not (np.isfinite(settle_records) and settle_records >= 0):
-        raise SimulationError(f"settle_records: found {settle_records!r}, expected a number of records >= 0")
-    if settle_until is not None and not (np.isfinite(settle_until) and settle_until > 0):
-        raise SimulationError(f"settle_until: found {settle_until!r}, expected a settling error > 0")
-    if int(max_extra_records) != max_extra_records or max_extra_records < 0:
-        raise SimulationError(f"max_extra_records: found {max_extra_records!r}, expected an integer >= 0")
-    if start not in ("rest", "linear"):
-        raise SimulationError(f"start: found {start!r}, expected 'rest' or 'linear'")
-    if method not in ("time", "frequency", "auto"):
-        raise SimulationError(f"method: found {method!r}, expected 'time', 'frequency' or 'auto'")
     linear = is_linear_system(system)
     if method == "frequency" and not (linear and nperseg is None):
         raise SimulationError(
@@ -750,7 +729,7 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
     step = int(oversample)
     record = n_samples // step  # samples of one record at fs
     segment = record if nperseg is None else nperseg
-    if int(segment) != segment or not 8 <= segment <= record:
+    if segment > record:
         raise SimulationError(f"nperseg: found {nperseg!r}, expected an integer in [8, {record}] "
                               f"(samples at fs = {float(fs):g} Hz; at most one record of "
                               f"1 / freq_step = {1.0 / float(freq_step):g} s)")

@@ -49,8 +49,9 @@ from idkit.gravity import gravity_acceleration, impact_velocity_from_height
 from idkit.signal.drop import drop_phase_peaks
 from idkit.signal.srs import ShockResponseSpectrum, shock_response_spectrum
 from idkit.errors import SimulationError
-from idkit.responses.linear import _numbers
-from idkit.models import HybridSystem, SDOFSystem
+from idkit.checks import Choice, Flag, Real, Reals, accepts
+from idkit.responses.linear import LINEAR_SYSTEM
+from idkit.models import HybridSystem
 from idkit.simulate import (
     DEFAULT_CONTACT,
     STANDARD_GRAVITY,
@@ -233,6 +234,9 @@ class ShockSweep:
         return "\n".join(lines)
 
 
+@accepts(system=LINEAR_SYSTEM, impact_velocity=Reals(unit="m/s", optional=True, meaning="drop: < 0"),
+         duration=Real(unit="s", gt=0, optional=True), time_step=Real(unit="s", gt=0, optional=True),
+         drop_model=Choice(("conditioned", "rig")), relaxation=Flag(), error=SimulationError)
 def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height: ArrayLike | None = None,
                 duration: float | None = None, time_step: float | None = None, gravity: bool | float = False,
                 relaxation: bool = False, workers: int | None = None, executor=None,
@@ -280,14 +284,8 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
     >>> round(float(sweep.rest_shock_level[0] / (2 * np.pi * 5.0 * 0.5)), 5)
     1.0
     """
-    if not isinstance(system, (SDOFSystem, HybridSystem)):
-        raise SimulationError(f"system: found {type(system).__name__}, expected SDOFSystem or HybridSystem")
     if (impact_velocity is None) == (drop_height is None):
         raise SimulationError("shock_sweep: give exactly one of impact_velocity (m/s) and drop_height (m)")
-    if drop_model not in ("conditioned", "rig"):
-        raise SimulationError(f"drop_model: found {drop_model!r}, expected 'conditioned' or 'rig'")
-    if not isinstance(relaxation, (bool, np.bool_)):  # relaxation="no" relaxed (a truthy string)
-        raise SimulationError(f"relaxation: found {relaxation!r}, expected True or False")
     if drop_model == "rig":
         return _rig_sweep(system, impact_velocity=impact_velocity, drop_height=drop_height, duration=duration,
                           time_step=time_step, bottom_mass=bottom_mass, contact=contact, workers=workers,
@@ -297,9 +295,9 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
         if velocity.ndim != 1:
             raise SimulationError(f"drop_height: found shape {np.shape(drop_height)}, expected a 1-D array of m")
     else:
-        velocity = np.atleast_1d(_numbers(impact_velocity, "impact_velocity", "finite m/s (drop: < 0)"))
-        if velocity.ndim != 1 or not np.all(np.isfinite(velocity)):
-            raise SimulationError(f"impact_velocity: found {velocity!r}, expected finite m/s (drop: < 0)")
+        velocity = np.atleast_1d(impact_velocity)
+        if velocity.ndim != 1:
+            raise SimulationError(f"impact_velocity: found shape {velocity.shape}, expected a 1-D array of m/s")
         with np.errstate(over="ignore"):
             too_fast = ~np.isfinite(velocity**2 / (2.0 * STANDARD_GRAVITY))
         if too_fast.any():

@@ -24,6 +24,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
+from idkit.checks import Choice, Real, Reals, Samples, Whole, accepts, unchecked
 from idkit.errors import DataError, FitError
 
 __all__ = [
@@ -55,6 +56,7 @@ def _as_record(values: ArrayLike, name: str) -> NDArray[np.float64]:
     return array
 
 
+@accepts(min_excursion=Real(unit="m", gt=0), error=DataError)
 def find_reversals(deflection: ArrayLike, *, min_excursion: float) -> NDArray[np.intp]:
     """Indices of the turning points (reversals) of a deflection record.
 
@@ -95,8 +97,6 @@ def find_reversals(deflection: ArrayLike, *, min_excursion: float) -> NDArray[np
     [50, 150, 250, 350]
     """
     x = _as_record(deflection, "deflection")
-    if not (np.isfinite(min_excursion) and min_excursion > 0):
-        raise DataError(f"min_excursion must be a positive length in m; found {min_excursion!r}")
     reversals: list[int] = []
     # Direction: first departure from the start by more than the threshold.
     departed = np.flatnonzero(np.abs(x - x[0]) > min_excursion)
@@ -136,6 +136,7 @@ def find_reversals(deflection: ArrayLike, *, min_excursion: float) -> NDArray[np
     return np.asarray(reversals, dtype=np.intp)
 
 
+@accepts(amplitude=Reals(unit="m", min_size=0), threshold=Real(unit="m", ge=0), error=DataError)
 def classify_amplitudes(amplitude: ArrayLike, *, threshold: float) -> NDArray[np.bool_]:
     """Classify cycle amplitudes as large (``True``) or small (``False``).
 
@@ -153,9 +154,6 @@ def classify_amplitudes(amplitude: ArrayLike, *, threshold: float) -> NDArray[np
     ndarray of bool
         ``True`` where the amplitude exceeds ``threshold``.
     """
-    amplitude = np.asarray(amplitude, dtype=float)
-    if not (np.isfinite(threshold) and threshold >= 0):
-        raise DataError(f"threshold must be a non-negative amplitude in m; found {threshold!r}")
     return amplitude > threshold
 
 
@@ -221,6 +219,7 @@ class CycleSplit:
         )
 
 
+@accepts(signal=Samples(min_size=3), error=DataError)
 def noise_level(signal) -> float:
     """Robust estimate of the white-noise standard deviation of a smooth record.
 
@@ -245,14 +244,7 @@ def noise_level(signal) -> float:
     >>> round(noise_level(np.linspace(0, 1, 20000) + 0.01 * rng.standard_normal(20000)), 3)
     0.01
     """
-    values = np.asarray(signal, dtype=float)
-    if values.ndim != 1 or values.size < 3:
-        raise DataError(f"signal: found shape {values.shape}, expected a 1-D record of at least 3 samples "
-                        "(one second difference)")
-    if not np.all(np.isfinite(values)):
-        raise DataError(f"signal: found a non-finite sample at index {int(np.flatnonzero(~np.isfinite(values))[0])}, "
-                        "expected finite values")
-    second = np.diff(values, 2)
+    second = np.diff(signal, 2)
     return float(1.4826 * np.median(np.abs(second - np.median(second))) / np.sqrt(6.0))
 
 
@@ -274,6 +266,7 @@ def reversal_threshold(deflection) -> float:
     return max(REVERSAL_NOISE_FACTOR * noise_level(x), REVERSAL_RANGE_FRACTION * float(np.ptp(x)))
 
 
+@accepts(min_excursion=Real(unit="m", gt=0), large_threshold=Real(unit="m", ge=0, optional=True), error=DataError)
 def split_cycles(
     deflection: ArrayLike,
     *,
@@ -310,7 +303,7 @@ def split_cycles(
     (2, 0.002)
     """
     x = _as_record(deflection, "deflection")
-    reversals = find_reversals(x, min_excursion=min_excursion)
+    reversals = unchecked(find_reversals)(x, min_excursion=min_excursion)
     branch_start = reversals[:-1]
     branch_stop = reversals[1:]
     branch_direction = np.sign(x[branch_stop] - x[branch_start]).astype(np.int8)
@@ -328,7 +321,7 @@ def split_cycles(
     if large_threshold is None:
         is_large = np.zeros(n_cycles, dtype=bool)
     else:
-        is_large = classify_amplitudes(amplitude, threshold=large_threshold)
+        is_large = unchecked(classify_amplitudes)(amplitude, threshold=large_threshold)
     return CycleSplit(
         reversals=reversals,
         branch_start=branch_start,
@@ -412,6 +405,8 @@ def _branch_positions(
     return positions
 
 
+@accepts(min_excursion=Real(unit="m", gt=0, optional=True), points_per_branch=Whole(ge=2),
+         spacing=Choice(("deflection", "index")), error=DataError)
 def resample_loops(
     deflection: ArrayLike,
     force: ArrayLike,
@@ -480,15 +475,11 @@ def resample_loops(
     f = _as_record(force, "force")
     if f.size != x.size:
         raise DataError(f"force has {f.size} samples; expected {x.size} like deflection")
-    if spacing not in ("deflection", "index"):
-        raise DataError(f"spacing must be 'deflection' or 'index'; found {spacing!r}")
-    if int(points_per_branch) != points_per_branch or points_per_branch < 2:
-        raise DataError(f"points_per_branch must be an integer >= 2; found {points_per_branch!r}")
-    points = int(points_per_branch)
+    points = points_per_branch
     if split is None:
         if min_excursion is None:
             raise DataError("give min_excursion (m) or a precomputed split")
-        split = split_cycles(x, min_excursion=min_excursion)
+        split = unchecked(split_cycles)(x, min_excursion=min_excursion)
     if split.branch_start.size == 0:
         raise FitError(
             f"only {split.reversals.size} reversal found; at least 2 are needed for one "

@@ -23,6 +23,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from scipy import signal as sps
 
+from idkit.checks import Real, Samples, Whole, accepts, unchecked
 from idkit.errors import DataError
 from idkit.gravity import STANDARD_GRAVITY, impact_velocity_from_height
 
@@ -37,6 +38,7 @@ __all__ = [
 ]
 
 
+@accepts(signal=Samples(finite=False), window=Whole(ge=1, meaning="samples"), error=DataError)
 def zero_phase_moving_average(signal: ArrayLike, *, window: int = 5) -> NDArray[np.float64]:
     """Moving average of ``window`` samples run forward and backward (zero phase).
 
@@ -69,12 +71,7 @@ def zero_phase_moving_average(signal: ArrayLike, *, window: int = 5) -> NDArray[
     >>> bool(np.allclose(zero_phase_moving_average(ramp), ramp))  # a ramp is kept, ends too
     True
     """
-    values = np.asarray(signal, dtype=float)
-    if values.ndim != 1:
-        raise DataError(f"signal must be 1-D; found shape {values.shape}")
-    if int(window) != window or window < 1:
-        raise DataError(f"window must be a positive integer number of samples; found {window!r}")
-    window = int(window)
+    values = signal
     if window == 1:
         return values.copy()
     if values.size <= 3 * window:
@@ -271,6 +268,11 @@ class DropResult:
         )
 
 
+@accepts(time=Samples(unit="s", min_size=2), deflection=Samples(unit="m"),
+         acceleration=Samples(unit="m/s^2", ndim=(1, 2)), relative_velocity=Samples(unit="m/s", optional=True),
+         drop_height=Real(unit="m", ge=0, optional=True), window=Whole(ge=1, meaning="samples"),
+         impact_fraction=Real(gt=0, lt=1), deflection_reference=Real(unit="m", optional=True),
+         g=Real(unit="m/s^2", ge=0), error=DataError)
 def process_drop(
     time: ArrayLike,
     deflection: ArrayLike,
@@ -357,10 +359,8 @@ def process_drop(
     >>> round(result.peak_acceleration_compression / (w0 * abs(v0)), 3)
     1.0
     """
-    t = np.asarray(time, dtype=float)
-    x = np.asarray(deflection, dtype=float)
-    acc = np.asarray(acceleration, dtype=float)
-    if t.ndim != 1 or x.shape != t.shape:
+    t, x, acc = time, deflection, acceleration
+    if x.shape != t.shape:
         raise DataError(
             f"time and deflection must be 1-D of equal length; found {t.shape} and {x.shape}"
         )
@@ -371,30 +371,21 @@ def process_drop(
             f"acceleration has shape {np.shape(acceleration)}; expected ({t.size},) or "
             f"(n_sensors, {t.size})"
         )
-    for name, values in (("time", t), ("deflection", x), ("acceleration", acc)):
-        if not np.all(np.isfinite(values)):
-            raise DataError(f"{name} must be finite; found NaN or inf")
-    if t.size < 2:
-        raise DataError(f"time has {t.size} samples; expected many")
     steps = np.diff(t)
     if np.any(steps <= 0) or np.ptp(steps) > 1e-6 * steps.mean():
         raise DataError(
             "time must increase uniformly (the moving average assumes a constant sample "
             f"interval); found steps from {steps.min():g} to {steps.max():g} s"
         )
-    if not (0 < impact_fraction < 1):
-        raise DataError(f"impact_fraction must be in (0, 1); found {impact_fraction!r}")
     if relative_velocity is None:
         velocity_raw = np.gradient(x, t)
     else:
-        velocity_raw = np.asarray(relative_velocity, dtype=float)
-        if velocity_raw.shape != t.shape or not np.all(np.isfinite(velocity_raw)):
-            raise DataError(
-                f"relative_velocity must be finite with shape {t.shape}; found "
-                f"{velocity_raw.shape}"
-            )
-    velocity = zero_phase_moving_average(velocity_raw, window=window)
-    acc = zero_phase_moving_average(acc, window=window)
+        velocity_raw = relative_velocity
+        if velocity_raw.shape != t.shape:
+            raise DataError(f"relative_velocity: found shape {velocity_raw.shape}, expected {t.shape} like time")
+    smooth = unchecked(zero_phase_moving_average)
+    velocity = smooth(velocity_raw, window=window)
+    acc = smooth(acc, window=window)
 
     most_negative = velocity.min()
     if not most_negative < 0:

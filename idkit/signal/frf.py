@@ -241,6 +241,7 @@ def half_power_damping(freq: np.ndarray, magnitude: np.ndarray) -> tuple[float, 
 HANN_ENBW_BINS = 1.5
 
 
+@accepts(freq_step_hz=Real(unit="Hz", gt=0), half_power_width_hz=Real(unit="Hz", gt=0), error=DataError)
 def window_peak_bias(freq_step_hz: float, half_power_width_hz: float) -> float:
     """Relative loss of a resonance peak read through Welch's Hann window, ``(B_e / B_r)^2 / 3``.
 

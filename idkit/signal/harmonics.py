@@ -31,6 +31,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
+from idkit.checks import Choice, Flag, Real, Reals, Samples, Whole, accepts, unchecked
 from idkit.errors import DataError
 
 __all__ = [
@@ -124,9 +125,7 @@ def _analysis_window(
     if n_periods is None:
         periods = available - (available % 2 if even_periods else 0)
     else:
-        if int(n_periods) != n_periods or n_periods < 1:
-            raise DataError(f"n_periods must be a positive integer; found {n_periods!r}")
-        periods = int(n_periods)
+        periods = n_periods
         if even_periods and periods % 2:
             raise DataError(
                 f"n_periods={periods} is odd; the 1/2 subharmonic needs an even number of "
@@ -148,6 +147,8 @@ def _analysis_window(
     return first, n_samples, periods
 
 
+@accepts(signal=Samples(), fs=Real(unit="Hz", gt=0), freq=Real(unit="Hz", gt=0), n_harmonics=Whole(ge=1),
+         n_periods=Whole(ge=1, optional=True), subharmonic=Flag(), align=Choice(("end", "start")), error=DataError)
 def fit_harmonics(
     signal: ArrayLike,
     *,
@@ -206,25 +207,10 @@ def fit_harmonics(
     >>> round(float(fit.amplitude[0]), 9), round(float(fit.phase[0]), 9), round(fit.bias, 9)
     (2.0, -0.3, 0.1)
     """
-    values = np.asarray(signal, dtype=float)
-    if values.ndim != 1:
-        raise DataError(f"signal must be 1-D; found shape {values.shape}")
-    if not np.all(np.isfinite(values)):
-        raise DataError("signal must be finite; found NaN or inf")
-    if not (np.isfinite(fs) and fs > 0):
-        raise DataError(f"fs must be a positive sample rate in Hz; found {fs!r}")
-    if not (np.isfinite(freq) and freq > 0):
-        raise DataError(f"freq must be a positive frequency in Hz; found {freq!r}")
-    if int(n_harmonics) != n_harmonics or n_harmonics < 1:
-        raise DataError(f"n_harmonics must be a positive integer; found {n_harmonics!r}")
-    n_harmonics = int(n_harmonics)
+    values = signal
     if n_harmonics * freq >= fs / 2:
-        raise DataError(
-            f"harmonic {n_harmonics} of freq={freq:g} Hz is at or above the Nyquist frequency "
-            f"{fs / 2:g} Hz; lower n_harmonics or raise fs"
-        )
-    if align not in ("end", "start"):
-        raise DataError(f"align must be 'end' or 'start'; found {align!r}")
+        raise DataError(f"n_harmonics, freq: found harmonic {n_harmonics} of {freq:g} Hz, expected one below the "
+                        f"Nyquist frequency {fs / 2:g} Hz (lower n_harmonics or raise fs)")
     first, n_samples, periods = _analysis_window(
         values.size, fs=fs, freq=freq, n_periods=n_periods, even_periods=subharmonic, align=align
     )
@@ -320,6 +306,8 @@ class HosidfResult:
         )
 
 
+@accepts(base=Samples(), top=Samples(), fs=Real(unit="Hz", gt=0), freq=Real(unit="Hz", gt=0), n_harmonics=Whole(ge=1),
+         n_periods=Whole(ge=1, optional=True), subharmonic=Flag(), align=Choice(("end", "start")), error=DataError)
 def hosidf(
     base: ArrayLike,
     top: ArrayLike,
@@ -378,18 +366,18 @@ def hosidf(
     >>> np.round(np.abs(result.hosidf), 9).tolist()
     [0.5, 0.1]
     """
-    base_values = np.asarray(base, dtype=float)
-    top_values = np.asarray(top, dtype=float)
+    base_values, top_values = base, top
     if base_values.shape != top_values.shape:
         raise DataError(
             f"top has shape {top_values.shape}; expected the shape of base {base_values.shape}"
         )
     options = dict(fs=fs, freq=freq, n_periods=n_periods, subharmonic=subharmonic, align=align)
-    input_harmonics = max(int(n_harmonics), 3)
+    input_harmonics = max(n_harmonics, 3)
     if input_harmonics * freq >= fs / 2:
-        input_harmonics = int(n_harmonics)  # distortion orders above Nyquist: not available
-    input_fit = fit_harmonics(base_values, n_harmonics=input_harmonics, **options)
-    output_fit = fit_harmonics(top_values, n_harmonics=n_harmonics, **options)
+        input_harmonics = n_harmonics  # distortion orders above Nyquist: not available
+    fit = unchecked(fit_harmonics)
+    input_fit = fit(base_values, n_harmonics=input_harmonics, **options)
+    output_fit = fit(top_values, n_harmonics=n_harmonics, **options)
     first = input_fit.coefficients[0]
     if abs(first) == 0:
         raise DataError("base has a zero first harmonic; the HOSIDF is undefined")
@@ -499,6 +487,7 @@ def input_flatness(
     )
 
 
+@accepts(freq=Reals(unit="Hz", gt=0), magnitude=Samples(finite=False), error=DataError)
 def resonance_peak(freq, magnitude) -> tuple[float, float]:
     """Frequency and height of the largest ``magnitude`` over ``freq``.
 
@@ -508,13 +497,9 @@ def resonance_peak(freq, magnitude) -> tuple[float, float]:
     peak; ``(nan, nan)`` when every value is NaN. A parabola through a NaN or non-positive
     neighbour is not drawn.
     """
-    freq, magnitude = np.asarray(freq, dtype=float), np.asarray(magnitude, dtype=float)
-    if freq.ndim != 1 or freq.shape != magnitude.shape or freq.size == 0:
+    if freq.shape != magnitude.shape:
         raise DataError(f"freq, magnitude: found shapes {freq.shape} and {magnitude.shape}, expected two "
-                        "non-empty 1-D arrays of one length")
-    if not np.all(np.isfinite(freq) & (freq > 0)):
-        raise DataError(f"freq: found {freq[~(np.isfinite(freq) & (freq > 0))][0]!r}, expected positive finite "
-                        "frequencies in Hz")
+                        "1-D arrays of one length")
     if np.all(np.isnan(magnitude)):
         return float("nan"), float("nan")
     order = np.argsort(freq)

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import integrate
 from scipy import signal as sps
 
-from idkit.checks import Real, Samples, Seed, Whole, accepts
+from idkit.checks import Real, Reals, Samples, Seed, Whole, accepts
 from idkit.errors import DataError
 
 __all__ = [
@@ -33,6 +33,11 @@ __all__ = [
 ]
 
 _DB_PER_OCTAVE_PER_EXPONENT = 10.0 * np.log10(2.0)  # 3.0103 dB/octave for S ~ f^1
+
+
+#: Breakpoints and levels of a :class:`PsdProfile`.
+_BREAKPOINTS = Reals(unit="Hz", gt=0, min_size=2, increasing=True)
+_LEVELS = Reals(unit="(m/s^2)^2/Hz", gt=0, min_size=2, meaning="positive: log-log interpolation")
 
 
 @dataclass(frozen=True)
@@ -63,21 +68,12 @@ class PsdProfile:
     level: NDArray[np.float64]
 
     def __post_init__(self) -> None:
-        freq = np.asarray(self.freq, dtype=float)
-        level = np.asarray(self.level, dtype=float)
-        if freq.ndim != 1 or freq.shape != level.shape or freq.size < 2:
-            raise DataError(
-                f"freq and level must be 1-D of equal length >= 2; found {freq.shape} and "
-                f"{level.shape}"
-            )
-        if not (np.all(np.isfinite(freq)) and np.all(freq > 0) and np.all(np.diff(freq) > 0)):
-            raise DataError(f"freq must be positive and strictly increasing in Hz; found {freq}")
-        if not (np.all(np.isfinite(level)) and np.all(level > 0)):
-            raise DataError(
-                f"level must be positive (m/s^2)^2/Hz (log-log interpolation); found {level}"
-            )
-        object.__setattr__(self, "freq", freq)
-        object.__setattr__(self, "level", level)
+        freq = _BREAKPOINTS.check(self.freq, "freq", DataError)
+        level = _LEVELS.check(self.level, "level", DataError)
+        if freq.shape != level.shape:
+            raise DataError(f"freq, level: found shapes {freq.shape} and {level.shape}, expected one length")
+        object.__setattr__(self, "freq", np.array(freq))
+        object.__setattr__(self, "level", np.array(level))
 
     @classmethod
     def flat(cls, level: float, *, f_lo: float, f_hi: float) -> PsdProfile:
@@ -86,6 +82,8 @@ class PsdProfile:
         return cls(np.array([f_lo, f_hi], dtype=float), np.array([level, level], dtype=float))
 
     @classmethod
+    @accepts(freq=Reals(unit="Hz", gt=0), start_level=Real(unit="(m/s^2)^2/Hz", gt=0),
+             slopes_db_per_octave=Reals(unit="dB/octave", min_size=0), error=DataError)
     def from_slopes(
         cls, freq: ArrayLike, *, start_level: float, slopes_db_per_octave: ArrayLike
     ) -> PsdProfile:
@@ -107,15 +105,12 @@ class PsdProfile:
         >>> round(float(profile.level[1]), 6)
         0.002
         """
-        freq = np.asarray(freq, dtype=float)
-        slopes = np.asarray(slopes_db_per_octave, dtype=float)
+        slopes = slopes_db_per_octave
         if slopes.shape != (freq.size - 1,):
             raise DataError(
                 f"slopes_db_per_octave has shape {slopes.shape}; expected ({freq.size - 1},), "
                 "one per segment"
             )
-        if not np.all(freq > 0):
-            raise DataError(f"freq must be positive Hz; found {freq}")
         octaves = np.log2(freq[1:] / freq[:-1])
         gains_db = np.concatenate([[0.0], np.cumsum(slopes * octaves)])
         return cls(freq, start_level * 10.0 ** (gains_db / 10.0))
@@ -332,21 +327,18 @@ def welch_psd(
     )
 
 
-def _check_spectrum(freq: ArrayLike, psd: ArrayLike) -> tuple[NDArray, NDArray]:
-    f = np.asarray(freq, dtype=float)
-    s = np.asarray(psd, dtype=float)
-    if f.ndim != 1 or s.shape != f.shape or f.size < 2:
-        raise DataError(
-            f"freq and psd must be 1-D of equal length >= 2; found {f.shape} and {s.shape}"
-        )
-    if not np.all(np.diff(f) > 0):
-        raise DataError("freq must be strictly increasing (Hz)")
-    if not np.all(np.isfinite(s) & (s >= 0)):
-        bad = s[~(np.isfinite(s) & (s >= 0))][0]
-        raise DataError(f"psd: found {bad!r}, expected finite levels >= 0 (a power spectral density)")
+#: The contract of a one-sided spectrum: frequencies (Hz) and levels (unit^2/Hz) of one length.
+_SPECTRUM = dict(freq=Reals(unit="Hz", min_size=2, increasing=True),
+                 psd=Reals(unit="unit^2/Hz", ge=0, meaning="a power spectral density"), error=DataError)
+
+
+def _paired(f: NDArray, s: NDArray) -> tuple[NDArray, NDArray]:
+    if s.shape != f.shape:
+        raise DataError(f"freq, psd: found shapes {f.shape} and {s.shape}, expected one length")
     return f, s
 
 
+@accepts(**_SPECTRUM)
 def rms_from_psd(freq: ArrayLike, psd: ArrayLike) -> float:
     """RMS from a one-sided PSD by the trapezoidal rule, ``sqrt(int S df)``.
 
@@ -367,10 +359,11 @@ def rms_from_psd(freq: ArrayLike, psd: ArrayLike) -> float:
     >>> round(rms_from_psd([0.0, 100.0], [1e-2, 1e-2]), 6)
     1.0
     """
-    f, s = _check_spectrum(freq, psd)
+    f, s = _paired(freq, psd)
     return float(np.sqrt(integrate.trapezoid(s, f)))
 
 
+@accepts(**_SPECTRUM)
 def cumulative_rms(freq: ArrayLike, psd: ArrayLike) -> NDArray[np.float64]:
     """Cumulative RMS ``sqrt(int_{f_0}^{f} S df)`` at every frequency (trapezoidal rule).
 
@@ -386,7 +379,7 @@ def cumulative_rms(freq: ArrayLike, psd: ArrayLike) -> NDArray[np.float64]:
     ndarray, shape (n,)
         Cumulative RMS (unit of the signal), 0 at ``freq[0]``, :func:`rms_from_psd` at the end.
     """
-    f, s = _check_spectrum(freq, psd)
+    f, s = _paired(freq, psd)
     return np.sqrt(integrate.cumulative_trapezoid(s, f, initial=0.0))
 
 

@@ -41,6 +41,7 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import least_squares, minimize_scalar
 
+from idkit.checks import Choice, Real, Samples, Whole, accepts
 from idkit.errors import DataError
 
 __all__ = [
@@ -174,6 +175,7 @@ class ShiftFactorCheck:
                 f"decades at {worst['temperature [K]'] - 273.15:.1f} C (tolerance {worst['tolerance [decades]']:.2f})")
 
 
+@accepts(c1=Real(), c2_k=Real(unit="K"), reference_temperature_k=Real(unit="K", gt=0), error=DataError)
 def wlf_log_shift(temperature_k, *, c1: float, c2_k: float, reference_temperature_k: float) -> np.ndarray:
     """WLF law ``log10 aT = -C1 (T - T_ref) / (C2 + T - T_ref)``.
 
@@ -204,6 +206,7 @@ def wlf_log_shift(temperature_k, *, c1: float, c2_k: float, reference_temperatur
         return np.where(denominator > 0, -c1 * dt / denominator, np.nan)
 
 
+@accepts(temperature_k=Samples(unit="K"), group_tol_k=Real(unit="K", gt=0), error=DataError)
 def group_isotherms(temperature_k, *, group_tol_k: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
     """Group rows into isotherms by temperature.
 
@@ -227,11 +230,7 @@ def group_isotherms(temperature_k, *, group_tol_k: float = 1.0) -> tuple[np.ndar
     >>> labels.tolist(), temps.round(2).tolist()
     ([1, 1, 0, 0], [279.95, 300.05])
     """
-    temperature = np.asarray(temperature_k, dtype=float)
-    if temperature.ndim != 1 or temperature.size == 0 or not np.all(np.isfinite(temperature)):
-        raise DataError("temperature: expected a non-empty 1-D array of finite temperatures in K")
-    if not (np.isfinite(group_tol_k) and group_tol_k > 0):
-        raise DataError(f"group_tol_k: found {group_tol_k!r}, expected a positive temperature gap in K")
+    temperature = temperature_k
     order = np.argsort(temperature, kind="stable")
     starts = np.concatenate([[True], np.diff(temperature[order]) > group_tol_k])
     sorted_labels = np.cumsum(starts) - 1
@@ -350,6 +349,8 @@ def _shift_stderr(delta: float, a: _Isotherm, b: _Isotherm) -> float:
     return float(np.sqrt(noise_variance * float(gain @ gain)))
 
 
+@accepts(reference_temperature_k=Real(unit="K", gt=0), quantity=Choice(("magnitude", "storage")), group_tol_k=Real(unit="K", gt=0),
+         min_overlap_points=Whole(ge=1), polynomial_degree=Whole(ge=1), error=DataError)
 def estimate_shift_factors(freq_hz, storage, loss, temperature_k, *, reference_temperature_k: float,
                            quantity: str = "magnitude", group_tol_k: float = 1.0,
                            min_overlap_points: int = 3, polynomial_degree: int = 4,
@@ -402,15 +403,13 @@ def estimate_shift_factors(freq_hz, storage, loss, temperature_k, *, reference_t
     if not (freq.shape == storage.shape == loss.shape == np.shape(temperature_k)) or freq.ndim != 1:
         raise DataError(f"{source}: found column shapes {freq.shape}, {storage.shape}, {loss.shape}, "
                         f"{np.shape(temperature_k)}, expected equal 1-D columns")
-    if quantity not in ("magnitude", "storage"):
-        raise DataError(f"quantity: found {quantity!r}, expected 'magnitude' or 'storage'")
     value = np.abs(storage + 1j * loss) if quantity == "magnitude" else storage
     for name, column in (("frequency", freq), (quantity, value)):
         bad = np.flatnonzero(~(np.isfinite(column) & (column > 0)))
         if bad.size:
             raise DataError(f"{source}: column {name}, row {int(bad[0]) + 1}: found {column[bad[0]]!r}, "
                             "expected a finite positive value (log-log superposition)")
-    labels, temperatures = group_isotherms(temperature_k, group_tol_k=group_tol_k)
+    labels, temperatures = group_isotherms(temperature_k, group_tol_k=group_tol_k)  # checks the temperatures
     if temperatures.size < 2:
         raise DataError(f"{source}: found one isotherm ({temperatures[0] - 273.15:.1f} C), expected at "
                         "least two temperatures to estimate shift factors")
@@ -455,6 +454,7 @@ def _points(temperature_k, log_a_t) -> tuple[np.ndarray, np.ndarray]:
     return t, y
 
 
+@accepts(reference_temperature_k=Real(unit="K", gt=0), error=DataError)
 def fit_wlf(temperature_k, log_a_t, *, reference_temperature_k: float) -> ShiftLawFit:
     """Fit the WLF law to shift factors (least squares in ``log aT``).
 
@@ -504,6 +504,7 @@ def fit_wlf(temperature_k, log_a_t, *, reference_temperature_k: float) -> ShiftL
                        float(np.sqrt(np.mean(r ** 2))), float(np.max(np.abs(r))))
 
 
+@accepts(reference_temperature_k=Real(unit="K", gt=0), degree=Whole(ge=1), error=DataError)
 def fit_shift_polynomial(temperature_k, log_a_t, *, reference_temperature_k: float, degree: int = 4) -> ShiftLawFit:
     """Fit ``log aT = sum_{k=1}^{degree} c_k (T - T_ref)**k`` by linear least squares.
 
@@ -527,7 +528,7 @@ def fit_shift_polynomial(temperature_k, log_a_t, *, reference_temperature_k: flo
     -0.02
     """
     t, y = _points(temperature_k, log_a_t)
-    if not (isinstance(degree, (int, np.integer)) and 1 <= degree <= t.size):
+    if degree > t.size:
         raise DataError(f"degree: found {degree!r}, expected an integer from 1 to the number of temperatures ({t.size})")
     dt = t - reference_temperature_k
     scale = max(float(np.max(np.abs(dt))), 1.0)
@@ -539,6 +540,7 @@ def fit_shift_polynomial(temperature_k, log_a_t, *, reference_temperature_k: flo
                        float(np.sqrt(np.mean(r ** 2))), float(np.max(np.abs(r))))
 
 
+@accepts(tolerance_decades=Real(gt=0), temperature_tol_k=Real(unit="K", gt=0), error=DataError)
 def compare_shift_factors(given_temperature_k, given_log_a_t, estimate: ShiftFactorEstimate, *,
                           tolerance_decades: float = CHECK_TOLERANCE_DECADES,
                           temperature_tol_k: float = 1.0) -> ShiftFactorCheck:

@@ -50,7 +50,9 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from scipy import signal as sps
 
+from idkit.checks import Real, Reals, Samples, accepts
 from idkit.errors import DataError
+from idkit.limits import MAX_SAMPLES
 
 __all__ = [
     "MIN_SAMPLES_PER_PERIOD",
@@ -66,11 +68,17 @@ __all__ = [
 #: a peak between samples is then missed by at most ``(2 pi / 10)^2 / 8 = 4.9 %``.
 MIN_SAMPLES_PER_PERIOD = 10.0
 #: Most samples of the residual window (one period of the lowest natural frequency, zeros after
-#: the record): the simulator's own step limit (idkit.cli.options.MAX_STEPS). A natural frequency
-#: of 1e-300 Hz asked for 1e305 samples and ended in numpy's "Maximum allowed dimension exceeded".
-MAX_RESIDUAL_SAMPLES = 10**8
+#: the record): one signal array's limit.
+MAX_RESIDUAL_SAMPLES = MAX_SAMPLES
+
+#: The contract of both spectra's arguments.
+_SPECTRUM_ARGUMENTS = dict(acceleration=Samples(min_size=2), fs=Real(unit="Hz", gt=0),
+                           freq=Reals(unit="Hz", gt=0, meaning="natural frequencies below fs / 2"),
+                           damping_ratio=Real(ge=0, lt=1), residual_duration=Real(unit="s", ge=0, optional=True),
+                           error=DataError)
 
 
+@accepts(freq=Reals(unit="Hz", gt=0), fs=Real(unit="Hz", gt=0), damping_ratio=Real(ge=0, lt=1), error=DataError)
 def smallwood_coefficients(
     freq: ArrayLike, *, fs: float, damping_ratio: float = 0.05
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -143,6 +151,7 @@ def _ramp_invariant_modes(fn: NDArray[np.float64], fs: float, damping_ratio: flo
     return pole, period * phi2, period * (phi1 - phi2), omega * root
 
 
+@accepts(freq=Reals(unit="Hz", gt=0), fs=Real(unit="Hz", gt=0), damping_ratio=Real(ge=0, lt=1), error=DataError)
 def relative_displacement_coefficients(
     freq: ArrayLike, *, fs: float, damping_ratio: float = 0.05
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -280,25 +289,13 @@ class ShockResponseSpectrum:
 
 
 def _checked(acceleration, fs, freq, damping_ratio, residual_duration):
-    """Checked natural frequencies and the record padded with its residual window."""
-    values = np.asarray(acceleration, dtype=float)
-    if values.ndim != 1 or values.size < 2:
-        raise DataError(f"acceleration must be 1-D with >= 2 samples; found shape {values.shape}")
-    if not np.all(np.isfinite(values)):
-        raise DataError("acceleration must be finite; found NaN or inf")
-    if not (np.isfinite(fs) and fs > 0):
-        raise DataError(f"fs must be a positive sample rate in Hz; found {fs!r}")
-    fn = np.atleast_1d(np.asarray(freq, dtype=float))
-    if fn.ndim != 1 or fn.size == 0 or not np.all(np.isfinite(fn) & (fn > 0) & (fn < fs / 2)):
-        raise DataError(
-            f"freq must be natural frequencies in (0, fs/2) = (0, {fs / 2:g}) Hz; found {fn!r}"
-        )
-    if not (0 <= damping_ratio < 1):
-        raise DataError(f"damping_ratio must be in [0, 1); found {damping_ratio!r}")
+    """Natural frequencies (checked against ``fs``) and the record padded with its residual window."""
+    values, fn = acceleration, np.atleast_1d(freq)
+    if fn.ndim != 1 or not np.all(fn < fs / 2):
+        raise DataError(f"freq: found {fn!r}, expected a 1-D array of natural frequencies below fs / 2 = "
+                        f"{fs / 2:g} Hz")
     if residual_duration is None:
         residual_duration = 1.0 / fn.min()
-    if not (np.isfinite(residual_duration) and residual_duration >= 0):
-        raise DataError(f"residual_duration must be >= 0 s; found {residual_duration!r}")
     if residual_duration * fs * (1 - 1e-12) > MAX_RESIDUAL_SAMPLES:
         raise DataError(
             f"freq: the lowest natural frequency {fn.min():g} Hz needs a residual window of {residual_duration:.4g} s, "
@@ -310,6 +307,7 @@ def _checked(acceleration, fs, freq, damping_ratio, residual_duration):
     return fn, padded
 
 
+@accepts(**_SPECTRUM_ARGUMENTS)
 def shock_response_spectrum(
     acceleration: ArrayLike,
     *,
@@ -373,6 +371,7 @@ def shock_response_spectrum(
     )
 
 
+@accepts(**_SPECTRUM_ARGUMENTS)
 def shock_spectra(
     acceleration: ArrayLike,
     *,

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from idkit.errors import SimulationError
+from idkit.limits import MAX_FORCE_SCALE
 from idkit.models.systems import CoulombSpringSystem, HybridSystem, SDOFSystem
 from idkit.gravity import STANDARD_GRAVITY
 
@@ -80,9 +80,6 @@ def system_arrays(system) -> SystemArrays:
     )
 
 
-#: Largest force scale (N) a simulation accepts: forces are squared in each step's residual
-#: norm, ``sqrt(r0 * r0 + r1 * r1)``, so larger ones overflow float64 (:func:`force_scale`).
-MAX_FORCE_SCALE = math.sqrt(np.finfo(np.float64).max)
 
 
 def force_scale(arrays: SystemArrays, accel_scale):

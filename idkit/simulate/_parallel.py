@@ -13,8 +13,8 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from idkit.checks import Whole, accepts
 from idkit.errors import SimulationError
-from idkit.simulate._arrays import whole_number
 
 
 def default_workers() -> int:
@@ -40,17 +40,17 @@ def chunk_slices(size: int, chunk_size: int) -> list[slice]:
     return [slice(start, min(start + chunk_size, size)) for start in range(0, size, chunk_size)]
 
 
+@accepts(workers=Whole(ge=1, optional=True, meaning="threads"), chunk_size=Whole(ge=1, optional=True),
+         error=SimulationError)
 def run_chunked(task, size: int, *, workers=None, chunk_size=None, progress=None, executor=None):
     """Call ``task(slice)`` for chunks covering ``range(size)``; concatenate each output field.
 
     ``task`` returns a tuple of arrays whose first axis runs over the chunk. ``workers`` and
     ``chunk_size`` are whole numbers >= 1 (2.5 or 0 are refused, never truncated or raised).
     """
-    workers = default_workers() if workers is None else whole_number(workers, "workers", 1)
+    workers = default_workers() if workers is None else workers
     if chunk_size is None:
         chunk_size = max(1, -(-size // (4 * workers))) if size > workers else 1
-    else:
-        chunk_size = whole_number(chunk_size, "chunk_size", 1)
     slices = chunk_slices(size, chunk_size)
     results = [None] * len(slices)
     done = 0

@@ -23,6 +23,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
+from idkit.checks import Choice, Real, Reals, Samples, accepts
 from idkit.errors import SimulationError
 
 __all__ = ["BaseMotion", "QUANTITIES", "integrate_acceleration"]
@@ -62,17 +63,15 @@ class BaseMotion:
         return cls("displacement", np.zeros_like, "base at rest", velocity_function=np.zeros_like)
 
     @classmethod
+    @accepts(freq=Real(unit="Hz", gt=0), amplitude=Real(), quantity=Choice(QUANTITIES), phase=Real(unit="rad"),
+             error=SimulationError)
     def harmonic(cls, freq: float, amplitude: float, *, quantity: str = "displacement",
                  phase: float = 0.0) -> BaseMotion:
         """``amplitude * sin(2 pi freq t + phase)`` of the given quantity (SI units)."""
-        if quantity not in QUANTITIES:
-            raise SimulationError(f"base motion quantity: found {quantity!r}, expected one of {QUANTITIES}")
-        omega = 2.0 * np.pi * float(freq)
-        if not (np.isfinite(omega) and omega > 0):
-            raise SimulationError(f"BaseMotion.harmonic: found freq={freq!r}, expected a positive frequency in Hz")
+        omega = 2.0 * np.pi * freq
         power = QUANTITIES.index(quantity)
         # displacement x = X sin(w t + p) with quantity amplitude X w^power (phase-shifted by power * 90 deg)
-        x_amp = float(amplitude) / omega**power
+        x_amp = amplitude / omega**power
         shift = phase - power * np.pi / 2
 
         return cls(
@@ -83,6 +82,9 @@ class BaseMotion:
         )
 
     @classmethod
+    @accepts(time=Reals(unit="s", min_size=4, increasing=True), values=Samples(min_size=4),
+             quantity=Choice(QUANTITIES), initial_displacement=Real(unit="m"), initial_velocity=Real(unit="m/s"),
+             error=SimulationError)
     def from_samples(cls, time, values, *, quantity: str, initial_displacement: float = 0.0,
                      initial_velocity: float = 0.0) -> BaseMotion:
         """Base motion from samples of ``quantity`` (SI) at strictly increasing ``time`` (s).
@@ -91,19 +93,10 @@ class BaseMotion:
         velocity) or by a cubic spline (displacement). The initial values apply
         when the motion is given as velocity or acceleration.
         """
-        t = np.asarray(time, dtype=float)
-        y = np.asarray(values, dtype=float)
-        if t.ndim != 1 or t.shape != y.shape or t.size < 4:
-            raise SimulationError(
-                f"BaseMotion.from_samples: found time shape {t.shape} and values shape {y.shape}, "
-                "expected equal 1-D shapes with at least 4 samples"
-            )
-        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(y))):
-            bad = int(np.flatnonzero(~(np.isfinite(t) & np.isfinite(y)))[0])
-            raise SimulationError(f"BaseMotion.from_samples: found a non-finite sample at index {bad}")
-        if np.any(np.diff(t) <= 0):
-            bad = int(np.flatnonzero(np.diff(t) <= 0)[0]) + 1
-            raise SimulationError(f"BaseMotion.from_samples: time not strictly increasing at index {bad}")
+        t, y = np.atleast_1d(time), values
+        if t.shape != y.shape:
+            raise SimulationError(f"BaseMotion.from_samples: found time shape {t.shape} and values shape {y.shape}, "
+                                  "expected equal 1-D shapes")
         if quantity == "displacement":
             spline = CubicSpline(t, y)
             return cls("displacement", spline, f"sampled displacement ({t.size} samples)",

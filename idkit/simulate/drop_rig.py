@@ -43,6 +43,7 @@ import numpy as np
 
 from idkit.errors import SimulationError
 from idkit.gravity import STANDARD_GRAVITY
+from idkit.checks import Instance, Real, Reals, Samples, Whole, accepts
 from idkit.limits import MAX_STEPS
 from idkit.models.laws import kernel_array
 from idkit.simulate._arrays import resolve_system, system_arrays
@@ -194,6 +195,9 @@ def rig_time_step(system, bottom_mass: float, contact: ContactModel = DEFAULT_CO
 MAX_RIG_STEPS = MAX_STEPS
 
 
+@accepts(bottom_mass=Real(unit="kg", gt=0), drop_height=Reals(unit="m", gt=0), contact=Instance((ContactModel,)),
+         duration=Real(unit="s", gt=0, optional=True), before=Real(unit="s", ge=0),
+         time_step=Real(unit="s", gt=0, optional=True), error=SimulationError)
 def drop_rig(system, *, bottom_mass: float, drop_height, contact: ContactModel = DEFAULT_CONTACT,
              duration: float | None = None, before: float = 0.0, time_step: float | None = None,
              workers: int | None = None, executor=None) -> DropRigResponse:
@@ -224,19 +228,13 @@ def drop_rig(system, *, bottom_mass: float, drop_height, contact: ContactModel =
     from idkit.simulate.harmonic import small_amplitude_resonance
 
     system = resolve_system(system)
-    if not (math.isfinite(float(bottom_mass)) and bottom_mass > 0):
-        raise SimulationError(f"bottom_mass: found {bottom_mass!r}, expected a finite mass > 0 kg")
-    if not isinstance(contact, ContactModel):
-        raise SimulationError(f"contact: found {type(contact).__name__}, expected a ContactModel")
-    heights = np.atleast_1d(np.asarray(drop_height, dtype=float))
-    if heights.ndim != 1 or not np.all(np.isfinite(heights)) or np.any(heights <= 0):
-        raise SimulationError(f"drop_height: found {drop_height!r}, expected finite heights > 0 m")
+    heights = np.atleast_1d(drop_height)
+    if heights.ndim != 1:
+        raise SimulationError(f"drop_height: found shape {heights.shape}, expected a 1-D array of heights in m")
     arrays = system_arrays(system)
     f0 = small_amplitude_resonance(system)
-    duration = 4.0 / f0 if duration is None else float(duration)
-    h = rig_time_step(system, bottom_mass, contact) if time_step is None else float(time_step)
-    if not (duration > 0 and h > 0):
-        raise SimulationError(f"duration, time_step: found {duration!r}, {h!r}, expected positive s")
+    duration = 4.0 / f0 if duration is None else duration
+    h = rig_time_step(system, bottom_mass, contact) if time_step is None else time_step
     fall = np.sqrt(2.0 * heights / STANDARD_GRAVITY)
     if not 0.0 <= before <= float(fall.min()):
         raise SimulationError(f"before: found {before!r}, expected 0 .. {float(fall.min()):.4g} s (the shortest fall)")
@@ -306,6 +304,8 @@ def drop_rig(system, *, bottom_mass: float, drop_height, contact: ContactModel =
     )
 
 
+@accepts(relative_velocity=Samples(unit="m/s"), time=Samples(unit="s"), drop_height=Real(unit="m", gt=0),
+         bottom_mass=Real(unit="kg", gt=0), window=Whole(ge=1, meaning="samples"), error=SimulationError)
 def contact_from_velocity_step(relative_velocity, time, *, drop_height: float, bottom_mass: float,
                                window: int = 5) -> ContactModel:
     """Contact restitution and stiffness read off one measured drop (module docstring).
@@ -339,16 +339,12 @@ def contact_from_velocity_step(relative_velocity, time, *, drop_height: float, b
     """
     from scipy.signal import filtfilt
 
-    v = np.asarray(relative_velocity, dtype=float)
-    if int(window) != window or window < 1:
-        raise SimulationError(f"window: found {window!r}, expected a positive number of samples")
+    v = relative_velocity
     if window > 1 and v.size > 3 * window:  # the drop processing's zero-phase moving average
         v = filtfilt(np.full(int(window), 1.0 / window), [1.0], v)
-    t = np.asarray(time, dtype=float)
+    t = time
     if t.shape != v.shape or t.size < 4 * window:
         raise SimulationError(f"time: found shape {t.shape}, expected {v.shape} (one time per velocity sample)")
-    if not (drop_height > 0 and bottom_mass > 0):
-        raise SimulationError(f"drop_height, bottom_mass: found {drop_height!r}, {bottom_mass!r}, expected > 0")
     most = float(v.min())
     if not most < 0:
         raise SimulationError("relative_velocity: never negative, no impact step found")

@@ -47,6 +47,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
+from idkit.checks import Choice, Real, Samples, Whole, accepts
 from idkit.errors import ParameterError, SimulationError
 from idkit.models.boucwen import BoucWenModel
 from idkit.models.boucwen_pinched import PinchedBoucWenModel
@@ -115,6 +116,8 @@ class ForceInput:
     grid: np.ndarray = field(repr=False)
 
     @classmethod
+    @accepts(force=Samples(unit="N", min_size=4), sample_rate_hz=Real(unit="Hz", gt=0),
+             interpolation=Choice(INTERPOLATIONS), substeps=Whole(ge=1), error=SimulationError)
     def from_samples(cls, force, sample_rate_hz: float, *, interpolation: str = "cubic",
                      substeps: int = SUBSTEPS_PER_SAMPLE) -> ForceInput:
         """Reconstruct ``force`` (N, sampled at ``sample_rate_hz``) between its samples.
@@ -135,20 +138,7 @@ class ForceInput:
         SimulationError
             On a bad force array, rate, interpolation or substep count.
         """
-        values = np.asarray(force, dtype=float)
-        if values.ndim != 1 or values.size < 4:
-            raise SimulationError(f"force: found shape {values.shape}, expected a 1-D array of at least 4 samples")
-        if not np.all(np.isfinite(values)):
-            raise SimulationError(f"force: found {np.count_nonzero(~np.isfinite(values))} non-finite samples, "
-                                  "expected finite values in N")
-        rate = float(sample_rate_hz)
-        if not (math.isfinite(rate) and rate > 0.0):
-            raise SimulationError(f"sample_rate_hz: found {sample_rate_hz!r}, expected a positive rate in Hz")
-        if interpolation not in INTERPOLATIONS:
-            raise SimulationError(f"interpolation: found {interpolation!r}, expected one of {INTERPOLATIONS}")
-        if int(substeps) != substeps or substeps < 1:
-            raise SimulationError(f"substeps: found {substeps!r}, expected an integer >= 1")
-        substeps = int(substeps)
+        values, rate = force, sample_rate_hz
         points = 2 * substeps
         n_grid = (values.size - 1) * points + 1
         if interpolation == "fourier":
@@ -212,6 +202,7 @@ class ForceDrivenResponse:
     reasons: tuple[str, ...] = ()
 
 
+@accepts(mass_kg=Real(unit="kg", gt=0), error=ParameterError)
 def force_driven_rates(model: BoucWenModel, mass_kg: float) -> np.ndarray:
     """Kernel parameter vector ``[m, c_visc, k1, k2, k3, alpha, beta, gamma, n, c ln b, pinch,
     width, shift]`` (the last three the pinching of a :class:`~idkit.models.PinchedBoucWenModel`,
@@ -234,14 +225,14 @@ def force_driven_rates(model: BoucWenModel, mass_kg: float) -> np.ndarray:
     >>> force_driven_rates(*benchmark_truth())[:3].tolist()
     [2.0, 10.0, 50000.0]
     """
-    mass = float(mass_kg)
-    if not (math.isfinite(mass) and mass > 0.0):
-        raise ParameterError(f"mass_kg: found {mass_kg!r}, expected a positive finite mass in kg")
+    mass = mass_kg
     pinching = model.pinching() if isinstance(model, PinchedBoucWenModel) else (0.0, 0.0, 0.0)
     return np.array([mass, model.c_visc, model.k1, model.k2, model.k3, model.alpha, model.beta, model.gamma,
                      model.n, model.c * math.log(model.b), *pinching])
 
 
+@accepts(initial_displacement=Real(unit="m"), initial_velocity=Real(unit="m/s"), initial_z=Real(unit="N"),
+         error=SimulationError)
 def simulate_force_driven(model: BoucWenModel, mass_kg: float, force, sample_rate_hz: float | None = None, *,
                           interpolation: str = "cubic", substeps: int = SUBSTEPS_PER_SAMPLE,
                           initial_displacement: float = 0.0, initial_velocity: float = 0.0,
@@ -285,8 +276,6 @@ def simulate_force_driven(model: BoucWenModel, mass_kg: float, force, sample_rat
         force = ForceInput.from_samples(force, sample_rate_hz, interpolation=interpolation, substeps=substeps)
     rates = force_driven_rates(model, mass_kg)
     initial = np.array([initial_displacement, initial_velocity, initial_z], dtype=float)
-    if not np.all(np.isfinite(initial)):
-        raise SimulationError(f"initial state: found {initial.tolist()}, expected finite (m, m/s, N)")
     states, completed = _run(rates, force.grid, force.substeps, 1.0 / (force.sample_rate_hz * force.substeps),
                              initial, RUNAWAY_DISPLACEMENT)
     n_samples = force.force.size

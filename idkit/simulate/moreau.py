@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from idkit.checks import Instance, Real, Reals, accepts
 from idkit.errors import SimulationError
 from idkit.models.systems import CoulombSpringSystem
 from idkit.simulate.base_motion import BaseMotion
@@ -68,6 +69,9 @@ class MoreauResponse:
     theta: float
 
 
+@accepts(system=Instance((CoulombSpringSystem,)), time=Reals(unit="s", min_size=2, increasing=True),
+         base=Instance((BaseMotion,), optional=True), theta=Real(ge=0.5, le=1),
+         initial_displacement=Real(unit="m"), initial_velocity=Real(unit="m/s"), error=SimulationError)
 def moreau_coulomb_spring(system: CoulombSpringSystem, time, *, base: BaseMotion | None = None,
                           initial_displacement: float = 0.0, initial_velocity: float = 0.0,
                           theta: float = 0.5) -> MoreauResponse:
@@ -104,20 +108,7 @@ def moreau_coulomb_spring(system: CoulombSpringSystem, time, *, base: BaseMotion
     >>> round(float(run.displacement[-1]), 3), round(float(run.friction_force[-1]))
     (0.111, -1000)
     """
-    if not isinstance(system, CoulombSpringSystem):
-        raise SimulationError(f"system: found {type(system).__name__}, expected CoulombSpringSystem")
-    t = np.asarray(time, dtype=float)
-    if t.ndim != 1 or t.size < 2 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
-        raise SimulationError(
-            f"time: found shape {t.shape} (or non-increasing/non-finite values), "
-            "expected a strictly increasing 1-D grid of at least 2 times in s"
-        )
-    if not 0.5 <= float(theta) <= 1.0:
-        raise SimulationError(f"theta: found {theta!r}, expected 0.5 <= theta <= 1")
-    for name, value in (("initial_displacement", initial_displacement), ("initial_velocity", initial_velocity)):
-        if not np.isfinite(value):
-            raise SimulationError(f"{name}: found {value!r}, expected a finite number")
-    theta = float(theta)
+    t = np.atleast_1d(time)
     x_base, v_base = (base or BaseMotion.at_rest()).on_grid(t)
     m, k, c, fc = system.mass, system.stiffness, system.damping, system.friction_force
 

@@ -46,6 +46,7 @@ from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
+from idkit.checks import Choice, Instance, Real, Reals, Whole, accepts
 from idkit.errors import SimulationError
 from idkit.models.systems import CoulombSpringSystem, HybridSystem, SDOFSystem
 from idkit.gravity import gravity_acceleration
@@ -122,6 +123,7 @@ class ReferenceHarmonic:
     def n_harmonics(self) -> int:
         return (self.coefficients.size - 1) // 2
 
+    @accepts(order=Real(ge=0, meaning="0, 0.5, 1, ..."), error=SimulationError)
     def harmonic(self, order: float) -> complex:
         """Complex amplitude (m) of the top displacement at ``order`` x f (0, 0.5, 1, ...)."""
         index = int(round(2 * order))
@@ -417,8 +419,6 @@ class _Base:
 
     def __init__(self, base: BaseMotion | None, grid: np.ndarray):
         base = base or BaseMotion.at_rest()
-        if not isinstance(base, BaseMotion):
-            raise SimulationError(f"base: found {type(base).__name__}, expected a BaseMotion or None")
         self.motion = base
         self.n_extra = 0
         if base.quantity == "displacement":
@@ -455,33 +455,25 @@ class _Base:
 # Public API
 
 
-def _check_smoothing(smoothing, velocity_scale):
-    for name, value in (("smoothing", smoothing), ("velocity_scale", velocity_scale)):
-        if not (isinstance(value, (int, float, np.floating)) and math.isfinite(value) and value > 0):
-            raise SimulationError(f"{name}: found {value!r}, expected a positive finite number")
-    return float(smoothing), float(smoothing) * float(velocity_scale)
+#: The contracts of the solver options both reference paths take.
+_SOLVER_OPTIONS = dict(smoothing=Real(gt=0), velocity_scale=Real(unit="m/s", gt=0), method=Choice(_METHODS),
+                       rtol=Real(ge=1e-13, lt=1), error=SimulationError)
 
 
 def _solve(system, t_start: float, time_eval: np.ndarray, base, initial_velocity, initial_deflection, gravity,
            smoothing, velocity_scale, method, rtol, atol, max_step) -> ReferenceResponse:
     layout = _layout(system)
     ndof = layout.ndof
-    eps, veps = _check_smoothing(smoothing, velocity_scale)
-    if method not in _METHODS:
-        raise SimulationError(f"method: found {method!r}, expected one of {_METHODS}")
-    if not (isinstance(rtol, (int, float)) and 1e-13 <= rtol < 1):
-        raise SimulationError(f"rtol: found {rtol!r}, expected a number in [1e-13, 1)")
+    eps, veps = smoothing, smoothing * velocity_scale
     base_path = _Base(base, time_eval)
     n_mech = layout.n_states
     n_total = n_mech + base_path.n_extra
 
-    v0 = np.zeros(ndof) if initial_velocity is None else np.asarray(initial_velocity, dtype=float).reshape(-1)
-    y0 = np.zeros(ndof) if initial_deflection is None else np.asarray(initial_deflection, dtype=float).reshape(-1)
+    v0 = np.zeros(ndof) if initial_velocity is None else initial_velocity.reshape(-1)
+    y0 = np.zeros(ndof) if initial_deflection is None else initial_deflection.reshape(-1)
     for name, values in (("initial_velocity", v0), ("initial_deflection", y0)):
         if values.shape != (ndof,):
             raise SimulationError(f"{name}: found shape {values.shape}, expected ({ndof},) (one per mass/isolator)")
-        if not np.all(np.isfinite(values)):
-            raise SimulationError(f"{name}: found non-finite values, expected finite SI values")
     gravity_value = gravity_acceleration(gravity)
 
     xb0, _ = base_path.at(t_start, base_path.initial)
@@ -579,6 +571,8 @@ def _solve(system, t_start: float, time_eval: np.ndarray, base, initial_velocity
     )
 
 
+@accepts(time_eval=Reals(unit="s", min_size=2, increasing=True), base=Instance((BaseMotion,), optional=True), initial_velocity=Reals(unit="m/s", optional=True),
+         initial_deflection=Reals(unit="m", optional=True), **_SOLVER_OPTIONS)
 def solve_ivp_reference(system, time_eval, *, base: BaseMotion | None = None, initial_velocity=None,
                         initial_deflection=None, gravity: bool | float = False, smoothing: float = 1e-4,
                         velocity_scale: float = 1.0, method: str = "BDF", rtol: float = 1e-6, atol=None,
@@ -639,16 +633,12 @@ def solve_ivp_reference(system, time_eval, *, base: BaseMotion | None = None, in
     >>> np.round(run.displacement[0, 0] * 1e3, 4).tolist()  # cos(2 pi 5 t) in mm
     [1.0, -1.0, 1.0]
     """
-    t = np.asarray(time_eval, dtype=float)
-    if t.ndim != 1 or t.size < 2 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
-        raise SimulationError(
-            f"time_eval: found shape {t.shape} (or non-increasing/non-finite times), "
-            "expected a strictly increasing 1-D array of at least 2 times in s"
-        )
-    return _solve(system, float(t[0]), t, base, initial_velocity, initial_deflection, gravity, smoothing,
+    return _solve(system, float(time_eval[0]), time_eval, base, initial_velocity, initial_deflection, gravity, smoothing,
                   velocity_scale, method, rtol, atol, max_step)
 
 
+@accepts(freq=Real(unit="Hz", gt=0), amplitude=Real(unit="m", gt=0), n_periods=Whole(ge=4, even=True),
+         n_harmonics=Whole(ge=1), samples_per_period=Whole(ge=4, even=True), **_SOLVER_OPTIONS)
 def harmonic_reference(system, freq: float, amplitude: float, *, n_periods: int = 40, n_harmonics: int = 3,
                        smoothing: float = 1e-4, velocity_scale: float = 1.0, rtol: float = 1e-8,
                        atol=None, samples_per_period: int = 256, method: str = "BDF") -> ReferenceHarmonic:
@@ -679,15 +669,8 @@ def harmonic_reference(system, freq: float, amplitude: float, *, n_periods: int 
     -------
     ReferenceHarmonic
     """
-    for name, value in (("freq", freq), ("amplitude", amplitude)):
-        if not (isinstance(value, (int, float, np.floating)) and math.isfinite(value) and value > 0):
-            raise SimulationError(f"{name}: found {value!r}, expected a positive finite number (Hz, m)")
-    if int(n_periods) != n_periods or n_periods < 4 or n_periods % 2:
-        raise SimulationError(f"n_periods: found {n_periods!r}, expected an even integer >= 4")
-    if int(n_harmonics) != n_harmonics or n_harmonics < 1:
-        raise SimulationError(f"n_harmonics: found {n_harmonics!r}, expected an integer >= 1")
-    n_coeff = 2 * int(n_harmonics) + 1
-    if int(samples_per_period) != samples_per_period or samples_per_period % 2 or samples_per_period < 2 * n_coeff:
+    n_coeff = 2 * n_harmonics + 1
+    if samples_per_period < 2 * n_coeff:
         raise SimulationError(
             f"samples_per_period: found {samples_per_period!r}, expected an even integer >= {2 * n_coeff}"
         )

@@ -7,7 +7,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from idkit.checks import Instance, Real, Reals, Samples, Whole, accepts
 from idkit.errors import SimulationError
+from idkit.limits import MAX_STEPS
 from idkit.models.laws import kernel_array
 from idkit.models.base import IsolatorModel
 from idkit.gravity import gravity_acceleration, impact_velocity_from_height
@@ -17,7 +19,6 @@ from idkit.simulate._arrays import (
     force_scale,
     resolve_system,
     system_arrays,
-    whole_number,
 )
 from idkit.simulate._kernel import FLAG_REASONS, time_kernel
 from idkit.simulate._parallel import run_chunked
@@ -183,16 +184,13 @@ class TimeResponse:
         return pd.DataFrame(columns)
 
 
+@accepts(load=Real(unit="N", meaning="positive in tension"), tolerance=Real(gt=0, lt=1), error=SimulationError)
 def static_deflection(isolator: IsolatorModel, load: float, *, tolerance: float = 1e-12) -> float:
     """Deflection (m) at which the isolator's monotonic quasi-static force equals ``load`` (N).
 
     Loading from the unloaded state; positive load = tension. Solved by
     bisection on the (monotonic while valid) backbone curve.
     """
-    if isinstance(load, bool) or not (isinstance(load, (int, float, np.integer, np.floating)) and np.isfinite(load)):
-        raise SimulationError(f"load: found {load!r}, expected a finite force in N (positive in tension)")
-    if not (isinstance(tolerance, (int, float, np.floating)) and 0 < tolerance < 1):
-        raise SimulationError(f"tolerance: found {tolerance!r}, expected a relative tolerance in (0, 1)")
     if load == 0:
         return 0.0
 
@@ -255,6 +253,11 @@ def initial_states(system, deflections):
     return jforce, mstate, bwz
 
 
+@accepts(time=Samples(unit="s", min_size=2), base_acceleration=Samples(unit="m/s^2", ndim=(1, 2), optional=True),
+         initial_velocity=Reals(unit="m/s", optional=True), initial_deflection=Reals(unit="m", optional=True),
+         initial_state=Instance((TimeState,), optional=True, what="a TimeState (the final_state of an earlier "
+                                                                   "response)"),
+         record_every=Whole(ge=1), error=SimulationError)
 def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=None,
              initial_velocity=None, initial_deflection=None, initial_state: TimeState | None = None,
              gravity: bool | float = False, record_every: int = 1, workers: int | None = None,
@@ -302,9 +305,7 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
     system = resolve_system(system)
     arrays = system_arrays(system)
     ndof = arrays.ndof
-    t = np.asarray(time, dtype=float)
-    if t.ndim != 1 or t.size < 2:
-        raise SimulationError(f"time: found shape {t.shape}, expected a 1-D grid with at least 2 points")
+    t = time
     steps = np.diff(t)
     h = float(steps.mean())
     if not (h > 0 and np.allclose(steps, h, rtol=1e-9, atol=0)):
@@ -319,30 +320,25 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
         h = integrator.time_step  # the continued run's own step (the grid's, within its 1e-9 tolerance)
     accel = None
     if base_acceleration is not None:
-        accel = np.atleast_2d(np.asarray(base_acceleration, dtype=float))
+        accel = np.atleast_2d(base_acceleration)
         if accel.shape[1] != t.size:
             raise SimulationError(
                 f"base_acceleration: found {accel.shape[1]} samples per run, expected {t.size} (one per time point)"
             )
-        if not np.all(np.isfinite(accel)):
-            bad = np.argwhere(~np.isfinite(accel))[0]
-            raise SimulationError(f"base_acceleration: found a non-finite sample at run {bad[0]}, index {bad[1]}")
         batch_sizes = {accel.shape[0]}
     else:
         base_disp, base_vel = (values[None, :] for values in (base or BaseMotion.at_rest()).on_grid(t))
         batch_sizes = {base_disp.shape[0]}
     if initial_state is not None:
         batch_sizes.add(len(initial_state))
-    v_abs = np.zeros((1, ndof)) if initial_velocity is None else np.atleast_2d(np.asarray(initial_velocity, float))
-    y0 = np.zeros((1, ndof)) if initial_deflection is None else np.atleast_2d(np.asarray(initial_deflection, float))
+    v_abs = np.zeros((1, ndof)) if initial_velocity is None else np.atleast_2d(initial_velocity)
+    y0 = np.zeros((1, ndof)) if initial_deflection is None else np.atleast_2d(initial_deflection)
     for name, values in (("initial_velocity", v_abs), ("initial_deflection", y0)):
         if values.ndim != 2 or values.shape[0] == 0:
             raise SimulationError(f"{name}: found shape {values.shape}, expected (batch, {ndof}) or ({ndof},) "
                                   "with at least one run")
         if values.shape[1] != ndof:
             raise SimulationError(f"{name}: found {values.shape[1]} columns, expected {ndof} (one per mass/isolator)")
-        if not np.all(np.isfinite(values)):
-            raise SimulationError(f"{name}: found non-finite values")
         batch_sizes.add(values.shape[0])
     batch_sizes.discard(1)
     if len(batch_sizes) > 1:
@@ -384,7 +380,6 @@ def simulate(system, time, *, base: BaseMotion | None = None, base_acceleration=
             q0[same_frame] = integrator.position[same_frame]
             v_abs[same_frame] = integrator.velocity[same_frame]
     g = gravity_acceleration(gravity)
-    record_every = whole_number(record_every, "record_every", 1)
     # each run's own acceleration scale (a shared base: the same for all), so that no run's
     # convergence tests depend on the other runs of the batch
     accel_scale = (np.abs(np.diff(base_vel, axis=-1)).max(axis=-1) / h if t.size > 1
@@ -447,9 +442,6 @@ def _unchanged_runs(state: TimeState) -> np.ndarray:
 
 def _check_state(state: TimeState, arrays) -> None:
     """``state`` fits the system (``arrays``): shapes, one batch size, finite values."""
-    if not isinstance(state, TimeState):
-        raise SimulationError(f"initial_state: found {type(state).__name__}, expected a TimeState "
-                              "(the final_state of an earlier response)")
     ndof = arrays.ndof
     batch = len(state)
     expected = {"displacement": (batch, ndof), "velocity": (batch, ndof),
@@ -484,6 +476,8 @@ def _check_state(state: TimeState, arrays) -> None:
                               "step > 0 s")
 
 
+@accepts(impact_velocity=Reals(unit="m/s", optional=True), duration=Real(unit="s", gt=0),
+         time_step=Real(unit="s", gt=0), error=SimulationError)
 def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float, time_step: float,
               gravity: bool | float = False, initial_deflection=None, record_every: int = 1,
               workers: int | None = None, executor=None) -> TimeResponse:
@@ -518,20 +512,16 @@ def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float
     if drop_height is not None:
         v0 = np.atleast_1d(impact_velocity_from_height(drop_height))
     else:
-        v0 = np.atleast_1d(np.asarray(impact_velocity, dtype=float))
+        v0 = np.atleast_1d(impact_velocity)
     if v0.ndim != 1 or v0.size == 0:
         name = "impact_velocity" if drop_height is None else "drop_height"
         raise SimulationError(f"{name}: found shape {v0.shape}, expected one value or a 1-D batch of at least one")
-    for name, value in (("duration", duration), ("time_step", time_step)):
-        if not (isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
-                and value > 0 and np.isfinite(value)):
-            raise SimulationError(f"free_fall: found {name}={value!r}, expected a finite number > 0 s")
     if time_step > duration:
         raise SimulationError(f"free_fall: found time_step={time_step!r} > duration={duration!r}, "
                               "expected a step <= the duration")
-    if duration / time_step >= 1e8:
+    if duration / time_step >= MAX_STEPS:
         raise SimulationError(f"free_fall: found duration={duration!r} / time_step={time_step!r} = "
-                              f"{duration / time_step:.3g} steps, expected fewer than 1e8")
+                              f"{duration / time_step:.3g} steps, expected fewer than {MAX_STEPS:.0e}")
     arrays = system_arrays(system)
     _check_impact_force(arrays, v0, time_step, drop_height)
     n_steps = _steps_covering(duration, time_step)

@@ -36,6 +36,8 @@ from idkit.io import (
     SteppedSineMeasurement,
     WhiteNoiseMeasurement,
 )
+from idkit.checks import Choice, Flag, accepts
+from idkit.synth.truth import TRUTH_NAMES
 from idkit.synth.chain import link_force_path, pack_links, run_chain
 
 __all__ = ["GRAVITY", "NOISE", "RESOLUTION", "Planned", "plan", "realize"]
@@ -136,6 +138,7 @@ def shaker_flatness(freq: float) -> float:
 STROKE_LIMIT_M = 6e-3
 
 
+@accepts(quick=Flag(), truth=Choice(TRUTH_NAMES), error=ValueError)
 def plan(*, quick: bool = False, truth: str = "a") -> list[Planned]:
     """Every measurement of a synthetic data set (``quick``: a reduced grid for tests).
 
@@ -145,8 +148,6 @@ def plan(*, quick: bool = False, truth: str = "a") -> list[Planned]:
     level. The reduced grid of truth "b" keeps every stepped-sine level and three of the
     white-noise top masses.
     """
-    if truth not in ("a", "b"):
-        raise ValueError(f"truth: found {truth!r}, expected 'a' or 'b'")
     items: list[Planned] = []
     reps = (1, 3) if quick else (1, 2, 3)
 

@@ -33,6 +33,7 @@ from pathlib import Path
 from idkit import __version__
 from idkit.io import file_sha256, write_measurement_set
 from idkit.atomic import atomic_output_folder
+from idkit.checks import Choice, Flag, Whole, accepts, unchecked
 from idkit.atomic import write_bytes_atomic
 from idkit.synth.experiments import CONTACT, NOISE, RESOLUTION, Planned, plan, realize
 from idkit.synth.truth import TRUTH_NAMES, truth_models
@@ -132,6 +133,7 @@ def _truth_document(set_name, seed, quick, wire_rope, elastomer, records, truth)
     return document
 
 
+@accepts(seed=Whole(ge=0), force=Flag(), quick=Flag(), truth=Choice(TRUTH_NAMES), error=ValueError)
 def generate(folder: str | Path, *, seed: int = DEFAULT_SEED, force: bool = False,
              quick: bool = False, sets: Sequence[str] = SET_NAMES, truth: str = "a",
              progress: Callable[[str], None] | None = None) -> GenerationSummary:
@@ -170,8 +172,6 @@ def generate(folder: str | Path, *, seed: int = DEFAULT_SEED, force: bool = Fals
     """
     start = _time.perf_counter()
     folder = Path(folder)
-    if truth not in TRUTH_NAMES:
-        raise ValueError(f"truth: found {truth!r}, expected one of {TRUTH_NAMES}")
     unknown = sorted(set(sets) - set(SET_NAMES))
     if unknown:
         raise ValueError(f"sets: unknown {unknown}, expected names from {SET_NAMES}")
@@ -182,7 +182,7 @@ def generate(folder: str | Path, *, seed: int = DEFAULT_SEED, force: bool = Fals
     folder.mkdir(parents=True, exist_ok=True)
     (folder / TRUTH_FOLDER).mkdir(exist_ok=True)
     wire_rope, elastomer = truth_models(truth)
-    items = plan(quick=quick, truth=truth)
+    items = unchecked(plan)(quick=quick, truth=truth)
     name_suffix = "" if truth == "a" else f", truth {truth}"
     counts: dict = {}
     total_bytes = 0

@@ -12,7 +12,8 @@ from idkit.responses.shock import shock_sweep
 from idkit.signal.drop import process_drop
 from idkit.simulate import DEFAULT_CONTACT, ContactModel, contact_from_velocity_step
 from idkit.validate.records import MIN_SIBLINGS, RECORD_METRIC, departures
-from idkit.validate.result import ValidationResult, check_thresholds, checked_identified_range
+from idkit.checks import Choice, Flag, accepts
+from idkit.validate.result import IDENTIFIED_RANGE, ValidationResult, check_thresholds, checked_identified_range
 from idkit.validate.systems import system_for
 
 __all__ = ["DROP_MODELS", "DROP_THRESHOLDS", "validate_drops"]
@@ -47,6 +48,8 @@ class _Simulated:
     status: str
 
 
+@accepts(relaxation=Flag(), impact_velocity=Choice(("height", "velocity_step", "measured")),
+         drop_model=Choice(DROP_MODELS), identified_range=IDENTIFIED_RANGE, error=ValidationError)
 def validate_drops(measurements, *, system=None, isolator=None, upper=None, lower=None, relaxation: bool = False,
                    impact_velocity: str = "height", duration: float | None = None, thresholds: dict | None = None,
                    name: str = "drop tests", workers=None, drop_model: str = "auto",
@@ -106,11 +109,6 @@ def validate_drops(measurements, *, system=None, isolator=None, upper=None, lowe
     """
     if impact_velocity == "velocity_step":
         impact_velocity = "measured"
-    if impact_velocity not in ("height", "measured"):
-        raise ValidationError(f"impact_velocity: found {impact_velocity!r}, expected 'height', 'velocity_step' "
-                              "or 'measured' (an alias of 'velocity_step')")
-    if drop_model not in DROP_MODELS:
-        raise ValidationError(f"drop_model: found {drop_model!r}, expected one of {DROP_MODELS}")
     measurements = list(measurements)
     if drop_model == "auto":
         rig_ready = all(getattr(m.info, "bottom_mass_kg", None) is not None and m.info.drop_height_m is not None

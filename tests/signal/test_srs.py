@@ -83,11 +83,7 @@ def test_srs_limits_impulse_and_static():
     assert list(srs.to_dataframe().columns) == ["freq [Hz]", "positive", "negative", "maximax"]
 
 
-def test_srs_checks_its_inputs():
+def test_srs_refuses_natural_frequencies_at_or_above_half_the_sample_rate():
     pulse = _half_sine(np.arange(0, 0.02, 1e-4))
-    with pytest.raises(DataError, match="fs/2"):
+    with pytest.raises(DataError, match="below fs / 2"):
         shock_response_spectrum(pulse, fs=1e4, freq=[6000.0])
-    with pytest.raises(DataError, match="damping_ratio"):
-        shock_response_spectrum(pulse, fs=1e4, freq=[100.0], damping_ratio=1.5)
-    with pytest.raises(DataError, match="finite"):
-        shock_response_spectrum(np.full(10, np.nan), fs=1e4, freq=[100.0])

@@ -34,19 +34,6 @@ def test_local_dask_cluster_runs_grids_and_drops():
     np.testing.assert_array_equal(drops.acceleration, local_drops.acceleration)
 
 
-@pytest.mark.parametrize("arguments, words", [
-    # were truncated or raised to 1 without a word
-    (dict(workers=2.5), "workers: found 2.5, expected a whole number >= 1"),
-    (dict(workers=True), "workers: found True"),
-    (dict(workers="2"), "workers: found '2'"),
-    (dict(chunk_size=0), "chunk_size: found 0, expected a whole number >= 1"),
-    (dict(chunk_size=-3), "chunk_size: found -3"),
-    (dict(chunk_size=2.5), "chunk_size: found 2.5"),
-])
-def test_run_chunked_refuses_counts_it_would_change(arguments, words):
-    with pytest.raises(SimulationError) as refused:
-        run_chunked(lambda part: (np.arange(part.start, part.stop),), 5, **arguments)
-    assert words in str(refused.value)
 
 
 def test_run_chunked_takes_whole_float_and_numpy_counts():

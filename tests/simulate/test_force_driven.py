@@ -8,11 +8,9 @@ from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline
 
 from idkit.datasets import read_boucwen_benchmark, realdata_dir
-from idkit.errors import ParameterError, SimulationError
 from idkit.models import BoucWenModel, SDOFSystem
 from idkit.simulate import (
     BaseMotion,
-    ForceInput,
     benchmark_truth,
     simulate,
     simulate_force_driven,
@@ -139,22 +137,6 @@ def test_runaway_is_reported_not_returned_as_numbers():
     response = simulate_force_driven(model, 2.0, np.full(2000, 500.0), RATE_HZ)
     assert not response.success and "sample" in response.reasons[0]
     assert np.isnan(response.displacement[-1])
-
-
-@pytest.mark.parametrize("kwargs, word", [
-    ({"force": np.ones(3)}, "force"),
-    ({"force": np.array([1.0, np.nan, 0.0, 1.0])}, "non-finite"),
-    ({"force": np.ones(10), "sample_rate_hz": -1.0}, "sample_rate_hz"),
-    ({"force": np.ones(10), "interpolation": "spline"}, "interpolation"),
-    ({"force": np.ones(10), "substeps": 0}, "substeps"),
-])
-def test_bad_input_is_named(kwargs, word):
-    arguments = {"sample_rate_hz": RATE_HZ} | kwargs
-    with pytest.raises(SimulationError, match=word):
-        ForceInput.from_samples(arguments.pop("force"), arguments.pop("sample_rate_hz"), **arguments)
-    model, _ = benchmark_truth()
-    with pytest.raises(ParameterError, match="mass_kg"):
-        simulate_force_driven(model, 0.0, np.ones(10), RATE_HZ)
 
 
 def _benchmark():

@@ -192,12 +192,7 @@ def test_negative_stiffness_is_flagged_like_the_fast_integrator():
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
-        ({"smoothing": 0.0}, "smoothing"),
-        ({"smoothing": float("nan")}, "smoothing"),
-        ({"velocity_scale": -1.0}, "velocity_scale"),
-        ({"method": "RK45"}, "method"),
         ({"initial_deflection": [1e-3, 0.0]}, "initial_deflection"),
-        ({"initial_velocity": [np.inf]}, "initial_velocity"),
         ({"atol": [1e-9]}, "atol"),
     ],
 )
@@ -206,10 +201,6 @@ def test_bad_arguments_are_named(kwargs, match):
         solve_ivp_reference(VOIGT, np.linspace(0, 0.1, 11), **kwargs)
 
 
-def test_bad_time_grid_and_system_are_named():
-    with pytest.raises(SimulationError, match="time_eval"):
-        solve_ivp_reference(VOIGT, [0.0, 0.1, 0.1])
+def test_bad_system_is_named():
     with pytest.raises(SimulationError, match="system"):
         solve_ivp_reference(VOIGT.isolator, np.linspace(0, 0.1, 11))
-    with pytest.raises(SimulationError, match="n_periods"):
-        harmonic_reference(VOIGT, 5.0, 1e-3, n_periods=5)

