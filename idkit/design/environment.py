@@ -13,6 +13,8 @@ Document (SI units; every key named below, nothing else)::
         "peak_acceleration_m_per_s2": 60,   # payload peak under the drops (rest shock level)
         "max_deflection_m": 0.02,           # sway space: isolator travel under the drops
         "max_component_deflection_m": 0.015,  # hybrid: each component's own travel
+        "max_dissipated_energy_j": 2.0,     # energy one mount's isolator dissipates in a drop
+        "max_component_dissipated_energy_j": 1.5,  # hybrid: each component's own
         "resonance_band_hz": [2.5, 4.0],    # the first (small-amplitude) resonance must avoid it
         "probability": 0.9                  # required probability of meeting every limit
       }
@@ -22,7 +24,11 @@ Document (SI units; every key named below, nothing else)::
 interpolated (:class:`idkit.signal.psd.PsdProfile`, the transport study's format), or flat
 levels over a band (``PsdProfile.flat``, SPEC 5). Every limit is optional; at least one must
 be given. Deflection limits are judged on the drops (their travel far exceeds the
-vibration's).
+vibration's). The energy limits cap what one mount's isolator (all of a hybrid) and each of a
+hybrid's components dissipate in the worst drop, over the simulated time (four small-amplitude
+periods; :mod:`idkit.simulate.parameter_sets`): the heat or wear a part must take per shock,
+a rating a maker gives (thesis 9.2 names "the energy dissipation of the isolator and its
+components" as a design criterion beside their deflections).
 """
 
 from __future__ import annotations
@@ -35,13 +41,17 @@ from pathlib import Path
 from idkit.errors import DataError
 from idkit.signal.psd import PsdProfile
 
-__all__ = ["LIMIT_KEYS", "Environment", "load_environment"]
+__all__ = ["DROP_LIMITS", "LIMIT_KEYS", "Environment", "load_environment"]
 
 #: Limits an environment may set and their units.
 LIMIT_KEYS = {
     "rms_acceleration_m_per_s2": "m/s^2", "peak_acceleration_m_per_s2": "m/s^2", "max_deflection_m": "m",
-    "max_component_deflection_m": "m", "resonance_band_hz": "Hz", "probability": "-",
+    "max_component_deflection_m": "m", "max_dissipated_energy_j": "J", "max_component_dissipated_energy_j": "J",
+    "resonance_band_hz": "Hz", "probability": "-",
 }
+#: Limits judged on the drops.
+DROP_LIMITS = ("peak_acceleration_m_per_s2", "max_deflection_m", "max_component_deflection_m",
+               "max_dissipated_energy_j", "max_component_dissipated_energy_j")
 _TOP_KEYS = {"floor_psd", "drops", "limits", "name"}
 
 
@@ -139,7 +149,7 @@ class Environment:
                                 f"({LIMIT_KEYS[key]})")
         if "rms_acceleration_m_per_s2" in limits and not profiles:
             raise DataError(f"{where}: limits.rms_acceleration_m_per_s2 needs floor_psd profiles; found none")
-        needs_drops = {"peak_acceleration_m_per_s2", "max_deflection_m", "max_component_deflection_m"} & set(limits)
+        needs_drops = set(DROP_LIMITS) & set(limits)
         if needs_drops and not heights:
             raise DataError(f"{where}: limits {sorted(needs_drops)} need drops; found none")
         return cls(profiles=profiles, drop_heights_m=heights, limits=dict(limits), name=str(document.get("name", "")))

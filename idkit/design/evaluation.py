@@ -4,26 +4,41 @@ Per candidate and per draw (draw 0 is the mean model, draws 1..n from the parts'
 :func:`idkit.design.candidates.draw_models`; the candidate's own seeded stream, so the draws do
 not depend on the executor or the order):
 
-* **random vibration** per floor profile: :func:`idkit.responses.random_response` with one
-  realization at the study's resolution (800 Hz, 0.05 Hz lines), ``method="auto"`` (linear
-  systems, and hysteretic ones whose elements stay stuck under that floor, exactly in the
-  frequency domain); settling :func:`~idkit.responses.random_vibration.settle_records_for`;
-  the payload RMS acceleration, worst profile;
-* **drops**: :func:`idkit.responses.shock_sweep` over the environment's heights: the peak
-  payload acceleration (rest shock level), the isolator travel and (hybrid) each component's
-  own peak deflection, worst height;
-* **first resonance**: the small-amplitude resonance of the draw's system.
+* **random vibration** per floor profile: what :func:`idkit.responses.random_response` gives
+  with one realization (seed + draw index: the same floor for every candidate) at the study's
+  resolution (800 Hz, 0.05 Hz lines), ``method="auto"`` (linear systems, and hysteretic ones
+  whose elements stay stuck under that floor, exactly in the frequency domain); settling
+  :func:`~idkit.responses.random_vibration.settle_records_for`; the payload RMS acceleration,
+  worst profile;
+* **drops**: the conditioned free falls of :func:`idkit.responses.shock_sweep` over the
+  environment's heights: the peak payload acceleration (rest shock level), the isolator travel
+  and (hybrid) each component's own peak deflection, and the energy the isolator (the sum over
+  a hybrid's components) and each component dissipated
+  (:mod:`idkit.simulate.parameter_sets`), worst height;
+* **first resonance**: the small-amplitude resonance of the draw's system
+  (:func:`idkit.simulate.small_amplitude_resonance`).
 
 A run flagged by the simulator (the model left its valid range) counts as a draw that misses
 every limit it would have been judged on.
 
-**Screening** (``screening=True``): every draw settles for the mean model's settling time; the
-random runs integrate at 800 Hz (``oversample=1``, the
-thesis's own signals; the trapezoidal warping lowers ``|H|^2`` by about ``(omega h)^2 / 3``:
-under 0.2 % up to 10 Hz, where a 5 Hz design's response lives) and the drops at a step 5x the
-default (400 points per small-amplitude period: a sampled peak within ``1 - cos(pi / 400)``
-= 3e-5 of the true one). The ranked top is then re-simulated in full (``screening=False``:
-4x oversampling, the default drop grid) with the same draws.
+**Batched** (the default): a candidate's draws are one parameter-set batch
+(:func:`idkit.simulate.parameter_sets.simulate_parameter_sets`): one compiled call runs every
+draw's floor record that needs the time domain, one runs every draw's drops; the
+frequency-domain parts (resonances, the stays-stuck test, the linear responses) are array
+operations over the draws. ``batched=False`` runs one draw at a time through the public
+one-system functions (``random_response``, ``shock_sweep``; the dissipated energy from the
+free falls' records and final states): the same numbers, the kernel runs bit for bit and the
+frequency-domain ones to round-off (``tests/design/test_batched.py``).
+
+**Screening** (``screening=True``): every draw settles for the mean model's settling time and
+drops on the mean model's drop grid (its duration, four small-amplitude periods, and five times
+its step: 400 steps a period; the draws' resonances differ by their parameters' few per cent,
+and a sampled peak is within ``1 - cos(pi / 400)`` = 3e-5 of the true one); the random runs
+integrate at 800 Hz (``oversample=1``, the thesis's own signals; the trapezoidal warping lowers
+``|H|^2`` by about ``(omega h)^2 / 3``: under 0.2 % up to 10 Hz, where a 5 Hz design's response
+lives). The ranked top is then re-simulated in full (``screening=False``: 4x oversampling, each
+draw's own settling and drop grid) with the same draws; ``tests/design/test_batched.py`` states
+the screen's accuracy against the full simulation.
 """
 
 from __future__ import annotations
@@ -37,23 +52,74 @@ import numpy as np
 from idkit.design.candidates import Candidate, candidate_rng, draw_models
 from idkit.design.environment import Environment
 from idkit.errors import SimulationError
+from idkit.gravity import impact_velocity_from_height
+from idkit.models.laws import hybrid_transmissibility, sdof_transmissibility
 from idkit.responses import random_response, shock_sweep
-from idkit.responses.random_vibration import settle_records_for
+from idkit.responses.random_vibration import (
+    WELCH_OVERLAP,
+    expected_output_rms,
+    is_linear_system,
+    settle_records_for,
+    stuck_at_peaks,
+    stuck_deflection_peaks,
+)
 from idkit.responses.shock import default_shock_grid
-from idkit.simulate import small_amplitude_resonance
+from idkit.signal.psd import rms_from_psd, synthesize_random, welch_psd
+from idkit.simulate import free_fall, small_amplitude_resonance
+from idkit.simulate._kernel import _pack, _pack_states
+from idkit.simulate._arrays import system_arrays
+from idkit.simulate.base_motion import integrate_acceleration
+from idkit.simulate.harmonic import RESONANCE_BAND_HZ
+from idkit.simulate.parameter_sets import simulate_parameter_sets, stack_parameter_sets, stored_energy
+from idkit.simulate.time_response import _steps_covering
 
 __all__ = ["METRICS", "SCREENING_STEP_FACTOR", "evaluate_candidate", "evaluate_candidates"]
 
 #: Metrics computed per draw (SI; NaN where the environment does not ask for it or a run was flagged).
 METRICS = ("rms_acceleration_m_per_s2", "peak_acceleration_m_per_s2", "max_deflection_m",
-           "max_component_deflection_m", "resonance_hz")
+           "max_component_deflection_m", "max_dissipated_energy_j", "max_component_dissipated_energy_j",
+           "resonance_hz")
+_DROP_METRICS = METRICS[1:6]
 #: Drop time step of the screening path, as a multiple of the default grid's step.
 SCREENING_STEP_FACTOR = 5.0
+_FS, _FREQ_STEP = 800.0, 0.05  # the study's resolution
 
 
-def _draw_metrics(system, environment: Environment, *, screening: bool, seed: int, settle=None) -> dict:
+def _drop_grid(system, screening: bool) -> tuple[float, float]:
+    """Duration and step (s) of the drops: :func:`default_shock_grid`, the step 5x on the screen."""
+    duration, step = default_shock_grid(system)
+    return duration, step * (SCREENING_STEP_FACTOR if screening else 1.0)
+
+
+def _empty_metrics() -> dict:
     out = {name: math.nan for name in METRICS}
     out["flagged"] = 0
+    return out
+
+
+def _drop_energy(system, heights, duration: float, step: float) -> np.ndarray:
+    """Energy (J) each isolator dissipated in each conditioned free fall, from the records of
+    :func:`idkit.simulate.free_fall`: the trapezoidal work ``(y1 - y0) (F0 + F1) / 2`` over the
+    records less the energy stored at the end (:func:`~idkit.simulate.parameter_sets.stored_energy`
+    of the final states). Shape (heights, isolators); NaN for a flagged run."""
+    response = free_fall(system, drop_height=np.asarray(heights), duration=duration, time_step=step, workers=1)
+    y, force = response.deflection, response.isolator_force
+    work = (0.5 * (force[..., 1:] + force[..., :-1]) * np.diff(y, axis=-1)).sum(axis=-1)
+    arrays = system_arrays(system)
+    packed = _pack(*arrays.as_tuple()[1:], float(np.diff(response.time).mean()))
+    final = response.final_state
+    energy = np.full(work.shape, np.nan)
+    for run in np.flatnonzero(response.flags == 0):
+        states = _pack_states(packed, final.jenkin_force[run], final.maxwell_elongation[run], final.boucwen_z[run])
+        for j in range(work.shape[1]):
+            energy[run, j] = work[run, j] - stored_energy(j, y[run, j, -1], packed, states)
+    return energy
+
+
+def _draw_metrics(system, environment: Environment, *, screening: bool, seed: int, settle=None,
+                  drop_grid=None) -> dict:
+    """One draw through the one-system functions (module docstring: ``batched=False``)."""
+    out = _empty_metrics()
     out["resonance_hz"] = small_amplitude_resonance(system)
     if environment.profiles:
         worst = -math.inf
@@ -71,27 +137,213 @@ def _draw_metrics(system, environment: Environment, *, screening: bool, seed: in
             worst = max(worst, response.output_rms)
         out["rms_acceleration_m_per_s2"] = worst
     if environment.drop_heights_m:
-        duration, step = default_shock_grid(system)
+        duration, step = _drop_grid(system, screening) if drop_grid is None else drop_grid
         sweep = shock_sweep(system, drop_height=np.asarray(environment.drop_heights_m), duration=duration,
-                            time_step=step * (SCREENING_STEP_FACTOR if screening else 1.0), workers=1)
+                            time_step=step, workers=1)
         flagged = sweep.flags != 0
         out["flagged"] += int(flagged.sum())
         if flagged.any():
-            out["peak_acceleration_m_per_s2"] = math.inf
-            out["max_deflection_m"] = math.inf
-            out["max_component_deflection_m"] = math.inf
+            for name in _DROP_METRICS:
+                if len(system.isolators) > 1 or not name.startswith("max_component_"):
+                    out[name] = math.inf
         else:
+            energy = _drop_energy(system, environment.drop_heights_m, duration, step)
             out["peak_acceleration_m_per_s2"] = float(np.max(sweep.rest_shock_level))
             out["max_deflection_m"] = float(np.max(np.fmax(sweep.travel_compression, sweep.travel_tension)))
+            out["max_dissipated_energy_j"] = float(np.max(energy.sum(axis=1)))
             if sweep.peak_compression.shape[1] > 1:
                 out["max_component_deflection_m"] = float(np.max(np.fmax(sweep.peak_compression,
                                                                          sweep.peak_tension)))
+                out["max_component_dissipated_energy_j"] = float(np.max(energy))
     return out
 
 
+# ------------------------------------------------------------------------------------------
+# batched: every draw of a candidate at once
+
+_SIGNALS: dict = {}
+_SIGNALS_KEPT = 128
+
+
+def _floor_record(profile, seed: int, rate: float) -> tuple[np.ndarray, np.ndarray]:
+    """The one floor realization of a draw (as :func:`random_response` synthesizes it with
+    ``n_realizations=1``) and its one-sided line amplitudes, kept: every candidate of a search is
+    driven by the same draws' floors."""
+    key = (profile.freq.tobytes(), profile.level.tobytes(), int(seed), float(rate))
+    found = _SIGNALS.get(key)
+    if found is None:
+        if len(_SIGNALS) >= _SIGNALS_KEPT:
+            _SIGNALS.clear()
+        signal = synthesize_random(profile, seed=int(seed), fs=rate, freq_step=_FREQ_STEP, n_realizations=1)
+        lines = np.fft.rfft(signal, axis=1)[:, 1:] * (2.0 / signal.shape[1])  # as stays_stuck takes them
+        found = (signal[0], lines[0])
+        for values in found:
+            values.setflags(write=False)
+        _SIGNALS[key] = found
+    return found
+
+
+def _transmissibility(systems, freq: np.ndarray) -> np.ndarray:
+    """Small-amplitude transmissibility of each system at ``freq`` (Hz), shape (systems, freq): each
+    system's ``transmissibility`` computed for all at once (the systems are alike)."""
+    masses = np.array([system.masses for system in systems])
+    omega = 2.0 * np.pi * freq
+    stiffness = [np.array([system.isolators[j].small_amplitude_stiffness(freq) for system in systems])
+                 for j in range(masses.shape[1])]
+    if masses.shape[1] == 1:
+        return sdof_transmissibility(stiffness[0], masses[:, :1], omega)
+    return hybrid_transmissibility(stiffness[0], stiffness[1], masses[:, :1], masses[:, 1:], omega)
+
+
+def _resonances(systems) -> np.ndarray:
+    """:func:`small_amplitude_resonance` of each system (the same 2000-point search)."""
+    freq = np.logspace(np.log10(RESONANCE_BAND_HZ[0]), np.log10(RESONANCE_BAND_HZ[1]), 2000)
+    return freq[np.argmax(np.abs(_transmissibility(systems, freq)), axis=1)]
+
+
+def _linear_rms(systems, profile, oversample: int) -> np.ndarray:
+    """The output RMS ``random_response(method="frequency")`` gives each (linear or stuck) system
+    (:func:`~idkit.responses.random_vibration.expected_output_rms`); ``inf`` where unbounded."""
+    def gain(freq):
+        return np.abs(_transmissibility(systems, freq)) ** 2
+
+    return expected_output_rms(gain, profile, fs=_FS, freq_step=_FREQ_STEP, oversample=oversample)
+
+
+def _random_rms(systems, profile, *, seed: int, oversample: int, settle) -> tuple[np.ndarray, np.ndarray]:
+    """Payload RMS acceleration of each draw under its own floor record, and which were flagged."""
+    rate = _FS * oversample
+    rms = np.full(len(systems), np.nan)
+    flagged = np.zeros(len(systems), dtype=bool)
+    linear = np.array([is_linear_system(system) for system in systems])
+    frequency = linear.copy()
+    nonlinear = np.flatnonzero(~linear)
+    if nonlinear.size:
+        records = [_floor_record(profile, seed + index, rate) for index in nonlinear]
+        peaks = stuck_deflection_peaks([systems[i] for i in nonlinear], np.array([r[0] for r in records]), rate,
+                                       input_psd=profile, lines=np.array([r[1] for r in records]))
+        for row, index in enumerate(nonlinear):
+            frequency[index] = stuck_at_peaks(systems[index], peaks[row])[0]
+    by_frequency = np.flatnonzero(frequency)
+    if by_frequency.size:
+        rms[by_frequency] = _linear_rms([systems[i] for i in by_frequency], profile, oversample)
+        flagged[by_frequency] = ~np.isfinite(rms[by_frequency])
+    timed = np.flatnonzero(~frequency)
+    if timed.size:
+        rms[timed], flagged[timed] = _timed_rms([systems[i] for i in timed], profile, seeds=seed + timed,
+                                                oversample=oversample, settle=settle)
+    return rms, flagged
+
+
+def _timed_rms(systems, profile, *, seeds, oversample: int, settle) -> tuple[np.ndarray, np.ndarray]:
+    """The time method of :func:`random_response` for each system under its own record, one call."""
+    rate = _FS * oversample
+    step = int(oversample)
+    records = [_floor_record(profile, int(s), rate)[0] for s in seeds]
+    n_samples = records[0].size
+    record = n_samples // step
+    overlap = round(WELCH_OVERLAP * record)
+    analysed = record + overlap
+    firsts = [round(float(settle_records_for(system) if settle is None else settle()) * record) for system in systems]
+    totals = [(first + analysed) * step for first in firsts]
+    base_disp = np.zeros((len(systems), max(totals) + 1))
+    base_vel = np.zeros_like(base_disp)
+    steps, scales = np.empty(len(systems)), np.empty(len(systems))
+    for row, (signal, total) in enumerate(zip(records, totals)):
+        drive = np.tile(signal, total // n_samples + 1)[:total + 1]
+        h = float(np.diff(np.arange(total + 1) / rate).mean())  # simulate's step of this grid
+        disp, vel = integrate_acceleration(drive, h)
+        base_disp[row, :total + 1], base_vel[row, :total + 1] = disp, vel
+        steps[row] = h
+        scales[row] = np.abs(np.diff(vel)).max() / h
+    runs = simulate_parameter_sets(stack_parameter_sets(systems), np.arange(len(systems)), time_step=steps,
+                                   n_steps=np.array(totals), base_displacement=base_disp, base_velocity=base_vel,
+                                   base_row=np.arange(len(systems)), acceleration_scale=scales,
+                                   record_from=np.array(firsts) * step, record_every=step, n_records=analysed)
+    ok = runs.flags == 0
+    rms = np.full(len(systems), np.inf)
+    if ok.any():
+        estimate = welch_psd(runs.records[ok], fs=_FS, nperseg=record, overlap=WELCH_OVERLAP, average=False)
+        keep = estimate.freq <= 0.5 * _FS + 1e-9
+        rms[ok] = [rms_from_psd(estimate.freq[keep], psd[keep]) for psd in estimate.psd]
+    return rms, ~ok
+
+
+def _drop_metrics(systems, heights, grids) -> dict:
+    """Drop metrics of every draw (``grids``: each draw's duration and step), one compiled call."""
+    v0 = np.atleast_1d(impact_velocity_from_height(np.asarray(heights)))
+    sets = stack_parameter_sets(systems)
+    n_heights = v0.size
+    set_index = np.repeat(np.arange(len(systems)), n_heights)
+    n_steps = np.array([_steps_covering(duration, step) for duration, step in grids])
+    # free_fall's grid and simulate's step on it
+    h = np.array([float(np.diff(np.arange(n + 1) * step).mean()) for n, (_, step) in zip(n_steps, grids)])
+    runs = simulate_parameter_sets(sets, set_index, time_step=np.repeat(h, n_heights),
+                                   n_steps=np.repeat(n_steps, n_heights),
+                                   initial_velocity=np.repeat(np.tile(v0, len(systems))[:, None], sets.ndof, axis=1))
+    shape = (len(systems), n_heights)
+    flagged = (runs.flags != 0).reshape(shape)
+    energy = runs.dissipated_energy.reshape(*shape, sets.ndof)
+    travel = np.fmax(runs.travel_compression, runs.travel_tension).reshape(shape)
+    component = np.fmax(runs.isolator_compression, runs.isolator_extension).reshape(*shape, sets.ndof)
+    out = {"flagged": flagged.sum(axis=1),
+           "peak_acceleration_m_per_s2": np.max(runs.rest_shock_level.reshape(shape), axis=1),
+           "max_deflection_m": np.max(travel, axis=1), "max_dissipated_energy_j": np.max(energy.sum(axis=2), axis=1)}
+    if sets.ndof > 1:
+        out["max_component_deflection_m"] = np.max(component, axis=(1, 2))
+        out["max_component_dissipated_energy_j"] = np.max(energy, axis=(1, 2))
+    for name in _DROP_METRICS:
+        if name in out:
+            out[name] = np.where(flagged.any(axis=1), np.inf, out[name])
+    return out
+
+
+class _Once:
+    """A value computed at its first call only (the mean model's settling: only time runs need it)."""
+
+    def __init__(self, compute):
+        self._compute, self._value = compute, None
+
+    def __call__(self):
+        if self._value is None:
+            self._value = self._compute()
+        return self._value
+
+
+def _batched_metrics(systems, environment: Environment, *, screening: bool, seed: int) -> list[dict]:
+    """:func:`_draw_metrics` of every system (draw index = position) at once."""
+    results = [_empty_metrics() for _ in systems]
+    resonances = _resonances(systems)
+    for result, value in zip(results, resonances):
+        result["resonance_hz"] = float(value)
+    if environment.profiles:
+        settle = _Once(lambda: settle_records_for(systems[0])) if screening else None
+        worst = np.full(len(systems), -np.inf)
+        for profile in environment.profiles.values():
+            rms, flagged = _random_rms(systems, profile, seed=int(seed), oversample=1 if screening else 4,
+                                       settle=settle)
+            worst = np.maximum(worst, np.where(flagged, np.inf, rms))
+            for result, bad in zip(results, flagged):
+                result["flagged"] += int(bad)
+        for result, value in zip(results, worst):
+            result["rms_acceleration_m_per_s2"] = float(value)
+    if environment.drop_heights_m:
+        grids = [_drop_grid(systems[0], screening)] * len(systems) if screening else \
+            [_drop_grid(system, False) for system in systems]
+        drops = _drop_metrics(systems, environment.drop_heights_m, grids)
+        for index, result in enumerate(results):
+            result["flagged"] += int(drops["flagged"][index])
+            for name in _DROP_METRICS:
+                if name in drops:
+                    result[name] = float(drops[name][index])
+    return results
+
+
 def evaluate_candidate(candidate: Candidate, environment: Environment, *, n_draws: int = 30, seed: int = 0,
-                       screening: bool = True) -> dict:
+                       screening: bool = True, batched: bool = True) -> dict:
     """Metrics of the mean model and of ``n_draws`` parameter draws of one candidate.
+
+    ``batched=False``: one draw at a time through the one-system functions (module docstring).
 
     Returns
     -------
@@ -104,11 +356,14 @@ def evaluate_candidate(candidate: Candidate, environment: Environment, *, n_draw
     drawn = [draw_models(part, n_draws, rng) for part in candidate.parts]
     systems = [candidate.system()] + [candidate.system([models[i] for models in drawn]) for i in range(n_draws)]
     # one floor realization per draw, the same for every candidate (seed + draw index)
-    # screening: every draw settles as long as the mean model needs (the draws' resonances differ
-    # by their parameters' few per cent; searching each one's half-power band cost 60 % of the time)
-    settle = settle_records_for(systems[0]) if screening and environment.profiles else None
-    results = [_draw_metrics(system, environment, screening=screening, seed=int(seed) + index, settle=settle)
-               for index, system in enumerate(systems)]
+    if batched:
+        results = _batched_metrics(systems, environment, screening=screening, seed=int(seed))
+    else:
+        # screening: every draw settles as long as, and drops on the grid of, the mean model
+        settle = settle_records_for(systems[0]) if screening and environment.profiles else None
+        grid = _drop_grid(systems[0], True) if screening and environment.drop_heights_m else None
+        results = [_draw_metrics(system, environment, screening=screening, seed=int(seed) + index, settle=settle,
+                                 drop_grid=grid) for index, system in enumerate(systems)]
     row = {"name": candidate.name, "kind": candidate.kind, "count": candidate.count,
            "parts": " + ".join(part.name for part in candidate.parts),
            "predicted parts": sum(part.predicted for part in candidate.parts),

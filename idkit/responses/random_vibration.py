@@ -56,6 +56,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
+from scipy import integrate
 
 from idkit.checks import Choice, Real, Reals, Whole, accepts
 from idkit.errors import SimulationError
@@ -83,7 +84,10 @@ __all__ = [
     "linear_output_psd",
     "random_response",
     "settle_records_for",
+    "expected_output_rms",
     "stays_stuck",
+    "stuck_at_peaks",
+    "stuck_deflection_peaks",
 ]
 
 WELCH_OVERLAP = 2.0 / 3.0
@@ -316,34 +320,76 @@ def settle_records_for(system, *, freq_step: float = 0.05, time_constants: float
 def _folded_lines(level: NDArray[np.float64], record: int) -> NDArray[np.float64]:
     """One-sided line powers of a record resampled (no filter) to ``record`` samples.
 
-    ``level[k]`` belongs to line ``k`` of the synthesized spectrum (any length); line ``k``
+    ``level[..., k]`` belongs to line ``k`` of the synthesized spectrum (any length); line ``k``
     lands on line ``k mod record`` of the resampled record, mirrored above ``record / 2``.
     """
-    index = np.arange(level.size) % record
+    index = np.arange(level.shape[-1]) % record
     index = np.where(index > record // 2, record - index, index)
-    return np.bincount(index, weights=level, minlength=record // 2 + 1)
+    if level.ndim == 1:
+        return np.bincount(index, weights=level, minlength=record // 2 + 1)
+    rows = level.reshape(-1, level.shape[-1])
+    folded = np.array([np.bincount(index, weights=row, minlength=record // 2 + 1) for row in rows])
+    return folded.reshape(*level.shape[:-1], record // 2 + 1)
 
 
 def _hann_line_smoothing(power: NDArray[np.float64], record: int) -> NDArray[np.float64]:
-    """Expected one-sided Hann periodogram of a periodic record with these line powers.
+    """Expected one-sided Hann periodogram of a periodic record with these line powers (last axis).
 
     Averaged over the three third-shifted segments the cross terms vanish, and each bin
     gets (1/6, 2/3, 1/6) of the two-sided line powers around it; one-sided bins double
     them except DC and (even ``record``) Nyquist.
     """
     half = record // 2
-    two_sided = np.zeros(record)
-    two_sided[:half + 1] = power / 2.0
-    two_sided[0] = power[0]
+    two_sided = np.zeros((*power.shape[:-1], record))
+    two_sided[..., :half + 1] = power / 2.0
+    two_sided[..., 0] = power[..., 0]
     if record % 2 == 0:
-        two_sided[half] = power[half]
-    two_sided[half + 1:] = two_sided[1:record - half][::-1]  # negative lines mirror positive ones
-    smoothed = (np.roll(two_sided, 1) + 4.0 * two_sided + np.roll(two_sided, -1)) / 6.0
-    one_sided = smoothed[:half + 1].copy()
-    one_sided[1:] *= 2.0
+        two_sided[..., half] = power[..., half]
+    two_sided[..., half + 1:] = two_sided[..., 1:record - half][..., ::-1]  # negative lines mirror positive ones
+    smoothed = (np.roll(two_sided, 1, axis=-1) + 4.0 * two_sided + np.roll(two_sided, -1, axis=-1)) / 6.0
+    one_sided = smoothed[..., :half + 1].copy()
+    one_sided[..., 1:] *= 2.0
     if record % 2 == 0:
-        one_sided[half] /= 2.0
+        one_sided[..., half] /= 2.0
     return one_sided
+
+
+def expected_output_rms(gain, input_psd, *, fs: float = 800.0, freq_step: float = 0.05,
+                        oversample: int = 1) -> NDArray[np.float64]:
+    """The output RMS ``random_response(method="frequency")`` gives, for many linear systems at once.
+
+    Parameters
+    ----------
+    gain : callable
+        ``gain(freq)`` -> ``|H(freq)|^2`` of each system, shape ``(n_systems, freq.size)``;
+        called on the lines where the input is above zero only (the others carry no power).
+    input_psd, fs, freq_step, oversample :
+        As :func:`random_response`.
+
+    Returns
+    -------
+    ndarray, shape (n_systems,)
+        Payload RMS acceleration (m/s^2) of the expected Welch estimate (lines folded and
+        Hann-smoothed as in :func:`random_response`), ``inf`` where a gain is not finite on a
+        line with power (an undamped resonance on a line: the frequency method refuses it).
+    """
+    rate = float(fs) * int(oversample)
+    n_samples = round(rate / float(freq_step))
+    record = n_samples // int(oversample)
+    lines = np.arange(n_samples // 2 + 1) * float(freq_step)
+    level = np.asarray(input_psd(lines), dtype=float)
+    level[0] = 0.0  # the synthesized DC and Nyquist lines are zero
+    if n_samples % 2 == 0:
+        level[-1] = 0.0
+    band = level > 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        gains = np.atleast_2d(np.asarray(gain(lines[band]), dtype=float))
+    bounded = np.isfinite(gains).all(axis=1)
+    power = np.zeros((gains.shape[0], lines.size))
+    power[:, band] = np.where(bounded[:, None], gains, 0.0) * level[band]
+    output = _hann_line_smoothing(_folded_lines(power, record), record)
+    freq = np.arange(record // 2 + 1) * (float(fs) / record)
+    return np.where(bounded, np.sqrt(integrate.trapezoid(output, freq, axis=-1)), np.inf)
 
 
 def _expected_linear_response(system, input_psd, *, seed, fs, freq_step, oversample,
@@ -556,14 +602,29 @@ def stays_stuck(system, signals: NDArray[np.float64], rate: float) -> tuple[bool
     unbounded = _unbounded_line(omega, deflections)
     if unbounded:
         return False, unbounded
-    n_samples = signals.shape[1]
-    for index, (isolator, lines) in enumerate(zip(system.isolators, deflections)):
+    return stuck_at_peaks(system, [_peak_deflection(lines, signals.shape[1]) for lines in deflections])
+
+
+def _peak_deflection(lines: NDArray[np.complex128], n_samples: int) -> NDArray[np.float64]:
+    """Largest ``|deflection|`` over the record of each row of one-sided line amplitudes (the DC
+    line left out), sampled at ``n_samples`` points; the largest over every row of a 2-D array."""
+    spectrum = np.zeros((*lines.shape[:-1], n_samples // 2 + 1), dtype=complex)
+    spectrum[..., 1:lines.shape[-1] + 1] = lines * (n_samples / 2.0)
+    return np.abs(np.fft.irfft(spectrum, n=n_samples, axis=-1)).max(axis=-1)
+
+
+def stuck_at_peaks(system, peaks) -> tuple[bool, str]:
+    """The rule of :func:`stays_stuck` given each isolator's peak small-amplitude deflection (m,
+    top isolator first; an array is reduced to its largest value): every Jenkin element below
+    its lowest slip force there, every spring linear to :data:`LINEARITY_TOLERANCE`, no
+    Bouc-Wen part."""
+    for index, (isolator, peak) in enumerate(zip(system.isolators, peaks)):
+        peak = float(np.max(peak))
+        if not np.isfinite(peak):
+            return False, f"isolator {index + 1}: the small-amplitude (stuck) response is unbounded"
         arrays = isolator.kernel_arrays()
         if arrays.boucwen[0] != 0:
             return False, f"isolator {index + 1} has a Bouc-Wen part"
-        spectrum = np.zeros((lines.shape[0], n_samples // 2 + 1), dtype=complex)
-        spectrum[:, 1:lines.shape[1] + 1] = lines * (n_samples / 2.0)
-        peak = float(np.abs(np.fft.irfft(spectrum, n=n_samples, axis=1)).max())
         g1, g2, g3 = (float(v) for v in arrays.poly)
         if (g2 or g3) and not (g1 > 0 and (abs(g2) * peak + abs(g3) * peak**2) / g1 <= LINEARITY_TOLERANCE):
             return False, (f"isolator {index + 1}: the spring is nonlinear by more than {LINEARITY_TOLERANCE:g} at "
@@ -578,6 +639,49 @@ def stays_stuck(system, signals: NDArray[np.float64], rate: float) -> tuple[bool
             return False, (f"isolator {index + 1}: Jenkin element {element + 1} would slip "
                            f"({force[element]:.3g} N >= {friction[element]:.3g} N at {peak:.3g} m)")
     return True, ""
+
+
+def stuck_deflection_peaks(systems, signals: NDArray[np.float64], rate: float, *,
+                           input_psd=None, lines=None) -> NDArray[np.float64]:
+    """Peak small-amplitude deflections of many systems of one kind, each under its own floor record.
+
+    The batched form of :func:`stays_stuck`'s first part (:func:`_small_amplitude_lines` with
+    one realization per system): ``systems`` (SDOF, or hybrid, all alike) and ``signals``
+    ``(n_systems, n_samples)`` floor accelerations at ``rate`` Hz. Returns ``(n_systems,
+    n_isolators)`` peaks in m, ``inf`` for a system whose small-amplitude response is
+    unbounded (an undamped resonance on a line of its record). :func:`stuck_at_peaks` then
+    gives each system's verdict. ``input_psd``: the PSD the records were synthesized from; the
+    lines where it is zero (whose amplitudes are the FFT's round-off) are left out. ``lines``:
+    the records' one-sided line amplitudes when the caller keeps them
+    (``np.fft.rfft(signals, axis=1)[:, 1:] * 2 / n_samples``).
+    """
+    signals = np.atleast_2d(signals)
+    n_samples = signals.shape[1]
+    lines = _line_amplitudes(signals) if lines is None else np.atleast_2d(lines)
+    freq = np.fft.rfftfreq(n_samples, d=1.0 / rate)[1:]
+    band = np.ones(freq.size, dtype=bool) if input_psd is None else np.asarray(input_psd(freq), dtype=float) > 0
+    freq_band = freq[band]
+    omega = 2.0 * np.pi * freq_band
+    base = -lines[:, band] / omega**2
+    masses = np.array([system.masses for system in systems])
+    n_isolators = masses.shape[1]
+    stiffness = [np.array([system.isolators[j].small_amplitude_stiffness(freq_band) for system in systems])
+                 for j in range(n_isolators)]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if n_isolators == 1:
+            deflections = [sdof_transmissibility(stiffness[0], masses[:, :1], omega) * base - base]
+        else:
+            top, middle = hybrid_displacements(stiffness[0], stiffness[1], masses[:, :1], masses[:, 1:], omega)
+            deflections = [top * base - middle * base, middle * base - base]
+    peaks = np.empty((len(systems), n_isolators))
+    for j, part in enumerate(deflections):
+        finite = np.isfinite(part).all(axis=1)
+        peaks[:, j] = np.inf
+        if finite.any():
+            full = np.zeros((int(finite.sum()), freq.size), dtype=complex)
+            full[:, band] = part[finite]
+            peaks[finite, j] = _peak_deflection(full, n_samples)
+    return peaks
 
 
 def _linear_start(system, signals: NDArray[np.float64], rate: float) -> dict[str, NDArray[np.float64]]:

@@ -247,7 +247,7 @@ class PsdEstimate:
     freq : ndarray, shape (n_freq,)
         Frequencies, Hz.
     psd : ndarray, shape (n_freq,)
-        One-sided PSD, (unit)^2/Hz.
+        One-sided PSD, (unit)^2/Hz; ``(n_realizations, n_freq)`` from ``welch_psd(average=False)``.
     n_segments : int
         Segments per realization.
     n_realizations : int
@@ -276,8 +276,9 @@ def welch_psd(
     fs: float,
     nperseg: int | None = None,
     overlap: float = 2.0 / 3.0,
+    average: bool = True,
 ) -> PsdEstimate:
-    """Welch PSD of one or several realizations, averaged over all of them.
+    """Welch PSD of one or several realizations, averaged over all of them (or each its own).
 
     Hann window, ``noverlap = round(overlap * nperseg)`` (2/3 by default, SPEC section 5),
     segment means removed (``detrend="constant"``), one-sided density.
@@ -294,6 +295,9 @@ def welch_psd(
         resolution ``fs / nperseg`` (0.40 Hz for 20 s at 800 Hz).
     overlap : float, default 2/3
         Overlap fraction in [0, 1).
+    average : bool, default True
+        False: ``psd`` has one row per realization, ``(n_realizations, n_freq)`` (many
+        independent signals estimated in one call).
 
     Returns
     -------
@@ -306,6 +310,8 @@ def welch_psd(
     >>> estimate.nperseg, estimate.n_segments
     (1998, 22)
     """
+    if not isinstance(average, (bool, np.bool_)):
+        raise DataError(f"average: found {average!r}, expected True or False")
     values = signals if signals.ndim == 2 else signals[None, :]
     n_samples = values.shape[1]
     if nperseg is None:
@@ -319,7 +325,7 @@ def welch_psd(
     )
     return PsdEstimate(
         freq=freq,
-        psd=density.mean(axis=0),
+        psd=density.mean(axis=0) if average else density,
         n_segments=int((n_samples - noverlap) // (nperseg - noverlap)),
         n_realizations=int(values.shape[0]),
         nperseg=nperseg,
