@@ -32,10 +32,10 @@ frequency-domain ones to round-off (``tests/design/test_batched.py``).
 
 **Screening** (``screening=True``): every draw settles for the mean model's settling time (its
 half-power band searched on 2e4 points: ``zeta`` resolved from about 0.01 at 5 Hz, below which
-the settling is one record anyway) and
-drops on the mean model's drop grid (its duration, four small-amplitude periods, and five times
-its step: 400 steps a period; the draws' resonances differ by their parameters' few per cent,
-and a sampled peak is within ``1 - cos(pi / 400)`` = 3e-5 of the true one); the random runs
+the settling is one record anyway) and drops with the mean model's step, five times the default
+(400 steps a period; the draws' resonances differ by their parameters' few per cent, and a
+sampled peak is within ``1 - cos(pi / 400)`` = 3e-5 of the true one) over its own four
+small-amplitude periods (the window of the dissipated energy); the random runs
 integrate at 800 Hz (``oversample=1``, the thesis's own signals; the trapezoidal warping lowers
 ``|H|^2`` by about ``(omega h)^2 / 3``: under 0.2 % up to 10 Hz, where a 5 Hz design's response
 lives). The ranked top is then re-simulated in full (``screening=False``: 4x oversampling, each
@@ -98,6 +98,14 @@ def _drop_grid(system, screening: bool) -> tuple[float, float]:
     """Duration and step (s) of the drops: :func:`default_shock_grid`, the step 5x on the screen."""
     duration, step = default_shock_grid(system)
     return duration, step * (SCREENING_STEP_FACTOR if screening else 1.0)
+
+
+def _screening_grids(mean_grid: tuple[float, float], mean_resonance: float, resonances) -> list:
+    """The screen's drop grid of each draw: the mean model's step (5x the default), and the draw's own
+    duration (the mean model's scaled by the ratio of resonances: four of the draw's own periods, the
+    window its dissipated energy is summed over, as in the full simulation)."""
+    duration, step = mean_grid
+    return [(duration * mean_resonance / float(resonance), step) for resonance in resonances]
 
 
 def _empty_metrics() -> dict:
@@ -337,7 +345,7 @@ def _batched_metrics(systems, environment: Environment, *, screening: bool, seed
         for result, value in zip(results, worst):
             result["rms_acceleration_m_per_s2"] = float(value)
     if environment.drop_heights_m:
-        grids = [_drop_grid(systems[0], screening)] * len(systems) if screening else \
+        grids = _screening_grids(_drop_grid(systems[0], True), resonances[0], resonances) if screening else \
             [_drop_grid(system, False) for system in systems]
         drops = _drop_metrics(systems, environment.drop_heights_m, grids)
         for index, result in enumerate(results):
@@ -370,9 +378,12 @@ def evaluate_candidate(candidate: Candidate, environment: Environment, *, n_draw
     else:
         # screening: every draw settles as long as, and drops on the grid of, the mean model
         settle = _screening_settle(systems[0]) if screening and environment.profiles else None
-        grid = _drop_grid(systems[0], True) if screening and environment.drop_heights_m else None
+        grids = [None] * len(systems)
+        if screening and environment.drop_heights_m:
+            grids = _screening_grids(_drop_grid(systems[0], True), small_amplitude_resonance(systems[0]),
+                                     [small_amplitude_resonance(system) for system in systems])
         results = [_draw_metrics(system, environment, screening=screening, seed=int(seed) + index, settle=settle,
-                                 drop_grid=grid) for index, system in enumerate(systems)]
+                                 drop_grid=grid) for index, (system, grid) in enumerate(zip(systems, grids))]
     row = {"name": candidate.name, "kind": candidate.kind, "count": candidate.count,
            "parts": " + ".join(part.name for part in candidate.parts),
            "predicted parts": sum(part.predicted for part in candidate.parts),
