@@ -55,15 +55,12 @@ from idkit.design.candidates import Candidate, candidate_rng, draw_models
 from idkit.design.environment import Environment
 from idkit.errors import SimulationError
 from idkit.gravity import impact_velocity_from_height
-from idkit.models.laws import hybrid_transmissibility, sdof_transmissibility
 from idkit.responses import random_response, shock_sweep
 from idkit.responses.random_vibration import (
     WELCH_OVERLAP,
-    expected_output_rms,
-    is_linear_system,
+    frequency_domain_rms,
     settle_records_for,
-    stuck_at_peaks,
-    stuck_deflection_peaks,
+    small_amplitude_transfer,
 )
 from idkit.responses.shock import default_shock_grid
 from idkit.signal.psd import rms_from_psd, synthesize_random, welch_psd
@@ -200,52 +197,23 @@ def _floor_record(profile, seed: int, rate: float) -> tuple[np.ndarray, np.ndarr
     return found
 
 
-def _transmissibility(systems, freq: np.ndarray) -> np.ndarray:
-    """Small-amplitude transmissibility of each system at ``freq`` (Hz), shape (systems, freq): each
-    system's ``transmissibility`` computed for all at once (the systems are alike)."""
-    masses = np.array([system.masses for system in systems])
-    omega = 2.0 * np.pi * freq
-    stiffness = [np.array([system.isolators[j].small_amplitude_stiffness(freq) for system in systems])
-                 for j in range(masses.shape[1])]
-    if masses.shape[1] == 1:
-        return sdof_transmissibility(stiffness[0], masses[:, :1], omega)
-    return hybrid_transmissibility(stiffness[0], stiffness[1], masses[:, :1], masses[:, 1:], omega)
-
-
 def _resonances(systems) -> np.ndarray:
     """:func:`small_amplitude_resonance` of each system (the same 2000-point search)."""
     freq = np.logspace(np.log10(RESONANCE_BAND_HZ[0]), np.log10(RESONANCE_BAND_HZ[1]), 2000)
-    return freq[np.argmax(np.abs(_transmissibility(systems, freq)), axis=1)]
-
-
-def _linear_rms(systems, profile, oversample: int) -> np.ndarray:
-    """The output RMS ``random_response(method="frequency")`` gives each (linear or stuck) system
-    (:func:`~idkit.responses.random_vibration.expected_output_rms`); ``inf`` where unbounded."""
-    def gain(freq):
-        return np.abs(_transmissibility(systems, freq)) ** 2
-
-    return expected_output_rms(gain, profile, fs=_FS, freq_step=_FREQ_STEP, oversample=oversample)
+    top, _ = small_amplitude_transfer(systems, np.array([system.masses for system in systems]), freq)
+    return freq[np.argmax(np.abs(top), axis=1)]
 
 
 def _random_rms(systems, profile, *, seed: int, oversample: int, settle) -> tuple[np.ndarray, np.ndarray]:
-    """Payload RMS acceleration of each draw under its own floor record, and which were flagged."""
+    """Payload RMS acceleration of each draw under its own floor record, and which were flagged: the
+    frequency domain where it applies (:func:`~idkit.responses.random_vibration.frequency_domain_rms`),
+    one compiled call for the others."""
     rate = _FS * oversample
-    rms = np.full(len(systems), np.nan)
-    flagged = np.zeros(len(systems), dtype=bool)
-    linear = np.array([is_linear_system(system) for system in systems])
-    frequency = linear.copy()
-    nonlinear = np.flatnonzero(~linear)
-    if nonlinear.size:
-        records = [_floor_record(profile, seed + index, rate) for index in nonlinear]
-        peaks = stuck_deflection_peaks([systems[i] for i in nonlinear], np.array([r[0] for r in records]), rate,
-                                       input_psd=profile, lines=np.array([r[1] for r in records]))
-        for row, index in enumerate(nonlinear):
-            frequency[index] = stuck_at_peaks(systems[index], peaks[row])[0]
-    by_frequency = np.flatnonzero(frequency)
-    if by_frequency.size:
-        rms[by_frequency] = _linear_rms([systems[i] for i in by_frequency], profile, oversample)
-        flagged[by_frequency] = ~np.isfinite(rms[by_frequency])
-    timed = np.flatnonzero(~frequency)
+    records = [_floor_record(profile, seed + index, rate) for index in range(len(systems))]
+    rms = frequency_domain_rms(systems, profile, np.array([r[0] for r in records]), fs=_FS, freq_step=_FREQ_STEP,
+                               oversample=oversample, lines=np.array([r[1] for r in records]))
+    flagged = np.isinf(rms)
+    timed = np.flatnonzero(np.isnan(rms))
     if timed.size:
         rms[timed], flagged[timed] = _timed_rms([systems[i] for i in timed], profile, seeds=seed + timed,
                                                 oversample=oversample, settle=settle)

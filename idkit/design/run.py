@@ -58,12 +58,12 @@ class DesignResult:
         lines.append(f"Chosen: **{chosen}**." if chosen else
                      "No candidate meets every limit with the required probability.")
         lines += ["", "| rank | design | verdict | P(all) | utilisation | peak acc. [m/s^2] | RMS acc. [m/s^2] | "
-                      "travel [mm] | resonance [Hz] |", "|---|---|---|---|---|---|---|---|---|"]
+                      "travel [mm] | dissipated [J] | resonance [Hz] |", "|---|---|---|---|---|---|---|---|---|---|"]
         for _, row in self.best.iterrows():
             lines.append(f"| {row['rank']} | {row['name']} | {row['verdict']} | {row['P(all)']:.2f} | "
                          f"{row['utilisation']:.3g} | {row['peak_acceleration_m_per_s2']:.4g} | "
                          f"{row['rms_acceleration_m_per_s2']:.4g} | {1e3 * row['max_deflection_m']:.4g} | "
-                         f"{row['resonance_hz']:.3g} |")
+                         f"{row['max_dissipated_energy_j']:.4g} | {row['resonance_hz']:.3g} |")
         fragile = self.best[self.best["verdict"] == "meets on the mean model only"]
         for _, row in fragile.iterrows():
             lines.append(f"\n{row['name']} meets every limit on the mean model but only with probability "

@@ -84,10 +84,10 @@ __all__ = [
     "linear_output_psd",
     "random_response",
     "settle_records_for",
-    "expected_output_rms",
+    "frequency_domain_rms",
+    "small_amplitude_transfer",
     "stays_stuck",
     "stuck_at_peaks",
-    "stuck_deflection_peaks",
 ]
 
 WELCH_OVERLAP = 2.0 / 3.0
@@ -360,38 +360,13 @@ def _hann_line_smoothing(power: NDArray[np.float64], record: int) -> NDArray[np.
     return one_sided
 
 
-def expected_output_rms(gain, input_psd, *, fs: float = 800.0, freq_step: float = 0.05,
-                        oversample: int = 1) -> NDArray[np.float64]:
-    """The output RMS ``random_response(method="frequency")`` gives, for many linear systems at once.
-
-    Parameters
-    ----------
-    gain : callable
-        ``gain(freq)`` -> ``|H(freq)|^2`` of each system, shape ``(n_systems, freq.size)``;
-        called on the lines where the input is above zero only (the others carry no power).
-    input_psd, fs, freq_step, oversample :
-        As :func:`random_response`.
-
-    Returns
-    -------
-    ndarray, shape (n_systems,)
-        Payload RMS acceleration (m/s^2) of the expected Welch estimate (lines folded and
-        Hann-smoothed as in :func:`random_response`), ``inf`` where a gain is not finite on a
-        line with power (an undamped resonance on a line: the frequency method refuses it).
-    """
-    rate = float(fs) * int(oversample)
-    n_samples = round(rate / float(freq_step))
-    record = n_samples // int(oversample)
-    lines = np.arange(n_samples // 2 + 1) * float(freq_step)
-    level = np.asarray(input_psd(lines), dtype=float)
-    level[0] = 0.0  # the synthesized DC and Nyquist lines are zero
-    if n_samples % 2 == 0:
-        level[-1] = 0.0
-    band = level > 0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        gains = np.atleast_2d(np.asarray(gain(lines[band]), dtype=float))
+def _expected_output_rms(gains: NDArray[np.float64], level: NDArray[np.float64], band: NDArray[np.bool_],
+                         record: int, fs: float) -> NDArray[np.float64]:
+    """The output RMS of the expected Welch estimate (:func:`_expected_linear_response`) of each row
+    of ``gains`` (``|H|^2`` on the lines of ``band``, those where ``level`` > 0); ``inf`` for a row
+    that is not finite there (an undamped resonance on a line: the frequency method refuses it)."""
     bounded = np.isfinite(gains).all(axis=1)
-    power = np.zeros((gains.shape[0], lines.size))
+    power = np.zeros((gains.shape[0], level.size))
     power[:, band] = np.where(bounded[:, None], gains, 0.0) * level[band]
     output = _hann_line_smoothing(_folded_lines(power, record), record)
     freq = np.arange(record // 2 + 1) * (float(fs) / record)
@@ -647,47 +622,105 @@ def stuck_at_peaks(system, peaks) -> tuple[bool, str]:
     return True, ""
 
 
-def stuck_deflection_peaks(systems, signals: NDArray[np.float64], rate: float, *,
-                           input_psd=None, lines=None) -> NDArray[np.float64]:
-    """Peak small-amplitude deflections of many systems of one kind, each under its own floor record.
+def frequency_domain_rms(systems, input_psd, signals: NDArray[np.float64], *, fs: float = 800.0,
+                         freq_step: float = 0.05, oversample: int = 1, lines=None) -> NDArray[np.float64]:
+    """``random_response(method="auto", n_realizations=1).output_rms`` of many alike systems, each
+    under its own floor record, where the frequency domain gives it; NaN where it takes the time
+    domain.
 
-    The batched form of :func:`stays_stuck`'s first part (:func:`_small_amplitude_lines` with
-    one realization per system): ``systems`` (SDOF, or hybrid, all alike) and ``signals``
-    ``(n_systems, n_samples)`` floor accelerations at ``rate`` Hz. Returns ``(n_systems,
-    n_isolators)`` peaks in m, ``inf`` for a system whose small-amplitude response is
-    unbounded (an undamped resonance on a line of its record). :func:`stuck_at_peaks` then
-    gives each system's verdict. ``input_psd``: the PSD the records were synthesized from; the
-    lines where it is zero (whose amplitudes are the FFT's round-off) are left out. ``lines``:
-    the records' one-sided line amplitudes when the caller keeps them
-    (``np.fft.rfft(signals, axis=1)[:, 1:] * 2 / n_samples``).
+    The batched form of :func:`random_response`'s frequency paths: a linear system (or one whose
+    small-amplitude response under its record keeps every element stuck, :func:`stays_stuck`)
+    gets the RMS of its expected Welch estimate (``|H|^2 S`` on the lines, folded and smoothed);
+    ``inf`` when that is unbounded (an undamped resonance on a line: the frequency method
+    refuses it). The stuck test's rule is :func:`stuck_at_peaks`; each system's peak deflections
+    are first bounded by the sum of their line amplitudes (the rule is monotone in the peak, so a
+    system stuck at the bound is stuck), and only the others are sampled over the record. Only
+    the lines where ``input_psd`` is above zero enter (the others carry no power; their
+    amplitudes in a synthesized record are the FFT's round-off).
+
+    Parameters
+    ----------
+    systems : sequence of SDOFSystem or HybridSystem, all alike (one kind, one number of masses)
+    input_psd : PsdProfile or callable
+    signals : ndarray, shape (n_systems, fs * oversample / freq_step)
+        Each system's floor acceleration record (``synthesize_random`` at ``fs * oversample``).
+    fs, freq_step, oversample : as :func:`random_response`
+    lines : ndarray, optional
+        The records' one-sided line amplitudes when the caller keeps them
+        (``np.fft.rfft(signals, axis=1)[:, 1:] * 2 / n_samples``).
     """
     signals = np.atleast_2d(signals)
-    n_samples = signals.shape[1]
-    lines = _line_amplitudes(signals) if lines is None else np.atleast_2d(lines)
-    freq = np.fft.rfftfreq(n_samples, d=1.0 / rate)[1:]
-    band = np.ones(freq.size, dtype=bool) if input_psd is None else np.asarray(input_psd(freq), dtype=float) > 0
-    freq_band = freq[band]
-    omega = 2.0 * np.pi * freq_band
-    base = -lines[:, band] / omega**2
+    rate = float(fs) * int(oversample)
+    n_samples = round(rate / float(freq_step))
+    if signals.shape != (len(systems), n_samples):
+        raise SimulationError(f"signals: found shape {signals.shape}, expected ({len(systems)}, {n_samples}): one "
+                              "record per system at fs * oversample / freq_step samples")
+    record = n_samples // int(oversample)
+    grid = np.arange(n_samples // 2 + 1) * float(freq_step)  # the lines of _expected_linear_response
+    level = np.asarray(input_psd(grid), dtype=float)
+    level[0] = 0.0  # the synthesized DC and Nyquist lines are zero
+    if n_samples % 2 == 0:
+        level[-1] = 0.0
+    band = level > 0
     masses = np.array([system.masses for system in systems])
     n_isolators = masses.shape[1]
-    stiffness = [np.array([system.isolators[j].small_amplitude_stiffness(freq_band) for system in systems])
-                 for j in range(n_isolators)]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        if n_isolators == 1:
-            deflections = [sdof_transmissibility(stiffness[0], masses[:, :1], omega) * base - base]
-        else:
-            top, middle = hybrid_displacements(stiffness[0], stiffness[1], masses[:, :1], masses[:, 1:], omega)
-            deflections = [top * base - middle * base, middle * base - base]
-    peaks = np.empty((len(systems), n_isolators))
-    for j, part in enumerate(deflections):
-        finite = np.isfinite(part).all(axis=1)
-        peaks[:, j] = np.inf
-        if finite.any():
-            full = np.zeros((int(finite.sum()), freq.size), dtype=complex)
-            full[:, band] = part[finite]
-            peaks[finite, j] = _peak_deflection(full, n_samples)
-    return peaks
+    linear = np.array([is_linear_system(system) for system in systems])
+    frequency = linear.copy()
+    rms = np.full(len(systems), np.nan)
+    gains = np.full((len(systems), int(band.sum())), np.nan)
+    nonlinear = np.flatnonzero(~linear)
+    if nonlinear.size:
+        freq = np.fft.rfftfreq(n_samples, d=1.0 / rate)[1:]  # the lines of _small_amplitude_lines
+        amplitudes = _line_amplitudes(signals[nonlinear]) if lines is None else np.atleast_2d(lines)[nonlinear]
+        keep = np.asarray(input_psd(freq), dtype=float) > 0
+        omega = 2.0 * np.pi * freq[keep]
+        base = -amplitudes[:, keep] / omega**2
+        top, middle = small_amplitude_transfer([systems[i] for i in nonlinear], masses[nonlinear], freq[keep])
+        with np.errstate(invalid="ignore", over="ignore"):
+            if n_isolators == 1:
+                deflections = [top * base - base]
+            else:
+                deflections = [top * base - middle * base, middle * base - base]
+        bounds = np.column_stack([np.abs(part).sum(axis=1) for part in deflections])
+        finite = np.isfinite(bounds).all(axis=1)  # else unbounded: not stuck
+        undecided = []
+        for row, index in enumerate(nonlinear):
+            frequency[index] = bool(finite[row]) and stuck_at_peaks(systems[index], bounds[row])[0]
+            if finite[row] and not frequency[index]:
+                undecided.append(row)
+        if undecided:
+            peaks = []
+            for part in deflections:
+                full = np.zeros((len(undecided), freq.size), dtype=complex)
+                full[:, keep] = part[undecided]
+                peaks.append(_peak_deflection(full, n_samples))
+            for position, row in enumerate(undecided):
+                frequency[nonlinear[row]] = stuck_at_peaks(systems[nonlinear[row]],
+                                                           [peak[position] for peak in peaks])[0]
+        if np.array_equal(freq[keep], grid[band]):  # the transfer on the band already computed: reuse it
+            gains[nonlinear] = np.abs(np.where(grid[band] > 0, top, 1.0)) ** 2
+    need = np.flatnonzero(frequency & np.isnan(gains).all(axis=1))
+    if need.size:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            top, _ = small_amplitude_transfer([systems[i] for i in need], masses[need], grid[band])
+        gains[need] = np.abs(np.where(grid[band] > 0, top, 1.0)) ** 2
+    chosen = np.flatnonzero(frequency)
+    if chosen.size:
+        rms[chosen] = _expected_output_rms(gains[chosen], level, band, record, fs)
+    return rms
+
+
+def small_amplitude_transfer(systems, masses: NDArray[np.float64], freq: NDArray[np.float64]):
+    """Top and (hybrid, else None) intermediate displacement over base displacement of alike systems
+    at ``freq`` (Hz), shape (systems, freq): each system's ``transmissibility`` for all at once.
+    ``masses``: the systems' ``masses`` stacked, (systems, n_masses)."""
+    omega = 2.0 * np.pi * freq
+    stiffness = [np.array([system.isolators[j].small_amplitude_stiffness(freq) for system in systems])
+                 for j in range(masses.shape[1])]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        if masses.shape[1] == 1:
+            return sdof_transmissibility(stiffness[0], masses[:, :1], omega), None
+        return hybrid_displacements(stiffness[0], stiffness[1], masses[:, :1], masses[:, 1:], omega)
 
 
 def _linear_start(system, signals: NDArray[np.float64], rate: float) -> dict[str, NDArray[np.float64]]:

@@ -42,7 +42,9 @@ def screened():
 
 
 def test_every_draw_in_one_call_gives_the_one_draw_at_a_time_numbers(screened):
-    for candidate, fast in zip(CANDIDATES, screened):
+    body = Candidate("1 x body", (BODY,), 1, 15.0)  # linear: the frequency domain for every floor
+    linear = evaluate_candidate(body, ENVIRONMENT, n_draws=2, seed=7)
+    for candidate, fast in zip(CANDIDATES + (body,), screened + [linear]):
         slow = evaluate_candidate(candidate, ENVIRONMENT, n_draws=2, seed=7, batched=False)
         assert fast["flagged"] == slow["flagged"] == 0
         for metric in METRICS:
