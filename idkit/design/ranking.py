@@ -30,7 +30,7 @@ __all__ = ["VERDICTS", "judge", "pareto_front"]
 
 VERDICTS = ("meets", "meets on the mean model only", "misses")
 _UPPER = ("rms_acceleration_m_per_s2", "peak_acceleration_m_per_s2", "max_deflection_m",
-          "max_component_deflection_m")
+          "max_component_deflection_m", "max_dissipated_energy_j", "max_component_dissipated_energy_j")
 
 
 def _meets(name: str, values, limit) -> np.ndarray:
