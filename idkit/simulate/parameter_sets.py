@@ -45,9 +45,9 @@ from idkit.simulate._kernel import (
     _isolator_forces_now,
     _pack,
     _pack_states,
-    SPECIALISED,
     _step,
 )
+from idkit.simulate import _kernel
 from idkit.simulate._structured import (
     GENERIC,
     HYBRID,
@@ -239,7 +239,9 @@ _SETS_LOCK = threading.Lock()
 
 
 def _sets_kernel_for(structure: int):
-    structure = structure if structure in SPECIALISED else GENERIC
+    """The driver of ``structure`` (generic unless in :data:`idkit.simulate._kernel.SPECIALISED`, read at
+    call time: tests empty it to run the generic step), compiled once per process."""
+    structure = structure if structure in _kernel.SPECIALISED else GENERIC
     with _SETS_LOCK:
         if structure not in _SETS_KERNELS:
             _SETS_KERNELS[structure] = _sets_kernel(structure)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from idkit.errors import SimulationError
-from idkit.models import HybridSystem, IwanModel, SDOFSystem, VoigtModel, library
+from idkit.models import BoucWenModel, HybridSystem, IwanModel, SDOFSystem, VoigtModel, library
 from idkit.responses import shock_sweep
 from idkit.simulate import simulate
 from idkit.simulate.base_motion import integrate_acceleration
@@ -16,10 +16,14 @@ ROPE = library.get("table_7_1_wire_rope")
 BODY = library.get("table_7_3_elastomer")
 
 
+BOUC_WEN = BoucWenModel(k1=1.5e4, k2=0.0, k3=0.0, alpha=4e4, beta=2e3, gamma=1e3, n=1.0, c_visc=5.0)
+
+
 @pytest.mark.parametrize("systems", [
     [SDOFSystem(10.0, ROPE), SDOFSystem(13.0, ROPE)],
     [HybridSystem(10.0, BODY, 0.1, ROPE), HybridSystem(12.0, BODY, 0.15, ROPE)],
-], ids=["sdof", "hybrid"])
+    [SDOFSystem(10.0, BOUC_WEN), SDOFSystem(13.0, BOUC_WEN)],  # the generic step
+], ids=["sdof", "hybrid", "generic"])
 def test_drops_of_several_parameter_sets_in_one_call_are_shock_sweeps_runs_bit_for_bit(systems):
     heights = np.array([0.005, 0.04])  # stuck, and slipping
     v0 = -np.sqrt(2.0 * 9.80665 * heights)
