@@ -94,7 +94,7 @@ def test_a_dask_cluster_gives_the_local_rows():
     candidates = [Candidate(f"{n} x rope", (ROPE,), n, 20.0) for n in range(1, 11)]
     candidates += [Candidate(f"{n} x (body on rope)", (BODY, ROPE), n, 20.0) for n in range(1, 11)]
     local = evaluate_candidates(candidates, environment, n_draws=1, seed=2)
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None) \
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=":0") \
             as cluster, distributed.Client(cluster) as client:
         remote = evaluate_candidates(candidates, environment, n_draws=1, seed=2, executor=client, chunk_size=5)
     assert judge(remote, environment).equals(judge(local, environment))
