@@ -306,7 +306,8 @@ def settle_records_for(system, *, freq_step: float = 0.05, time_constants: float
     >>> round(settle_records_for(system), 3)  # 5 / (0.0707 * 2 pi 5 Hz) = 2.25 s of 20 s
     0.113
     """
-    n_points = whole_number(n_points, "n_points", 3)
+    if isinstance(n_points, (bool, np.bool_)) or not (isinstance(n_points, (int, np.integer)) and n_points >= 3):
+        raise SimulationError(f"n_points: found {n_points!r}, expected a whole number >= 3 (points of the grid)")
     freq = np.linspace(float(freq_range[0]), float(freq_range[1]), n_points)
     gain = np.abs(np.asarray(system.transmissibility(freq))) ** 2
     peak = int(np.argmax(gain))
