@@ -78,10 +78,18 @@ def test_stages_improve_and_scaling_tames_the_conditioning(fit):
 
 
 @pytest.mark.slow
-def test_fit_is_reproducible_bit_for_bit(loops, fit):
-    again = fit_boucwen(*loops, seed=3, global_max_evals=600)
-    assert again.model.params() == fit.model.params()
-    assert np.array_equal(again.small_errors, fit.small_errors)
+def test_fit_is_reproducible_bit_for_bit(loops):
+    """Two fits of the same loops with the same seed agree to the last bit. Three of the
+    seven sets and a short global search: every stage runs, the seeded global one included
+    (it lowers the error on these sets), and bit-for-bit equality does not depend on size."""
+    small, large = loops[0][:2], loops[1][:1]
+    first = fit_boucwen(small, large, seed=3, global_max_evals=60)
+    again = fit_boucwen(small, large, seed=3, global_max_evals=60)
+    assert [stage.name for stage in first.stages] == ["elastic", "loop shape", "global"]
+    assert first.stages[-1].mean_error < first.stages[-1].start_error
+    assert again.model.params() == first.model.params()
+    assert np.array_equal(again.small_errors, first.small_errors)
+    assert np.array_equal(again.large_errors, first.large_errors)
 
 
 def test_fit_forces_match_the_model_force():
