@@ -5,8 +5,8 @@ second fresh venv on the cache the first one filled (issue 34, item 3).
 
 Each repetition, in a new temporary folder:
 
-1. **cold**: ``git clone`` of ``--source`` (default: this checkout's repository, its committed
-   ``HEAD``), then the README's main command (the first ``bash`` block under "Two commands", read
+1. **cold**: ``git clone`` of ``--source`` (default: this checkout's repository) at the commit
+   its ``HEAD`` names when the bench starts (every run the same), then the README's main command (the first ``bash`` block under "Two commands", read
    from the clone and run verbatim, part by part: create the venv, install, ``idkit report``) with
    an empty per-user kernel cache (``IDKIT_CACHE_DIR`` and ``XDG_CACHE_HOME`` new empty folders,
    ``NUMBA_CACHE_DIR`` unset);
@@ -87,10 +87,11 @@ def _load() -> str:
         return "n/a"
 
 
-def run_readme_command(source: str, folder: Path, cache: Path, xdg: Path, *, quick: bool,
+def run_readme_command(source: str, commit: str, folder: Path, cache: Path, xdg: Path, *, quick: bool,
                        pip_options: list[str]) -> dict:
-    """Clone ``source`` into ``folder`` and run the README's main command there, part by part."""
+    """Clone ``source`` at ``commit`` into ``folder`` and run the README's main command there, part by part."""
     subprocess.run(["git", "clone", "-q", source, str(folder)], check=True)
+    subprocess.run(["git", "-C", str(folder), "checkout", "-q", commit], check=True)
     parts = command_parts(readme_main_command(folder / "README.md"), quick=quick, pip_options=pip_options)
     env = {key: value for key, value in os.environ.items()
            if key not in ("NUMBA_CACHE_DIR", "VIRTUAL_ENV", "PYTHONPATH")}
@@ -138,7 +139,10 @@ def main() -> None:
                         help="an option added to the install (repeatable), e.g. --pip-option=--no-compile")
     parser.add_argument("--source", default=str(ROOT), help="repository to clone (default: this checkout)")
     options = parser.parse_args()
-    print(f"README main command of {options.source}: {readme_main_command(ROOT / 'README.md')}"
+    # every run clones the same commit (a commit made meanwhile would change the kernels' cache key)
+    commit = subprocess.run(["git", "-C", options.source, "rev-parse", "HEAD"], check=True, capture_output=True,
+                            text=True).stdout.strip()
+    print(f"commit {commit}; README main command of {options.source}: {readme_main_command(ROOT / 'README.md')}"
           + (" (report --quick)" if options.quick else "") + (f" (install {' '.join(options.pip_options)})"
                                                               if options.pip_options else ""))
     print(f"{os.cpu_count()} CPUs; times are wall clock unless CPU (user + system of every process started)")
@@ -151,7 +155,7 @@ def main() -> None:
             xdg.mkdir()
             print(f"repetition {repetition + 1}")
             for name, clone in (("cold", "first"), ("second venv", "second")):
-                found = run_readme_command(options.source, scratch / clone, cache, xdg, quick=options.quick,
+                found = run_readme_command(options.source, commit, scratch / clone, cache, xdg, quick=options.quick,
                                            pip_options=options.pip_options)
                 runs[name].append(found)
                 _print_run(name, found)
