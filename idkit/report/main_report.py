@@ -54,6 +54,7 @@ from idkit.report.conclusions import (
     transport_conclusions,
     validation_sentence,
 )
+from idkit.report.blas_threads import one_blas_thread
 from idkit.report.html import HtmlReport, file_stem
 from idkit.report.study_files import write_transport_files
 from idkit.studies.equivalent import complex_stiffness_comparison, drop_shock_spectra, equivalent_linearization
@@ -839,7 +840,8 @@ def run_report(data_dir=None, out_dir="idkit-report", *, force: bool = False, qu
     ReportSummary
     """
     say = progress or (lambda message: None)
-    with atomic_output_folder(out_dir, force=force) as folder:
+    # the report's own processes share the cores: one BLAS thread each (idkit.report.blas_threads)
+    with one_blas_thread(), atomic_output_folder(out_dir, force=force) as folder:
         data = compute_report_data(data_dir, quick=quick, seed=seed, workers=workers, progress=say,
                                    start_state=start_state, drop_model=drop_model)
         say(WRITING)
