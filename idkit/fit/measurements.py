@@ -31,8 +31,7 @@ from idkit.errors import DataError, FitError
 from idkit.fit.boucwen import fit_boucwen
 from idkit.fit.compare import iwan_order_fits, iwan_order_row, maxwell_order_table
 from idkit.fit.damping import fit_viscous_damping
-from idkit.fit.data_set_checks import (  # noqa: F401 - VALID_RANGE_MARGIN: read by report/main_report.py
-    VALID_RANGE_MARGIN,
+from idkit.fit.data_set_checks import (
     damping_settled,
     data_valid_range,
     survives_the_largest_drops,
@@ -45,7 +44,7 @@ from idkit.fit.frf_resolution import resolution_checks
 from idkit.fit.iwan import fit_iwan
 from idkit.fit.iwan_start import smallest_branch_secant
 from idkit.fit.maxwell import fit_maxwell
-from idkit.fit.measurement_fit import MeasurementFit, _jsonable  # noqa: F401 - _jsonable: read by fit/auto.py
+from idkit.fit.measurement_fit import MeasurementFit
 from idkit.fit.model_form import record_floor_reasons
 from idkit.io.selection import ONLY_ISOLATOR, resolve_isolator, select_measurements
 from idkit.models.laws import lowest_spring_stiffness

@@ -24,7 +24,7 @@ import pandas as pd
 from idkit import __version__
 from idkit.atomic import atomic_output_folder, write_text_atomic
 from idkit.fit import ORDER_RULE_FACTOR
-from idkit.fit.measurements import VALID_RANGE_MARGIN
+from idkit.fit.data_set_checks import VALID_RANGE_MARGIN
 from idkit.models import save_model
 from idkit.plot.equivalent import (
     plot_complex_stiffness_comparison,
@@ -252,7 +252,7 @@ def _drop_model_words(data: ReportData) -> str:
 
 def _loop_form_words(data: ReportData) -> str:
     """The two rope models' loop errors on the same fit loops and the family the fit chose (the report
-    reads the family rule's decision, :func:`idkit.fit.measurements.choose_iwan_family`; it does not judge again)."""
+    reads the family rule's decision, :func:`idkit.fit.family.choose_iwan_family`; it does not judge again)."""
     errors = data.drop_models.loop_errors
     parts = [f"{name} {100 * small:.2f} / {100 * large:.2f} %" for name, (small, large) in errors.items()]
     chosen = _rope_model_name(data)
