@@ -45,6 +45,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from idkit.checks import Real, accepts
 from idkit.errors import FitError, IdkitError
 from idkit.fit.compare import iwan_order_fits
 from idkit.fit.elements import fit_clearance_jenkin, fit_pinched_boucwen, fit_rate_dependent_jenkin
@@ -66,8 +67,8 @@ __all__ = [
 #: a chosen model to predict held-out histories within 1.5 x the noise floor.
 GENERALISATION_FACTOR = 1.5
 #: Evaluation limit per local stage of a warm-started Bouc-Wen fold (the full fit's is 3000, after a
-#: global search): a fold starts at the full fit's optimum, near its own. The Bouc-Wen family was
-#: 90 % of ``fit auto``'s time on ten records (bench/bench_fit_auto.py).
+#: global search): a fold starts at the full fit's optimum, near its own, and the Bouc-Wen family's
+#: folds are the costliest of ``fit auto``.
 FOLD_BOUCWEN_EVALS = 500
 #: Orders the plain and slip-modulated Iwan families try (the order rule picks among them).
 IWAN_ORDERS = (1, 2, 3, 4, 5, 6)
@@ -477,6 +478,9 @@ def _checked_histories(data, isolator, split):
     return force_histories(data, isolator=isolator, split=split)
 
 
+@accepts(generalisation_factor=Real(ge=1.0, meaning="held-out error over training error"),
+         early_stop_factor=Real(ge=1.0, optional=True, meaning="screen error over the best so far"),
+         error=FitError)
 def fit_auto(data, *, families: Sequence[Family] | None = None, isolator: str | None = None,
              split: str | None = "fit", seed: int = 0, generalisation_factor: float = GENERALISATION_FACTOR,
              early_stop_factor: float | None = EARLY_STOP_FACTOR,
@@ -514,10 +518,6 @@ def fit_auto(data, *, families: Sequence[Family] | None = None, isolator: str | 
     names = [f.name for f in families]
     if len(set(names)) != len(names):
         raise FitError(f"families: found repeated names {names}, expected one family per name")
-    if not (math.isfinite(generalisation_factor) and generalisation_factor >= 1.0):
-        raise FitError(f"generalisation_factor: found {generalisation_factor!r}, expected a finite number >= 1")
-    if early_stop_factor is not None and not (math.isfinite(early_stop_factor) and early_stop_factor >= 1.0):
-        raise FitError(f"early_stop_factor: found {early_stop_factor!r}, expected a finite number >= 1 or None")
     histories, provenance = _checked_histories(data, isolator, split)
     if len(histories) < 2:
         raise FitError(f"records: found {len(histories)} force history, expected at least two: cross-validation "
