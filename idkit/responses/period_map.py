@@ -275,6 +275,25 @@ class PeriodMap:
             pushed[position] = np.clip(pushed[position] + self.arrays.jk[j, i] * deflection_change[j], -limit, limit)
         return pushed
 
+    def conserved_gradients(self, scale):
+        """``(gradients (n, n_jenkin, size), rows (n_jenkin,))``: in the variables scaled by ``scale``
+        (n, size), the gradients of the quantities a Jenkin element conserves while it sticks,
+        ``F - k y`` (``y`` its isolator's deflection; the base is at zero at t = 0), over the element's
+        force scale (the friction memory, whose multiplier is exactly +1 when the element sticks for
+        the whole period), and the state row of each element's force (a unit entry of its gradient)."""
+        scale = np.atleast_2d(scale)
+        gradients = np.zeros((scale.shape[0], len(self.jenkin), self.size))
+        for column, (j, i) in enumerate(self.jenkin):
+            position = 2 * self.ndof + column
+            weight = self.arrays.jk[j, i] / scale[:, position]
+            gradients[:, column, position] = 1.0
+            if self.ndof == 2 and j == 0:  # the top isolator: y = x1 - x2
+                gradients[:, column, 0] = -weight * scale[:, 0]
+                gradients[:, column, 1] = weight * scale[:, 1]
+            else:
+                gradients[:, column, j] = -weight * scale[:, j]
+        return gradients, 2 * self.ndof + np.arange(len(self.jenkin))
+
     def linear_guess(self, freq, amplitude) -> NDArray[np.float64]:
         """Small-amplitude (all stuck, linearized) steady state at t = 0, packed (batch, size)."""
         return self.pack(*linear_initial_state(self.system, np.atleast_1d(freq), np.atleast_1d(amplitude)))

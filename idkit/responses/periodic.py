@@ -111,6 +111,58 @@ def newton_step(jacobian, residual, offset):
     return np.linalg.lstsq(matrix, np.concatenate(rhs), rcond=None)[0], null.size
 
 
+def newton_steps(jacobians, residuals, offsets=None, memory=None, conserved=None):
+    """:func:`newton_step` of many points at once: ``(steps (n, size), n_conserved (n,))``.
+
+    ``jacobians`` (n, size, size), ``residuals`` and ``offsets`` (n, size), scaled as there
+    (``offsets`` None: zero, the guess itself). ``memory`` (n,) counts the multipliers near +1 of
+    each point (None: unknown), where ``J - I`` may be singular (sticking friction memory).
+    ``conserved``, optional: ``(gradients (n, k, size), rows (k,))``, quantities that may be
+    conserved and the row of ``J - I`` each replaces (:meth:`PeriodMap.conserved_gradients`);
+    where ``g (J - I)`` vanishes (below :data:`NULL_TOLERANCE`) the quantity is conserved, and its
+    (void) row of ``(J - I) dx = -r`` is replaced by "keep it at the guess's", ``g dx = -g offset``.
+    A point whose conserved quantities found so account for all its multipliers near +1 is then one
+    batched LU solve; the others take the singular-value route of :func:`newton_step` (the void
+    equations found as singular values below :data:`NULL_TOLERANCE`), one square system a point,
+    solved batched."""
+    jacobians = np.asarray(jacobians, dtype=float)
+    residuals = np.asarray(residuals, dtype=float)
+    n, size = residuals.shape
+    offsets = np.zeros_like(residuals) if offsets is None else np.asarray(offsets, dtype=float)
+    steps = np.empty((n, size))
+    n_conserved = np.zeros(n, dtype=np.int64)
+    matrices = jacobians - np.eye(size)
+    rhs = -residuals.copy()
+    if conserved is not None and len(conserved[1]):
+        conserved, rows = np.asarray(conserved[0], dtype=float), np.asarray(conserved[1])
+        void = np.max(np.abs(np.einsum("nks,nst->nkt", conserved, matrices)), axis=2) < NULL_TOLERANCE
+        points, quantities = np.nonzero(void)
+        replaced = rows[quantities]
+        matrices[points, replaced] = conserved[points, quantities]
+        rhs[points, replaced] = -np.einsum("ns,ns->n", conserved[points, quantities], offsets[points])
+        n_conserved = void.sum(axis=1)
+    memory = (np.ones(n, dtype=bool) if memory is None
+              else np.asarray(memory) > n_conserved)
+    plain = ~memory
+    if plain.any():
+        try:
+            steps[plain] = np.linalg.solve(matrices[plain], rhs[plain][:, :, None])[:, :, 0]
+        except np.linalg.LinAlgError:  # exactly singular without a multiplier near +1: the general route
+            memory = np.ones(n, dtype=bool)
+    if memory.any():
+        u, s, vt = np.linalg.svd(jacobians[memory] - np.eye(size))
+        null = s < NULL_TOLERANCE
+        system = s[:, :, None] * vt
+        transposed = np.swapaxes(u, 1, 2)
+        system[null] = transposed[null]
+        rhs = -np.einsum("nij,nj->ni", transposed, residuals[memory])
+        kept = -np.einsum("nij,nj->ni", transposed, offsets[memory])
+        rhs[null] = kept[null]
+        steps[memory] = np.linalg.solve(system, rhs[:, :, None])[:, :, 0]
+        n_conserved[memory] = null.sum(axis=1)
+    return steps, n_conserved
+
+
 @dataclass(frozen=True)
 class _Shot:
     state: NDArray[np.float64]
