@@ -671,19 +671,25 @@ class _NewtonPoints:
     half_range: NDArray[np.float64]
     peak: NDArray[np.float64]
 
+    @classmethod
+    def start(cls, starts, n_harmonics):
+        """Nothing found yet for points starting from ``starts`` (n, size)."""
+        n, size = starts.shape
+        n_coeff = 2 * n_harmonics + 1
+        return cls(accepted=np.zeros(n, dtype=bool), starts=np.array(starts, dtype=float),
+                   ends=np.full((n, size), np.nan), multipliers=np.full((n, size), np.nan, dtype=complex),
+                   periods=np.zeros(n), distance=np.full(n, np.nan),
+                   coefficients=np.full((n, n_coeff), np.nan, dtype=complex),
+                   deflection=np.full((n, n_coeff), np.nan, dtype=complex), half_range=np.full(n, np.nan),
+                   peak=np.full(n, np.nan))
+
 
 def _settle_by_newton(system, one, points, pending, steps, orders, tolerance, workers, executor):
     """Settle the ``pending`` points (time runs not settled within :data:`NEWTON_AFTER_PERIODS`) by
     Newton on the period map from their runs' end states (:func:`_newton_batch`); the stable orbits
     found replace them, classified by the same Jacobian, their periods added."""
-    n_coeff = 2 * (len(orders) - 1) + 1
     n = pending.size
-    found = _NewtonPoints(
-        accepted=np.zeros(n, dtype=bool), starts=one.pack(*(values[pending] for values in points.states)),
-        ends=np.full((n, one.size), np.nan), multipliers=np.full((n, one.size), np.nan, dtype=complex),
-        periods=np.zeros(n), distance=np.full(n, np.nan), coefficients=np.full((n, n_coeff), np.nan, dtype=complex),
-        deflection=np.full((n, n_coeff), np.nan, dtype=complex), half_range=np.full(n, np.nan),
-        peak=np.full(n, np.nan))
+    found = _NewtonPoints.start(one.pack(*(values[pending] for values in points.states)), len(orders) - 1)
     _newton_batch(system, one, points.freq[pending], points.amplitude[pending], steps[pending], np.arange(n), found,
                   len(orders) - 1, tolerance, workers, executor)
     points.periods[pending] += found.periods
