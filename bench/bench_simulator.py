@@ -8,15 +8,16 @@ and median over ``--repeat`` repetitions (wall clock, ``time.perf_counter``, and
 process; the machine may be shared, so the min is the figure to compare, the median shows the
 spread).
 
-1. Maps (``harmonic_map``: points chained up the amplitude axis, shooting where 200 periods do
-   not settle, every settled orbit classified by its Floquet multipliers over one period, the
-   unstable ones carried to a stable orbit): the standard map (SPEC hybrid asymmetric,
+1. Maps (``harmonic_map``: points chained up the amplitude axis, batched Newton on the period map
+   where 48 periods do not settle, every settled orbit classified by its Floquet multipliers over
+   one period, the unstable ones carried to a stable orbit): the standard map (SPEC hybrid asymmetric,
    ``library.get("hybrid_asymmetric")``, 50 frequencies 1-100 Hz log x 30 amplitudes
    1e-5 - 1e-2 m, harmonics 1-3 and 1/2, steady state 1e-3) and the Table A.1 asymmetric wire
    rope map on the same grid, on 1 and 2 workers. Beside the wall time: periods per point, the
-   steps taken (time runs, and the tangent period of the classification) and the kernel floor,
-   steps x ns per step, with ns per step measured on the same points (the time-run step: the
-   slope of fixed 8- and 24-period runs; the tangent step: one classification batch).
+   steps taken (counted during one map: plain ones of the time runs and windows, tangent ones with
+   the propagated Jacobian, of the classification and Newton) and the kernel floor, steps x ns per
+   step, with ns per step measured on the same points (the plain step: the slope of fixed 8- and
+   24-period runs; the tangent step: one classification batch from the linear start).
 2. solve_ivp over the whole map, one core: ``harmonic_reference`` (BDF, rtol 1e-6, tanh
    smoothing 1e-4) from rest (its only start) for the periods the map spent at the point. The
    grid is cut into ``--blocks`` (default 5 x 3: frequency decades' fifths, amplitude thirds);
@@ -56,6 +57,7 @@ import numpy as np
 
 from idkit.models import library
 from idkit.responses.harmonic_map import harmonic_map
+maps_module = sys.modules["idkit.responses.harmonic_map"]
 from idkit.responses.periodic import PeriodMap, monodromy
 from idkit.simulate import default_steps_per_period, harmonic_response
 from idkit.simulate.reference import harmonic_reference
@@ -92,11 +94,39 @@ def the_map(system, workers):
     return harmonic_map(system, FREQ_AXIS, AMPLITUDE_AXIS, n_harmonics=3, tolerance=1e-3, workers=workers)
 
 
+def counted_steps(system):
+    """One map on one worker, counting the steps it integrates: ``(plain, tangent)``, the plain ones
+    of the time runs (``harmonic_response``) and of the period map without the Jacobian, the tangent
+    ones with it (classification and Newton)."""
+    counts = {"plain": 0, "tangent": 0}
+    run, response = PeriodMap.run, maps_module.harmonic_response
+
+    def counting_run(self, freq, amplitude, states, steps_per_period, *, n_periods=None, n_record=0,
+                     with_tangent=False):
+        batch = np.atleast_2d(states).shape[0]
+        periods = self.periods if n_periods is None else int(n_periods)
+        counts["tangent" if with_tangent else "plain"] += int(np.sum(np.broadcast_to(steps_per_period, (batch,)))) * periods
+        return run(self, freq, amplitude, states, steps_per_period, n_periods=n_periods, n_record=n_record,
+                   with_tangent=with_tangent)
+
+    def counting_response(*args, **kwargs):
+        result = response(*args, **kwargs)
+        counts["plain"] += int(np.sum(result.periods * result.steps_per_period))
+        return result
+
+    PeriodMap.run, maps_module.harmonic_response = counting_run, counting_response
+    try:
+        the_map(system, 1)
+    finally:
+        PeriodMap.run, maps_module.harmonic_response = run, response
+    return counts["plain"], counts["tangent"]
+
+
 def floor(system, result, repeat):
-    """Steps of the map's time runs and of its classification, and ns per step of each."""
+    """Steps of the map's plain and tangent periods (counted), and ns per step of each."""
     freq, amplitude = grid()
     steps = default_steps_per_period(system, freq)
-    run_steps = float(np.sum(result.periods.ravel() * steps))
+    run_steps, tangent_steps = (float(count) for count in counted_steps(system))
     fixed = {}
     for periods in (8, 24):
         _, _, cpus = repeated(lambda periods=periods: harmonic_response(
@@ -106,8 +136,6 @@ def floor(system, result, repeat):
     one = PeriodMap(system, 1)
     states = one.linear_guess(freq, amplitude)
     _, _, cpus = repeated(lambda: monodromy(one, freq, amplitude, states, steps, workers=1), repeat)
-    classified = result.stability.ravel() != ""
-    tangent_steps = float(np.sum(steps[classified]))
     ns_tangent = min(cpus) / float(steps.sum()) * 1e9
     return run_steps, ns_step, tangent_steps, ns_tangent
 
@@ -126,10 +154,13 @@ def map_rows(name, repeat):
     result = results[1][0]
     run_steps, ns_step, tangent_steps, ns_tangent = floor(system, result, repeat)
     kernel_floor = run_steps * ns_step * 1e-9 + tangent_steps * ns_tangent * 1e-9
+    steps = default_steps_per_period(system, grid()[0])
     print(f"  periods per point: mean {result.periods.mean():.1f}, median {np.median(result.periods):.0f}, "
-          f"max {result.periods.max():.0f}; {int(result.shooting.sum())} points shot")
-    print(f"  kernel floor: time runs {run_steps:.3g} steps x {ns_step:.1f} ns = {run_steps * ns_step * 1e-9:.4f} s "
-          f"+ classification {tangent_steps:.3g} tangent steps x {ns_tangent:.1f} ns (the step, its tangent and "
+          f"max {result.periods.max():.0f}; of them with the propagated Jacobian (classification, Newton): "
+          f"{tangent_steps / steps.sum():.2f} a point; {int(result.shooting.sum())} points shot (Newton or "
+          "per-point shooting)")
+    print(f"  kernel floor: plain {run_steps:.3g} steps x {ns_step:.1f} ns = {run_steps * ns_step * 1e-9:.4f} s "
+          f"+ tangent {tangent_steps:.3g} steps x {ns_tangent:.1f} ns (the step, its tangent and "
           f"the eigenvalues) = {tangent_steps * ns_tangent * 1e-9:.4f} s; {kernel_floor:.4f} s of one core")
     for workers in (1, 2):
         walls, cpus = results[workers][1], results[workers][2]

@@ -19,8 +19,14 @@ first harmonic, and its geometric extrapolation ``change r / (1 - r)``, are both
 ``tolerance``, after at least ``min_periods`` (:data:`MAP_MIN_PERIODS`, three windows: the
 ratio ``r`` of the stopping decision is always measured from two window changes). Points that reach ``max_periods`` without meeting it (lightly damped wire ropes
 far from resonance, where a 5 Hz free oscillation outlives thousands of excitation periods) are
-settled by shooting (:mod:`idkit.responses.periodic`: Newton on the period map of the same
-integrator, from 20 periods of the linear start); they are marked in
+settled by shooting: with the default cap and a propagated Jacobian, after
+:data:`NEWTON_AFTER_PERIODS` by batched Newton on the period map from the runs' end states, each
+iteration one period with the propagated Jacobian, until the step is within the tolerance of the
+state scale; the last Jacobian classifies the orbit, and a window of two periods from the Newton
+point gives its harmonics and, by its closing, the distance left (``docs/responses.md``). Points
+that Newton does not settle on a stable orbit within :data:`NEWTON_REACH` of the run, and every point
+with ``newton=False``, are shot one by one (:mod:`idkit.responses.periodic`: Newton on the period
+map of the same integrator, from 20 periods of the linear start). Both are marked in
 :attr:`HarmonicMap.shooting`. Points shooting does not close are run on to the plain grid's
 4000 periods (default cap only). Points that still fail keep their last window's values,
 ``converged = False`` and a reason naming both attempts. Points where the model left its valid
@@ -66,10 +72,10 @@ from idkit.simulate import harmonic_response
 from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS
 from idkit.simulate._parallel import run_chunked
 
-__all__ = ["HarmonicMap", "harmonic_map", "MAP_MIN_PERIODS", "SHOOTING_AFTER_PERIODS"]
+__all__ = ["HarmonicMap", "harmonic_map", "MAP_MIN_PERIODS", "NEWTON_AFTER_PERIODS", "SHOOTING_AFTER_PERIODS"]
 
-#: Default period cap of a map's time integration when the points left over are shot
-#: (:func:`harmonic_map`).
+#: Default period cap of a map's time integration when the points left over are shot one by one
+#: (:func:`harmonic_map` with ``newton=False``, or a system without the propagated Jacobian).
 SHOOTING_AFTER_PERIODS = 200
 
 #: Fewest periods of a map point's time run (:func:`harmonic_map`'s ``min_periods``): three windows of two
@@ -343,8 +349,9 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
         rest, as the thesis did. Both reach the same steady state within the tolerance
         where it is unique (tests compare them).
     max_periods : int, optional
-        Cap on simulated periods per point; default :data:`SHOOTING_AFTER_PERIODS` (200) with
-        ``shooting``, else 4000. Shooting closes an orbit to 1e-9 in a few Newton iterations
+        Cap on simulated periods per point; default :data:`NEWTON_AFTER_PERIODS` (48) with
+        ``shooting`` and ``newton`` (where the Jacobian is propagated), :data:`SHOOTING_AFTER_PERIODS`
+        (200) with ``shooting`` alone, else 4000. Shooting closes an orbit to 1e-9 in a few Newton iterations
         where a lightly damped point needs thousands of periods to meet the tolerance: on the
         Table A.1 asymmetric 50 x 30 map, 200 periods then shooting settle 1500/1500 points in
         1.6 s on 2 workers (4000 periods: 38 shot, 8.3 s on one worker) and agree with the
