@@ -105,7 +105,8 @@ def counted_steps(system):
                      with_tangent=False):
         batch = np.atleast_2d(states).shape[0]
         periods = self.periods if n_periods is None else int(n_periods)
-        counts["tangent" if with_tangent else "plain"] += int(np.sum(np.broadcast_to(steps_per_period, (batch,)))) * periods
+        steps = int(np.sum(np.broadcast_to(steps_per_period, (batch,))))
+        counts["tangent" if with_tangent else "plain"] += steps * periods
         return run(self, freq, amplitude, states, steps_per_period, n_periods=n_periods, n_record=n_record,
                    with_tangent=with_tangent)
 

@@ -146,7 +146,8 @@ class HarmonicMap:
         Steady-state tolerance used.
     shooting : ndarray of bool, shape (n_freq, n_amp)
         Points whose steady state was found by shooting after the time integration did not
-        settle (their :attr:`change` is the closing error of the periodic orbit).
+        settle (their :attr:`change` is the closing error of the periodic orbit; after batched
+        Newton, the distance left to it, in units of the state scale carried to the first harmonic).
     stability : ndarray of str, shape (n_freq, n_amp), optional
         Floquet stability of each settled point's orbit (module docstring): ``"stable"``,
         ``"neutral"`` (a multiplier on the unit circle within the margin: undamped),
@@ -705,7 +706,8 @@ def _settle_by_newton(system, one, points, pending, steps, orders, tolerance, wo
         index = pending[row]
         amplitude = points.amplitude[index]
         for slot, order in enumerate(orders):  # as HarmonicResponse.hosidf: k X_k / X_b1
-            points.hosidf_values[slot, index] = order * found.coefficients[row, int(round(2 * order))] / (-1j * amplitude)
+            harmonic = found.coefficients[row, int(round(2 * order))]
+            points.hosidf_values[slot, index] = order * harmonic / (-1j * amplitude)
         points.half_range[index] = found.half_range[row]
         points.bias[index] = found.deflection[row, 0].real
         points.peak[index] = found.peak[row]
@@ -720,7 +722,7 @@ def _settle_by_newton(system, one, points, pending, steps, orders, tolerance, wo
 
 
 def _newton_batch(system, one, freq, amplitude, steps, rows, found, n_harmonics, tolerance, workers, executor):
-    """Points ``rows`` of ``found`` from their start states: Newton iterations, each a period with
+    """Points ``rows`` of ``found`` from their start states (in place): Newton iterations, each a period with
     the propagated Jacobian, until the step is within ``tolerance`` of the state scale (the last
     Jacobian is then taken within the tolerance of the orbit, as a settled time run's end state is,
     and its multipliers classify the orbit); then, for a stable orbit, a window of two plain periods
@@ -760,15 +762,18 @@ def _newton_batch(system, one, freq, amplitude, steps, rows, found, n_harmonics,
         step, conserved = newton_steps(matrices, residual, (x[active] - anchor[active]) / scale[active], memory,
                                        one.conserved_gradients(scale[active]))
         jacobians[active], multipliers[active] = matrices, values
+        finite = np.isfinite(step).all(axis=1)
+        valid[active[~finite]] = False
+        step[~finite] = 0.0
         x[active] = _clip_jenkin(one, x[active] + step * scale[active])
-        close = np.max(np.abs(step), axis=1) <= tolerance
+        close = (np.max(np.abs(step), axis=1) <= tolerance) & finite
         # friction memory: the orbits are a family, and a time run's transient (slipping) picks the
         # member, which Newton (keeping the start's memory) does not follow: such a point is settled
         # here only if its start was on an orbit already (no step beyond the tolerance)
         family[active[conserved > 0]] = True
         near[active[close]] = True
         moved[active[~close]] = True
-        active = active[~close]
+        active = active[~close & finite]
         if not active.size:
             break
     stable, _ = classify_multiplier_rows(multipliers, stability_margin())
@@ -814,10 +819,6 @@ def _newton_batch(system, one, freq, amplitude, steps, rows, found, n_harmonics,
         found.peak[taken] = window.peak_acceleration[good][settled]
         candidates = candidates[chord]
         x[candidates] = _clip_jenkin(one, x[candidates] - distance[chord] * scale[candidates])
-    # the points left: the time run starts from the start state; the next point of the chain from
-    # the last Newton state (a closer start than the neighbour's, when it is valid)
-    left = np.flatnonzero(~found.accepted[rows] & valid)
-    found.ends[rows[left]] = x[left]
 
 
 def _format(value: complex) -> str:

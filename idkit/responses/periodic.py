@@ -98,17 +98,11 @@ def newton_step(jacobian, residual, offset):
     ``residual = (Phi(x) - x) / s``, ``offset = (x - x_guess) / s``. Equations along the
     numerically zero singular directions of ``J - I`` are void (conserved quantities): they
     are replaced by "keep the conserved quantity of the guess", ``u_k . (x + dx - x_guess) = 0``.
+    Returns ``(step, number of conserved quantities)``: :func:`newton_steps` of one point.
     """
-    n = residual.size
-    u, s, vt, null = conserved_directions(jacobian - np.eye(n))
-    keep = np.setdiff1d(np.arange(n), null)
-    rows = [s[keep, None] * vt[keep]]
-    rhs = [-(u[:, keep].T @ residual)]
-    if null.size:
-        rows.append(u[:, null].T)
-        rhs.append(-(u[:, null].T @ offset))
-    matrix = np.vstack(rows)
-    return np.linalg.lstsq(matrix, np.concatenate(rhs), rcond=None)[0], null.size
+    steps, n_conserved = newton_steps(np.asarray(jacobian)[None], np.asarray(residual)[None],
+                                      np.asarray(offset)[None])
+    return steps[0], int(n_conserved[0])
 
 
 def newton_steps(jacobians, residuals, offsets=None, memory=None, conserved=None):
@@ -158,7 +152,10 @@ def newton_steps(jacobians, residuals, offsets=None, memory=None, conserved=None
         rhs = -np.einsum("nij,nj->ni", transposed, residuals[memory])
         kept = -np.einsum("nij,nj->ni", transposed, offsets[memory])
         rhs[null] = kept[null]
-        steps[memory] = np.linalg.solve(system, rhs[:, :, None])[:, :, 0]
+        try:
+            steps[memory] = np.linalg.solve(system, rhs[:, :, None])[:, :, 0]
+        except np.linalg.LinAlgError:  # a singular replaced system: least squares, as newton_step
+            steps[memory] = [np.linalg.lstsq(matrix, values, rcond=None)[0] for matrix, values in zip(system, rhs)]
         n_conserved[memory] = null.sum(axis=1)
     return steps, n_conserved
 

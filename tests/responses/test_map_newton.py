@@ -29,8 +29,9 @@ def test_newton_settles_the_points_left_as_per_point_shooting_does():
 
 def test_batched_newton_steps_are_the_per_point_steps_with_friction_memory():
     """newton_steps (LU, conserved Jenkin quantities replacing their void rows) against newton_step
-    (singular values, lstsq) on the rope's Jacobians: stuck at 1e-5 m (memory multipliers at +1, kept at
-    the guess's) and slipping at 10 mm (none): the same step to round-off (1e-9 of the largest)."""
+    (the singular values of J - I, for every point) on the rope's Jacobians: stuck at 1e-5 m
+    (memory multipliers at +1, kept at the guess's) and slipping at 10 mm (none): the same step to
+    round-off (1e-9 of the largest)."""
     system = library.get("system_a1_asymmetric")
     one = PeriodMap(system)
     freq, amplitude = np.array([20.0, 20.0]), np.array([1e-5, 1e-2])
