@@ -117,19 +117,21 @@ def test_map_points_that_did_not_settle_are_shot():
     assert abs(shot.hosidf(1)[0, 0] - reference.hosidf(1)[0]) < TIME_AGREEMENT * abs(reference.hosidf(1)[0])
 
 
-def test_default_map_shoots_after_200_periods_and_agrees_with_long_time_integration():
-    # the default cap (SHOOTING_AFTER_PERIODS = 200, then shooting) against a plain grid of
-    # time integrations run up to 4000 periods: every point settled, and wherever the long run
-    # settled the two agree within the steady-state tolerance (1e-3 of |H1|, the long run's own)
-    from idkit.responses.harmonic_map import SHOOTING_AFTER_PERIODS
+def test_default_map_shoots_after_48_periods_and_agrees_with_long_time_integration():
+    # the default cap (NEWTON_AFTER_PERIODS = 48, then batched Newton, at most 3 tangent periods and
+    # 2 windows of two; per-point shooting for what it leaves) against a plain grid of time
+    # integrations run up to 4000 periods: every point settled, and wherever the long run settled
+    # the two agree within the steady-state tolerance (1e-3 of |H1|, the long run's own)
+    from idkit.responses.harmonic_map import NEWTON_AFTER_PERIODS, NEWTON_TANGENT_PERIODS, NEWTON_WINDOWS
 
     system = library.get("system_a1_asymmetric")
     freq, amplitude = np.geomspace(1.0, 100.0, 8), np.geomspace(1e-5, 1e-2, 4)
     fast = harmonic_map(system, freq, amplitude, workers=1)
-    assert fast.converged.all() and fast.periods.max() <= SHOOTING_AFTER_PERIODS
+    most = NEWTON_AFTER_PERIODS + NEWTON_TANGENT_PERIODS + 2 * NEWTON_WINDOWS
+    assert fast.converged.all() and fast.periods.max() <= most
     assert fast.shooting.any()  # some lightly damped points need it
     long = harmonic_map(system, freq, amplitude, shooting=False, workers=1)
-    assert long.periods.max() > SHOOTING_AFTER_PERIODS
+    assert long.periods.max() > most
     both = long.converged
     ratio = np.abs(fast.hosidf(1)[both] / long.hosidf(1)[both] - 1)
     assert ratio.max() < long.tolerance
