@@ -48,6 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.optimize
 
+from idkit.checks import Choice, Flag, Seed, Whole, accepts
 from idkit.errors import FitError, IdkitError
 from idkit.fit._params import jacobian_statistics, to_lmfit
 from idkit.fit.model_form import (FLOOR_MARGIN, MODEL_FORM_PREFIX, REPEAT_TOLERANCE, ModelFormReason, misses_the_floor,
@@ -241,8 +242,6 @@ def _start_states(records: list[ElementHistory], initial_state: str) -> list[boo
     deflection and force (the loop fits' rule; the force's threshold plus three standard deviations
     of the record's noise, :func:`idkit.signal.cycles.noise_level`), else cycled when it is closed (it ends within
     2 % of its range of where it began, so running it twice continues it), else unloaded."""
-    if initial_state not in START_STATES:
-        raise FitError(f"initial_state: found {initial_state!r}, expected one of {START_STATES}")
     flags = []
     for record in records:
         x, f = record.deflection, record.force
@@ -447,10 +446,10 @@ def _scales(records):
     return amplitude, force, force / amplitude, speed
 
 
-def _checked_starts(max_starts: int | None) -> int | None:
-    if max_starts is not None and (isinstance(max_starts, bool) or int(max_starts) != max_starts or max_starts < 1):
-        raise FitError(f"max_starts: found {max_starts!r}, expected an integer >= 1 or None (every start)")
-    return max_starts
+#: The options every element fitter declares (:func:`fit_clearance_jenkin`).
+_FIT_OPTIONS = dict(seed=Seed(), max_nfev=Whole(ge=1, meaning="residual evaluations per start"),
+                    initial_state=Choice(START_STATES), statistics=Flag(),
+                    max_starts=Whole(ge=1, optional=True, meaning="None: every start"), error=FitError)
 
 
 def _warm(start, family_name: str, family: _Family):
@@ -463,6 +462,7 @@ def _warm(start, family_name: str, family: _Family):
     return np.clip(start.internal, family.lower, family.upper)
 
 
+@accepts(**_FIT_OPTIONS)
 def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 0,
                          max_nfev: int = 400, initial_state: str = "auto",
         statistics: bool = True, max_starts: int | None = None) -> ElementFitResult:
@@ -521,9 +521,10 @@ def fit_clearance_jenkin(histories, *, start: ElementFitResult | None = None, se
         starts = [np.array([gap * x_small / amplitude, k0 + math.log(ratio), math.log(0.8 * force), 0.02])
                   * (1.0 + 0.01 * rng.standard_normal(4))
                   for gap in (0.1, 0.4) for ratio in (10.0, 100.0)]
-    return _fit(family, records, starts[:_checked_starts(max_starts)], max_nfev, initial_state, statistics)
+    return _fit(family, records, starts[:max_starts], max_nfev, initial_state, statistics)
 
 
+@accepts(**_FIT_OPTIONS)
 def fit_rate_dependent_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 0,
                               max_nfev: int = 400, initial_state: str = "auto",
         statistics: bool = True, max_starts: int | None = None) -> ElementFitResult:
@@ -558,9 +559,10 @@ def fit_rate_dependent_jenkin(histories, *, start: ElementFitResult | None = Non
         starts = [np.array([k0 + math.log(20.0), math.log(0.7 * force), gain, math.log(share * speed), 0.02])
                   + 0.01 * rng.standard_normal(5)
                   for gain in (0.2, 1.0) for share in (0.1, 0.5)]
-    return _fit(family, records, starts[:_checked_starts(max_starts)], max_nfev, initial_state, statistics)
+    return _fit(family, records, starts[:max_starts], max_nfev, initial_state, statistics)
 
 
+@accepts(**_FIT_OPTIONS)
 def fit_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 0, max_nfev: int = 400,
                initial_state: str = "auto", statistics: bool = True,
                max_starts: int | None = None) -> ElementFitResult:
@@ -587,13 +589,14 @@ def fit_jenkin(histories, *, start: ElementFitResult | None = None, seed: int = 
         rng = np.random.default_rng(seed)
         starts = [np.array([k0 + math.log(ratio), math.log(share * force), 0.1]) + 0.01 * rng.standard_normal(3)
                   for ratio in (3.0, 30.0) for share in (0.3, 0.8)]
-    return _fit(family, records, starts[:_checked_starts(max_starts)], max_nfev, initial_state, statistics)
+    return _fit(family, records, starts[:max_starts], max_nfev, initial_state, statistics)
 
 
 #: The pinched Bouc-Wen fit's parameters, one per internal coordinate (:func:`fit_pinched_boucwen`).
 PINCHED_PARAMETERS = ("k1", "alpha", "saturated_force", "beta_share", "n", "pinch", "pinch_width", "pinch_shift")
 
 
+@accepts(**_FIT_OPTIONS)
 def fit_pinched_boucwen(histories, *, start: ElementFitResult | None = None, seed: int = 0,
                         max_nfev: int = 400, initial_state: str = "auto",
         statistics: bool = True, max_starts: int | None = None) -> ElementFitResult:
@@ -643,7 +646,7 @@ def fit_pinched_boucwen(histories, *, start: ElementFitResult | None = None, see
         starts = [np.array([0.1, a0 + math.log(ratio), math.log(0.7 * force), 0.5, 0.0, pinch, math.log(0.3), 0.0])
                   + 0.01 * rng.standard_normal(8)
                   for ratio in (5.0, 30.0) for pinch in (0.4, 0.8)]
-    return _fit(family, records, starts[:_checked_starts(max_starts)], max_nfev, initial_state, statistics)
+    return _fit(family, records, starts[:max_starts], max_nfev, initial_state, statistics)
 
 
 #: The families of this module by name, for the model-choice registry (``idkit fit auto``).

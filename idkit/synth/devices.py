@@ -41,6 +41,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from idkit.checks import Real, Reals, Seed, Whole, accepts
 from idkit.errors import ParameterError
 from idkit.io import MeasurementInfo, QuasiStaticMeasurement
 
@@ -360,16 +361,16 @@ def _envelope_taper(n: int, fraction: float) -> np.ndarray:
     return window
 
 
-def _checked_rate(sample_rate_hz: float) -> float:
-    _positive(sample_rate_hz=sample_rate_hz)
-    return float(sample_rate_hz)
+_RATE = Real(unit="Hz", gt=0, meaning="sample rate")
+_PEAK = Real(unit="m", gt=0, meaning="largest |deflection|")
 
 
+@accepts(amplitude=Real(unit="m", gt=0), frequency_hz=Real(unit="Hz", gt=0), cycles=Real(gt=0),
+         sample_rate_hz=_RATE)
 def sine_history(amplitude: float, frequency_hz: float, *, cycles: float = 3.0,
                  sample_rate_hz: float = 200.0) -> tuple[np.ndarray, np.ndarray]:
     """``x = amplitude sin(2 pi f t)`` over ``cycles`` periods from ``t = 0``: ``(time, deflection)``."""
-    _positive(amplitude=amplitude, frequency_hz=frequency_hz, cycles=cycles)
-    rate = _checked_rate(sample_rate_hz)
+    rate = sample_rate_hz
     n = int(round(cycles * rate / frequency_hz)) + 1
     time = np.arange(n) / rate
     return time, amplitude * np.sin(2.0 * np.pi * frequency_hz * time)
@@ -382,12 +383,12 @@ def _band_noise(n: int, rate: float, band: tuple[float, float], rng: np.random.G
     return np.fft.irfft(spectrum, n)
 
 
+@accepts(peak=_PEAK, duration=Real(unit="s", gt=0), sample_rate_hz=_RATE, seed=Seed())
 def random_history(peak: float, band_hz: tuple[float, float], *, duration: float, sample_rate_hz: float = 200.0,
                    seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """Band-limited Gaussian deflection (flat spectrum in ``band_hz``), cosine-tapered over the
     first and last 10 % so it starts and ends at rest, scaled to ``peak`` (largest |x|)."""
-    _positive(peak=peak, duration=duration)
-    rate = _checked_rate(sample_rate_hz)
+    rate = sample_rate_hz
     if not 0 < band_hz[0] < band_hz[1] < rate / 2:
         raise ParameterError(f"band_hz: found {band_hz!r}, expected 0 < low < high < {rate / 2:g} Hz")
     n = int(round(duration * rate)) + 1
@@ -395,14 +396,15 @@ def random_history(peak: float, band_hz: tuple[float, float], *, duration: float
     return np.arange(n) / rate, peak * x / np.max(np.abs(x))
 
 
+@accepts(peak=_PEAK, duration=Real(unit="s", gt=0), dominant_hz=Real(unit="Hz", gt=0), sample_rate_hz=_RATE,
+         seed=Seed())
 def earthquake_history(peak: float, *, duration: float = 20.0, dominant_hz: float = 1.0,
                        sample_rate_hz: float = 200.0, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """Earthquake-like deflection: noise in ``0.3-3 x dominant_hz`` under a Saragoni-Hart-like envelope
     (quadratic rise over the first 15 %, strong phase to 45 %, exponential decay to the end), cosine
     tapered at both ends, scaled to ``peak``. Non-stationary, with a strong-motion window well inside
     the record."""
-    _positive(peak=peak, duration=duration, dominant_hz=dominant_hz)
-    rate = _checked_rate(sample_rate_hz)
+    rate = sample_rate_hz
     if not 3.0 * dominant_hz < rate / 2:
         raise ParameterError(f"dominant_hz: found {dominant_hz!r}, expected 3 x dominant_hz below the Nyquist "
                              f"frequency {rate / 2:g} Hz")
@@ -415,26 +417,25 @@ def earthquake_history(peak: float, *, duration: float = 20.0, dominant_hz: floa
     return time, peak * x / np.max(np.abs(x))
 
 
+@accepts(amplitudes=Reals(unit="m", gt=0), frequency_hz=Real(unit="Hz", gt=0), cycles_per_level=Whole(ge=1),
+         sample_rate_hz=_RATE)
 def multilevel_history(amplitudes, frequency_hz: float, *, cycles_per_level: int = 2,
                        sample_rate_hz: float = 200.0) -> tuple[np.ndarray, np.ndarray]:
     """Sine blocks of the given amplitudes, one after the other, each ``cycles_per_level`` whole periods."""
-    amplitudes = [float(a) for a in amplitudes]
-    if not amplitudes:
-        raise ParameterError("amplitudes: found none, expected at least one")
-    rate = _checked_rate(sample_rate_hz)
+    rate = sample_rate_hz
     pieces = []
-    for amplitude in amplitudes:
+    for amplitude in amplitudes.ravel():
         time, x = sine_history(amplitude, frequency_hz, cycles=cycles_per_level, sample_rate_hz=rate)
         pieces.append(x[:-1])
     x = np.concatenate(pieces + [np.zeros(1)])
     return np.arange(x.size) / rate, x
 
 
+@accepts(force_noise=Real(unit="N", ge=0), seed=Whole(ge=0, le=2**32 - 1, meaning="seed"))
 def device_records(device, histories: dict, *, force_noise: float, seed: int = 0, split: str = "fit",
                    isolator: str = "device") -> list[QuasiStaticMeasurement]:
     """Quasi-static records of ``device`` under each ``{id: (time, deflection)}``, with Gaussian force
     noise of standard deviation ``force_noise`` (N) seeded by ``(seed, crc32(id))``."""
-    _non_negative(force_noise=force_noise)
     records = []
     for ident, (time, deflection) in histories.items():
         clean = device.force(deflection, time)
