@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from idkit.checks import Real, Reals, Seed, Whole, accepts
 from idkit.errors import FitError
 from idkit.fit.frf_objective import as_transmissibility_sets, band_points, check_band, mean_squared_relative_error
 from idkit.fit.maxwell import fit_maxwell
@@ -47,6 +48,9 @@ class ErrorLandscape:
     feasible: np.ndarray
 
 
+@accepts(k0=Real(unit="N/m", gt=0), k_values=Reals(unit="N/m", gt=0, optional=True),
+         rate_values=Reals(unit="1/s", gt=0, optional=True), m_eff=Real(unit="kg", ge=0, optional=True),
+         points=Whole(ge=2), seed=Seed(), error=FitError)
 def maxwell_error_landscape(frfs, *, k0: float, k_values=None, rate_values=None, m_eff: float | None = None,
                             band=(1.0, 100.0), points: int = 41, seed: int = 0) -> ErrorLandscape:
     """Objective (7.5) of one Maxwell element over a (k_1, rate_1) grid.
@@ -69,10 +73,8 @@ def maxwell_error_landscape(frfs, *, k0: float, k_values=None, rate_values=None,
     """
     band = check_band(band)
     sets = as_transmissibility_sets(frfs)
-    k_values = np.geomspace(0.1 * k0, 10 * k0, points) if k_values is None else np.asarray(k_values, float)
-    rate_values = np.geomspace(1.0, 1e4, points) if rate_values is None else np.asarray(rate_values, float)
-    if np.any(k_values <= 0) or np.any(rate_values <= 0):
-        raise FitError("k_values, rate_values: expected positive stiffnesses (N/m) and rates (1/s)")
+    k_values = np.geomspace(0.1 * k0, 10 * k0, points) if k_values is None else k_values
+    rate_values = np.geomspace(1.0, 1e4, points) if rate_values is None else rate_values
     optimum = None
     if m_eff is None:
         fitted = fit_maxwell(sets, k0=k0, order=1, band=band, seed=seed)

@@ -14,6 +14,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from idkit.checks import Reals, Samples
 from idkit.errors import ParameterError
 from idkit.params import ParamSpec
 
@@ -132,52 +133,19 @@ class IsolatorModel(ABC):
 MAX_FREQUENCY = float(np.finfo(np.float64).max) / (2.0 * np.pi)
 
 
-def _as_frequency(freq, name: str = "freq") -> np.ndarray:
-    """``freq`` as a float array of finite frequencies in Hz, else a :class:`ParameterError` naming ``name``.
-
-    NaN and infinite frequencies made numpy warn inside the complex stiffness (``complex_stiffness(nan)``:
-    RuntimeWarning "invalid value") and gave NaN; text, booleans and complex numbers are not frequencies.
-    """
-    raw = np.asarray(freq) if not isinstance(freq, (str, bytes)) else np.asarray([freq])
-    if raw.dtype.kind not in "iuf":
-        if raw.dtype.kind == "O":
-            try:
-                raw = np.asarray(freq, dtype=float)
-            except (TypeError, ValueError):
-                pass
-        if raw.dtype.kind not in "iuf":
-            raise ParameterError(f"{name}: found {freq!r}, expected real frequencies in Hz")
-    values = raw.astype(float, copy=False)
-    bad = ~(np.abs(values) <= MAX_FREQUENCY)
-    if bad.any():
-        first = float(values[bad].flat[0])
-        raise ParameterError(f"{name}: found {first!r}, expected finite frequencies in Hz, |f| <= {MAX_FREQUENCY:.4g} "
-                             "(2 pi f a finite float64)")
-    return values
+#: A deflection history in m: a non-empty 1-D array of finite values.
+DEFLECTION = Samples(unit="m")
+#: Sample times in s of a deflection history (None where the model needs none).
+TIME = Reals(unit="s", increasing=True, optional=True, meaning="sample times")
+#: Frequencies in Hz, any shape; ``2 pi f`` must be a finite float64.
+FREQUENCY = Reals(unit="Hz", ge=-MAX_FREQUENCY, le=MAX_FREQUENCY, min_size=0)
 
 
-def _as_deflection(deflection, name: str = "deflection") -> np.ndarray:
-    array = np.asarray(deflection, dtype=float)
-    if array.ndim != 1 or array.size == 0:
-        raise ParameterError(f"{name}: found shape {array.shape}, expected a non-empty 1-D array in m")
-    if not np.all(np.isfinite(array)):
-        index = int(np.flatnonzero(~np.isfinite(array))[0])
-        raise ParameterError(f"{name}: found {array[index]} at index {index}, expected finite values in m")
-    return array
-
-
-def _as_time(time, n_samples: int) -> np.ndarray:
-    array = np.asarray(time, dtype=float)
-    if array.shape != (n_samples,):
-        raise ParameterError(f"time: found shape {array.shape}, expected ({n_samples},) in s")
-    steps = np.diff(array)
-    if not np.all(np.isfinite(array)) or np.any(steps <= 0):
-        index = int(np.flatnonzero(~(steps > 0))[0]) + 1 if np.any(steps <= 0) else 0
-        raise ParameterError(
-            f"time: found non-increasing or non-finite value at index {index}, "
-            "expected strictly increasing finite times in s"
-        )
-    return array
+def _as_time(time: np.ndarray, n_samples: int) -> np.ndarray:
+    """``time`` (declared :data:`TIME`), one per deflection sample."""
+    if time.shape != (n_samples,):
+        raise ParameterError(f"time: found shape {time.shape}, expected ({n_samples},) in s")
+    return time
 
 
 def _velocity(deflection: np.ndarray, time: np.ndarray) -> np.ndarray:

@@ -11,10 +11,11 @@ import math
 
 import numpy as np
 
+from idkit.checks import accepts
 from idkit.errors import ParameterError, SimulationError
 from idkit.models.laws import boucwen_z_history, kernel_array
 from idkit.models.base import C_VISC_SPEC, IsolatorArrays, IsolatorModel
-from idkit.models.base import _as_deflection, _as_frequency, _as_time, _velocity
+from idkit.models.base import DEFLECTION, FREQUENCY, TIME, _as_time, _velocity
 from idkit.params import ParamSpec
 
 __all__ = ["BoucWenModel", "check_boucwen_shape"]
@@ -195,6 +196,7 @@ class BoucWenModel(IsolatorModel):
             raise ParameterError(f"BoucWenModel: unknown parameters {unknown}, expected {required}")
         return cls(**{**defaults, **params})
 
+    @accepts(deflection=DEFLECTION)
     def hysteretic_force(self, deflection, initial_z: float = 0.0) -> np.ndarray:
         """The internal variable ``z`` in N along a deflection history in m.
 
@@ -205,7 +207,7 @@ class BoucWenModel(IsolatorModel):
         :class:`~idkit.errors.SimulationError` names the sample (resample finer) instead of
         returning NaN.
         """
-        x = _as_deflection(deflection)
+        x = deflection
         z = boucwen_z_history(kernel_array(x), self.alpha, self.beta, self.gamma, self.n, float(initial_z),
                               BOUCWEN_SUBSTEPS)
         if not np.isfinite(z).all() and np.isfinite(x).all() and math.isfinite(initial_z):
@@ -225,9 +227,10 @@ class BoucWenModel(IsolatorModel):
             return math.inf
         return (self.alpha / (self.beta + self.gamma)) ** (1.0 / self.n) / self.alpha
 
+    @accepts(deflection=DEFLECTION, time=TIME)
     def force(self, deflection, time=None, initial_z: float = 0.0) -> np.ndarray:
         """Isolator force in N along a deflection history (m); viscous part if ``time`` is given."""
-        x = _as_deflection(deflection)
+        x = deflection
         z = self.hysteretic_force(x, initial_z)
         elastic = x * (self.k1 + self.k2 * np.abs(x) + self.k3 * x * x)
         total = self.b ** (self.c * x) * (elastic + z)
@@ -235,8 +238,9 @@ class BoucWenModel(IsolatorModel):
             total = total + self.c_visc * _velocity(x, _as_time(time, x.size))
         return total
 
+    @accepts(freq=FREQUENCY)
     def small_amplitude_stiffness(self, freq) -> np.ndarray:
-        omega = 2.0 * np.pi * _as_frequency(freq)
+        omega = 2.0 * np.pi * freq
         return (self.k1 + self.alpha) + 1j * omega * self.c_visc
 
     def kernel_arrays(self) -> IsolatorArrays:

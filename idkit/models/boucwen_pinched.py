@@ -23,8 +23,9 @@ import math
 
 import numpy as np
 
+from idkit.checks import accepts
 from idkit.errors import ParameterError, SimulationError
-from idkit.models.base import IsolatorArrays, _as_deflection, _as_frequency
+from idkit.models.base import DEFLECTION, FREQUENCY, IsolatorArrays
 from idkit.models.boucwen import BOUCWEN_SUBSTEPS, BoucWenModel
 from idkit.models.laws import kernel_array, pinched_boucwen_z_history, pinching_factor
 from idkit.params import ParamSpec
@@ -105,9 +106,10 @@ class PinchedBoucWenModel(BoucWenModel):
         z_u = self.saturated_force
         return self.pinch, self.pinch_width * z_u, self.pinch_shift * z_u
 
+    @accepts(deflection=DEFLECTION)
     def hysteretic_force(self, deflection, initial_z: float = 0.0) -> np.ndarray:
         """The pinched ``z`` in N along a deflection history in m (see :meth:`BoucWenModel.hysteretic_force`)."""
-        x = _as_deflection(deflection)
+        x = deflection
         pinch, width, shift = self.pinching()
         z = pinched_boucwen_z_history(kernel_array(x), self.alpha, self.beta, self.gamma, self.n, pinch, width, shift,
                                       float(initial_z), BOUCWEN_SUBSTEPS)
@@ -117,9 +119,10 @@ class PinchedBoucWenModel(BoucWenModel):
                                   f"{first}: sample the deflection history finer")
         return z
 
+    @accepts(freq=FREQUENCY)
     def small_amplitude_stiffness(self, freq) -> np.ndarray:
         """``k1 + h(0) alpha + i omega c_visc`` (N/m): the slope of ``z`` at ``z = 0`` is pinched."""
-        omega = 2.0 * np.pi * _as_frequency(freq)
+        omega = 2.0 * np.pi * freq
         pinch, width, shift = self.pinching()
         return (self.k1 + pinching_factor(0.0, 1.0, pinch, width, shift) * self.alpha) + 1j * omega * self.c_visc
 

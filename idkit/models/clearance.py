@@ -27,8 +27,9 @@ import math
 
 import numpy as np
 
+from idkit.checks import accepts
 from idkit.errors import ParameterError
-from idkit.models.base import IsolatorArrays, _as_deflection, _as_frequency
+from idkit.models.base import DEFLECTION, FREQUENCY, IsolatorArrays
 from idkit.models.iwan import IwanModel
 from idkit.models.laws import clearance_jenkin_forces
 from idkit.params import ParamSpec
@@ -94,19 +95,21 @@ class ClearanceIwanModel(IwanModel):
         travel = float(amplitude) - self._gap - self.fc / self.k
         return float(np.sum(4.0 * self.fc * np.maximum(travel, 0.0)))
 
+    @accepts(deflection=DEFLECTION)
     def jenkin_forces(self, deflection, initial_forces=None) -> np.ndarray:
         """Forces in N each element passes on, shape ``(n_samples, order)``; ``initial_forces`` are
         the elements' virtual forces at the first sample (default 0: centred in the clearance)."""
-        x = _as_deflection(deflection)
+        x = deflection
         start = np.zeros(self.order) if initial_forces is None else np.asarray(initial_forces, float)
         return clearance_jenkin_forces(x, self.k, self.fc, self._gap, start)
 
+    @accepts(freq=FREQUENCY)
     def small_amplitude_stiffness(self, freq) -> np.ndarray:
         """Complex stiffness (N/m) about the middle of the clearance: ``g1 + i omega c_visc`` (the
         elements do not touch), or the Iwan model's ``g1 + sum k_i`` without a clearance."""
         if self._gap == 0.0:
             return super().small_amplitude_stiffness(freq)
-        omega = 2.0 * np.pi * _as_frequency(freq)
+        omega = 2.0 * np.pi * freq
         return self.g1 + 1j * omega * self.c_visc
 
     def kernel_arrays(self) -> IsolatorArrays:

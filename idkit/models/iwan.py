@@ -12,10 +12,11 @@ import math
 
 import numpy as np
 
+from idkit.checks import accepts
 from idkit.errors import ParameterError
 from idkit.models.laws import kernel_array, polynomial_spring_force, polynomial_spring_stiffness, stop_operator
 from idkit.models.base import C_VISC_SPEC, IsolatorArrays, IsolatorModel
-from idkit.models.base import _as_deflection, _as_frequency, _as_time, _velocity
+from idkit.models.base import DEFLECTION, FREQUENCY, TIME, _as_time, _velocity
 from idkit.params import ParamSpec, check_array
 
 __all__ = ["IwanModel", "jenkin_force"]
@@ -25,6 +26,7 @@ G2_SPEC = ParamSpec("g2", "N/m^2", -math.inf, math.inf, "quadratic (asymmetry) s
 G3_SPEC = ParamSpec("g3", "N/m^3", -math.inf, math.inf, "cubic (soft/hardening) spring coefficient")
 
 
+@accepts(deflection=DEFLECTION)
 def jenkin_force(deflection, stiffness: float, friction_force: float, initial_force: float = 0.0):
     """Force in N of one Jenkin element along a deflection history in m (stop operator).
 
@@ -33,7 +35,7 @@ def jenkin_force(deflection, stiffness: float, friction_force: float, initial_fo
     >>> jenkin_force([0.0, 1e-3, 3e-3, 2e-3], stiffness=3e3, friction_force=8.3)
     array([0. , 3. , 8.3, 5.3])
     """
-    x = _as_deflection(deflection)
+    x = deflection
     forces = stop_operator(
         kernel_array(x), np.array([float(stiffness)]), np.array([float(friction_force)]),
         np.array([float(initial_force)]),
@@ -161,12 +163,14 @@ class IwanModel(IsolatorModel):
         upper = min((r for r in real if r > 0), default=math.inf)
         return lower, upper
 
+    @accepts(deflection=DEFLECTION)
     def jenkin_forces(self, deflection, initial_forces=None) -> np.ndarray:
         """Forces in N of every Jenkin element, shape ``(n_samples, order)``."""
-        x = _as_deflection(deflection)
+        x = deflection
         start = np.zeros(self.order) if initial_forces is None else np.asarray(initial_forces, float)
         return stop_operator(kernel_array(x), kernel_array(self._k), kernel_array(self._fc), kernel_array(start))
 
+    @accepts(deflection=DEFLECTION, time=TIME)
     def force(self, deflection, time=None, initial_forces=None) -> np.ndarray:
         """Isolator force in N along a deflection history in m.
 
@@ -175,14 +179,15 @@ class IwanModel(IsolatorModel):
         The Jenkin elements start from ``initial_forces`` (default: unloaded)
         at the first sample.
         """
-        x = _as_deflection(deflection)
+        x = deflection
         total = self.spring_force(x) + self.jenkin_forces(x, initial_forces).sum(axis=1)
         if time is not None and self._c_visc:
             total = total + self._c_visc * _velocity(x, _as_time(time, x.size))
         return total
 
+    @accepts(freq=FREQUENCY)
     def small_amplitude_stiffness(self, freq) -> np.ndarray:
-        omega = 2.0 * np.pi * _as_frequency(freq)
+        omega = 2.0 * np.pi * freq
         return self.stuck_stiffness + 1j * omega * self._c_visc
 
     def kernel_arrays(self) -> IsolatorArrays:

@@ -47,8 +47,9 @@ import math
 
 import numpy as np
 
+from idkit.checks import accepts
 from idkit.errors import ParameterError
-from idkit.models.base import IsolatorArrays, _as_deflection
+from idkit.models.base import DEFLECTION, IsolatorArrays
 from idkit.models.iwan import IwanModel
 from idkit.models import laws
 from idkit.models.laws import kernel_array
@@ -206,9 +207,10 @@ class ModulatedIwanModel(IwanModel):
         return cls.from_iwan(IwanModel.from_params(params), slip_modulation=modulation, slip_length=length,
                              slip_growth=growth)
 
+    @accepts(deflection=DEFLECTION)
     def jenkin_forces(self, deflection, initial_forces=None) -> np.ndarray:
         """Forces in N of every Jenkin element, shape ``(n_samples, order)`` (modulated stop operator)."""
-        x = _as_deflection(deflection)
+        x = deflection
         start = np.zeros(self.order) if initial_forces is None else np.asarray(initial_forces, float)
         return modulated_stop_operator(kernel_array(x), kernel_array(self.k), kernel_array(self.fc),
                                        float(self._modulation), float(self._length), kernel_array(start),

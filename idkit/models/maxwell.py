@@ -22,7 +22,7 @@ from idkit.checks import Choice, Real, accepts
 from idkit.errors import ParameterError
 from idkit.models.laws import kernel_array, maxwell_states
 from idkit.models.base import M_EFF_SPEC, IsolatorArrays, IsolatorModel
-from idkit.models.base import _as_deflection, _as_frequency, _as_time, _velocity
+from idkit.models.base import DEFLECTION, FREQUENCY, TIME, _as_time, _velocity
 from idkit.params import ParamSpec, check_array
 
 __all__ = ["GeneralizedMaxwell", "VoigtModel"]
@@ -285,13 +285,14 @@ class GeneralizedMaxwell(_Viscoelastic, IsolatorModel):
             raise ParameterError(f"GeneralizedMaxwell: unknown parameters {sorted(params)}, expected k0, k_i, rate_i, m_eff")
         return model
 
+    @accepts(freq=FREQUENCY)
     def complex_stiffness(self, freq) -> np.ndarray:
         """Complex stiffness ``k0 + sum k_i s / (s + rate_i)``, ``s = 2 pi i freq`` (eq. 4.3), N/m.
 
         For a modulus model the same law gives the complex modulus in Pa (also
         :meth:`complex_modulus`).
         """
-        s = 2j * np.pi * _as_frequency(freq)
+        s = 2j * np.pi * freq
         return self._k0 + np.sum(self._k * s[..., None] / (s[..., None] + self._rate), axis=-1)
 
     small_amplitude_stiffness = complex_stiffness
@@ -303,13 +304,15 @@ class GeneralizedMaxwell(_Viscoelastic, IsolatorModel):
                                  "expected a modulus model (Pa); use complex_stiffness")
         return self.complex_stiffness(freq)
 
+    @accepts(deflection=DEFLECTION, time=TIME)
     def element_states(self, deflection, time, initial_states=None) -> np.ndarray:
         """Maxwell spring elongations ``u_i`` in m along the history, shape (n_samples, n)."""
-        x = _as_deflection(deflection)
+        x = deflection
         t = _as_time(time, x.size)
         start = np.zeros(self.order) if initial_states is None else np.asarray(initial_states, float)
         return maxwell_states(kernel_array(x), kernel_array(t), kernel_array(self._rate), kernel_array(start))
 
+    @accepts(deflection=DEFLECTION)
     def force(self, deflection, time=None, initial_states=None) -> np.ndarray:
         """Isolator force in N along a deflection history (m) sampled at ``time`` (s).
 
@@ -320,7 +323,7 @@ class GeneralizedMaxwell(_Viscoelastic, IsolatorModel):
         self._refuse_modulus("force")
         if time is None:
             raise ParameterError("GeneralizedMaxwell.force: found time=None, expected sample times in s")
-        x = _as_deflection(deflection)
+        x = deflection
         return self._k0 * x + self.element_states(x, time, initial_states) @ self._k
 
     def kernel_arrays(self) -> IsolatorArrays:
@@ -376,15 +379,17 @@ class VoigtModel(_Viscoelastic, IsolatorModel):
             raise ParameterError(f"VoigtModel: unknown parameters {sorted(params)}, expected k, damping, m_eff")
         return model
 
+    @accepts(freq=FREQUENCY)
     def complex_stiffness(self, freq) -> np.ndarray:
         """``k + i omega d`` in N/m at ``freq`` in Hz."""
-        return self._k + 2j * np.pi * _as_frequency(freq) * self._damping
+        return self._k + 2j * np.pi * freq * self._damping
 
     small_amplitude_stiffness = complex_stiffness
 
+    @accepts(deflection=DEFLECTION, time=TIME)
     def force(self, deflection, time=None) -> np.ndarray:
         """Force ``k x + d xdot`` in N; ``time`` (s) is required for the viscous part."""
-        x = _as_deflection(deflection)
+        x = deflection
         if time is None:
             raise ParameterError("VoigtModel.force: found time=None, expected sample times in s")
         return self._k * x + self._damping * _velocity(x, _as_time(time, x.size))

@@ -26,8 +26,9 @@ import math
 
 import numpy as np
 
+from idkit.checks import accepts
 from idkit.errors import ParameterError
-from idkit.models.base import IsolatorArrays, _as_deflection, _as_time, _velocity
+from idkit.models.base import DEFLECTION, TIME, IsolatorArrays, _as_time, _velocity
 from idkit.models.iwan import IwanModel
 from idkit.models.laws import kernel_array, rate_dependent_slip_force, rate_dependent_stop_operator
 from idkit.params import ParamSpec
@@ -104,10 +105,11 @@ class RateDependentIwanModel(IwanModel):
         return cls(g1=plain.g1, g2=plain.g2, g3=plain.g3, k=plain.k, fc=plain.fc, c_visc=plain.c_visc,
                    slip_rate_gain=gain, slip_speed=speed)
 
+    @accepts(deflection=DEFLECTION)
     def jenkin_forces(self, deflection, initial_forces=None, *, time=None) -> np.ndarray:
         """Forces in N of every Jenkin element, shape ``(n_samples, order)``, at sample times ``time``
         (s); ``time=None``: the quasi-static limit (vanishing rate, slip forces ``fc_i``)."""
-        x = _as_deflection(deflection)
+        x = deflection
         start = np.zeros(self.order) if initial_forces is None else np.asarray(initial_forces, float)
         if time is None:
             return self.plain().jenkin_forces(x, start)
@@ -116,11 +118,12 @@ class RateDependentIwanModel(IwanModel):
                                             kernel_array(self.fc), float(self._gain), float(self._speed),
                                             kernel_array(start))
 
+    @accepts(deflection=DEFLECTION, time=TIME)
     def force(self, deflection, time=None, initial_forces=None) -> np.ndarray:
         """Isolator force in N along a deflection history in m at sample times ``time`` in s (the
         slip forces follow the deflection rate); without ``time`` the quasi-static limit (vanishing
         rate: slip forces ``fc_i``, no viscous force), as :meth:`IwanModel.force`."""
-        x = _as_deflection(deflection)
+        x = deflection
         total = self.spring_force(x) + self.jenkin_forces(x, initial_forces, time=time).sum(axis=1)
         if time is not None and self.c_visc:
             total = total + self.c_visc * _velocity(x, _as_time(time, x.size))

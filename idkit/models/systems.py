@@ -12,8 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from idkit.checks import accepts
 from idkit.errors import ParameterError
-from idkit.models.base import IsolatorModel, _as_frequency
+from idkit.models.base import FREQUENCY, IsolatorModel
 from idkit.models.iwan import IwanModel
 from idkit.models.laws import hybrid_transmissibility, sdof_transmissibility
 from idkit.params import ParamSpec
@@ -68,12 +69,13 @@ class SDOFSystem:
         """Isolators top first: the one below mass 0."""
         return (self.isolator,)
 
+    @accepts(freq=FREQUENCY)
     def transmissibility(self, freq) -> np.ndarray:
         """Small-amplitude (linearized) transmissibility ``k* / (k* - m omega^2)`` at ``freq`` Hz.
 
         Exact for linear isolators; for hysteretic ones it is the all-stuck limit.
         """
-        freq = _as_frequency(freq)
+        freq = freq
         omega = 2.0 * np.pi * freq
         return sdof_transmissibility(self.isolator.small_amplitude_stiffness(freq), self.moving_mass, omega)
 
@@ -126,17 +128,19 @@ class HybridSystem:
     def isolators(self) -> tuple[IsolatorModel, ...]:
         return (self.upper, self.lower)
 
+    @accepts(freq=FREQUENCY)
     def transmissibility(self, freq) -> np.ndarray:
         """Small-amplitude transmissibility top/base (stuck wire rope, linear elastomer)."""
-        freq = _as_frequency(freq)
+        freq = freq
         omega = 2.0 * np.pi * freq
         m_top, m_in = self.masses
         return hybrid_transmissibility(self.upper.small_amplitude_stiffness(freq),
                                        self.lower.small_amplitude_stiffness(freq), m_top, m_in, omega)
 
+    @accepts(freq=FREQUENCY)
     def series_stiffness(self, freq) -> np.ndarray:
         """Small-amplitude series stiffness ``1 / (1/k_upper + 1/k_lower)`` in N/m."""
-        freq = _as_frequency(freq)
+        freq = freq
         return 1.0 / (1.0 / self.upper.small_amplitude_stiffness(freq)
                       + 1.0 / self.lower.small_amplitude_stiffness(freq))
 

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from idkit.checks import Real, accepts
+from idkit.checks import Real, Whole, accepts
 from idkit.errors import DataError, FitError, Message, Suggestion
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
@@ -328,6 +328,8 @@ def _check_record(values, what: str) -> np.ndarray:
     return array
 
 
+@accepts(points_per_set=Whole(ge=MIN_POINTS, optional=True, meaning="None: the record as measured"),
+         min_excursion=Real(unit="m", gt=0, optional=True), error=FitError)
 def prepare_loops(
     deflection,
     force,
@@ -386,8 +388,6 @@ def prepare_loops(
         path_x, path_f = x[first : last + 1], f[first : last + 1]
         reversals = np.concatenate([split.reversals - first])
     else:
-        if int(points_per_set) != points_per_set or points_per_set < MIN_POINTS:
-            raise FitError(f"points_per_set: found {points_per_set!r}, expected an integer >= {MIN_POINTS}")
         per_branch = max(2, int(math.ceil((points_per_set - 1) / n_branches)) + 1)
         loops = resample_loops(x, f, split=split, points_per_branch=per_branch)
         path_x, path_f = loops.deflection, loops.force

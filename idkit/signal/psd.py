@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import integrate
 from scipy import signal as sps
 
-from idkit.checks import Real, Reals, Samples, Seed, Whole, accepts
+from idkit.checks import Flag, Real, Reals, Samples, Seed, Whole, accepts
 from idkit.errors import DataError
 
 __all__ = [
@@ -269,7 +269,7 @@ class PsdEstimate:
 
 
 @accepts(signals=Samples(ndim=(1, 2), min_size=8), fs=Real(unit="Hz", gt=0),
-         nperseg=Whole(ge=2, optional=True), overlap=Real(ge=0, lt=1), error=DataError)
+         nperseg=Whole(ge=2, optional=True), overlap=Real(ge=0, lt=1), average=Flag(), error=DataError)
 def welch_psd(
     signals: ArrayLike,
     *,
@@ -310,8 +310,6 @@ def welch_psd(
     >>> estimate.nperseg, estimate.n_segments
     (1998, 22)
     """
-    if not isinstance(average, (bool, np.bool_)):
-        raise DataError(f"average: found {average!r}, expected True or False")
     values = signals if signals.ndim == 2 else signals[None, :]
     n_samples = values.shape[1]
     if nperseg is None:

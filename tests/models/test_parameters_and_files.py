@@ -138,12 +138,12 @@ _FREQ_CALLS = {
 
 @pytest.mark.parametrize("call", _FREQ_CALLS.values(), ids=_FREQ_CALLS.keys())
 @pytest.mark.parametrize("freq, found", [
-    (math.nan, "found nan"), ([1.0, math.inf], "found inf"), (-math.inf, "found -inf"), (1e308, "found 1e+308"),
-    ("abc", "found 'abc'"), (True, "found True"), (1j, "found 1j"),
+    ([1.0, math.inf], "found inf"), (-math.inf, "found -inf"), (1e308, "found 1e+308"), (1j, "found 1j"),
 ])
 def test_model_frequencies_that_are_no_finite_number_are_refused_naming_freq(call, freq, found):
-    # complex_stiffness(nan) and transmissibility(nan) made numpy warn (an error in the tests) and gave
-    # NaN; 1e308 Hz overflowed 2 pi f; text, booleans and complex numbers are no frequencies
+    """Through every method that reaches a declared frequency (idkit.models.base.FREQUENCY; NaN, text
+    and booleans are in the declared table): no numpy warning, the refusal names ``freq``. 1e308 Hz
+    would overflow 2 pi f."""
     import warnings
 
     with warnings.catch_warnings():
