@@ -31,6 +31,7 @@ from idkit import __version__
 from idkit.atomic import atomic_output_folder, write_text_atomic
 from idkit.catalogue.identify import identified_record, identify_measurements
 from idkit.catalogue.table import parts_table, write_parts_table
+from idkit.checks import Whole, accepts
 from idkit.errors import DataError, IdkitError, OutputError
 from idkit.io import load_measurement_set
 from idkit.models import load_model, save_model
@@ -188,6 +189,7 @@ def _run(tasks: list, output: Path, fit_options: dict, workers: int, executor) -
         return [future.result() for future in futures]
 
 
+@accepts(workers=Whole(ge=1, meaning="processes"), error=OutputError)
 def build_catalogue(parts, output, *, add: Sequence | None = None, workers: int = 1, executor=None,
                     fit_options: dict | None = None, progress=None) -> Catalogue:
     """Identify every part under ``parts`` into the catalogue folder ``output``.
@@ -217,8 +219,6 @@ def build_catalogue(parts, output, *, add: Sequence | None = None, workers: int 
     Catalogue
     """
     output = Path(output)
-    if isinstance(workers, bool) or not (isinstance(workers, int) and workers >= 1):
-        raise OutputError(f"workers: found {workers!r}, expected a whole number >= 1")
     if executor is not None and not callable(getattr(executor, "submit", None)):
         raise OutputError(f"executor: found {type(executor).__name__}, expected an object with submit(fn, *args)")
     fit_options = dict(fit_options or {})

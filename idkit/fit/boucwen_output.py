@@ -47,7 +47,7 @@ import lmfit
 import numpy as np
 from scipy.optimize import least_squares, minimize
 
-from idkit.checks import Choice, Real, accepts
+from idkit.checks import Choice, Real, Whole, accepts
 from idkit.errors import FitError, ParameterError
 from idkit.fit._params import to_lmfit
 from idkit.fit.result import UNDETERMINED_CORRELATION
@@ -298,7 +298,8 @@ class BoucWenOutputFit:
         return "\n".join(lines)
 
 
-@accepts(sample_rate_hz=Real(unit="Hz", gt=0), interpolation=Choice(INTERPOLATIONS), error=FitError)
+@accepts(sample_rate_hz=Real(unit="Hz", gt=0), interpolation=Choice(INTERPOLATIONS), skip_samples=Whole(ge=0),
+         error=FitError)
 def fit_boucwen_output(force, displacement, sample_rate_hz: float, *, start: dict | None = None,
                        vary: tuple[str, ...] = OUTPUT_PARAMETERS, interpolation: str = "cubic",
                        substeps: int = SUBSTEPS_PER_SAMPLE, skip_samples: int = 0, max_simulations: int = 400,
@@ -352,7 +353,7 @@ def fit_boucwen_output(force, displacement, sample_rate_hz: float, *, start: dic
     unknown = [name for name in vary if name not in OUTPUT_PARAMETERS]
     if unknown or not vary:
         raise FitError(f"vary: found {list(vary)}, expected a non-empty subset of {OUTPUT_PARAMETERS}")
-    if not (0 <= int(skip_samples) < y.size - 16):
+    if skip_samples >= y.size - 16:
         raise FitError(f"skip_samples: found {skip_samples!r}, expected 0 <= skip_samples < {y.size - 16}")
     clock = time.perf_counter()
     if start is None:
@@ -364,7 +365,7 @@ def fit_boucwen_output(force, displacement, sample_rate_hz: float, *, start: dic
         raise FitError(f"start: {error}") from None
     varied = tuple(name for name in OUTPUT_PARAMETERS if name in vary)
     force_input = ForceInput.from_samples(u, rate, interpolation=interpolation, substeps=substeps)
-    used = slice(int(skip_samples), None)
+    used = slice(skip_samples, None)
     y_used = y[used]
     y_rms = float(np.sqrt(np.mean(y_used ** 2)))
     x_rms = float(np.std(y))

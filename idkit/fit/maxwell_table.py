@@ -11,7 +11,7 @@ import dataclasses
 
 import numpy as np
 
-from idkit.checks import Choice, Real, accepts
+from idkit.checks import Choice, Real, Reals, accepts
 from idkit.errors import FitError
 from idkit.fit._optim import BACKEND
 from idkit.fit._params import spec_units
@@ -74,7 +74,7 @@ def _check_table_values(freq, value, order: int, unit: str) -> None:
                        "frequency)")
 
 
-@accepts(order=ORDER, k0=Real(ge=0, optional=True, meaning="N/m or Pa, None: fitted"), backend=BACKEND,
+@accepts(freq=Reals(unit="Hz", gt=0), order=ORDER, k0=Real(ge=0, optional=True, meaning="N/m or Pa, None: fitted"), backend=BACKEND,
          global_method=GLOBAL_METHOD, loss_grid_points=LOSS_GRID_POINTS, quantity=Choice(("stiffness", "modulus")),
          error=FitError)
 def fit_complex_stiffness(
@@ -134,13 +134,12 @@ def fit_complex_stiffness(
         default start.
     """
     unit = "N/m" if quantity == "stiffness" else "Pa"
-    freq = np.asarray(freq, dtype=float)
     try:
         value = np.asarray(storage, dtype=float) + 1j * np.asarray(loss, dtype=float)
     except ValueError:
         raise FitError(f"storage/loss: found shapes {np.shape(storage)} and {np.shape(loss)}, expected equal") from None
-    if freq.ndim != 1 or freq.size == 0 or not np.all(np.isfinite(freq)) or np.any(freq <= 0):
-        raise FitError("freq: expected a non-empty 1-D array of finite frequencies > 0 Hz")
+    if freq.ndim != 1:
+        raise FitError(f"freq: found shape {freq.shape}, expected a 1-D array of frequencies in Hz")
     band = check_band(band if band is not None else (freq.min(), freq.max() * (1 + 1e-12)))
     f_in, k_in = band_points(freq, value, band, "complex stiffness", min_points=2 * order + 2)
     _check_table_values(f_in, k_in, order, unit)

@@ -39,6 +39,7 @@ import math
 import numpy as np
 import scipy.optimize
 
+from idkit.checks import Reals, accepts
 from idkit.errors import FitError, Message, Suggestion
 from idkit.fit.result import INTERVAL_Z
 from idkit.models.laws import kernel_array, maxwell_states
@@ -96,6 +97,7 @@ def _solve(blocks, n_rates: int):
     return k0, stiffness, offsets, stderr
 
 
+@accepts(rates=Reals(unit="1/s", gt=0), error=FitError)
 def k0_with_relaxation(records, *, window: float = 1e-3, rates=RELAXATION_RATES) -> K0FromLoops:
     """Static stiffness from quasi-static records with the relaxation of the loops fitted (module docstring).
 
@@ -146,9 +148,7 @@ def k0_with_relaxation(records, *, window: float = 1e-3, rates=RELAXATION_RATES)
     """
     records = list(records)
     secant = k0_from_records(records, window=window)
-    rates = np.asarray(rates, dtype=float)
-    if rates.ndim != 1 or rates.size == 0 or not np.all(np.isfinite(rates) & (rates > 0)) \
-            or np.unique(rates).size != rates.size:
+    if rates.ndim != 1 or np.unique(rates).size != rates.size:
         raise FitError(f"rates: found {rates!r}, expected distinct positive relaxation rates in 1/s")
     blocks, names = [], []
     for index, record in enumerate(records, start=1):

@@ -114,6 +114,7 @@ class PhasePeaks:
             return np.fmax(self.acceleration_compression, self.acceleration_tension)
 
 
+@accepts(start=Whole(ge=0, meaning="sample index"), error=DataError)
 def drop_phase_peaks(deflection: ArrayLike, acceleration: ArrayLike, *, reference: ArrayLike | None = None,
                      start: int = 0) -> PhasePeaks:
     """Peak accelerations and travels of drop records in compression and in tension.
@@ -155,9 +156,9 @@ def drop_phase_peaks(deflection: ArrayLike, acceleration: ArrayLike, *, referenc
     a = np.asarray(acceleration, dtype=float)
     if x.shape != a.shape or x.ndim < 1:
         raise DataError(f"deflection and acceleration: found shapes {x.shape} and {a.shape}, expected equal (..., n)")
-    if not (0 <= int(start) < x.shape[-1]):
+    if start >= x.shape[-1]:
         raise DataError(f"start: found {start!r}, expected a sample index in [0, {x.shape[-1]})")
-    x, a = x[..., int(start):], a[..., int(start):]
+    x, a = x[..., start:], a[..., start:]
     ref = x[..., 0] if reference is None else np.broadcast_to(np.asarray(reference, dtype=float), x.shape[:-1])
     relative = x - ref[..., None]
     finite = np.isfinite(relative) & np.isfinite(a)
