@@ -12,13 +12,13 @@ from packaging.version import Version
 ROOT = Path(__file__).resolve().parents[1]
 
 # allowed idkit sub-packages each layer may import (one direction of flow); bottom to top:
-# io, signal, models | observe, simulate | synth, responses | fit | validate | studies (compute only) |
+# io, signal, models | observe, simulate (signal: the resonance search) | synth, responses | fit | validate | studies (compute only) |
 # plot (draws results, types from below) | report (renders and writes) | cli (parses and calls)
 LAYERS = {
     "io": {"io"},
     "signal": {"signal"},
     "models": {"models"},
-    "simulate": {"models", "simulate"},
+    "simulate": {"models", "signal", "simulate"},
     "observe": {"io", "signal", "observe"},
     "synth": {"models", "simulate", "io", "signal", "synth"},
     "responses": {"models", "simulate", "signal", "responses"},

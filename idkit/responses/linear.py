@@ -26,6 +26,7 @@ from scipy import optimize
 from idkit.checks import Instance, Real, Reals, Whole, accepts
 from idkit.errors import SimulationError
 from idkit.models import HybridSystem, IsolatorModel, SDOFSystem
+from idkit.signal.harmonics import search_resonance
 
 __all__ = [
     "LinearFrf",
@@ -190,7 +191,7 @@ def linear_resonance(system, *, f_min: float = 1e-2, f_max: float = 1e4, n_grid:
 
     The peak of ``|H|`` is located on a log grid of ``n_grid`` points over
     ``[f_min, f_max]`` Hz and refined by bounded Brent minimisation of ``-log|H|`` in
-    ``log f``; the half-power frequencies are roots of ``|H| - peak/sqrt(2)`` (brentq).
+    ``log f`` (:func:`idkit.signal.harmonics.search_resonance`); the half-power frequencies are roots of ``|H| - peak/sqrt(2)`` (brentq).
 
     Parameters
     ----------
@@ -218,19 +219,14 @@ def linear_resonance(system, *, f_min: float = 1e-2, f_max: float = 1e4, n_grid:
     def magnitude(freq):
         return np.abs(system.transmissibility(freq))
 
-    grid = np.geomspace(f_min, f_max, int(n_grid))
-    values = magnitude(grid)
-    index = int(np.argmax(values))
-    if index in (0, grid.size - 1):
+    found = search_resonance(magnitude, f_min=f_min, f_max=f_max, n_grid=n_grid)
+    grid, values, index = found.grid, found.values, found.index
+    if not found.inside:
         raise SimulationError(
             f"linear_resonance: |H| is largest at the end of the search range ({grid[index]:.6g} Hz of "
             f"[{f_min:.6g}, {f_max:.6g}] Hz), expected a peak inside it: the resonance lies outside the "
             "range (widen f_min, f_max) or the transmissibility has no peak")
-    low, high = np.log(grid[max(index - 1, 0)]), np.log(grid[min(index + 1, grid.size - 1)])
-    refined = optimize.minimize_scalar(lambda log_f: -np.log(magnitude(np.exp(log_f))), bounds=(low, high),
-                                       method="bounded", options={"xatol": 1e-12})
-    f_peak = float(np.exp(refined.x))
-    peak = float(magnitude(f_peak))
+    f_peak, peak = found.freq, found.peak
     level = peak / np.sqrt(2.0)
 
     def crossing(lo, hi):

@@ -5,7 +5,8 @@ measurement file, a model or a simulator. One concept per module:
 
 - :mod:`~idkit.signal.cycles` - quasi-static loops: reversals against the noise level, cycles,
   resampling (SPEC 4);
-- :mod:`~idkit.signal.harmonics` - stepped sine: harmonics, subharmonic, bias, HOSIDF (SPEC 5);
+- :mod:`~idkit.signal.harmonics` - stepped sine: harmonics, subharmonic, bias, HOSIDF (SPEC 5); the
+  peak of a response, sampled (:func:`resonance_peak`) or searched (:func:`search_resonance`);
 - :mod:`~idkit.signal.frf` - white-noise FRF estimators: H1, H2, coherence (SPEC 3);
 - :mod:`~idkit.signal.drop` - drop records: impact, shock peaks, peak deflection (SPEC 3, 5);
 - :mod:`~idkit.signal.srs` - shock response spectrum (Smallwood filter);
@@ -32,6 +33,8 @@ from idkit.signal.harmonics import (
     input_flatness,
     InputFlatness,
     resonance_peak,
+    ResonanceSearch,
+    search_resonance,
 )
 from idkit.signal.frf import (
     estimate_frf,
@@ -107,6 +110,7 @@ __all__ = [
     "resample_loops",
     "ResampledLoops",
     "resonance_peak",
+    "ResonanceSearch",
     "reversal_threshold",
     "rms_from_psd",
     "ShiftFactorCheck",
@@ -116,6 +120,7 @@ __all__ = [
     "shock_spectra",
     "ShockResponseSpectrum",
     "ShockSpectra",
+    "search_resonance",
     "smallwood_coefficients",
     "split_cycles",
     "STANDARD_GRAVITY",

@@ -13,6 +13,10 @@ of the response over the **first** harmonic of the input (the shaker input is no
 SPEC section 3). The input distortion (2nd and 3rd harmonic over the first) and the
 non-flat input amplitude over a sweep are reported too.
 
+The peak of a response: :func:`resonance_peak` on sampled values (a stepped-sine sweep, a
+harmonic map), :func:`search_resonance` on a magnitude that can be evaluated anywhere (a
+model's small-amplitude transmissibility).
+
 Complex amplitude convention: a signal is modelled as
 ``s(t) = bias + sum_k Re(C_k exp(i k omega t)) + Re(C_sub exp(i omega t / 2))`` with
 ``omega = 2 pi freq`` and ``t = n / fs`` the time of sample ``n`` counted from the **first
@@ -23,16 +27,17 @@ phase of the cosine.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
+from scipy import optimize
 
 from idkit.checks import Choice, Flag, Real, Reals, Samples, Whole, accepts, unchecked
-from idkit.errors import DataError
+from idkit.errors import DataError, ParameterError
 
 __all__ = [
     "HarmonicFit",
@@ -41,6 +46,8 @@ __all__ = [
     "fit_harmonics",
     "hosidf",
     "resonance_peak",
+    "ResonanceSearch",
+    "search_resonance",
     "input_flatness",
 ]
 
@@ -515,3 +522,69 @@ def resonance_peak(freq, magnitude) -> tuple[float, float]:
             if x[0] <= vertex <= x[2]:
                 return float(np.exp(vertex)), float(np.exp(np.polyval(coefficients, vertex)))
     return float(freq[index]), float(magnitude[index])
+
+
+@dataclass(frozen=True)
+class ResonanceSearch:
+    """The peak of a magnitude found by :func:`search_resonance`.
+
+    Attributes
+    ----------
+    freq : float
+        Peak frequency, Hz: refined, or the grid maximum (not refined, or at an end of the grid).
+    peak : float
+        The magnitude at ``freq``.
+    grid : ndarray
+        The log-spaced search grid, Hz (its ends exactly ``f_min`` and ``f_max``).
+    values : ndarray
+        The magnitude on ``grid``.
+    index : int
+        Index of the grid maximum.
+    """
+
+    freq: float
+    peak: float
+    grid: NDArray[np.float64]
+    values: NDArray[np.float64]
+    index: int
+
+    @property
+    def inside(self) -> bool:
+        """The grid maximum lies inside the grid: a peak was located (at an end, the magnitude
+        may rise beyond the searched band or have no peak)."""
+        return 0 < self.index < self.grid.size - 1
+
+
+@accepts(f_min=Real(unit="Hz", gt=0), f_max=Real(unit="Hz", gt=0),
+         n_grid=Whole(ge=3, meaning="a peak needs a sample on each side"), refine=Flag())
+def search_resonance(magnitude: Callable[[NDArray[np.float64]], NDArray[np.float64]], *, f_min: float,
+                     f_max: float, n_grid: int, refine: bool = True) -> ResonanceSearch:
+    """The largest value of ``magnitude(freq)`` over ``[f_min, f_max]`` Hz.
+
+    ``magnitude`` is evaluated on ``n_grid`` log-spaced frequencies (:func:`numpy.geomspace`);
+    with ``refine``, a maximum inside the grid is refined by bounded Brent minimisation of
+    ``-log magnitude`` in ``log f`` between the grid neighbours, to ``1e-12`` in ``log f``. A
+    maximum at an end of the grid is returned as it is (:attr:`ResonanceSearch.inside` false).
+
+    Examples
+    --------
+    >>> zeta, f_n = 0.05, 5.0
+    >>> def magnitude(f):
+    ...     r = np.asarray(f) / f_n
+    ...     return np.abs((1 + 2j * zeta * r) / (1 - r**2 + 2j * zeta * r))
+    >>> found = search_resonance(magnitude, f_min=0.1, f_max=100.0, n_grid=400)
+    >>> round(found.freq, 6), round(float(f_n * np.sqrt(np.sqrt(1 + 8 * zeta**2) - 1) / (2 * zeta)), 6)
+    (4.987608, 4.987608)
+    """
+    if not f_min < f_max:
+        raise ParameterError(f"f_min, f_max: found {f_min!r}, {f_max!r}, expected f_min < f_max in Hz")
+    grid = np.geomspace(f_min, f_max, n_grid)
+    values = magnitude(grid)
+    index = int(np.argmax(values))
+    if not refine or index in (0, grid.size - 1):
+        return ResonanceSearch(float(grid[index]), float(values[index]), grid, values, index)
+    refined = optimize.minimize_scalar(lambda log_f: -np.log(magnitude(np.exp(log_f))),
+                                       bounds=(np.log(grid[index - 1]), np.log(grid[index + 1])),
+                                       method="bounded", options={"xatol": 1e-12})
+    freq = float(np.exp(refined.x))
+    return ResonanceSearch(freq, float(magnitude(freq)), grid, values, index)
