@@ -20,7 +20,7 @@
   tabulates Iwan against Bouc-Wen set by set.
 - :func:`fit_boucwen_output` - the force-driven Bouc-Wen oscillator fitted to a
   time record by output (simulation) error, with standard errors.
-- :mod:`idkit.fit.measurements` - the same fits on measurement sets
+- :mod:`idkit.fit.measurement_level` - the same fits on measurement sets
   (:func:`fit_iwan_measurements`, :func:`fit_maxwell_measurements` on one
   :class:`ElastomerData` (:mod:`idkit.fit.elastomer_data`), :func:`fit_boucwen_measurements`),
   returning a :class:`MeasurementFit` (:mod:`idkit.fit.measurement_fit`) with provenance and
@@ -65,7 +65,7 @@ from idkit.fit.orders import ORDER_RULE_FACTOR
 from idkit.fit.dma import DmaFit, PronyFit, fit_dma_table, fit_prony
 from idkit.fit.elastomer_data import ElastomerData, elastomer_data
 from idkit.fit.measurement_fit import MeasurementFit
-from idkit.fit.measurements import fit_boucwen_measurements, fit_iwan_measurements, fit_maxwell_measurements
+from idkit.fit.measurement_level import fit_boucwen_measurements, fit_iwan_measurements, fit_maxwell_measurements
 from idkit.fit.maxwell_result import CrossCheck, MaxwellFitResult, MaxwellFitSettings
 from idkit.fit.result import BoucWenFitResult, BoucWenFitSettings, IwanFitResult, IwanFitSettings, IwanStart, StageResult
 from idkit.io.selection import DataProvenance

@@ -197,7 +197,7 @@ def fit_modulated_iwan(histories: Sequence[ForceHistory], *, start: CandidateFit
                        orders: Sequence[int] = IWAN_ORDERS, points_per_set: int | None = LOOP_POINTS_PER_SET
                        ) -> CandidateFit:
     """The slip-modulated Iwan family, ordered as ``fit iwan --family modulated`` orders it (one
-    order rule, :func:`~idkit.fit.measurements.choose_iwan_family`): the modulation stage
+    order rule, :func:`~idkit.fit.family.choose_iwan_family`): the modulation stage
     (:func:`~idkit.fit.fit_iwan_modulated`) from the lowest plain fit (the plain family's, computed
     once), elements added by continuation in the order up to ``max(orders)`` until a fit succeeds
     with every parameter determined, else the order rule over the chain; with ``start``, the stage

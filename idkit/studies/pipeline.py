@@ -45,7 +45,7 @@ from idkit.fit import maxwell_order_table
 from idkit.forked import Forked, fork_call
 from idkit.fit.data_set_checks import VALID_RANGE_MARGIN, data_valid_range
 from idkit.fit.measurement_fit import MeasurementFit
-from idkit.fit.measurements import fit_boucwen_measurements, fit_iwan_measurements, fit_maxwell_measurements
+from idkit.fit.measurement_level import fit_boucwen_measurements, fit_iwan_measurements, fit_maxwell_measurements
 from idkit.fit.predictions import LoopFitPrediction, predict_loops
 from idkit.io.discover import default_data_dir, find_measurement_sets
 from idkit.models import GeneralizedMaxwell, HybridSystem, IwanModel

@@ -217,7 +217,7 @@ def test_iwan_order_table_shows_the_fit_the_model_is():
     assert chosen["error_small_percent"].iloc[0] == 100 * fit.result.error_small
     assert chosen["error_large_percent"].iloc[0] == 100 * fit.result.error_large
     assert chosen["stuck_stiffness [N/m]"].iloc[0] == fit.model.stuck_stiffness
-    from idkit.fit.measurements import VALID_RANGE_FIT
+    from idkit.fit.measurement_level import VALID_RANGE_FIT
 
     assert chosen["order"].iloc[0] == fit.model.order and chosen["fit"].iloc[0] == VALID_RANGE_FIT
     # the rule's candidates are the loops' own fits, one per order

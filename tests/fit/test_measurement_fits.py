@@ -107,13 +107,13 @@ def test_sweeps_without_a_resonance_inside_leave_c_visc_0_and_say_why(monkeypatc
     """A failed damping identification does not fail the loop fit; the fit says why c_visc is 0."""
     from pathlib import Path
 
-    from idkit.fit import measurements as fit_measurements
+    from idkit.fit import measurement_level
     from idkit.io import load_measurement_set
 
     def no_resonance(model, sweeps, level):
         raise FitError("level 0.12: the measured |H1| peaks at the edge of the sweep (3 Hz)")
 
-    monkeypatch.setattr(fit_measurements, "fit_viscous_damping", no_resonance)
+    monkeypatch.setattr(measurement_level, "fit_viscous_damping", no_resonance)
     data = load_measurement_set(Path(__file__).resolve().parents[2] / "data" / "wire_rope")
     fit = fit_iwan_measurements(data, order=2)
     assert fit.damping is None and fit.model.c_visc == 0.0
