@@ -46,7 +46,6 @@ FAMILY_DIMENSIONS = {
     "wire_rope": ("cable_diameter_m", "loops", "height_m", "width_m"),
     "elastomer": ("area_m2", "thickness_m", "shape_factor", "compound"),
 }
-STATUSES = ("identified", "not a success", "failed")
 
 
 def read_part(folder) -> dict:

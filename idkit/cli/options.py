@@ -177,7 +177,7 @@ def check_grid_size(axes, max_points: int, *, limit_option: str = "--max-points"
     """Refuse a grid of more than ``max_points`` points, before it is allocated."""
     total = math.prod(axis.size for axis in axes)
     if total > max_points:
-        # 1e300 points printed as an int were 301 digits
+        # sizes beyond 10^9 in exponent notation (a huge count has hundreds of digits)
         sizes = " x ".join(f"{axis.size if axis.size < 10**9 else f'{axis.size:.4g}'} ({axis.option})" for axis in axes)
         raise OptionError(f"{' and '.join(a.option for a in axes)}: the grid has {sizes} = {total:.4g} points, "
                           f"expected at most {limit_option} {max_points} " + (

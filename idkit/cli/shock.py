@@ -41,7 +41,7 @@ def _cmd_shock(args) -> None:
         drops = args.layout == "csv" and all(is_drop_record_file(path) for path in inputs)
         args.offset = "none" if drops else "pre-trigger"
     records = [_read(path, args.layout) for path in args.files]
-    # --points applies to the default band too (it was ignored there: always 60)
+    # --points sets the default band's count too
     freq = (None if args.freq_min is None else
             np.logspace(np.log10(args.freq_min), np.log10(args.freq_max), args.points))
     base = _read(args.input, args.layout) if args.input else None

@@ -218,8 +218,8 @@ class ShiftFactorTable:
         if temperature.size != log_a_t.size or temperature.size == 0:
             raise DataError(f"{self.source.where()}: found {temperature.size} temperatures and "
                             f"{log_a_t.size} shift factors, expected equal non-zero counts")
-        # master_curve takes the nearest temperature's shift factor: of a repeated one, the first row
-        # won and the other was ignored without a word (70 C given as -8.2 and 3.0)
+        # master_curve takes the nearest temperature's shift factor: a repeated temperature would
+        # silently keep one of its rows
         order = np.argsort(temperature, kind="stable")
         repeated = np.flatnonzero(np.diff(temperature[order]) == 0)
         if repeated.size:

@@ -110,7 +110,7 @@ def init_manifest(folder, *, kind: str, files: str | None = None, metadata: dict
     listed = {entry["file"] for entry in existing.get("measurements", [])}
     pattern = "**/*" if files is None else files
     parts = Path(pattern).parts
-    if not parts or Path(pattern).is_absolute() or ".." in parts:  # pathlib refuses '' and '/...' with a traceback
+    if not parts or Path(pattern).is_absolute() or ".." in parts:  # pathlib's glob refuses '' and '/...'
         raise DataError(f"files: found {pattern!r}, expected a glob pattern relative to the folder '{folder}' "
                         "and inside it (e.g. 'drops/*.csv')")
     found = sorted(p for p in folder.glob(pattern) if p.is_file() and p.name.endswith(DATA_SUFFIXES))

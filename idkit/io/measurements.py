@@ -10,7 +10,7 @@ raise :class:`~idkit.errors.DataError` naming the source file, column and
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
@@ -137,7 +137,7 @@ def check_excitation_resolved(measurement) -> None:
 
     A stepped-sine frequency must lie below the Nyquist frequency (half the sample rate read off the
     time column: at or above it the sine aliases or has no resolved phase); a white-noise band may
-    end at it. ``idkit data init --band 1 1e300`` and ``--freq 1e300`` were written as stated.
+    end at it.
 
     Raises
     ------
@@ -444,12 +444,6 @@ def measurement_class(kind: str) -> type:
         return _CLASSES[kind]
     except (KeyError, TypeError):
         raise DataError(f"unknown kind {kind!r}; expected one of {', '.join(_CLASSES)}") from None
-
-
-def signal_field_names(kind: str) -> tuple[str, ...]:
-    """Names of the signal fields of a kind, in column order."""
-    cls = measurement_class(kind)
-    return tuple(f.name for f in fields(cls) if f.name in cls._signals)
 
 
 @dataclass(frozen=True, eq=False)

@@ -194,10 +194,10 @@ def condition_shock(record: AccelerationRecord, *, offset: str = "pre-trigger", 
             raise DataError(f"lowpass_hz: found {lowpass_hz!r}, expected a cut-off in (0, {fs / 2:g}) Hz "
                             f"(below the Nyquist frequency of {_where(record)})")
         span = float(record.time[-1] - record.time[0])
-        if lowpass_hz * span < 1.0:  # 10 Hz on a 20 ms record: "peak" 0.4 of 100 m/s^2, duration the whole record
+        if lowpass_hz * span < 1.0:  # a cut-off period longer than the record smooths the shock away
             raise DataError(f"lowpass_hz: found {lowpass_hz!r}, below 1 / record length = {1.0 / span:.6g} Hz "
                             f"({_where(record)}, {span:.6g} s): a cut-off whose period exceeds the record leaves only "
-                            f"its mean and trend (below 1e-5 Hz the filter design was singular); expected a cut-off "
+                            f"its mean and trend; expected a cut-off "
                             f"in [{1.0 / span:.6g}, {fs / 2:g}) Hz")
         sos = sps.butter(int(filter_order), lowpass_hz, fs=fs, output="sos")
         accel = sps.sosfiltfilt(sos, accel, axis=0)
