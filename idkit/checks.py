@@ -39,8 +39,8 @@ import numpy as np
 from idkit.errors import ParameterError
 from idkit.limits import SMALLEST_NORMAL
 
-__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Samples", "Seed", "Instance", "accepts", "unchecked", "refuse",
-           "DECLARED", "Contract", "OptionValueError"]
+__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Samples", "Seed", "Instance", "Either", "accepts",
+           "unchecked", "refuse", "DECLARED", "Contract", "OptionValueError"]
 
 #: Values that ``float()`` converts but that are not numbers.
 _NOT_NUMBERS = (bool, np.bool_, str, bytes)
@@ -423,6 +423,37 @@ class Instance(Spec):
 
     def bad_values(self) -> list:
         return super().bad_values() + ["abc", 3.0]
+
+
+@dataclass(frozen=True)
+class Either(Spec):
+    """A value one of ``specs`` accepts, coerced by the first that does (an order or ``"auto"``:
+    ``Either((Whole(ge=1), Choice(("auto",))))``)."""
+
+    specs: tuple = ()
+    optional: bool = False
+
+    def expected(self) -> str:
+        return " or ".join(spec.expected() for spec in self.specs)
+
+    def coerce(self, value: Any) -> Any:
+        for spec in self.specs:
+            try:
+                return spec.coerce(value)
+            except _Refused:
+                continue
+        raise _Refused(_found(value), self.expected())
+
+    def bad_values(self) -> list:
+        def refused(value) -> bool:
+            try:
+                self.coerce(value)
+            except _Refused:
+                return True
+            return False
+
+        candidates = super().bad_values() + [bad for spec in self.specs for bad in spec.bad_values()]
+        return [bad for bad in candidates if (not self.optional if bad is None else refused(bad))]
 
 
 @dataclass(frozen=True)

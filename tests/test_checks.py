@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import idkit
-from idkit.checks import DECLARED, Choice, Flag, Real, Samples, Seed, Whole, accepts
+from idkit.checks import DECLARED, Choice, Either, Flag, Real, Samples, Seed, Whole, accepts
 from idkit.errors import DataError, ParameterError
 
 for _module in pkgutil.walk_packages(idkit.__path__, "idkit."):
@@ -87,3 +87,11 @@ def test_defaults_are_trusted_and_given_values_reach_the_body_coerced():
         return text * count
 
     assert repeat("ab") == "abab" and repeat("ab", count=3.0) == "ababab"
+
+
+def test_either_takes_the_first_spec_that_accepts_and_names_both_expectations():
+    spec = Either((Whole(ge=1), Choice(("auto",))))
+    assert spec.check("auto", "order") == "auto" and spec.check(3.0, "order") == 3
+    with pytest.raises(ParameterError, match=r"^order: found 0, expected a whole number >= 1 or one of 'auto'$"):
+        spec.check(0, "order")
+    assert "auto" not in spec.bad_values() and 2.5 in spec.bad_values() and None in spec.bad_values()

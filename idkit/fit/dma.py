@@ -24,8 +24,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from idkit.checks import Real, Whole, accepts
+from idkit.checks import Choice, Either, Flag, Real, Whole, accepts
 from idkit.errors import FitError
+from idkit.fit.maxwell import ORDER
 from idkit.fit.maxwell_table import fit_complex_stiffness
 from idkit.fit.measurement_fit import _jsonable
 from idkit.fit.maxwell_result import MaxwellFitResult
@@ -331,6 +332,8 @@ class DmaFit:
         return save_model(self.model, path, provenance=self.provenance_dict(), overwrite=overwrite)
 
 
+@accepts(order=Either((ORDER, Choice(("auto",)))), reference_temperature_k=Real(unit="K", gt=0, optional=True),
+         use_given_shift_factors=Flag(), max_order=Whole(ge=1, optional=True), error=FitError)
 def fit_dma_table(table: ComplexStiffnessTable, *, order: int | str = "auto",
                   reference_temperature_k: float | None = None,
                   shift_factors: ShiftFactorTable | None = None, use_given_shift_factors: bool = False,
@@ -410,10 +413,9 @@ def fit_dma_table(table: ComplexStiffnessTable, *, order: int | str = "auto",
         prony = fit_complex_stiffness(master.freq, master.storage, master.loss, order=order,
                                       quantity=master.quantity, **options)
         if order > 1 and "start" not in options:
-            # one SQP from the seeded default start can stop in a poorer local minimum (pyvisco's
-            # master curve at order 3: 26.6 % and "success" with seed 3, 20.4 % with seeds 0-2 and
-            # 4): also climb to the order as the pruning does, each order from the last optimum,
-            # and keep the better of the two
+            # one SQP from the seeded default start can stop in a poorer local minimum: also climb
+            # to the order as the pruning does, each order from the last optimum, and keep the
+            # better of the two
             nested = _nested_fits(master.freq, master.storage, master.loss, range(1, order + 1), master.quantity,
                                   options)[order]
             if nested.error < prony.error:

@@ -96,7 +96,11 @@ _STAGE_FREE = {
 }
 
 
-@accepts(order=Whole(ge=1, meaning="Jenkin elements"), backend=BACKEND, initial_state=INITIAL_STATE,
+#: An Iwan fit's order.
+IWAN_ORDER = Whole(ge=1, meaning="Jenkin elements")
+
+
+@accepts(order=IWAN_ORDER, backend=BACKEND, initial_state=INITIAL_STATE,
          stage2_starts=Whole(ge=1), error=FitError)
 def fit_iwan(
     small,

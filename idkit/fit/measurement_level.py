@@ -23,10 +23,9 @@ from __future__ import annotations
 
 import dataclasses
 
-import numpy as np
 import pandas as pd
 
-from idkit.checks import Choice, accepts
+from idkit.checks import Choice, Either, accepts
 from idkit.errors import DataError, FitError
 from idkit.fit.boucwen import fit_boucwen
 from idkit.fit.compare import iwan_order_fits, iwan_order_row, maxwell_order_table
@@ -41,9 +40,9 @@ from idkit.fit.data_set_checks import (
 from idkit.fit.elastomer_data import elastomer_data
 from idkit.fit.family import IWAN_FAMILIES, choose_iwan_family
 from idkit.fit.frf_resolution import resolution_checks
-from idkit.fit.iwan import fit_iwan
+from idkit.fit.iwan import IWAN_ORDER, fit_iwan
 from idkit.fit.iwan_start import smallest_branch_secant
-from idkit.fit.maxwell import fit_maxwell
+from idkit.fit.maxwell import ORDER, fit_maxwell
 from idkit.fit.measurement_fit import MeasurementFit
 from idkit.fit.model_form import record_floor_reasons
 from idkit.io.selection import ONLY_ISOLATOR, resolve_isolator, select_measurements
@@ -59,7 +58,8 @@ VALID_RANGE_FIT = "valid-range refit"
 
 
 
-@accepts(family=Choice(IWAN_FAMILIES), error=FitError)  # small_threshold, backend: loop_sets, fit_iwan
+# small_threshold, backend: declared by loop_sets and fit_iwan
+@accepts(order=Either((IWAN_ORDER, Choice(("auto",)))), family=Choice(IWAN_FAMILIES), error=FitError)
 def fit_iwan_measurements(
     measurements,
     *,
@@ -169,8 +169,6 @@ def fit_iwan_measurements(
                                                   **free_options)
         order = int(order_table.loc[order_table["recommended"], "order"].iloc[0])
         result = order_fits[order]  # the table's own fit of that order (same sets and options)
-    elif isinstance(order, str):
-        raise FitError(f"order: found {order!r}, expected an integer >= 1 or 'auto'")
     else:
         result = fit_iwan(list(data.small), list(data.large), order=order, backend=backend, seed=seed,
                           **free_options)
@@ -304,6 +302,7 @@ def fit_boucwen_measurements(
                           checks=_above_the_noise_floor(result, measurements, isolator, split))
 
 
+@accepts(order=Either((ORDER, Choice(("auto",)))), error=FitError)
 def fit_maxwell_measurements(
     measurements,
     *,
@@ -359,9 +358,7 @@ def fit_maxwell_measurements(
         order_table = maxwell_order_table(list(data.frfs), k0=data.k0, band=band, backend=backend, seed=seed,
                                           **options)
         order = int(order_table.loc[order_table["recommended"], "order"].iloc[0])
-    elif isinstance(order, str) or not (isinstance(order, (int, np.integer)) and order >= 1):
-        raise FitError(f"order: found {order!r}, expected an integer >= 1 or 'auto'")
-    result = fit_maxwell(list(data.frfs), k0=data.k0, k0_stderr=data.k0_stderr, order=int(order), band=band,
+    result = fit_maxwell(list(data.frfs), k0=data.k0, k0_stderr=data.k0_stderr, order=order, band=band,
                          backend=backend, cross_check=cross_check, seed=seed, **options)
     return MeasurementFit(kind="maxwell", result=result, data=data, provenance=data.provenance, k0=data.k0_estimate,
                           checks=resolution_checks(data.frfs, result.model),
