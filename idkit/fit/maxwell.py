@@ -79,6 +79,8 @@ __all__ = ["fit_maxwell", "fit_voigt", "LOSS_RULE_FACTOR"]
 
 #: The declared arguments the Maxwell fits share (:mod:`idkit.checks`).
 ORDER = Whole(ge=1, meaning="Maxwell elements")
+#: The static stiffness a transmissibility fit starts from.
+K0 = Real(unit="N/m", gt=0, meaning="static stiffness, see estimate_k0")
 GLOBAL_METHOD = Choice(("isres", "differential_evolution"), optional=True)
 LOSS_GRID_POINTS = Whole(ge=2)
 _AT_BOUND = 1e-6  # scaled distance to a bound below which a parameter is "at the bound"
@@ -543,8 +545,6 @@ def _frf_problem(frfs, *, model, order, k0, band, stiffness_bounds, rate_bounds,
     if sum(f.size for f, _, _ in parts) <= n_params:
         raise FitError(f"frfs: found {sum(f.size for f, _, _ in parts)} points in the band, "
                        f"expected more than the {n_params} parameters")
-    if not (k0 is not None and math.isfinite(k0) and k0 > 0):
-        raise FitError(f"k0: found {k0!r}, expected a positive static stiffness in N/m (see estimate_k0)")
     if m_eff_max is None:
         m_eff_max = isolator_mass if isolator_mass is not None else 0.5 * min(item.mass for item in sets)
     if not (math.isfinite(m_eff_max) and m_eff_max > 0):
@@ -572,7 +572,7 @@ def _frf_problem(frfs, *, model, order, k0, band, stiffness_bounds, rate_bounds,
     return problem, band
 
 
-@accepts(order=ORDER, backend=BACKEND, global_method=GLOBAL_METHOD, loss_grid_points=LOSS_GRID_POINTS,
+@accepts(k0=K0, order=ORDER, backend=BACKEND, global_method=GLOBAL_METHOD, loss_grid_points=LOSS_GRID_POINTS,
          monotone_loss=Choice((True, False, "auto")), k0_stderr=Real(unit="N/m", ge=0, optional=True), error=FitError)
 def fit_maxwell(
     frfs,
@@ -726,7 +726,7 @@ def _better(result, other):
     return other
 
 
-@accepts(backend=BACKEND, global_method=GLOBAL_METHOD, error=FitError)
+@accepts(k0=K0, backend=BACKEND, global_method=GLOBAL_METHOD, error=FitError)
 def fit_voigt(
     frfs,
     *,
