@@ -79,9 +79,8 @@ IWAN_ORDERS = (1, 2, 3, 4, 5, 6)
 #: training error is far below the floor, so the true family keeps a margin of 1.7.
 EARLY_STOP_FACTOR = 2.0
 #: Least-squares iterations of a pinched Bouc-Wen screen (its first start only, thinned records; each
-#: iteration also evaluates a finite-difference Jacobian, eight evaluations): an evaluation costs
-#: tens of ms on short records and up to a second where a wrong fit drives ``z`` stiff (the pinched
-#: law's sub-steps). 10: on the pinched rope (seeds 1-3) the screen ends at the noise floor as 30 do.
+#: iteration also evaluates a finite-difference Jacobian, eight evaluations): enough for the true
+#: family's screen to end at its noise floor (docs/fitting.md, "Stopping wrong families early").
 PINCHED_SCREEN_EVALS = 10
 #: Evaluations per local stage of a Bouc-Wen screen (no global search, no restarts, 100-point loops).
 BOUCWEN_SCREEN_EVALS = 200

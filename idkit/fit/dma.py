@@ -47,8 +47,7 @@ __all__ = ["PRUNE_FACTOR", "DmaFit", "PronyFit", "default_max_order", "fit_dma_t
 
 #: Pruning rule: the fewest terms whose RMS relative error is at most this factor times the
 #: smallest error of the order table (a stated choice: a further 10 % of the error is not worth
-#: the terms that buy it; on pyvisco's isotherms the table flattens from 2.0 % at 20 terms
-#: to 1.93 % at 25, and the last 9 % down to 1.75 % needs terms beyond the data).
+#: the terms that buy it; docs/real-data.md).
 PRUNE_FACTOR = 1.10
 #: Highest order tried by default: this many terms per decade of the data's frequency span, plus one.
 TERMS_PER_DECADE = 1.0

@@ -334,11 +334,9 @@ class RateDependentDamper:
         return asdict(self)
 
 
-#: The devices of issue 32.5 with parameters of a small friction damper / rope (SI units). Under
-#: :func:`protocol_records` (seed 1, 3 N noise) today's families (plain Iwan, Bouc-Wen) fit the
-#: Jenkin and Bouc-Wen devices to their noise floor and the other three not: the clearance damper
-#: 32-39 % training error, the pinched rope 8-10 %, the rate-dependent damper 15-17 % (both
-#: families not a success; held-out strong-motion error 4-27 x the noise floor).
+#: The element-identification devices with parameters of a small friction damper / rope (SI units):
+#: the plain Iwan and Bouc-Wen families fit the first two to their noise floor and miss the other
+#: three (docs/elements.md).
 DEVICES = {
     "jenkin": JenkinDevice(parallel_stiffness=2.0e4, stiffness=(1.5e5, 4.0e4), slip_force=(60.0, 200.0)),
     "boucwen": BoucWenDevice(k1=2.0e4, alpha=2.0e5, beta=800.0, gamma=400.0),
