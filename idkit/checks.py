@@ -294,26 +294,42 @@ class Reals(Spec):
         array = array.astype(np.float64, copy=False)
         if array.size < self.min_size or (self.max_size is not None and array.size > self.max_size):
             raise _Refused(f"{array.size} values", self.expected())
-        outside = ~np.isfinite(array)
-        for bound, refused in ((self.gt, np.less_equal), (self.ge, np.less), (self.lt, np.greater_equal),
-                               (self.le, np.greater)):
-            if bound is not None:
-                with np.errstate(invalid="ignore"):
-                    outside |= refused(array, bound)
-        if outside.any():
+        if not self._inside(array):
+            outside = ~np.isfinite(array)
+            for bound, refused in ((self.gt, np.less_equal), (self.ge, np.less), (self.lt, np.greater_equal),
+                                   (self.le, np.greater)):
+                if bound is not None:
+                    with np.errstate(invalid="ignore"):
+                        outside |= refused(array, bound)
             index = tuple(int(i) for i in np.unravel_index(int(np.argmax(outside)), array.shape))
             where = f" at index {index[0] if len(index) == 1 else index}" if index else ""
             raise _Refused(f"{float(array[index])!r}{where}", self.expected())
         if self.increasing:
             if array.ndim > 1:
                 raise _Refused(f"an array of shape {array.shape}", self.expected())
-            steps = np.flatnonzero(np.diff(array) <= 0) if array.ndim else np.zeros(0, dtype=int)
+            steps = np.flatnonzero(np.diff(array) <= 0) if array.ndim and not (array[1:] > array[:-1]).all() \
+                else np.zeros(0, dtype=int)
             if steps.size:
                 raise _Refused(f"{float(array[steps[0] + 1])!r} at index {steps[0] + 1} not above its predecessor",
                                self.expected())
         view = array.view()
         view.setflags(write=False)
         return view
+
+    def _inside(self, array: np.ndarray) -> bool:
+        """Every value finite and within the bounds (the common case, without a per-value mask: a
+        finite sum has no NaN or inf terms; the extremes decide the bounds)."""
+        if array.size == 0:
+            return True
+        if not math.isfinite(float(array.sum())):  # NaN, inf, or finite values whose sum overflows
+            return bool(np.isfinite(array).all()) and self._inside_bounds(array)
+        return self._inside_bounds(array)
+
+    def _inside_bounds(self, array: np.ndarray) -> bool:
+        low = float(array.min()) if self.gt is not None or self.ge is not None else None
+        high = float(array.max()) if self.lt is not None or self.le is not None else None
+        return ((self.gt is None or low > self.gt) and (self.ge is None or low >= self.ge)
+                and (self.lt is None or high < self.lt) and (self.le is None or high <= self.le))
 
     def bad_values(self) -> list:
         bad = super().bad_values() + ["abc", [1.0, math.nan], True, [[1.0, math.inf]]]
@@ -369,7 +385,8 @@ class Samples(Spec):
         array = array.astype(np.float64, copy=False)
         if array.shape[-1] < self.min_size:
             raise _Refused(f"{array.shape[-1]} samples", self.expected())
-        if self.finite and not np.all(np.isfinite(array)):
+        # a finite sum has no NaN or inf terms (an overflowing one is looked at value by value)
+        if self.finite and not (math.isfinite(float(array.sum())) or np.isfinite(array).all()):
             raise _Refused("NaN or inf", self.expected())
         view = array.view()
         view.setflags(write=False)
