@@ -65,14 +65,12 @@ def _path(deflection, time) -> tuple[np.ndarray, np.ndarray]:
 
 def _positive(**values) -> None:
     for name, value in values.items():
-        if not (math.isfinite(value) and value > 0):
-            raise ParameterError(f"{name}: found {value!r}, expected a finite positive value")
+        Real(gt=0).check(value, name)
 
 
 def _non_negative(**values) -> None:
     for name, value in values.items():
-        if not (math.isfinite(value) and value >= 0):
-            raise ParameterError(f"{name}: found {value!r}, expected a finite value >= 0")
+        Real(ge=0).check(value, name)
 
 
 @dataclass(frozen=True)
