@@ -22,6 +22,7 @@ from pathlib import Path, PurePosixPath
 
 import pandas as pd
 
+from idkit.checks import Choice, Real, accepts
 from idkit.errors import DataError
 from idkit.inputfiles import load_json, read_input_bytes
 from idkit.atomic import write_bytes_atomic
@@ -366,6 +367,8 @@ class MeasurementSet:
                 return measurement
         raise KeyError(f"no measurement with id {measurement_id!r}; ids: {', '.join(self.ids)}")
 
+    @accepts(kind=Choice(KINDS, optional=True), top_mass_kg=Real(unit="kg", gt=0, optional=True),
+             mass_tol_kg=Real(unit="kg", ge=0), error=DataError)
     def select(self, *, kind: str | None = None, isolator: str | None = None,
                split: str | None = None, top_mass_kg: float | None = None,
                mass_tol_kg: float = 1e-9) -> MeasurementSet:
@@ -385,8 +388,6 @@ class MeasurementSet:
         MeasurementSet
             Possibly empty; same folder and manifest hash.
         """
-        if kind is not None and kind not in KINDS:
-            raise DataError(f"select: unknown kind {kind!r}; expected one of {', '.join(KINDS)}")
 
         def keep(entry: ManifestEntry) -> bool:
             info = entry.info
