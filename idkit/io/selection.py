@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from idkit.checks import Choice, accepts
 from idkit.errors import DataError, Message, Suggestion
 from idkit.io.info import SPLITS
 from idkit.io.manifest import MANIFEST_NAME, MeasurementSet
@@ -87,6 +88,7 @@ class DataProvenance:
                               selection={**other.selection, "kind": kind})
 
 
+@accepts(split=Choice((*SPLITS, "all"), optional=True), error=DataError)
 def split_option(split: str | None) -> str | None:
     """The ``split`` criterion of a selection: ``"fit"``, ``"validation"``, or None for all.
 
@@ -99,21 +101,12 @@ def split_option(split: str | None) -> str | None:
     -------
     str or None
 
-    Raises
-    ------
-    DataError
-        Any other value.
-
     Examples
     --------
     >>> split_option("all") is None, split_option("fit")
     (True, 'fit')
     """
-    if split in (None, "all"):
-        return None
-    if split not in SPLITS:
-        raise DataError(f"split: found {split!r}, expected one of {', '.join(SPLITS)} or None/'all'")
-    return split
+    return None if split == "all" else split
 
 
 def _everything(data) -> list:

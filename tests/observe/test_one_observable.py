@@ -17,7 +17,7 @@ from idkit.fit.elastomer_data import elastomer_data
 from idkit.io import MeasurementInfo, QuasiStaticMeasurement, WhiteNoiseMeasurement, write_measurement_set
 from idkit.io import load_measurement_set
 from idkit.io.manifest import MANIFEST_NAME
-from idkit.io.selection import select_measurements, split_option
+from idkit.io.selection import select_measurements
 from idkit.models import IwanModel, library
 from idkit.observe.quasi_static import prepare_loops, process_quasi_static
 from idkit.observe.white_noise import FRF_RESOLUTION_HZ, frf_from_white_noise
@@ -134,8 +134,6 @@ def test_selection_is_typed_and_reuses_the_set_hashes(tmp_path):
         select_measurements("data/elastomer", kind="white_noise", isolator=None, split=None)
     with pytest.raises(DataError, match=r"available \(kind, isolator, split\)"):
         select_measurements(loaded, kind="drop", isolator=None, split=None)
-    with pytest.raises(DataError, match="split"):
-        split_option("train")
 
 
 def test_elastomer_data_selects_once_and_the_fit_carries_the_k0_uncertainty():
