@@ -28,7 +28,7 @@ relaxation fit's ``k0`` is not positive, or its 95 % interval ``k0 +- 1.96 stder
 (the verdicts' rule for a positive parameter, :data:`~idkit.fit.result.INTERVAL_Z`). Sinusoidal
 loops of one amplitude and frequency per record, the common lab practice, do that: a slow basis
 element is a spring over a sine's period, so the NNLS may put the whole stiffness in it and leave
-``k0 = 0``; such a set was refused before.
+``k0 = 0``.
 """
 
 from __future__ import annotations
