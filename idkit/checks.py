@@ -461,6 +461,16 @@ class Either(Spec):
                 continue
         raise _Refused(_found(value), self.expected())
 
+    def parse(self, text: str) -> Any:
+        """An argparse ``type=``: ``text`` as the first spec reads it (a :class:`Choice` takes the text
+        itself, the others their :meth:`Spec.parse`), else :class:`OptionValueError`."""
+        for spec in self.specs:
+            try:
+                return spec.coerce(text) if isinstance(spec, Choice) else spec.parse(text)
+            except (_Refused, OptionValueError):
+                continue
+        raise OptionValueError(f"found {text!r}, expected {self.expected()}")
+
     def bad_values(self) -> list:
         def refused(value) -> bool:
             try:

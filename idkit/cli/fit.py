@@ -12,6 +12,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from idkit.checks import Choice, Either, Whole
 from idkit.cli import options as opt
 from idkit.errors import IdkitError
 
@@ -263,20 +264,11 @@ def _common(parser, *, loops: bool) -> None:
                                  "(recorded in the model file's provenance; default: fit the data as measured)")
 
 
-# More elements than the data identify only slow the fit down (order 100000 never ends).
-_ORDER = opt.integer(at_most=opt.MAX_ORDER, why="each order adds two parameters the data do not identify")
-
-
-def _maxwell_order(value: str):
-    """``--order`` of the Maxwell fit: an integer order (a Prony series may need one a decade) or ``auto``."""
-    if value == "auto":
-        return "auto"
-    return opt.integer(at_most=opt.MAX_DMA_ORDER, why="one term a decade covers any measured master curve")(value)
-
-
-def _iwan_order(value: str):
-    """``--order`` of the Iwan fit: an integer order or ``auto``."""
-    return "auto" if value == "auto" else _ORDER(value)
+# ``--order``: an order or ``auto``; more elements than the data identify only slow the fit down
+_iwan_order = Either((Whole(ge=1, le=opt.MAX_ORDER, meaning="each order adds two parameters the data do not identify"),
+                      Choice(("auto",)))).parse
+_maxwell_order = Either((Whole(ge=1, le=opt.MAX_DMA_ORDER, meaning="one term a decade covers any measured master curve"),
+                         Choice(("auto",)))).parse
 
 
 def register(subparsers) -> None:
