@@ -7,9 +7,11 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from idkit.checks import Instance, accepts
+from idkit.errors import DataError
 from idkit.signal.drop import DropResult, process_drop
 from idkit.io import DropMeasurement
-from idkit.observe._common import MeasuredRecord, _require
+from idkit.observe._common import MeasuredRecord
 
 
 @dataclass(frozen=True)
@@ -55,6 +57,7 @@ class DropMeasurementResult(MeasuredRecord):
         return table
 
 
+@accepts(measurement=Instance((DropMeasurement,)), error=DataError)
 def process_drop_measurement(measurement: DropMeasurement, *, window: int = 5,
                              impact_fraction: float = 0.5) -> DropMeasurementResult:
     """Process one drop test (SPEC 3): mean of the two accelerometers, zero-phase 5-sample
@@ -77,7 +80,6 @@ def process_drop_measurement(measurement: DropMeasurement, *, window: int = 5,
     -------
     DropMeasurementResult
     """
-    _require(measurement, DropMeasurement, "process_drop_measurement")
     result = process_drop(measurement.time, measurement.deflection,
                           np.vstack([measurement.a_top_1, measurement.a_top_2]),
                           relative_velocity=measurement.v_rel,

@@ -31,11 +31,10 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from idkit.checks import Real, Whole, accepts
+from idkit.checks import Instance, Real, Whole, accepts
 from idkit.errors import DataError, FitError, Message, Suggestion
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
-from idkit.observe._common import _require
 from idkit.signal.cycles import (
     CycleSplit,
     ResampledLoops,
@@ -195,6 +194,7 @@ def require_moving_loops(measurement: QuasiStaticMeasurement) -> None:
                            f"{column} that varies (a disconnected sensor or another column?)")
 
 
+@accepts(measurement=Instance((QuasiStaticMeasurement,)), error=DataError)
 def process_quasi_static(measurement: QuasiStaticMeasurement, *,
                          min_excursion: float | None = None,
                          large_threshold: float | None = None,
@@ -239,7 +239,6 @@ def process_quasi_static(measurement: QuasiStaticMeasurement, *,
     >>> result.n_cycles, round(float(result.amplitude[0]) * 1e3, 3)
     (3, 2.0)
     """
-    _require(measurement, QuasiStaticMeasurement, "process_quasi_static")
     require_moving_loops(measurement)
     x = measurement.deflection
     noise = noise_level(x)
@@ -680,6 +679,7 @@ def _midline(x: np.ndarray, force: np.ndarray, at: float) -> float:
     return 0.5 * (values[0] + values[1])
 
 
+@accepts(measurement=Instance((QuasiStaticMeasurement,)), error=DataError)
 def cycle_statistics(measurement: QuasiStaticMeasurement, *, result: QuasiStaticResult | None = None
                      ) -> CycleStatistics:
     """Amplitude, centre, force offset, secant stiffness and loop energy of every cycle.
@@ -706,7 +706,6 @@ def cycle_statistics(measurement: QuasiStaticMeasurement, *, result: QuasiStatic
     >>> round(float(stats.center[0]) * 1e3, 3), round(stats.median_force_offset, 2)
     (3.0, 50.0)
     """
-    _require(measurement, QuasiStaticMeasurement, "cycle_statistics")
     result = process_quasi_static(measurement) if result is None else result
     cycles = result.cycles
     x, force, time = measurement.deflection, measurement.force, measurement.time

@@ -44,7 +44,7 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from scipy import signal as sps
 
-from idkit.checks import Choice, Real, Whole, accepts
+from idkit.checks import Choice, Instance, Real, Whole, accepts
 from idkit.errors import DataError, Message, Suggestion
 from idkit.io import AccelerationRecord
 from idkit.signal.srs import MIN_SAMPLES_PER_PERIOD, ShockSpectra, shock_spectra
@@ -72,11 +72,8 @@ def _where(record: AccelerationRecord, test: int | None = None) -> str:
     return record.source.where(column) + name
 
 
-def _require_record(record, function: str) -> AccelerationRecord:
-    if not isinstance(record, AccelerationRecord):
-        raise DataError(f"{function}: found {type(record).__name__}, expected an idkit.io.AccelerationRecord "
-                        "(time in s, one column of m/s^2 per test)")
-    return record
+#: A shock record argument.
+RECORD = Instance((AccelerationRecord,), what="an idkit.io.AccelerationRecord (time in s, one column of m/s^2 per test)")
 
 
 def _pulse_start(values: NDArray[np.float64], trigger_fraction: float) -> int:
@@ -125,7 +122,8 @@ class ConditionedShock:
 FRACTION = Real(gt=0, lt=1)
 
 
-@accepts(offset=Choice(("pre-trigger", "none")), trigger_fraction=FRACTION, lowpass_hz=Real(unit="Hz", gt=0, optional=True),
+@accepts(record=RECORD, offset=Choice(("pre-trigger", "none")), trigger_fraction=FRACTION,
+         lowpass_hz=Real(unit="Hz", gt=0, optional=True),
          filter_order=Whole(ge=1, le=10), error=DataError)
 def condition_shock(record: AccelerationRecord, *, offset: str = "pre-trigger", trigger_fraction: float = 0.1,
                     pre_trigger_s: float | None = None, lowpass_hz: float | None = None,
@@ -164,7 +162,6 @@ def condition_shock(record: AccelerationRecord, *, offset: str = "pre-trigger", 
     >>> round(float(shock.offset[0]), 6)
     5.0
     """
-    record = _require_record(record, "condition_shock")
     fs = record.sample_rate_hz
     accel = np.array(record.accel, dtype=float)
     offsets = np.zeros(record.n_tests)
@@ -245,7 +242,7 @@ class ShockPulses:
         return self.to_dataframe().to_string(index=False, float_format=lambda v: f"{v:.4g}")
 
 
-@accepts(duration_fraction=FRACTION, error=DataError)
+@accepts(record=RECORD, duration_fraction=FRACTION, error=DataError)
 def shock_pulses(record: AccelerationRecord, *, duration_fraction: float = 0.1) -> ShockPulses:
     """Peak, time of peak, duration and velocity change of every test (module docstring).
 
@@ -265,7 +262,6 @@ def shock_pulses(record: AccelerationRecord, *, duration_fraction: float = 0.1) 
     >>> round(float(pulses.duration[0] / (0.005 * (1 - 2 * np.arcsin(0.1) / np.pi))), 3)
     1.0
     """
-    record = _require_record(record, "shock_pulses")
     time = np.asarray(record.time)
     peak, at, duration, change = (np.empty(record.n_tests) for _ in range(4))
     for j in range(record.n_tests):
@@ -282,9 +278,9 @@ def shock_pulses(record: AccelerationRecord, *, duration_fraction: float = 0.1) 
                        velocity_change=change, duration_fraction=float(duration_fraction))
 
 
+@accepts(record=RECORD, n_points=Whole(ge=2), error=DataError)
 def default_srs_band(record: AccelerationRecord, n_points: int = 60) -> NDArray[np.float64]:
     """Log-spaced natural frequencies from ``1 / T`` to ``fs / 10``, Hz (module docstring)."""
-    record = _require_record(record, "default_srs_band")
     span = float(record.time[-1] - record.time[0])
     return np.logspace(np.log10(1.0 / span), np.log10(record.sample_rate_hz / MIN_SAMPLES_PER_PERIOD), n_points)
 
@@ -334,6 +330,7 @@ class RecordSpectra:
         return pd.concat(frames, ignore_index=True)
 
 
+@accepts(record=RECORD, error=DataError)
 def record_spectra(record: AccelerationRecord, *, freq: ArrayLike | None = None,
                    damping_ratio: float = 0.05) -> RecordSpectra:
     """The three shock response spectra (ISO 18431-4) of every test of ``record``.
@@ -350,7 +347,6 @@ def record_spectra(record: AccelerationRecord, *, freq: ArrayLike | None = None,
     -------
     RecordSpectra
     """
-    record = _require_record(record, "record_spectra")
     fn = _band(record, freq)
     fs = record.sample_rate_hz
     spectra = tuple(shock_spectra(record.accel[:, j], fs=fs, freq=fn, damping_ratio=damping_ratio)
@@ -384,14 +380,13 @@ class ResponseRatio:
         return pd.DataFrame(data)
 
 
+@accepts(response=RECORD, input=RECORD, error=DataError)
 def response_ratio(response: AccelerationRecord, input: AccelerationRecord, *, freq: ArrayLike | None = None,
                    damping_ratio: float = 0.05) -> ResponseRatio:
     """SRS of ``response`` over SRS of ``input`` (fixture), test by test.
 
     Both records must share the time base and the number of tests (the same shots).
     """
-    response = _require_record(response, "response_ratio")
-    input = _require_record(input, "response_ratio")
     if response.n_tests != input.n_tests:
         raise DataError(f"{_where(response)}: found {response.n_tests} tests, expected {input.n_tests} as in "
                         f"{_where(input)} (the same shots)")

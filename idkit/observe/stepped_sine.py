@@ -9,9 +9,10 @@ import numpy as np
 import pandas as pd
 
 from idkit.signal.harmonics import hosidf, HosidfResult, input_flatness, InputFlatness
+from idkit.checks import Instance, accepts
 from idkit.errors import DataError
 from idkit.io import SteppedSineMeasurement
-from idkit.observe._common import MeasuredRecord, _require
+from idkit.observe._common import MeasuredRecord
 
 
 @dataclass(frozen=True)
@@ -56,6 +57,7 @@ class SteppedSinePoint(MeasuredRecord):
         return table
 
 
+@accepts(measurement=Instance((SteppedSineMeasurement,)), error=DataError)
 def hosidf_from_stepped_sine(measurement: SteppedSineMeasurement, *, n_harmonics: int = 5,
                              subharmonic: bool = True) -> SteppedSinePoint:
     """HOSIDFs of one stepped-sine point: harmonics of v_top over the first harmonic of v_base.
@@ -77,7 +79,6 @@ def hosidf_from_stepped_sine(measurement: SteppedSineMeasurement, *, n_harmonics
     -------
     SteppedSinePoint
     """
-    _require(measurement, SteppedSineMeasurement, "hosidf_from_stepped_sine")
     fs = measurement.sample_rate_hz
     freq = measurement.freq
     usable = int(np.ceil(fs / 2 / freq)) - 1

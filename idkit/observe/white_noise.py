@@ -15,11 +15,10 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from idkit.checks import Choice, Real, accepts
+from idkit.checks import Choice, Instance, Real, accepts
 from idkit.errors import DataError, FitError
 from idkit.io import WhiteNoiseMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
-from idkit.observe._common import _require
 from idkit.signal.frf import FrfEstimate, estimate_frf
 
 __all__ = ["FRF_RESOLUTION_HZ", "WhiteNoiseFrf", "frf_from_white_noise", "TransmissibilitySet",
@@ -115,7 +114,8 @@ class WhiteNoiseFrf:
 RESOLUTION = Real(unit="Hz", gt=0, meaning="frequency step")
 
 
-@accepts(signals=Choice(("velocity", "acceleration"), optional=True), resolution_hz=RESOLUTION, error=DataError)
+@accepts(measurement=Instance((WhiteNoiseMeasurement,)), signals=Choice(("velocity", "acceleration"), optional=True),
+         resolution_hz=RESOLUTION, error=DataError)
 def frf_from_white_noise(measurement: WhiteNoiseMeasurement, *,
                          band: tuple[float, float] | None = None,
                          resolution_hz: float = FRF_RESOLUTION_HZ, overlap: float = 0.5,
@@ -167,7 +167,6 @@ def frf_from_white_noise(measurement: WhiteNoiseMeasurement, *,
     >>> float(frf.freq[1] - frf.freq[0]), round(float(np.abs(frf.h1).mean()), 6)
     (0.25, 0.5)
     """
-    _require(measurement, WhiteNoiseMeasurement, "frf_from_white_noise")
     if signals is None:
         signals = "velocity" if measurement.v_base is not None else "acceleration"
     if signals == "velocity":
