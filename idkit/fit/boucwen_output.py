@@ -47,7 +47,7 @@ import lmfit
 import numpy as np
 from scipy.optimize import least_squares, minimize
 
-from idkit.checks import Choice, Real, Whole, accepts
+from idkit.checks import Choice, Real, Samples, Whole, accepts
 from idkit.errors import FitError, ParameterError
 from idkit.fit._params import to_lmfit
 from idkit.fit.result import UNDETERMINED_CORRELATION
@@ -110,18 +110,19 @@ def output_model(params: dict[str, float]) -> tuple[BoucWenModel, float]:
     return model, float(params["mass_kg"])
 
 
+#: The declared record of an output fit: force in and displacement out, sample by sample.
+_RECORD = dict(force=Samples(unit="N", min_size=64), displacement=Samples(unit="m", min_size=64),
+               sample_rate_hz=Real(unit="Hz", gt=0))
+
+
 def _check_record(force, displacement, sample_rate_hz):
-    u = np.asarray(force, dtype=float)
-    y = np.asarray(displacement, dtype=float)
-    if u.ndim != 1 or y.ndim != 1 or u.size != y.size or u.size < 64:
-        raise FitError(f"force, displacement: found shapes {u.shape} and {y.shape}, expected two 1-D arrays of "
-                       "the same length (>= 64 samples)")
-    for name, values, unit in (("force", u, "N"), ("displacement", y, "m")):
-        if not np.all(np.isfinite(values)):
-            raise FitError(f"{name}: found non-finite samples, expected finite values in {unit}")
-    if np.std(y) == 0.0:
+    """The declared records (:data:`_RECORD`), of one length, the displacement not constant."""
+    if force.size != displacement.size:
+        raise FitError(f"force, displacement: found {force.size} and {displacement.size} samples, expected the "
+                       "same length")
+    if np.std(displacement) == 0.0:
         raise FitError("displacement: found a constant record, expected a response that moves")
-    return u, y, float(sample_rate_hz)
+    return force, displacement, sample_rate_hz
 
 
 def _spectral_derivatives(y, rate, bandwidth_hz):
@@ -136,7 +137,7 @@ def _spectral_derivatives(y, rate, bandwidth_hz):
     return x, v, a
 
 
-@accepts(sample_rate_hz=Real(unit="Hz", gt=0), error=FitError)
+@accepts(**_RECORD, error=FitError)
 def boucwen_output_start(force, displacement, sample_rate_hz: float, *,
                          bandwidth_hz: float | None = None) -> dict[str, float]:
     """Start values by equation error with variable projection (module docstring, step 1).
@@ -298,8 +299,7 @@ class BoucWenOutputFit:
         return "\n".join(lines)
 
 
-@accepts(sample_rate_hz=Real(unit="Hz", gt=0), interpolation=Choice(INTERPOLATIONS), skip_samples=Whole(ge=0),
-         error=FitError)
+@accepts(**_RECORD, interpolation=Choice(INTERPOLATIONS), skip_samples=Whole(ge=0), error=FitError)
 def fit_boucwen_output(force, displacement, sample_rate_hz: float, *, start: dict | None = None,
                        vary: tuple[str, ...] = OUTPUT_PARAMETERS, interpolation: str = "cubic",
                        substeps: int = SUBSTEPS_PER_SAMPLE, skip_samples: int = 0, max_simulations: int = 400,

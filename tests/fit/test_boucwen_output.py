@@ -71,7 +71,6 @@ def test_an_unfinished_fit_says_so():
 @pytest.mark.parametrize("kwargs, word", [
     ({"displacement": np.zeros(100)}, "displacement"),
     ({"vary": ("mass_kg", "mass")}, "vary"),
-    ({"interpolation": "spline"}, "interpolation"),
     ({"skip_samples": 5000}, "skip_samples"),
     ({"start": {"mass_kg": 2.0, "c_visc": 10.0, "k1": 5e4, "k2": 0.0, "k3": 0.0, "alpha": 5e4, "beta": -800.0, "gamma": -1100.0,
                      "n": 1.0, "c": 0.0}}, "beta"),
