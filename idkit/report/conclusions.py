@@ -73,7 +73,7 @@ def _unit(row) -> str:
 
 
 def fit_sentence(name: str, fit, *, comparison: bool = False) -> tuple[str, str]:
-    """``(verdict, text)``: whether the fit of a :class:`~idkit.fit.measurements.MeasurementFit` succeeded, and why not.
+    """``(verdict, text)``: whether the fit of a :class:`~idkit.fit.measurement_level.MeasurementFit` succeeded, and why not.
 
     A fit that is not a success is "FLAGGED", as ``idkit report`` prints it: FAIL is a
     validation's verdict (exit status 1), a flagged fit the report predicts with gives exit
