@@ -24,11 +24,7 @@ import numba
 import numpy as np
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
-
-
-@numba.njit(cache=True, inline="always")
-def _poly_slope(P, j, y):
-    return P[j, 0, 0] + y * (2.0 * P[j, 0, 1] + 3.0 * P[j, 0, 2] * y)
+from idkit.models.laws import polynomial_spring_stiffness
 
 
 @numba.njit(cache=True)
@@ -47,7 +43,7 @@ def tangent_start(ndof, masses, P, state, tangent, nj, nm, columns):
     slope = np.zeros(2)
     for j in range(ndof):
         y = state[0] - state[1] if (ndof == 2 and j == 0) else state[j]
-        slope[j] = _poly_slope(P, j, y)
+        slope[j] = polynomial_spring_stiffness(y, P[j, 0, 0], P[j, 0, 1], P[j, 0, 2])
     df = np.zeros(2)
     for c in range(columns.shape[0]):
         for j in range(ndof):
@@ -98,7 +94,7 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
         else:
             y = state[0] - base_new
             step_dy = (state[0] - old_q[0]) - (base_new - base_old)
-        work[0, j] = _poly_slope(P, j, y)
+        work[0, j] = polynomial_spring_stiffness(y, P[j, 0, 0], P[j, 0, 1], P[j, 0, 2])
         total = P[j, 0, 4]
         for i in range(int(P[j, 0, 5])):
             trial = old_force[j, i] + P[j, 1, i] * step_dy

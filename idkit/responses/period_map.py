@@ -11,7 +11,6 @@ error in :mod:`idkit.responses.periodic`).
 from __future__ import annotations
 
 import math
-import threading
 
 import numba
 import numpy as np
@@ -23,27 +22,17 @@ from idkit.errors import SimulationError
 from idkit.responses._sensitivity import tangent_start, tangent_step
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
 from idkit.simulate._parallel import run_chunked
-from idkit.simulate import _kernel
+from idkit.simulate._generic_step import _initial_acceleration
 from idkit.simulate._kernel import (
     FLAG_OK,
-    _compiled_per_structure,
-    _initial_acceleration,
     _pack,
     _pack_states,
-    _step,
+    _store_end_state,
     base_motion_table,
+    drivers_per_structure,
+    structure_step,
 )
-from idkit.simulate._structured import (
-    GENERIC,
-    HYBRID,
-    HYBRID_MODULATED,
-    SDOF_IWAN,
-    SDOF_IWAN_MODULATED,
-    SDOF_MAXWELL,
-    step_hybrid,
-    step_sdof,
-    structure_of,
-)
+from idkit.simulate._structured import structure_of
 from idkit.simulate.harmonic import linear_initial_state
 
 __all__ = ["FD_STEP", "PeriodMap", "monodromy", "period_kernel", "period_map"]
@@ -130,19 +119,7 @@ def _period_kernel(structure):
                         for i in range(nj):
                             old_force[d, i] = S[d, 0, i]
                 vb_new = amp * omega * base_cos[at]
-                # the step of the kernel's structure, called directly (as in the map's kernel)
-                if structure == SDOF_IWAN:
-                    flag = step_sdof(1, m0, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
-                elif structure == SDOF_MAXWELL:
-                    flag = step_sdof(2, m0, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
-                elif structure == HYBRID:
-                    flag = step_hybrid(1, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
-                elif structure == SDOF_IWAN_MODULATED:
-                    flag = step_sdof(3, m0, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
-                elif structure == HYBRID_MODULATED:
-                    flag = step_hybrid(3, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
-                else:
-                    flag = _step(ndof, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
+                flag = structure_step(structure, ndof, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
                 if flag != FLAG_OK:
                     break
                 if with_tangent:
@@ -150,32 +127,15 @@ def _period_kernel(structure):
                                  stuck, lanes)
             flags[b] = flag
             if flag == FLAG_OK:
-                for d in range(ndof):
-                    q_end[b, d] = state[d]
-                    v_end[b, d] = state[2 + d]
-                    z_end[b, d] = S[d, 2, 0]
-                    for i in range(jforce0.shape[2]):
-                        j_end[b, d, i] = S[d, 0, i]
-                    for i in range(mstate0.shape[2]):
-                        m_end[b, d, i] = S[d, 1, i]
+                _store_end_state(b, ndof, state, S, q_end, v_end, j_end, m_end, z_end)
         return q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents
 
-    return _compiled_per_structure(_run_periods, structure)
+    return _run_periods
 
 
-_PERIOD_KERNELS: dict = {}
-_PERIOD_KERNELS_LOCK = threading.Lock()
-
-
-def period_kernel(structure: int):
-    """:func:`_period_kernel` of ``structure`` (generic if it is not in
-    :data:`idkit.simulate._kernel.SPECIALISED`, which tests empty to run the generic step); one
-    dispatcher per structure and process."""
-    structure = structure if structure in _kernel.SPECIALISED else GENERIC
-    with _PERIOD_KERNELS_LOCK:
-        if structure not in _PERIOD_KERNELS:
-            _PERIOD_KERNELS[structure] = _period_kernel(structure)
-        return _PERIOD_KERNELS[structure]
+#: :func:`_period_kernel` compiled for a structure, one per structure and process
+#: (:func:`idkit.simulate._kernel.drivers_per_structure`).
+period_kernel = drivers_per_structure(_period_kernel)
 
 
 class PeriodMap:

@@ -43,14 +43,15 @@ approximation where the floor is quiet enough that no Jenkin element reaches its
 force: then the all-stuck periodic steady state is a steady state of the hysteretic system
 (the one a run from rest settles into, the elements never having slipped), so
 ``method="auto"`` checks every realization's small-amplitude deflections against the slip
-forces and the spring's linearity (:func:`stays_stuck`) and, where they pass, returns the
-frequency-domain estimate instead of simulating (``method="frequency (stays stuck)"``). In
-the transport study that is 28 of the 48 nonlinear (system, level) pairs.
+forces and the spring's linearity (:func:`~idkit.responses.small_amplitude.stays_stuck`)
+and, where they pass, returns the frequency-domain estimate instead of simulating
+(``method="frequency (stays stuck)"``). In the transport study that is 28 of the 48 nonlinear (system, level) pairs.
 """
 
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -58,20 +59,25 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 from scipy import integrate
 
-from idkit.checks import Choice, Real, Reals, Whole, accepts
+from idkit.checks import Choice, Instance, Real, Reals, Whole, accepts, unchecked
 from idkit.errors import SimulationError
 from idkit.limits import MAX_SAMPLES
 from idkit.responses.linear import LINEAR_SYSTEM
-from idkit.models import HybridSystem, SDOFSystem
 from idkit.models.laws import hybrid_displacements, sdof_transmissibility
-from idkit.models.iwan_modulated import lowest_slip_scale
 from idkit.signal.psd import (
     PsdEstimate,
     PsdProfile,
     cumulative_rms,
     rms_from_psd,
-    synthesize_random,
     welch_psd,
+)
+from idkit.responses.small_amplitude import (
+    line_amplitudes,
+    linear_start,
+    peak_deflection,
+    stays_stuck,
+    stuck_at_peaks,
+    synthesized_records,
 )
 from idkit.simulate import simulate
 
@@ -86,8 +92,6 @@ __all__ = [
     "settle_records_for",
     "frequency_domain_rms",
     "small_amplitude_transfer",
-    "stays_stuck",
-    "stuck_at_peaks",
 ]
 
 WELCH_OVERLAP = 2.0 / 3.0
@@ -263,7 +267,8 @@ class RandomResponse:
 
 @accepts(system=LINEAR_SYSTEM, freq_step=Real(unit="Hz", gt=0), time_constants=Real(gt=0),
          freq_range=Reals(unit="Hz", gt=0, min_size=2, max_size=2, increasing=True),
-         max_records=Real(gt=0, meaning="records"), error=SimulationError)
+         max_records=Real(gt=0, meaning="records"), n_points=Whole(ge=3, meaning="points of the grid"),
+         error=SimulationError)
 def settle_records_for(system, *, freq_step: float = 0.05, time_constants: float = 5.0,
                        freq_range: tuple[float, float] = (1.0, 20.0), max_records: float = 1.0,
                        n_points: int = 200_001) -> float:
@@ -306,8 +311,6 @@ def settle_records_for(system, *, freq_step: float = 0.05, time_constants: float
     >>> round(settle_records_for(system), 3)  # 5 / (0.0707 * 2 pi 5 Hz) = 2.25 s of 20 s
     0.113
     """
-    if isinstance(n_points, (bool, np.bool_)) or not (isinstance(n_points, (int, np.integer)) and n_points >= 3):
-        raise SimulationError(f"n_points: found {n_points!r}, expected a whole number >= 3 (points of the grid)")
     freq = np.linspace(float(freq_range[0]), float(freq_range[1]), n_points)
     gain = np.abs(np.asarray(system.transmissibility(freq))) ** 2
     peak = int(np.argmax(gain))
@@ -468,8 +471,8 @@ def _continue_until_settled(system, signals, response, *, first: int, analysed: 
         offset = (cut + (round_ - 1) * record * step) % n_samples
         segment = np.roll(signals[pending], -offset, axis=1)
         drive = np.concatenate([segment, segment[:, :1]], axis=1)  # one record and its closing sample
-        continued = simulate(system, grid, base_acceleration=drive, record_every=step, workers=workers,
-                             executor=executor, initial_state=state.take(pending))
+        continued = unchecked(simulate)(system, grid, base_acceleration=drive, record_every=step, workers=workers,
+                                        executor=executor, initial_state=state.take(pending))
         length = velocity.shape[2]
         velocity = np.concatenate([velocity, np.full(velocity.shape[:2] + (record,), np.nan)], axis=2)
         acceleration = np.concatenate([acceleration, np.full(acceleration.shape[:2] + (record,), np.nan)], axis=2)
@@ -485,142 +488,6 @@ def _continue_until_settled(system, signals, response, *, first: int, analysed: 
         errors[pending] = np.inf
         errors[still] = _settling_error(velocity[still], acceleration[still], starts[still], record)
     return velocity, acceleration, starts, extra, flags, tuple(reasons)
-
-
-#: largest relative nonlinearity of a polynomial spring, ``(|g2| x + |g3| x^2) / g1`` at the
-#: largest small-amplitude deflection, for which ``method="auto"`` treats a run as linear
-#: (the time method's own accuracy: steady state 1e-3, trapezoidal warping up to 1.3 %)
-LINEARITY_TOLERANCE = 1e-3
-
-
-def _small_amplitude_lines(system, signals: NDArray[np.float64], rate: float):
-    """Line amplitudes (one-sided, per realization) of the base displacement, the masses'
-    positions and the isolators' deflections in the small-amplitude periodic steady state."""
-    n_samples = signals.shape[1]
-    lines = _line_amplitudes(signals)
-    freq = np.fft.rfftfreq(n_samples, d=1.0 / rate)[1:]
-    omega = 2.0 * np.pi * freq
-    base = -lines / omega**2
-    masses = system.masses
-    stiffness = [isolator.small_amplitude_stiffness(freq) for isolator in system.isolators]
-    # an undamped system resonating exactly at a line has no bounded steady state: its lines
-    # come out infinite or NaN here, and the callers say so (_unbounded_line)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        if len(stiffness) == 1:
-            positions = [sdof_transmissibility(stiffness[0], masses[0], omega) * base]
-            deflections = [positions[0] - base]
-        else:
-            top, middle = hybrid_displacements(stiffness[0], stiffness[1], masses[0], masses[1], omega)
-            positions = [top * base, middle * base]
-            deflections = [positions[0] - positions[1], positions[1] - base]
-    return omega, base, positions, deflections
-
-
-def _unbounded_line(omega: NDArray[np.float64], deflections) -> str:
-    """Why the small-amplitude steady state does not exist ("" when it does): the first line
-    at which a deflection is not finite."""
-    for part in deflections:
-        bad = ~np.isfinite(part).all(axis=0)
-        if bad.any():
-            return (f"the small-amplitude (stuck) response is unbounded: the undamped stuck system resonates at "
-                    f"{omega[bad][0] / (2.0 * np.pi):g} Hz, a line of the floor signal")
-    return ""
-
-
-_LAST_SIGNALS: dict = {}
-
-
-def _synthesized(input_psd, seed, rate: float, freq_step: float, n_realizations: int) -> NDArray[np.float64]:
-    """:func:`synthesize_random`, remembering the last floor signals of a :class:`PsdProfile`.
-
-    A study drives many systems with the same seeded floor (the transport study: ten
-    systems per level); the realizations are a pure function of the profile's breakpoints,
-    the seed and the grid, so the last ones are reused (read-only) when all of these match.
-    """
-    key = None
-    if isinstance(input_psd, PsdProfile) and isinstance(seed, (int, np.integer)):
-        key = (input_psd.freq.tobytes(), input_psd.level.tobytes(), int(seed), rate, freq_step, n_realizations)
-        kept = _LAST_SIGNALS.get("signals")  # (key, signals): read as one pair
-        if kept is not None and kept[0] == key:
-            return kept[1]
-    signals = synthesize_random(input_psd, seed=seed, fs=rate, freq_step=freq_step, n_realizations=n_realizations)
-    if key is not None:
-        signals.setflags(write=False)
-        _LAST_SIGNALS["signals"] = (key, signals)
-    return signals
-
-
-def _line_amplitudes(signals: NDArray[np.float64]) -> NDArray[np.complex128]:
-    """One-sided line amplitudes of real periodic records (the DC line dropped; it is zero),
-    kept with the last synthesized signals (:func:`_synthesized`) for the next system."""
-    kept = _LAST_SIGNALS.get("lines")  # (signals, lines): the pair, so no other thread's lines are taken
-    if kept is not None and kept[0] is signals:
-        return kept[1]
-    lines = np.fft.rfft(signals, axis=1)[:, 1:] * (2.0 / signals.shape[1])
-    kept = _LAST_SIGNALS.get("signals")
-    if kept is not None and kept[1] is signals:
-        lines.setflags(write=False)
-        _LAST_SIGNALS["lines"] = (signals, lines)
-    return lines
-
-
-def stays_stuck(system, signals: NDArray[np.float64], rate: float) -> tuple[bool, str]:
-    """Whether the small-amplitude (all stuck) periodic response is the nonlinear one.
-
-    The small-amplitude steady state of every realization is computed line by line
-    (:func:`_small_amplitude_lines`) and its deflections sampled over the record. It is a
-    periodic solution of the nonlinear system, and the one a run settles into, when over
-    every realization and every instant each Jenkin element's force ``k_i x`` stays below
-    its slip force (the smallest the slip modulation allows at that deflection) and the
-    polynomial spring stays linear to :data:`LINEARITY_TOLERANCE`. Bouc-Wen parts are
-    never linear.
-
-    Returns
-    -------
-    (bool, str)
-        The verdict and, when False, why (the first element or spring that rules it out).
-    """
-    omega, _, _, deflections = _small_amplitude_lines(system, signals, rate)
-    unbounded = _unbounded_line(omega, deflections)
-    if unbounded:
-        return False, unbounded
-    return stuck_at_peaks(system, [_peak_deflection(lines, signals.shape[1]) for lines in deflections])
-
-
-def _peak_deflection(lines: NDArray[np.complex128], n_samples: int) -> NDArray[np.float64]:
-    """Largest ``|deflection|`` over the record of each row of one-sided line amplitudes (the DC
-    line left out), sampled at ``n_samples`` points; the largest over every row of a 2-D array."""
-    spectrum = np.zeros((*lines.shape[:-1], n_samples // 2 + 1), dtype=complex)
-    spectrum[..., 1:lines.shape[-1] + 1] = lines * (n_samples / 2.0)
-    return np.abs(np.fft.irfft(spectrum, n=n_samples, axis=-1)).max(axis=-1)
-
-
-def stuck_at_peaks(system, peaks) -> tuple[bool, str]:
-    """The rule of :func:`stays_stuck` given each isolator's peak small-amplitude deflection (m,
-    top isolator first; an array is reduced to its largest value): every Jenkin element below
-    its lowest slip force there, every spring linear to :data:`LINEARITY_TOLERANCE`, no
-    Bouc-Wen part."""
-    for index, (isolator, peak) in enumerate(zip(system.isolators, peaks)):
-        peak = float(np.max(peak))
-        if not np.isfinite(peak):
-            return False, f"isolator {index + 1}: the small-amplitude (stuck) response is unbounded"
-        arrays = isolator.kernel_arrays()
-        if arrays.boucwen[0] != 0:
-            return False, f"isolator {index + 1} has a Bouc-Wen part"
-        g1, g2, g3 = (float(v) for v in arrays.poly)
-        if (g2 or g3) and not (g1 > 0 and (abs(g2) * peak + abs(g3) * peak**2) / g1 <= LINEARITY_TOLERANCE):
-            return False, (f"isolator {index + 1}: the spring is nonlinear by more than {LINEARITY_TOLERANCE:g} at "
-                           f"{peak:.3g} m")
-        friction = np.asarray(arrays.jenkin_friction, dtype=float)
-        a, y_ref, b = (float(v) for v in arrays.slip_modulation)
-        if (a or b) and y_ref > 0:  # the lowest slip forces over +-peak
-            friction = friction * lowest_slip_scale(a, b, np.tanh(peak / y_ref))
-        force = np.asarray(arrays.jenkin_stiffness, dtype=float) * peak
-        if np.any(force >= friction):
-            element = int(np.argmax(force / np.maximum(friction, np.finfo(float).tiny)))
-            return False, (f"isolator {index + 1}: Jenkin element {element + 1} would slip "
-                           f"({force[element]:.3g} N >= {friction[element]:.3g} N at {peak:.3g} m)")
-    return True, ""
 
 
 def frequency_domain_rms(systems, input_psd, signals: NDArray[np.float64], *, fs: float = 800.0,
@@ -671,8 +538,8 @@ def frequency_domain_rms(systems, input_psd, signals: NDArray[np.float64], *, fs
     gains = np.full((len(systems), int(band.sum())), np.nan)
     nonlinear = np.flatnonzero(~linear)
     if nonlinear.size:
-        freq = np.fft.rfftfreq(n_samples, d=1.0 / rate)[1:]  # the lines of _small_amplitude_lines
-        amplitudes = _line_amplitudes(signals[nonlinear]) if lines is None else np.atleast_2d(lines)[nonlinear]
+        freq = np.fft.rfftfreq(n_samples, d=1.0 / rate)[1:]  # the lines of small_amplitude_lines
+        amplitudes = line_amplitudes(signals[nonlinear]) if lines is None else np.atleast_2d(lines)[nonlinear]
         keep = np.asarray(input_psd(freq), dtype=float) > 0
         omega = 2.0 * np.pi * freq[keep]
         base = -amplitudes[:, keep] / omega**2
@@ -694,7 +561,7 @@ def frequency_domain_rms(systems, input_psd, signals: NDArray[np.float64], *, fs
             for part in deflections:
                 full = np.zeros((len(undecided), freq.size), dtype=complex)
                 full[:, keep] = part[undecided]
-                peaks.append(_peak_deflection(full, n_samples))
+                peaks.append(peak_deflection(full, n_samples))
             for position, row in enumerate(undecided):
                 frequency[nonlinear[row]] = stuck_at_peaks(systems[nonlinear[row]],
                                                            [peak[position] for peak in peaks])[0]
@@ -724,38 +591,13 @@ def small_amplitude_transfer(systems, masses: NDArray[np.float64], freq: NDArray
         return hybrid_displacements(stiffness[0], stiffness[1], masses[:, :1], masses[:, 1:], omega)
 
 
-def _linear_start(system, signals: NDArray[np.float64], rate: float) -> dict[str, NDArray[np.float64]]:
-    """Small-amplitude periodic steady state at t = 0 of each realization (``start="linear"``).
-
-    The base acceleration is ``sum_k Re(a_k exp(i w_k t))`` (its real FFT); the base
-    displacement lines are ``-a_k / w_k^2``, the masses' lines follow from the isolators'
-    small-amplitude stiffnesses. The base of :func:`idkit.simulate.simulate` starts at
-    rest, i.e. it moves as the periodic motion minus its velocity at t = 0, a rigid drift
-    the masses share: their absolute initial velocities are the periodic velocities
-    relative to the base.
-
-    Returns
-    -------
-    dict
-        ``initial_deflection`` (n_realizations, n_isolators), m, and ``initial_velocity``
-        (n_realizations, n_masses), m/s, top first.
-    """
-    omega, base, positions, deflections = _small_amplitude_lines(system, signals, rate)
-    unbounded = _unbounded_line(omega, deflections)
-    if unbounded:
-        raise SimulationError(f"start='linear': {unbounded}; start from rest (start='rest')")
-    return {
-        "initial_deflection": np.column_stack([part.real.sum(axis=1) for part in deflections]),
-        "initial_velocity": np.column_stack([(1j * omega * (part - base)).real.sum(axis=1)
-                                             for part in positions]),
-    }
-
-
 @accepts(system=LINEAR_SYSTEM, n_realizations=Whole(ge=1), fs=Real(unit="Hz", gt=0), freq_step=Real(unit="Hz", gt=0),
          oversample=Whole(ge=1), settle_records=Real(ge=0, meaning="records"),
          nperseg=Whole(ge=8, optional=True, meaning="samples at fs"), method=Choice(("time", "frequency", "auto")),
          start=Choice(("rest", "linear")), settle_until=Real(gt=0, optional=True, meaning="a settling error"),
-         max_extra_records=Whole(ge=0), error=SimulationError)
+         max_extra_records=Whole(ge=0), input_psd=Instance((Callable,), what="a PsdProfile (or a callable "
+                                                                         "psd(freq_Hz) in (m/s^2)^2/Hz)"),
+         error=SimulationError)
 def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, fs: float = 800.0,
                     freq_step: float = 0.05, oversample: int = 4, settle_records: float = 1.0,
                     nperseg: int | None = None, method: str = "time", start: str = "rest",
@@ -842,9 +684,6 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
         raise SimulationError(f"n_realizations, fs, oversample, freq_step: found {n_realizations:.4g} x {fs:g} Hz x "
                               f"{oversample} / {freq_step:g} Hz = {samples:.3g} floor samples to "
                               f"synthesize, expected at most {MAX_SAMPLES:.0e} ({8 * MAX_SAMPLES / 2**20:.0f} MiB)")
-    if not callable(input_psd):
-        raise SimulationError(f"input_psd: found {type(input_psd).__name__}, expected a PsdProfile "
-                              "(or a callable psd(freq_Hz) in (m/s^2)^2/Hz)")
     if isinstance(input_psd, PsdProfile) and input_psd.freq[-1] > fs * oversample / 2:
         raise SimulationError(
             f"input_psd: found a profile reaching {input_psd.freq[-1]:g} Hz, expected none above "
@@ -861,7 +700,7 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
                                          freq_step=float(freq_step), oversample=int(oversample),
                                          settle_records=float(settle_records))
     rate = float(fs) * int(oversample)
-    signals = _synthesized(input_psd, seed, rate, float(freq_step), int(n_realizations))
+    signals = synthesized_records(input_psd, seed, rate, float(freq_step), int(n_realizations))
     if method == "auto" and nperseg is None and stays_stuck(system, signals, rate)[0]:
         # every realization's small-amplitude steady state keeps the isolators stuck: it is the
         # nonlinear system's steady state, and a linear one (module docstring)
@@ -891,9 +730,9 @@ def random_response(system, input_psd, *, seed: int, n_realizations: int = 30, f
     # fs like the thesis's (the output above fs/2 comes only from nonlinear harmonics of an
     # input band-limited to well below fs/2, and is folded back unfiltered, as a measurement
     # without anti-alias filter would)
-    initial = {} if start == "rest" else _linear_start(system, signals, rate)
-    response = simulate(system, time, base_acceleration=drive, record_every=step, workers=workers,
-                        executor=executor, **initial)
+    initial = {} if start == "rest" else linear_start(system, signals, rate)
+    response = unchecked(simulate)(system, time, base_acceleration=drive, record_every=step, workers=workers,
+                                   executor=executor, **initial)
     velocity, acceleration, flags, reasons = response.velocity, response.acceleration, response.flags, response.reasons
     starts = np.full(signals.shape[0], first, dtype=np.int64)
     extra = np.zeros(signals.shape[0], dtype=np.int64)

@@ -49,7 +49,7 @@ from idkit.gravity import gravity_acceleration, impact_velocity_from_height
 from idkit.signal.drop import drop_phase_peaks
 from idkit.signal.srs import ShockResponseSpectrum, shock_response_spectrum
 from idkit.errors import SimulationError
-from idkit.checks import Choice, Flag, Real, Reals, accepts
+from idkit.checks import Choice, Flag, Real, Reals, accepts, unchecked
 from idkit.responses.linear import LINEAR_SYSTEM
 from idkit.models import HybridSystem
 from idkit.simulate import (
@@ -312,13 +312,29 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
     n_isolators = len(system.isolators)
     initial = relaxation_deflection(system) if relaxation else np.zeros(n_isolators)
     given = {"impact_velocity": velocity} if drop_height is None else {"drop_height": np.atleast_1d(drop_height)}
-    response = free_fall(system, **given, duration=duration, time_step=time_step, gravity=g,
-                         initial_deflection=initial if relaxation else None, workers=workers, executor=executor)
+    response = unchecked(free_fall)(system, **given, duration=duration, time_step=time_step, gravity=g,
+                                    initial_deflection=initial if relaxation else None, workers=workers,
+                                    executor=executor)
     accel = response.acceleration[:, 0, :]
     ok = response.flags == 0
-    nan = np.full(velocity.size, np.nan)
     total = drop_phase_peaks(response.deflection.sum(axis=1), accel)
     each = drop_phase_peaks(response.deflection, np.broadcast_to(accel[:, None, :], response.deflection.shape))
+    names = ("isolator",) if n_isolators == 1 else ("upper", "lower")
+    still = ok & (velocity == 0) & (g == 0.0) & (not np.any(initial))  # nothing can move: no phase
+    reasons = tuple(NO_MOTION if at_rest else reason for at_rest, reason in zip(still, response.reasons))
+    return ShockSweep(
+        impact_velocity=velocity, drop_height=velocity**2 / (2.0 * STANDARD_GRAVITY), **_phase_fields(ok, total, each),
+        isolator_names=names, time=response.time, top_acceleration=accel,
+        flags=np.asarray(response.flags, dtype=np.int64), reasons=reasons, duration=duration,
+        time_step=time_step, gravity=g, relaxation=bool(relaxation), initial_deflection=initial,
+    )
+
+
+def _phase_fields(ok, total, each) -> dict:
+    """The :class:`ShockSweep` fields read off the drop-phase peaks of the stack (``total``) and of
+    each isolator (``each``, :func:`idkit.signal.drop.drop_phase_peaks`); NaN (governing phase "")
+    for a drop that did not finish (``ok`` False)."""
+    nan = np.full(ok.shape, np.nan)
     rest = np.where(ok, total.rest_shock_level, nan)
     compression = np.where(ok, total.acceleration_compression, nan)
     tension = np.where(ok, total.acceleration_tension, nan)
@@ -326,20 +342,12 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
         governing = np.where(~ok | np.isnan(rest), "",
                              np.where(np.fmax(compression, -np.inf) >= np.fmax(tension, -np.inf),
                                       "compression", "tension"))
-    names = ("isolator",) if n_isolators == 1 else ("upper", "lower")
-    still = ok & (velocity == 0) & (g == 0.0) & (not np.any(initial))  # nothing can move: no phase
-    reasons = tuple(NO_MOTION if at_rest else reason for at_rest, reason in zip(still, response.reasons))
-    return ShockSweep(
-        impact_velocity=velocity, drop_height=velocity**2 / (2.0 * STANDARD_GRAVITY), rest_shock_level=rest,
-        peak_acceleration_compression=compression, peak_acceleration_tension=tension,
-        governing_phase=governing.astype(str), travel_compression=np.where(ok, total.compression, nan),
-        travel_tension=np.where(ok, total.tension, nan),
-        peak_compression=np.where(ok[:, None], each.compression, np.nan),
-        peak_tension=np.where(ok[:, None], each.tension, np.nan),
-        isolator_names=names, time=response.time, top_acceleration=accel,
-        flags=np.asarray(response.flags, dtype=np.int64), reasons=reasons, duration=duration,
-        time_step=time_step, gravity=g, relaxation=bool(relaxation), initial_deflection=initial,
-    )
+    return {"rest_shock_level": rest, "peak_acceleration_compression": compression,
+            "peak_acceleration_tension": tension, "governing_phase": governing.astype(str),
+            "travel_compression": np.where(ok, total.compression, nan),
+            "travel_tension": np.where(ok, total.tension, nan),
+            "peak_compression": np.where(ok[:, None], each.compression, np.nan),
+            "peak_tension": np.where(ok[:, None], each.tension, np.nan)}
 
 
 def _rig_sweep(system, *, impact_velocity, drop_height, duration, time_step, bottom_mass, contact, workers,
@@ -359,26 +367,13 @@ def _rig_sweep(system, *, impact_velocity, drop_height, duration, time_step, bot
                    time_step=time_step, workers=workers, executor=executor)
     start = run.impact_index
     ok = run.flags == 0
-    nan = np.full(heights.size, np.nan)
     accel = run.top_acceleration
     total = drop_phase_peaks(run.deflection, accel, start=start)
     each = drop_phase_peaks(run.isolator_deflection,
                             np.broadcast_to(accel[:, None, :], run.isolator_deflection.shape), start=start)
-    rest = np.where(ok, total.rest_shock_level, nan)
-    compression = np.where(ok, total.acceleration_compression, nan)
-    tension = np.where(ok, total.acceleration_tension, nan)
-    with np.errstate(invalid="ignore"):
-        governing = np.where(~ok | np.isnan(rest), "",
-                             np.where(np.fmax(compression, -np.inf) >= np.fmax(tension, -np.inf),
-                                      "compression", "tension"))
     names = ("isolator",) if run.isolator_deflection.shape[1] == 1 else ("upper", "lower")
     return ShockSweep(
-        impact_velocity=run.impact_velocity, drop_height=heights, rest_shock_level=rest,
-        peak_acceleration_compression=compression, peak_acceleration_tension=tension,
-        governing_phase=governing.astype(str), travel_compression=np.where(ok, total.compression, nan),
-        travel_tension=np.where(ok, total.tension, nan),
-        peak_compression=np.where(ok[:, None], each.compression, np.nan),
-        peak_tension=np.where(ok[:, None], each.tension, np.nan),
+        impact_velocity=run.impact_velocity, drop_height=heights, **_phase_fields(ok, total, each),
         isolator_names=names, time=run.time[start:], top_acceleration=accel[:, start:],
         flags=np.asarray(run.flags, dtype=np.int64), reasons=tuple(run.reasons),
         duration=float(run.time[-1]), time_step=run.time_step, gravity=STANDARD_GRAVITY, relaxation=False,

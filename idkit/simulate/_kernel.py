@@ -23,6 +23,12 @@ Scheme (documented in ``docs/simulator.md``):
 
 A run that leaves the model's valid range stops and reports a flag; the other
 members of the batch go on.
+
+Here: the packed layout of parameters and states, the one step dispatcher
+(:func:`structure_step`) and the drivers compiled per structure (:data:`time_kernel`: a time
+grid, :data:`harmonic_kernel`: harmonic base motion to steady state). The steps are in
+:mod:`idkit.simulate._structured` (one per structure) and :mod:`idkit.simulate._generic_step`
+(every other system); the drop rig's chain of masses in :mod:`idkit.simulate._rig_kernel`.
 """
 
 from __future__ import annotations
@@ -32,10 +38,24 @@ import threading
 
 import numba
 import numpy as np
+from numba.core import types
+from numba.extending import overload
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
-from idkit.models.laws import boucwen_substeps, boucwen_z_step, pinched_boucwen_z_step, pinched_substeps
+from idkit.simulate._generic_step import _initial_acceleration, _isolator_forces_now, _step
 from idkit.simulate._structured import (
+    _BW,
+    _GAP,
+    _MGSUM,
+    _NJ,
+    _NM,
+    _PINCH,
+    _RATE,
+    _SM,
+    FLAG_NEGATIVE_STIFFNESS,
+    FLAG_NO_CONVERGENCE,
+    FLAG_NON_FINITE,
+    FLAG_OK,
     GENERIC,
     HYBRID,
     HYBRID_MODULATED,
@@ -43,28 +63,17 @@ from idkit.simulate._structured import (
     SDOF_IWAN_MODULATED,
     SDOF_MAXWELL,
     STRUCTURE_KEYS,
-    commit_jenkin,
-    commit_maxwell,
-    jenkin_elements,
-    jenkin_kind,
     step_hybrid,
     step_sdof,
 )
 
-FLAG_OK = 0
-FLAG_NEGATIVE_STIFFNESS = 1
-FLAG_NON_FINITE = 2
-FLAG_NO_CONVERGENCE = 3
+#: What each flag of a step says (the flags: :mod:`idkit.simulate._structured`).
 FLAG_REASONS = {
     FLAG_OK: "ok",
     FLAG_NEGATIVE_STIFFNESS: "negative local stiffness of the parallel spring (model outside its valid range)",
     FLAG_NON_FINITE: "non-finite state",
     FLAG_NO_CONVERGENCE: "Newton iteration of a step did not converge",
 }
-
-_NEWTON_MAX_ITER = 60
-_RES_TOL = 1e-13
-_BW_SUBSTEPS = 4
 
 
 # Packed layout. Parameters P[j, row, i] of isolator j (0 below the top mass):
@@ -83,8 +92,6 @@ _BW_SUBSTEPS = 4
 #   call) and with NumPy's error model (a division by zero gives inf/NaN, caught as a failed
 #   Newton iteration or a non-finite state, instead of raising).
 _P_WIDTH = 27
-_MGSUM, _NJ, _NM, _BW, _SM = 4, 5, 6, 7, 17
-_GAP, _RATE, _PINCH = 21, 22, 24
 
 
 @numba.njit(cache=True)
@@ -153,290 +160,98 @@ def _pack_states(packed, jforce, mstate, bwz):
     return states
 
 
-@numba.njit(cache=True, error_model="numpy", _nrt=False)
-def _isolator_force(j, y, dy, vrel, h, P, S):
-    """Force (N) and tangent (N/m, including 2 c / h) of isolator ``j`` at a trial deflection ``y``.
+@numba.njit(cache=True, _nrt=False)
+def _store_end_state(b, ndof, state, S, end_q, end_v, end_jforce, end_mstate, end_bwz):
+    """Member ``b``'s state after its last step into a driver's outputs, in the layout of the
+    driver's inputs: displacements and velocities (m, m/s) from ``state``, Jenkin forces (N),
+    Maxwell elongations (m) and Bouc-Wen ``z`` (N) from ``S``."""
+    for d in range(ndof):
+        end_q[b, d] = state[d]
+        end_v[b, d] = state[2 + d]
+        end_bwz[b, d] = S[d, 2, 0]
+        for i in range(end_jforce.shape[2]):
+            end_jforce[b, d, i] = S[d, 0, i]
+        for i in range(end_mstate.shape[2]):
+            end_mstate[b, d, i] = S[d, 1, i]
 
-    ``dy`` is the deflection increment over the step, ``vrel`` the end-of-step deflection rate.
-    The trial's Jenkin forces (``S[j, 3]``) and Bouc-Wen ``z`` (``S[j, 2, 2]``) are kept for
-    :func:`_commit_isolator`; the committed states are not touched.
+
+# Step dispatch. Each driver (the time and harmonic drivers below, the period map's, the
+# parameter sets') is compiled per structure, ``structure`` a constant of its
+# closure, and calls :func:`structure_step` with it: the call resolves at compile time to that
+# structure's step alone, so a driver types and compiles its own step only. The resolved
+# function is a separate compiled function without reference counting that LLVM inlines into
+# the driver: the driver passes ``state``, ``P`` and ``S`` straight through. (A numba
+# ``inline="always"`` helper binds them to new variables first, and the driver then increments
+# and decrements their reference counts around every step.)
+
+#: Structures that run their own step and its kind argument; the others run the generic
+#: :func:`_step`.
+_OWN_STEPS = {SDOF_IWAN: (step_sdof, 1), SDOF_MAXWELL: (step_sdof, 2), SDOF_IWAN_MODULATED: (step_sdof, 3),
+              HYBRID: (step_hybrid, 1), HYBRID_MODULATED: (step_hybrid, 3)}
+#: Structures that run their specialised step (the others run the generic one); tests empty it
+#: to run the generic drivers on the same inputs.
+SPECIALISED = frozenset(_OWN_STEPS)
+
+
+def _own_step(structure: int):
+    """The step of ``structure`` (generic unless it has its own) with the arguments of
+    :func:`structure_step`."""
+    step, kind = _OWN_STEPS.get(structure, (_step, 0))
+    if step is step_sdof:
+        def own(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+            return step_sdof(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+    elif step is step_hybrid:
+        def own(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+            return step_hybrid(kind, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+    else:
+        def own(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+            return _step(ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+    return own
+
+
+def structure_step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+    """Advance one step of a system of ``structure`` in place; returns a flag (0 ok).
+
+    The arguments are :func:`_step`'s after the structure. Called from a driver compiled per
+    structure (``structure`` a constant there), it runs that structure's own step
+    (:mod:`idkit.simulate._structured`; :func:`_step` for the others) and compiles no other.
     """
-    g1 = P[j, 0, 0]
-    g2 = P[j, 0, 1]
-    g3 = P[j, 0, 2]
-    force = y * (g1 + y * (g2 + y * g3)) + P[j, 0, 3] * vrel
-    tangent = g1 + y * (2.0 * g2 + 3.0 * g3 * y) + P[j, 0, 3] * 2.0 / h
-    # the Jenkin elements: slip forces scaled by s(y) when the isolator's slip is modulated, behind a
-    # clearance, or following the deflection rate (otherwise the plain stop operator: the same
-    # numbers as s = 1, slope 0)
-    kind = jenkin_kind(j, P)
-    force, tangent = jenkin_elements(kind, j, y, dy, vrel, h, P, S, force, tangent)
-    # Maxwell elements are affine in dy within a step: sum k_i u_i = mbase + mgsum dy
-    # with mbase = sum k_i e_i u_i (start of step) and mgsum = sum k_i g_i.
-    force += S[j, 2, 1] + P[j, 0, _MGSUM] * dy
-    tangent += P[j, 0, _MGSUM]
-    if P[j, 0, _BW] != 0.0:
-        b_base = P[j, 0, _BW + 8]
-        b_exp = P[j, 0, _BW + 9]
-        k1 = P[j, 0, _BW + 1]
-        k2 = P[j, 0, _BW + 2]
-        k3 = P[j, 0, _BW + 3]
-        # at least _BW_SUBSTEPS, more where the step is long against z's relaxation length (np.int64:
-        # the same compiled functions as the model's history; a bare constant is typed as a literal)
-        alpha, beta, gamma, exponent = P[j, 0, _BW + 4], P[j, 0, _BW + 5], P[j, 0, _BW + 6], P[j, 0, _BW + 7]
-        pinch = P[j, 0, _PINCH]
-        if pinch != 0.0:
-            width = P[j, 0, _PINCH + 1]
-            z, dz = pinched_boucwen_z_step(S[j, 2, 0], dy, alpha, beta, gamma, exponent, pinch, width,
-                                           P[j, 0, _PINCH + 2],
-                                           pinched_substeps(dy, alpha, beta, gamma, exponent, pinch, width,
-                                                            np.int64(_BW_SUBSTEPS)))
-        else:
-            z, dz = boucwen_z_step(S[j, 2, 0], dy, alpha, beta, gamma, exponent,
-                                   boucwen_substeps(dy, alpha, beta, gamma, exponent, np.int64(_BW_SUBSTEPS)))
-        factor = b_base ** (b_exp * y)
-        bw_force = factor * (y * (k1 + k2 * abs(y) + k3 * y * y) + z)
-        force += bw_force
-        tangent += math.log(b_base) * b_exp * bw_force + factor * (k1 + 2.0 * k2 * abs(y) + 3.0 * k3 * y * y + dz)
-        S[j, 2, 2] = z
-    return force, tangent
+    return _own_step(structure)(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
 
 
-@numba.njit(cache=True, error_model="numpy", _nrt=False)
-def _commit_isolator(j, dy, P, S):
-    """Commit isolator ``j``'s internal states at the end of a converged step whose last
-    evaluation of :func:`_isolator_force` was at the step's end point (increment ``dy``): its
-    Jenkin forces and Bouc-Wen ``z`` are copied, the Maxwell elongations updated. One compiled
-    function with no constant flag: a literal ``commit`` argument had numba compile the
-    isolator force and the rig's residual twice each."""
-    commit_jenkin(j, P, S)
-    commit_maxwell(j, dy, P, S)
-    if P[j, 0, _BW] != 0.0:
-        S[j, 2, 0] = S[j, 2, 2]
+@overload(structure_step, prefer_literal=True, jit_options={"error_model": "numpy", "_nrt": False})
+def _structure_step_typed(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+    """The compiled :func:`structure_step`: the step of a constant ``structure`` (none else)."""
+    if isinstance(structure, types.IntegerLiteral):
+        return _own_step(structure.literal_value)
+    return None
 
 
-@numba.njit(cache=True, inline="always")
-def _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, P, S):
-    """Forces and tangents ``(f0, t0, f1, t1)`` of the isolators for a trial state.
+def drivers_per_structure(factory):
+    """``structure -> compiled driver`` from a driver ``factory(structure)`` (a Python function
+    whose closure holds ``structure``): the driver of ``structure``, or the generic one if it is
+    not in :data:`SPECIALISED` (read at each call); one dispatcher per structure and process, so
+    nothing is compiled twice, shared by threads.
 
-    Absolute coordinates: isolator 0 sits below mass 0, the last stands on the base. One call
-    site of :func:`_isolator_force` (a loop over the isolators) keeps the compiled step small.
-    """
-    f0 = t0 = f1 = t1 = 0.0
-    for j in range(ndof):
-        if ndof == 2 and j == 0:
-            y = q0 - q1
-            dy = y - (qn0 - qn1)
-            vrel = v0 - v1
-        elif ndof == 1:
-            y = q0 - xb_new
-            dy = y - (qn0 - xb_old)
-            vrel = v0 - vb_new
-        else:
-            y = q1 - xb_new
-            dy = y - (qn1 - xb_old)
-            vrel = v1 - vb_new
-        f, t = _isolator_force(j, y, dy, vrel, h, P, S)
-        if j == 0:
-            f0 = f
-            t0 = t
-        else:
-            f1 = f
-            t1 = t
-    return f0, t0, f1, t1
-
-
-@numba.njit(cache=True, inline="always")
-def _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, q0, q1, h, load, xb_old, xb_new, vb_new, P, S):
-    """Step residual ``M (a + g) + f`` at trial positions ``(q0, q1)``.
-
-    Returns ``(r0, r1, t0, t1, magnitude)``: residuals (N), isolator tangents
-    (N/m, including the viscous ``2 c / h``) and the size of the residual's terms
-    (N), which sets its round-off floor.
-    """
-    c2 = 2.0 / h
-    c4 = c2 * c2
-    v0 = c2 * (q0 - qn0) - vn0
-    a0 = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
-    v1 = 0.0
-    a1 = 0.0
-    if ndof == 2:
-        v1 = c2 * (q1 - qn1) - vn1
-        a1 = c4 * (q1 - qn1) - 2.0 * c2 * vn1 - an1
-    f0, t0, f1, t1 = _forces(ndof, qn0, qn1, q0, q1, v0, v1, xb_old, xb_new, vb_new, h, P, S)
-    r0 = m0 * (a0 + load) + f0
-    magnitude = m0 * (abs(a0) + abs(load) + c4 * (abs(q0) + abs(qn0))) + abs(f0)
-    r1 = 0.0
-    if ndof == 2:
-        r1 = m1 * (a1 + load) - f0 + f1
-        magnitude += m1 * (abs(a1) + abs(load) + c4 * (abs(q1) + abs(qn1))) + abs(f1)
-    return r0, r1, t0, t1, magnitude
-
-
-@numba.njit(cache=True, error_model="numpy", _nrt=False)
-def _step(ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
-    """Advance one step in place; returns a flag (0 ok).
-
-    ``state`` = ``[q0, q1, v0, v1, a0, a1]`` (absolute, top first); ``load`` is
-    gravity in m/s^2; ``xb_old``, ``xb_new``, ``vb_new``: base displacement (m) at
-    both ends of the step and base velocity (m/s) at its end.
-    """
-    qn0 = state[0]
-    qn1 = state[1]
-    vn0 = state[2]
-    vn1 = state[3]
-    an0 = state[4]
-    an1 = state[5]
-    c2 = 2.0 / h
-    c4 = c2 * c2
-    # constant-acceleration predictor, then at least one Newton correction, each direction
-    # tried at full length and halved up to 40 times; one evaluation site, the specialised
-    # steps' loop (idkit.simulate._structured), so the last evaluation is at the end point
-    q0 = qn0 + h * vn0 + 0.5 * h * h * an0
-    q1 = qn1 + h * vn1 + 0.5 * h * h * an1
-    trial0 = q0
-    trial1 = q1
-    dq0 = 0.0
-    dq1 = 0.0
-    scale = 1.0
-    rnorm = 0.0
-    accepted_trials = -1  # -1 while the predictor is evaluated
-    halvings = 0
-    converged = False
-    while True:
-        r0, r1, t0, t1, magnitude = _residual(ndof, m0, m1, qn0, qn1, vn0, vn1, an0, an1, trial0, trial1, h, load,
-                                              xb_old, xb_new, vb_new, P, S)
-        new_norm = math.sqrt(r0 * r0 + r1 * r1)
-        floor = _RES_TOL * (magnitude + force_scale)
-        if accepted_trials >= 0:
-            if new_norm < rnorm or new_norm <= floor:
-                q0 = trial0
-                q1 = trial1
-                rnorm = new_norm
-                if rnorm <= floor:
-                    converged = True
-                    break
-                if abs(scale * dq0) + abs(scale * dq1) <= 1e-15 * (abs(q0) + abs(q1) + abs(qn0)):
-                    converged = rnorm <= 1e3 * floor
-                    break
-                accepted_trials += 1
-                if accepted_trials == _NEWTON_MAX_ITER:
-                    break
-            else:
-                scale *= 0.5
-                halvings += 1
-                if halvings < 40:
-                    trial0 = q0 + scale * dq0
-                    trial1 = q1 + scale * dq1
-                    continue
-                q0 = trial0  # no decrease along the direction: stop where the search ended
-                q1 = trial1
-                rnorm = new_norm
-                converged = rnorm <= 1e3 * floor
-                break
-        else:
-            rnorm = new_norm
-            accepted_trials = 0
-        if ndof == 1:
-            dq0 = -r0 / (c4 * m0 + t0)
-            dq1 = 0.0
-        else:
-            j00 = c4 * m0 + t0
-            j01 = -t0
-            j11 = c4 * m1 + t0 + t1
-            det = j00 * j11 - j01 * j01
-            dq0 = -(j11 * r0 - j01 * r1) / det
-            dq1 = -(j00 * r1 - j01 * r0) / det
-        scale = 1.0
-        halvings = 0
-        trial0 = q0 + dq0
-        trial1 = q1 + dq1
-    if not converged:
-        return FLAG_NO_CONVERGENCE
-    v0 = c2 * (q0 - qn0) - vn0
-    v1 = c2 * (q1 - qn1) - vn1 if ndof == 2 else 0.0
-    # commit the internal states at the converged point (the last evaluation was there)
-    for j in range(ndof):  # a loop: j typed as a variable (a constant j compiles a copy per value)
-        if ndof == 2 and j == 0:
-            dy = (q0 - q1) - (qn0 - qn1)
-        elif ndof == 1:
-            dy = (q0 - xb_new) - (qn0 - xb_old)
-        else:
-            dy = (q1 - xb_new) - (qn1 - xb_old)
-        _commit_isolator(j, dy, P, S)
-    state[0] = q0
-    state[2] = v0
-    state[4] = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
-    if ndof == 2:
-        state[1] = q1
-        state[3] = v1
-        state[5] = c4 * (q1 - qn1) - 2.0 * c2 * vn1 - an1
-    for d in range(6):
-        if not math.isfinite(state[d]):
-            return FLAG_NON_FINITE
-    for j in range(ndof):
-        y = q0 - q1 if (ndof == 2 and j == 0) else (q0 if ndof == 1 else q1) - xb_new
-        if P[j, 0, 0] + y * (2.0 * P[j, 0, 1] + 3.0 * P[j, 0, 2] * y) < 0.0:
-            return FLAG_NEGATIVE_STIFFNESS
-    return FLAG_OK
-
-
-@numba.njit(cache=True)
-def _isolator_forces_now(ndof, state, xb, vb, P, S, out):
-    """Isolator forces (N) of the current ``state = [q0, q1, v0, v1, a0, a1]``."""
-    for j in range(ndof):
-        if ndof == 2 and j == 0:
-            y = state[0] - state[1]
-            vr = state[2] - state[3]
-        else:
-            y = state[j] - xb
-            vr = state[2 + j] - vb
-        f = y * (P[j, 0, 0] + y * (P[j, 0, 1] + y * P[j, 0, 2])) + P[j, 0, 3] * vr
-        gap = P[j, 0, _GAP]
-        for i in range(int(P[j, 0, _NJ])):
-            if gap > 0.0:  # a clearance passes on the virtual force less its dead zone
-                dead = P[j, 1, i] * gap
-                virtual = S[j, 0, i]
-                f += virtual - dead if virtual > dead else virtual + dead if virtual < -dead else 0.0
-            else:
-                f += S[j, 0, i]
-        for i in range(int(P[j, 0, _NM])):
-            f += P[j, 3, i] * S[j, 1, i]
-        if P[j, 0, _BW] != 0.0:
-            f += P[j, 0, _BW + 8] ** (P[j, 0, _BW + 9] * y) * (
-                y * (P[j, 0, _BW + 1] + P[j, 0, _BW + 2] * abs(y) + P[j, 0, _BW + 3] * y * y) + S[j, 2, 0])
-        out[j] = f
-
-
-@numba.njit(cache=True)
-def _initial_acceleration(ndof, masses, state, load, xb, vb, P, S):
-    """Accelerations ``state[4:6]`` from equilibrium at t = 0 with the given internal states."""
-    frc = np.zeros(2)
-    _isolator_forces_now(ndof, state, xb, vb, P, S, frc)
-    state[4] = -frc[0] / masses[0] - load
-    if ndof == 2:
-        state[5] = (frc[0] - frc[1]) / masses[1] - load
-
-
-# Step dispatch. Each driver is compiled per structure (``structure`` is a constant of its
-# closure) and calls that structure's step through an if-chain on it, written out in each
-# driver: numba prunes the branches on the constant before typing, so a driver types and
-# compiles its own step only. The call is direct on purpose: binding ``state``, ``P`` and ``S``
-# to new variables first (a helper inlined into the driver did) makes numba increment and
-# decrement their reference counts around every call, six atomic operations a step that its
-# pruning cannot remove across the call (15-20 ns of a 20-40 ns step, measured).
-
-
-def _compiled_per_structure(driver, structure: int):
-    """``driver`` compiled (cached, releasing the GIL) under a name of its structure's own.
-
+    Each driver is compiled (cached, releasing the GIL) under a name of its structure's own:
     numba names a compiled function by its qualified name and a counter of the process that
-    compiled it, and keeps its cache index by the qualified name: the drivers of two
-    structures compiled in two processes could come out under one name and share one index
-    file. Each structure's driver now has its own name, symbols and cache files.
+    compiled it, and keeps its cache index by the qualified name, so the drivers of two
+    structures compiled in two processes could otherwise come out under one name and share one
+    index file.
     """
-    driver.__qualname__ = f"{driver.__qualname__}_{STRUCTURE_KEYS[structure]}"
-    return numba.njit(cache=True, nogil=True)(driver)
+    compiled = {}
+    lock = threading.Lock()
+
+    def driver_of(structure: int):
+        structure = structure if structure in SPECIALISED else GENERIC
+        with lock:
+            if structure not in compiled:
+                driver = factory(structure)
+                driver.__qualname__ = f"{driver.__qualname__}_{STRUCTURE_KEYS[structure]}"
+                compiled[structure] = numba.njit(cache=True, nogil=True)(driver)
+            return compiled[structure]
+
+    return driver_of
 
 
 def _time_kernel(structure):
@@ -512,19 +327,7 @@ def _time_kernel(structure):
                 xb_old = base_disp[row, n - 1]
                 xb_new = base_disp[row, n]
                 vb_new = base_vel[row, n]
-                # the step of the driver's structure, called directly (see "Step dispatch" above)
-                if structure == SDOF_IWAN:
-                    flag = step_sdof(1, m0, state, h, gravity, xb_old, xb_new, vb_new, P, S, scale)
-                elif structure == SDOF_MAXWELL:
-                    flag = step_sdof(2, m0, state, h, gravity, xb_old, xb_new, vb_new, P, S, scale)
-                elif structure == HYBRID:
-                    flag = step_hybrid(1, m0, m1, state, h, gravity, xb_old, xb_new, vb_new, P, S, scale)
-                elif structure == SDOF_IWAN_MODULATED:
-                    flag = step_sdof(3, m0, state, h, gravity, xb_old, xb_new, vb_new, P, S, scale)
-                elif structure == HYBRID_MODULATED:
-                    flag = step_hybrid(3, m0, m1, state, h, gravity, xb_old, xb_new, vb_new, P, S, scale)
-                else:
-                    flag = _step(ndof, m0, m1, state, h, gravity, xb_old, xb_new, vb_new, P, S, scale)
+                flag = structure_step(structure, ndof, m0, m1, state, h, gravity, xb_old, xb_new, vb_new, P, S, scale)
                 if flag != FLAG_OK:
                     flags[b] = flag
                     flag_step[b] = n
@@ -540,18 +343,12 @@ def _time_kernel(structure):
                         rec_a[b, d, r] = state[4 + d]
                         rec_f[b, d, r] = frc[d]
             if flags[b] == FLAG_OK:
+                _store_end_state(b, ndof, state, S, end_q, end_v, end_jforce, end_mstate, end_bwz)
                 for d in range(ndof):
-                    end_q[b, d] = state[d]
-                    end_v[b, d] = state[2 + d]
                     end_a[b, d] = state[4 + d]
-                    for i in range(jforce0.shape[2]):
-                        end_jforce[b, d, i] = S[d, 0, i]
-                    for i in range(mstate0.shape[2]):
-                        end_mstate[b, d, i] = S[d, 1, i]
-                    end_bwz[b, d] = S[d, 2, 0]
         return rec_q, rec_v, rec_a, rec_f, flags, flag_step, end_q, end_v, end_a, end_jforce, end_mstate, end_bwz
 
-    return _compiled_per_structure(run_time_batch, structure)
+    return run_time_batch
 
 
 @numba.njit(cache=True)
@@ -704,19 +501,7 @@ def _harmonic_kernel(structure):
                     at = at + 1 if at + 1 < n_per else 0
                     xb_new = amp * base_sin[at]
                     vb_new = amp * omega * base_cos[at]
-                    # the step of the driver's structure, called directly (see "Step dispatch" above)
-                    if structure == SDOF_IWAN:
-                        flag = step_sdof(1, m0, state, h, 0.0, base, xb_new, vb_new, P, S, scale)
-                    elif structure == SDOF_MAXWELL:
-                        flag = step_sdof(2, m0, state, h, 0.0, base, xb_new, vb_new, P, S, scale)
-                    elif structure == HYBRID:
-                        flag = step_hybrid(1, m0, m1, state, h, 0.0, base, xb_new, vb_new, P, S, scale)
-                    elif structure == SDOF_IWAN_MODULATED:
-                        flag = step_sdof(3, m0, state, h, 0.0, base, xb_new, vb_new, P, S, scale)
-                    elif structure == HYBRID_MODULATED:
-                        flag = step_hybrid(3, m0, m1, state, h, 0.0, base, xb_new, vb_new, P, S, scale)
-                    else:
-                        flag = _step(ndof, m0, m1, state, h, 0.0, base, xb_new, vb_new, P, S, scale)
+                    flag = structure_step(structure, ndof, m0, m1, state, h, 0.0, base, xb_new, vb_new, P, S, scale)
                     if flag != FLAG_OK:
                         break
                 if flag != FLAG_OK:
@@ -768,289 +553,18 @@ def _harmonic_kernel(structure):
                 for m in range(n_coeff):
                     coeff[b, m] = previous[m]
                     dcoeff[b, m] = dcurrent[m]
-                for d in range(ndof):
-                    end_q[b, d] = state[d]
-                    end_v[b, d] = state[2 + d]
-                    end_bwz[b, d] = S[d, 2, 0]
-                    for i in range(jforce0.shape[2]):
-                        end_jforce[b, d, i] = S[d, 0, i]
-                    for i in range(mstate0.shape[2]):
-                        end_mstate[b, d, i] = S[d, 1, i]
+                _store_end_state(b, ndof, state, S, end_q, end_v, end_jforce, end_mstate, end_bwz)
         return (coeff, half_range, accel_peak, dcoeff, windows, change, converged, flags, end_q, end_v, end_jforce,
                 end_mstate, end_bwz)
 
-    return _compiled_per_structure(run_harmonic_batch, structure)
+    return run_harmonic_batch
 
 
+#: :func:`run_time_batch` compiled for a structure, one per structure and process
+#: (:func:`idkit.simulate._kernel.drivers_per_structure`).
+time_kernel = drivers_per_structure(_time_kernel)
+#: :func:`run_harmonic_batch` compiled for a structure (as :data:`time_kernel`).
+harmonic_kernel = drivers_per_structure(_harmonic_kernel)
 #: The generic drivers (every structure; the reference of the specialised ones).
-run_time_batch = _time_kernel(GENERIC)
-run_harmonic_batch = _harmonic_kernel(GENERIC)
-_TIME_KERNELS = {GENERIC: run_time_batch}
-_HARMONIC_KERNELS = {GENERIC: run_harmonic_batch}
-_KERNELS_LOCK = threading.Lock()
-#: Structures that run their specialised step (the others run the generic one); tests empty it
-#: to run the generic kernel on the same inputs.
-SPECIALISED = frozenset({SDOF_IWAN, SDOF_MAXWELL, HYBRID, SDOF_IWAN_MODULATED, HYBRID_MODULATED})
-
-
-def time_kernel(structure: int):
-    """:func:`run_time_batch` compiled for ``structure`` (generic if it is not in :data:`SPECIALISED`);
-    one dispatcher per structure and process, so nothing is compiled twice."""
-    structure = structure if structure in SPECIALISED else GENERIC
-    with _KERNELS_LOCK:  # callers in several threads still share one dispatcher
-        if structure not in _TIME_KERNELS:
-            _TIME_KERNELS[structure] = _time_kernel(structure)
-        return _TIME_KERNELS[structure]
-
-
-def harmonic_kernel(structure: int):
-    """:func:`run_harmonic_batch` compiled for ``structure`` (as :func:`time_kernel`)."""
-    structure = structure if structure in SPECIALISED else GENERIC
-    with _KERNELS_LOCK:
-        if structure not in _HARMONIC_KERNELS:
-            _HARMONIC_KERNELS[structure] = _harmonic_kernel(structure)
-        return _HARMONIC_KERNELS[structure]
-
-
-# ------------------------------------------------------------------------------------------
-# Drop rig: a free chain of masses (top, [intermediate], bottom) above a unilateral floor
-
-
-@numba.njit(cache=True, error_model="numpy", _nrt=False)
-def _rig_residual(n, masses, qn, vn, an, q, h, load, P, S, k_c, c_c, r, diag, upper, forces):
-    """Residuals ``r`` (N) of the rig's step at trial positions ``q`` and the tridiagonal Jacobian.
-
-    Isolator ``j`` connects mass ``j`` (above) with mass ``j + 1``; the last mass meets the floor
-    (height 0) through ``max(0, k_c p - c_c v)``, ``p = -q[n-1]`` the penetration. ``forces``
-    receives the isolator forces and, last, the contact force (N). Returns the size of the
-    residual's terms (N).
-    """
-    c2 = 2.0 / h
-    c4 = c2 * c2
-    magnitude = 0.0
-    for d in range(n):
-        a = c4 * (q[d] - qn[d]) - 2.0 * c2 * vn[d] - an[d]
-        r[d] = masses[d] * (a + load)
-        diag[d] = c4 * masses[d]
-        upper[d] = 0.0
-        magnitude += masses[d] * (abs(a) + abs(load) + c4 * (abs(q[d]) + abs(qn[d])))
-    for j in range(n - 1):
-        y = q[j] - q[j + 1]
-        dy = y - (qn[j] - qn[j + 1])
-        vrel = (c2 * (q[j] - qn[j]) - vn[j]) - (c2 * (q[j + 1] - qn[j + 1]) - vn[j + 1])
-        f, t = _isolator_force(j, y, dy, vrel, h, P, S)
-        r[j] += f
-        r[j + 1] -= f
-        diag[j] += t
-        diag[j + 1] += t
-        upper[j] = -t
-        forces[j] = f
-        magnitude += abs(f)
-    last = n - 1
-    contact = 0.0
-    penetration = -q[last]
-    if penetration > 0.0:
-        v_last = c2 * (q[last] - qn[last]) - vn[last]
-        contact = k_c * penetration - c_c * v_last
-        if contact > 0.0:
-            diag[last] += k_c + c_c * c2
-        else:
-            contact = 0.0
-    r[last] -= contact
-    forces[n - 1] = contact
-    return magnitude + contact
-
-
-@numba.njit(cache=True, error_model="numpy", _nrt=False)
-def _rig_step(n, masses, q, v, a, h, load, P, S, k_c, c_c, force_scale, forces, work):
-    """Advance the rig one step in place (average-acceleration Newmark); returns a flag."""
-    qn = work[0]
-    trial = work[1]
-    r = work[2]
-    diag = work[3]
-    upper = work[4]
-    dq = work[5]
-    cprime = work[6]
-    for d in range(n):
-        qn[d] = q[d]
-        trial[d] = q[d] + h * v[d] + 0.5 * h * h * a[d]
-    magnitude = _rig_residual(n, masses, qn, v, a, trial, h, load, P, S, k_c, c_c, r, diag, upper, forces)
-    rnorm = 0.0
-    for d in range(n):
-        rnorm += r[d] * r[d]
-    rnorm = math.sqrt(rnorm)
-    converged = False
-    for _iteration in range(_NEWTON_MAX_ITER):
-        # Thomas algorithm on the symmetric tridiagonal Jacobian
-        cprime[0] = upper[0] / diag[0]
-        dq[0] = -r[0] / diag[0]
-        for d in range(1, n):
-            denom = diag[d] - upper[d - 1] * cprime[d - 1]
-            cprime[d] = upper[d] / denom if d < n - 1 else 0.0
-            dq[d] = (-r[d] - upper[d - 1] * dq[d - 1]) / denom
-        for d in range(n - 2, -1, -1):
-            dq[d] -= cprime[d] * dq[d + 1]
-        scale = 1.0
-        accepted = False
-        new_norm = rnorm
-        for _ in range(40):
-            for d in range(n):
-                q[d] = trial[d] + scale * dq[d]
-            magnitude = _rig_residual(n, masses, qn, v, a, q, h, load, P, S, k_c, c_c, r, diag, upper, forces)
-            new_norm = 0.0
-            for d in range(n):
-                new_norm += r[d] * r[d]
-            new_norm = math.sqrt(new_norm)
-            if new_norm < rnorm or new_norm <= _RES_TOL * (magnitude + force_scale):
-                accepted = True
-                break
-            scale *= 0.5
-        step_size = 0.0
-        size = 0.0
-        for d in range(n):
-            step_size += abs(scale * dq[d])
-            size += abs(q[d]) + abs(qn[d])
-            trial[d] = q[d]
-        rnorm = new_norm
-        if rnorm <= _RES_TOL * (magnitude + force_scale):
-            converged = True
-            break
-        if not accepted or step_size <= 1e-15 * size:
-            converged = rnorm <= 1e3 * _RES_TOL * (magnitude + force_scale)
-            break
-    if not converged:
-        return FLAG_NO_CONVERGENCE
-    # commit the internal states at the converged point (the last evaluation was there)
-    for j in range(n - 1):
-        _commit_isolator(j, (trial[j] - trial[j + 1]) - (qn[j] - qn[j + 1]), P, S)
-    c2 = 2.0 / h
-    c4 = c2 * c2
-    for d in range(n):
-        q[d] = trial[d]
-        v_new = c2 * (q[d] - qn[d]) - v[d]
-        a[d] = c4 * (q[d] - qn[d]) - 2.0 * c2 * v[d] - a[d]
-        v[d] = v_new
-        if not (math.isfinite(q[d]) and math.isfinite(v[d]) and math.isfinite(a[d])):
-            return FLAG_NON_FINITE
-    for j in range(n - 1):
-        y = q[j] - q[j + 1]
-        if P[j, 0, 0] + y * (2.0 * P[j, 0, 1] + 3.0 * P[j, 0, 2] * y) < 0.0:
-            return FLAG_NEGATIVE_STIFFNESS
-    return FLAG_OK
-
-
-_RIG_HALVINGS = 4
-
-
-@numba.njit(cache=True, error_model="numpy", _nrt=False)
-def _rig_macro_step(n, masses, q, v, a, h, load, Ps, S, k_c, c_c, force_scale, forces, work, saved):
-    """One step ``h`` of the rig, split into halves (recursively, to ``h / 2^_RIG_HALVINGS``)
-    where the Newton iteration does not converge; returns a flag."""
-    units = 1 << _RIG_HALVINGS  # the step in units of the smallest sub-step
-    done = 0
-    level = 0
-    flag = FLAG_OK
-    while done < units:
-        for d in range(n):
-            saved[0, d] = q[d]
-            saved[1, d] = v[d]
-            saved[2, d] = a[d]
-        flag = _rig_step(n, masses, q, v, a, h / 2.0**level, load, Ps[level], S, k_c, c_c, force_scale, forces,
-                         work)
-        if flag == FLAG_OK:
-            done += 1 << (_RIG_HALVINGS - level)
-            # back to the coarser step once aligned with it
-            while level > 0 and done % (1 << (_RIG_HALVINGS - level + 1)) == 0:
-                level -= 1
-            continue
-        for d in range(n):  # internal states are only committed by a converged step
-            q[d] = saved[0, d]
-            v[d] = saved[1, d]
-            a[d] = saved[2, d]
-        if flag != FLAG_NO_CONVERGENCE or level == _RIG_HALVINGS:
-            return flag
-        level += 1
-    return flag
-
-
-@numba.njit(cache=True, nogil=True)
-def run_drop_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, h, n_steps, max_steps, gravity, q0, jforce0,
-                   mstate0, bwz0, k_contact, c_contact, record_every, force_scale):
-    """Drop-rig runs from rest: masses ``(n,)`` top first, the last one (bottom) meets the floor.
-
-    Parameters (float64 arrays unless said)
-    ----------
-    masses : (n,) kg, ``n`` = 2 or 3; isolator ``j`` sits between mass ``j`` and ``j + 1``.
-    poly ... sm : isolator arrays (``n - 1`` rows) as for :func:`run_time_batch`.
-    n_steps : int64 (batch,) steps of each member; max_steps : int, at least their maximum (sets
-        the record length, common to every chunk of a batch).
-    q0 : (batch, n) initial heights (m) above the floor, at rest.
-    jforce0, mstate0, bwz0 : initial internal states, shapes (batch, n-1, nj), (batch, n-1, nm),
-        (batch, n-1).
-    k_contact, c_contact : floor contact stiffness (N/m) and damping (N s/m).
-
-    Returns
-    -------
-    q, v, a : (batch, n, n_records) absolute heights (m), velocities (m/s), kinematic
-        accelerations (m/s^2); force : (batch, n, n_records) isolator forces (N, tension
-        positive) and, in the last row, the contact force (N, >= 0); first_contact :
-        (batch,) step of the first contact (-1 if none); flags, flag_step : (batch,).
-    """
-    batch = q0.shape[0]
-    n = masses.shape[0]
-    n_records = max_steps // record_every + 1
-    rec_q = np.full((batch, n, n_records), np.nan)
-    rec_v = np.full((batch, n, n_records), np.nan)
-    rec_a = np.full((batch, n, n_records), np.nan)
-    rec_f = np.full((batch, n, n_records), np.nan)
-    first_contact = np.full(batch, -1, dtype=np.int64)
-    flags = np.zeros(batch, dtype=np.int64)
-    flag_step = np.full(batch, -1, dtype=np.int64)
-    # parameter blocks for the step and its halvings (a step whose Newton iteration stalls at a
-    # kink of the contact or slip laws is retried as two half steps, down to h / 2^_RIG_HALVINGS)
-    P0 = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
-    Ps = np.zeros((_RIG_HALVINGS + 1, P0.shape[0], P0.shape[1], P0.shape[2]))
-    for level in range(_RIG_HALVINGS + 1):
-        packed = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h / 2.0**level)
-        # element-wise copy: an array assignment compiles numba's shape-mismatch error path,
-        # seconds of compile time for a case that cannot occur (same shapes)
-        for j in range(P0.shape[0]):
-            for row in range(P0.shape[1]):
-                for i in range(P0.shape[2]):
-                    Ps[level, j, row, i] = packed[j, row, i]
-    P = Ps[0]
-    work = np.zeros((7, n))
-    forces = np.zeros(n)
-    saved = np.zeros((3, n))
-    for b in range(batch):
-        S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
-        q = np.zeros(n)
-        v = np.zeros(n)
-        a = np.zeros(n)
-        for d in range(n):
-            q[d] = q0[b, d]
-        # initial accelerations from the forces at rest (zero step: no increment, no rate)
-        _rig_residual(n, masses, q, v, a, q, 1.0, 0.0, P, S, k_contact, c_contact, work[2], work[3], work[4], forces)
-        for d in range(n):
-            a[d] = -work[2][d] / masses[d] - gravity
-            rec_q[b, d, 0] = q[d]
-            rec_v[b, d, 0] = 0.0
-            rec_a[b, d, 0] = a[d]
-            rec_f[b, d, 0] = forces[d]
-        for step in range(1, n_steps[b] + 1):
-            flag = _rig_macro_step(n, masses, q, v, a, h, gravity, Ps, S, k_contact, c_contact, force_scale, forces,
-                                   work, saved)
-            if flag != FLAG_OK:
-                flags[b] = flag
-                flag_step[b] = step
-                break
-            if first_contact[b] < 0 and q[n - 1] < 0.0:
-                first_contact[b] = step
-            if step % record_every == 0:
-                k = step // record_every
-                for d in range(n):
-                    rec_q[b, d, k] = q[d]
-                    rec_v[b, d, k] = v[d]
-                    rec_a[b, d, k] = a[d]
-                    rec_f[b, d, k] = forces[d]
-    return rec_q, rec_v, rec_a, rec_f, first_contact, flags, flag_step
+run_time_batch = time_kernel(GENERIC)
+run_harmonic_batch = harmonic_kernel(GENERIC)

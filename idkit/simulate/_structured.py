@@ -1,6 +1,6 @@
 """Steps specialised to one system structure (numba), the same scheme as the generic step.
 
-The generic step of :mod:`idkit.simulate._kernel` tests at run time which parts each isolator
+The generic step (:mod:`idkit.simulate._generic_step`) tests at run time which parts each isolator
 has (Jenkin elements, Maxwell elements, Bouc-Wen, slip modulation) and how many masses the
 system has; the compiled step carries every part. The steps here are written for one
 structure each and carry only its parts:
@@ -19,9 +19,9 @@ parts the structure has (the generic step's absent parts add exact zeros), so bo
 the same records to round-off; ``tests/simulate/test_structured_kernel.py`` runs both on the
 same inputs. Any other structure (Bouc-Wen, pinched Bouc-Wen, clearance or rate-dependent Jenkin elements,
 mixed isolators) runs the generic
-step. A driver is compiled once per structure (:func:`idkit.simulate._kernel.time_kernel`):
-the structure is a constant of the driver, so numba prunes the other branches before typing
-and the kernel compiles only the code it runs.
+step. A driver is compiled once per structure (:data:`idkit.simulate._kernel.time_kernel`) and
+calls its step through :func:`idkit.simulate._kernel.structure_step` with the structure a
+compile-time constant, so it compiles only the step it runs.
 """
 
 from __future__ import annotations
@@ -46,15 +46,17 @@ STRUCTURE_NAMES = {GENERIC: "generic", SDOF_IWAN: "SDOF Iwan", SDOF_MAXWELL: "SD
 STRUCTURE_KEYS = {GENERIC: "generic", SDOF_IWAN: "sdof_iwan", SDOF_MAXWELL: "sdof_maxwell", HYBRID: "hybrid",
                   SDOF_IWAN_MODULATED: "sdof_iwan_modulated", HYBRID_MODULATED: "hybrid_modulated"}
 
-# the same constants as the generic step (idkit.simulate._kernel)
-_FLAG_OK = 0
-_FLAG_NEGATIVE_STIFFNESS = 1
-_FLAG_NON_FINITE = 2
-_FLAG_NO_CONVERGENCE = 3
+# The flags every step returns (idkit.simulate._kernel.FLAG_REASONS says them), the Newton
+# settings of every step, and the columns of row 0 of the packed parameters
+# (idkit.simulate._kernel's layout): defined here, below every kernel module that reads them.
+FLAG_OK = 0
+FLAG_NEGATIVE_STIFFNESS = 1
+FLAG_NON_FINITE = 2
+FLAG_NO_CONVERGENCE = 3
 _NEWTON_MAX_ITER = 60
 _RES_TOL = 1e-13
 _MGSUM, _NJ, _NM, _BW, _SM = 4, 5, 6, 7, 17
-_GAP, _RATE = 21, 22
+_GAP, _RATE, _PINCH = 21, 22, 24
 
 _IWAN = 1
 _MAXWELL = 2
@@ -301,6 +303,28 @@ def newton_search(accepted_trials, halvings, scale, new_norm, rnorm, floor, step
     return SEARCH_END, accepted_trials, halvings, scale, new_norm, new_norm <= 1e3 * floor  # no decrease: stop
 
 
+@numba.njit(cache=True, inline="always")
+def two_mass_direction(c4, m0, m1, r0, r1, t0, t1):
+    """The Newton direction ``(dq0, dq1)`` (m) of a two-mass step: its Jacobian
+    ``[[c4 m0 + t0, -t0], [-t0, c4 m1 + t0 + t1]]`` (the masses' ``4 / h^2`` terms and the
+    isolators' tangents, N/m) solved for minus the residuals ``(r0, r1)`` (N)."""
+    j00 = c4 * m0 + t0
+    j01 = -t0
+    j11 = c4 * m1 + t0 + t1
+    det = j00 * j11 - j01 * j01
+    return -(j11 * r0 - j01 * r1) / det, -(j00 * r1 - j01 * r0) / det
+
+
+@numba.njit(cache=True, inline="always")
+def end_of_step(state, d, q, qn, vn, an, c2, c4):
+    """Mass ``d``'s position ``q`` (m) at the end of a step into ``state = [q0, q1, v0, v1, a0,
+    a1]``, with the trapezoidal rule's velocity and acceleration (``c2 = 2 / h``, ``c4 = c2^2``;
+    ``qn, vn, an``: the step's start)."""
+    state[d] = q
+    state[2 + d] = c2 * (q - qn) - vn
+    state[4 + d] = c4 * (q - qn) - 2.0 * c2 * vn - an
+
+
 @numba.njit(cache=True, error_model="numpy", _nrt=False)
 def step_sdof(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
     """One step of a single mass on a ``kind`` isolator; the generic step's arguments and flags."""
@@ -333,18 +357,15 @@ def step_sdof(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scal
         halvings = 0
         trial0 = q0 + dq0
     if not converged:
-        return _FLAG_NO_CONVERGENCE
-    v0 = c2 * (q0 - qn0) - vn0
+        return FLAG_NO_CONVERGENCE
     y = q0 - xb_new
     _commit_part(kind, 0, y - (qn0 - xb_old), P, S)
-    state[0] = q0
-    state[2] = v0
-    state[4] = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
+    end_of_step(state, 0, q0, qn0, vn0, an0, c2, c4)
     if not (math.isfinite(state[0]) and math.isfinite(state[2]) and math.isfinite(state[4])):
-        return _FLAG_NON_FINITE
+        return FLAG_NON_FINITE
     if polynomial_spring_stiffness(y, P[0, 0, 0], P[0, 0, 1], P[0, 0, 2]) < 0.0:
-        return _FLAG_NEGATIVE_STIFFNESS
-    return _FLAG_OK
+        return FLAG_NEGATIVE_STIFFNESS
+    return FLAG_OK
 
 
 @numba.njit(cache=True, inline="always")
@@ -403,35 +424,24 @@ def step_hybrid(lower, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, for
         q1 = trial1
         if outcome == SEARCH_END:
             break
-        j00 = c4 * m0 + t0
-        j01 = -t0
-        j11 = c4 * m1 + t0 + t1
-        det = j00 * j11 - j01 * j01
-        dq0 = -(j11 * r0 - j01 * r1) / det
-        dq1 = -(j00 * r1 - j01 * r0) / det
+        dq0, dq1 = two_mass_direction(c4, m0, m1, r0, r1, t0, t1)
         scale = 1.0
         halvings = 0
         trial0 = q0 + dq0
         trial1 = q1 + dq1
     if not converged:
-        return _FLAG_NO_CONVERGENCE
-    v0 = c2 * (q0 - qn0) - vn0
-    v1 = c2 * (q1 - qn1) - vn1
+        return FLAG_NO_CONVERGENCE
     y_up = q0 - q1
     _commit_part(2, 0, y_up - (qn0 - qn1), P, S)
     y_low = q1 - xb_new
     _commit_part(lower, 1, y_low - (qn1 - xb_old), P, S)
-    state[0] = q0
-    state[2] = v0
-    state[4] = c4 * (q0 - qn0) - 2.0 * c2 * vn0 - an0
-    state[1] = q1
-    state[3] = v1
-    state[5] = c4 * (q1 - qn1) - 2.0 * c2 * vn1 - an1
+    end_of_step(state, 0, q0, qn0, vn0, an0, c2, c4)
+    end_of_step(state, 1, q1, qn1, vn1, an1, c2, c4)
     for d in range(6):
         if not math.isfinite(state[d]):
-            return _FLAG_NON_FINITE
+            return FLAG_NON_FINITE
     if polynomial_spring_stiffness(y_up, P[0, 0, 0], P[0, 0, 1], P[0, 0, 2]) < 0.0:
-        return _FLAG_NEGATIVE_STIFFNESS
+        return FLAG_NEGATIVE_STIFFNESS
     if polynomial_spring_stiffness(y_low, P[1, 0, 0], P[1, 0, 1], P[1, 0, 2]) < 0.0:
-        return _FLAG_NEGATIVE_STIFFNESS
-    return _FLAG_OK
+        return FLAG_NEGATIVE_STIFFNESS
+    return FLAG_OK

@@ -47,7 +47,8 @@ from idkit.checks import Instance, Real, Reals, Samples, Whole, accepts
 from idkit.limits import MAX_STEPS
 from idkit.models.laws import kernel_array
 from idkit.simulate._arrays import resolve_system, system_arrays
-from idkit.simulate._kernel import FLAG_REASONS, run_drop_batch
+from idkit.simulate._kernel import FLAG_REASONS
+from idkit.simulate._rig_kernel import run_drop_batch
 from idkit.simulate._parallel import run_chunked
 from idkit.simulate.time_response import initial_states, static_deflection
 
@@ -62,6 +63,11 @@ __all__ = [
 
 #: Contact steps per contact period ``2 pi sqrt(m_b / k_c)`` of the automatic time step.
 STEPS_PER_CONTACT_PERIOD = 80
+
+
+#: The contract of each :class:`ContactModel` field.
+_CONTACT_FIELDS = {"stiffness": Real(unit="N/m", gt=0), "restitution": Real(gt=0, le=1),
+                   "damping_ratio_override": Real(ge=0, optional=True)}
 
 
 @dataclass(frozen=True)
@@ -88,13 +94,8 @@ class ContactModel:
     damping_ratio_override: float | None = None
 
     def __post_init__(self):
-        if self.damping_ratio_override is not None and not (self.damping_ratio_override >= 0.0):
-            raise SimulationError(f"contact damping_ratio_override: found {self.damping_ratio_override!r}, "
-                                  "expected >= 0 or None")
-        if not (math.isfinite(self.stiffness) and self.stiffness > 0):
-            raise SimulationError(f"contact stiffness: found {self.stiffness!r}, expected a finite value > 0 N/m")
-        if not (0.0 < self.restitution <= 1.0):
-            raise SimulationError(f"contact restitution: found {self.restitution!r}, expected 0 < e <= 1")
+        for name, spec in _CONTACT_FIELDS.items():
+            spec.check(getattr(self, name), f"contact {name}", SimulationError)
 
     @property
     def damping_ratio(self) -> float:

@@ -29,7 +29,6 @@ Optional records: the top mass's absolute acceleration every ``record_every`` st
 from __future__ import annotations
 
 import math
-import threading
 from dataclasses import dataclass
 
 import numba
@@ -38,27 +37,9 @@ import numpy as np
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.errors import SimulationError
 from idkit.simulate._arrays import force_scale, system_arrays
-from idkit.simulate._kernel import (
-    FLAG_OK,
-    _compiled_per_structure,
-    _initial_acceleration,
-    _isolator_forces_now,
-    _pack,
-    _pack_states,
-    _step,
-)
-from idkit.simulate import _kernel
-from idkit.simulate._structured import (
-    GENERIC,
-    HYBRID,
-    HYBRID_MODULATED,
-    SDOF_IWAN,
-    SDOF_IWAN_MODULATED,
-    SDOF_MAXWELL,
-    step_hybrid,
-    step_sdof,
-    structure_of,
-)
+from idkit.simulate._generic_step import _initial_acceleration, _isolator_forces_now
+from idkit.simulate._kernel import FLAG_OK, _pack, _pack_states, drivers_per_structure, structure_step
+from idkit.simulate._structured import structure_of
 
 __all__ = ["ParameterSets", "SetRuns", "simulate_parameter_sets", "stack_parameter_sets", "stored_energy"]
 
@@ -182,18 +163,7 @@ def _sets_kernel(structure):
                 xb_old = base_disp[row, n - 1]
                 xb_new = base_disp[row, n]
                 vb_new = base_vel[row, n]
-                if structure == SDOF_IWAN:
-                    flag = step_sdof(1, m0, state, step, gravity, xb_old, xb_new, vb_new, P, S, scale)
-                elif structure == SDOF_MAXWELL:
-                    flag = step_sdof(2, m0, state, step, gravity, xb_old, xb_new, vb_new, P, S, scale)
-                elif structure == HYBRID:
-                    flag = step_hybrid(1, m0, m1, state, step, gravity, xb_old, xb_new, vb_new, P, S, scale)
-                elif structure == SDOF_IWAN_MODULATED:
-                    flag = step_sdof(3, m0, state, step, gravity, xb_old, xb_new, vb_new, P, S, scale)
-                elif structure == HYBRID_MODULATED:
-                    flag = step_hybrid(3, m0, m1, state, step, gravity, xb_old, xb_new, vb_new, P, S, scale)
-                else:
-                    flag = _step(ndof, m0, m1, state, step, gravity, xb_old, xb_new, vb_new, P, S, scale)
+                flag = structure_step(structure, ndof, m0, m1, state, step, gravity, xb_old, xb_new, vb_new, P, S, scale)
                 if flag != FLAG_OK:
                     flags[b] = flag
                     flag_step[b] = n
@@ -231,21 +201,12 @@ def _sets_kernel(structure):
                     peaks[b, 6 + 3 * d] = work[d] - stored_energy(d, y[d], P, S)
         return records, flags, flag_step, peaks
 
-    return _compiled_per_structure(run_sets_batch, structure)
+    return run_sets_batch
 
 
-_SETS_KERNELS: dict = {}
-_SETS_LOCK = threading.Lock()
-
-
-def _sets_kernel_for(structure: int):
-    """The driver of ``structure`` (generic unless in :data:`idkit.simulate._kernel.SPECIALISED`, read at
-    call time: tests empty it to run the generic step), compiled once per process."""
-    structure = structure if structure in _kernel.SPECIALISED else GENERIC
-    with _SETS_LOCK:
-        if structure not in _SETS_KERNELS:
-            _SETS_KERNELS[structure] = _sets_kernel(structure)
-        return _SETS_KERNELS[structure]
+#: :func:`_sets_kernel` compiled for a structure, one per structure and process
+#: (:func:`idkit.simulate._kernel.drivers_per_structure`).
+_sets_kernel_for = drivers_per_structure(_sets_kernel)
 
 
 @dataclass(frozen=True)

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
-from idkit.checks import Instance, Real, Reals, Samples, Whole, accepts
+from idkit.checks import Instance, Real, Reals, Samples, Whole, accepts, unchecked
 from idkit.errors import SimulationError
 from idkit.limits import MAX_STEPS
 from idkit.models.laws import kernel_array
@@ -477,7 +477,8 @@ def _check_state(state: TimeState, arrays) -> None:
 
 
 @accepts(impact_velocity=Reals(unit="m/s", optional=True), duration=Real(unit="s", gt=0),
-         time_step=Real(unit="s", gt=0), error=SimulationError)
+         time_step=Real(unit="s", gt=0), initial_deflection=Reals(unit="m", optional=True), record_every=Whole(ge=1),
+         error=SimulationError)
 def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float, time_step: float,
               gravity: bool | float = False, initial_deflection=None, record_every: int = 1,
               workers: int | None = None, executor=None) -> TimeResponse:
@@ -528,8 +529,8 @@ def free_fall(system, *, impact_velocity=None, drop_height=None, duration: float
     time = np.arange(n_steps + 1) * time_step
     ndof = arrays.ndof
     velocities = np.repeat(v0[:, None], ndof, axis=1)
-    return simulate(system, time, initial_velocity=velocities, initial_deflection=initial_deflection,
-                    gravity=gravity, record_every=record_every, workers=workers, executor=executor)
+    return unchecked(simulate)(system, time, initial_velocity=velocities, initial_deflection=initial_deflection,
+                               gravity=gravity, record_every=record_every, workers=workers, executor=executor)
 
 
 def _check_impact_force(arrays, v0, time_step: float, drop_height) -> None:

@@ -8,7 +8,7 @@ the wire rope and seven hybrids, all tuned to a 5 Hz small-amplitude resonance
   realizations, Welch; :func:`idkit.responses.random_vibration.random_response`; the
   linear reference and elastomer systems in the frequency domain, ``method="auto"``:
   the same estimate without simulating, and so are the nonlinear ones at levels where no
-  Jenkin element would slip (:func:`~idkit.responses.random_vibration.stays_stuck`); the others settle for five small-amplitude time
+  Jenkin element would slip (:func:`~idkit.responses.small_amplitude.stays_stuck`); the others settle for five small-amplitude time
   constants, at most one record, :func:`~idkit.responses.random_vibration.settle_records_for`;
   a realization still not periodic then (settling error above :data:`SETTLING_LIMIT`) is
   continued from its own state, record by record, up to :data:`SETTLE_EXTRA_RECORDS`

@@ -262,7 +262,7 @@ def test_a_run_that_stays_stuck_is_solved_in_the_frequency_domain_and_agrees_wit
     the small-amplitude steady state is the nonlinear system's. "auto" then returns the
     frequency-domain estimate; a simulation from that steady state (settled by construction)
     agrees within the bin tolerances of the linear systems above."""
-    from idkit.responses.random_vibration import stays_stuck
+    from idkit.responses.small_amplitude import stays_stuck
     from idkit.signal.psd import synthesize_random
 
     system = _stuck_wire_rope()
@@ -281,7 +281,7 @@ def test_a_run_that_stays_stuck_is_solved_in_the_frequency_domain_and_agrees_wit
 
 def test_slip_a_nonlinear_spring_or_bouc_wen_keep_a_run_in_the_time_domain():
     from idkit.models import BoucWenModel
-    from idkit.responses.random_vibration import LINEARITY_TOLERANCE, stays_stuck
+    from idkit.responses.small_amplitude import LINEARITY_TOLERANCE, stays_stuck
     from idkit.signal.psd import synthesize_random
 
     signals = synthesize_random(PsdProfile.flat(1e-2, f_lo=0.1, f_hi=100.0), seed=4, fs=3200.0, freq_step=0.05,
@@ -300,20 +300,20 @@ def test_slip_a_nonlinear_spring_or_bouc_wen_keep_a_run_in_the_time_domain():
 
 
 def test_floor_signals_are_reused_only_for_the_same_profile_seed_and_grid():
-    from idkit.responses.random_vibration import _line_amplitudes, _synthesized
+    from idkit.responses.small_amplitude import line_amplitudes, synthesized_records
     from idkit.signal.psd import synthesize_random
 
     quiet, loud = PsdProfile.flat(1e-6, f_lo=0.1, f_hi=100.0), PsdProfile.flat(1e-4, f_lo=0.1, f_hi=100.0)
-    first = _synthesized(quiet, 5, 400.0, 0.5, 3)
-    assert _synthesized(PsdProfile.flat(1e-6, f_lo=0.1, f_hi=100.0), 5, 400.0, 0.5, 3) is first  # equal profile
+    first = synthesized_records(quiet, 5, 400.0, 0.5, 3)
+    assert synthesized_records(PsdProfile.flat(1e-6, f_lo=0.1, f_hi=100.0), 5, 400.0, 0.5, 3) is first  # equal profile
     assert not first.flags.writeable
     np.testing.assert_array_equal(first, synthesize_random(quiet, seed=5, fs=400.0, freq_step=0.5, n_realizations=3))
-    lines = _line_amplitudes(first)
-    assert _line_amplitudes(first) is lines
-    for other in (_synthesized(quiet, 6, 400.0, 0.5, 3), _synthesized(loud, 5, 400.0, 0.5, 3)):
+    lines = line_amplitudes(first)
+    assert line_amplitudes(first) is lines
+    for other in (synthesized_records(quiet, 6, 400.0, 0.5, 3), synthesized_records(loud, 5, 400.0, 0.5, 3)):
         assert other is not first and not np.array_equal(other, first)
-        assert _line_amplitudes(other) is not lines
-    more = _synthesized(quiet, 5, 400.0, 0.5, 4)  # one more realization: a new set (its first three are these)
+        assert line_amplitudes(other) is not lines
+    more = synthesized_records(quiet, 5, 400.0, 0.5, 4)  # one more realization: a new set (its first three are these)
     assert more is not first and more.shape == (4, first.shape[1])
 
 
@@ -341,7 +341,7 @@ def test_an_undamped_resonance_on_a_line_is_not_a_bounded_stuck_state():
     import warnings
 
     from idkit.models import IwanModel
-    from idkit.responses.random_vibration import stays_stuck
+    from idkit.responses.small_amplitude import stays_stuck
 
     rope = IwanModel(g1=3e4, k=[3e4, 3e4], fc=[83.0, 146.0])
     system = SDOFSystem(_tuned_on_a_line(rope.stuck_stiffness), rope)
@@ -378,7 +378,6 @@ def test_a_floor_profile_above_the_simulated_nyquist_frequency_is_refused_not_cu
     (dict(seed=-1), "seed: found -1"),
     (dict(seed=True), "seed: found True"),
     (dict(seed=1.5), "seed: found 1.5"),
-    (dict(input_psd={"level": 1e-4}), "input_psd: found dict"),
 ])
 def test_random_response_names_a_bad_argument(arguments, words):
     # numpy's "expected non-negative integer", "'dict' object is not callable", string

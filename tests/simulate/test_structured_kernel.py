@@ -17,7 +17,7 @@ import pytest
 
 from idkit.models import BoucWenModel, ModulatedIwanModel, library
 from idkit.models.systems import HybridSystem, SDOFSystem
-from idkit.simulate import _kernel, free_fall, harmonic_response, simulate
+from idkit.simulate import _generic_step, _kernel, free_fall, harmonic_response, simulate
 from idkit.simulate._arrays import system_arrays
 from idkit.simulate._structured import (
     GENERIC,
@@ -145,18 +145,6 @@ def test_each_structures_driver_has_its_own_name_and_cache_files():
         assert len(names) == len(indexes) == len(structures)
 
 
-def test_constants_match_the_generic_step():
-    """The specialised steps repeat the generic step's flags and Newton settings (no import cycle)."""
-    from idkit.simulate import _structured
-
-    assert (_structured._FLAG_OK, _structured._FLAG_NEGATIVE_STIFFNESS, _structured._FLAG_NON_FINITE,
-            _structured._FLAG_NO_CONVERGENCE) == (_kernel.FLAG_OK, _kernel.FLAG_NEGATIVE_STIFFNESS,
-                                                  _kernel.FLAG_NON_FINITE, _kernel.FLAG_NO_CONVERGENCE)
-    assert (_structured._NEWTON_MAX_ITER, _structured._RES_TOL) == (_kernel._NEWTON_MAX_ITER, _kernel._RES_TOL)
-    assert (_structured._MGSUM, _structured._NJ, _structured._NM, _structured._BW, _structured._SM) == (
-        _kernel._MGSUM, _kernel._NJ, _kernel._NM, _kernel._BW, _kernel._SM)
-
-
 @numba.njit
 def _sdof_step(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
     return step_sdof(numba.literally(kind), m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
@@ -220,7 +208,7 @@ def test_one_step_equals_the_generic_step(name, seed):
         ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, scale = _random_step_inputs(arrays, rng)
         state_g, S_g = state.copy(), S.copy()
         flag = _specialised_step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, scale)
-        flag_g = _kernel._step(ndof, m0, m1, state_g, h, load, xb_old, xb_new, vb_new, P, S_g, scale)
+        flag_g = _generic_step._step(ndof, m0, m1, state_g, h, load, xb_old, xb_new, vb_new, P, S_g, scale)
         assert flag == flag_g
         flags.add(int(flag))
         if flag == _kernel.FLAG_OK:
@@ -240,11 +228,11 @@ def test_a_driver_compiles_only_its_own_step(tmp_path):
 
     code = (
         "from idkit.models import library\n"
-        "from idkit.simulate import simulate, _kernel, _structured\n"
+        "from idkit.simulate import simulate, _generic_step, _structured\n"
         "import numpy as np\n"
         "simulate(library.get('system_b1_low'), np.arange(11) * 1e-3, base_acceleration=np.zeros(11), workers=1)\n"
         "print([str(s[0]) for s in _structured.step_hybrid.signatures], len(_structured.step_sdof.signatures), "
-        "len(_kernel._step.signatures))\n"
+        "len(_generic_step._step.signatures))\n"
     )
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), IDKIT_CACHE_DIR=str(tmp_path), IDKIT_WORKERS="1")
     result = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
