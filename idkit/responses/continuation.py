@@ -461,9 +461,13 @@ def _continue(system, parameter, fixed, bounds, start, *, periods, steps_per_per
     )
 
 
+#: The contract of the options both continuations take (the steps are in ln f or ln A).
+_BRANCH_OPTIONS = {"n_harmonics": Whole(ge=1), "max_points": Whole(ge=2), "step": Real(gt=0, optional=True),
+                   "min_step": Real(gt=0), "max_step": Real(gt=0), "direction": Choice((1, -1))}
+
+
 @accepts(amplitude=Real(unit="m", gt=0), freq_range=Reals(unit="Hz", gt=0, min_size=2, max_size=2, increasing=True),
-         start=Real(unit="Hz", gt=0, optional=True), n_harmonics=Whole(ge=1), max_points=Whole(ge=2), step=Real(gt=0, optional=True), min_step=Real(gt=0),
-         max_step=Real(gt=0), direction=Choice((1, -1)), error=SimulationError)
+         start=Real(unit="Hz", gt=0, optional=True), **_BRANCH_OPTIONS, error=SimulationError)
 def continue_in_frequency(system, amplitude: float, freq_range, *, start: float | None = None, periods: int = 1,
                           steps_per_period: int | None = None, step: float | None = None, min_step: float = 1e-6,
                           max_step: float = 0.05, max_points: int = 400, n_harmonics: int = 3,
@@ -526,8 +530,7 @@ def continue_in_frequency(system, amplitude: float, freq_range, *, start: float 
 
 
 @accepts(freq=Real(unit="Hz", gt=0), amplitude_range=Reals(unit="m", gt=0, min_size=2, max_size=2, increasing=True),
-         start=Real(unit="m", gt=0, optional=True), n_harmonics=Whole(ge=1), max_points=Whole(ge=2), step=Real(gt=0, optional=True), min_step=Real(gt=0),
-         max_step=Real(gt=0), direction=Choice((1, -1)), error=SimulationError)
+         start=Real(unit="m", gt=0, optional=True), **_BRANCH_OPTIONS, error=SimulationError)
 def continue_in_amplitude(system, freq: float, amplitude_range, *, start: float | None = None, periods: int = 1,
                           steps_per_period: int | None = None, step: float | None = None, min_step: float = 1e-6,
                           max_step: float = 0.2, max_points: int = 400, n_harmonics: int = 3,
