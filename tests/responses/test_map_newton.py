@@ -4,7 +4,8 @@ and multipliers as per-point shooting, and the batched Newton step is the per-po
 import numpy as np
 
 from idkit.models import library
-from idkit.responses.harmonic_map import NEWTON_AFTER_PERIODS, NEWTON_REACH, _newton_batch, _NewtonPoints, harmonic_map
+from idkit.responses.harmonic_map import harmonic_map
+from idkit.responses.map_settling import NEWTON_AFTER_PERIODS, NEWTON_REACH, _newton_batch, _NewtonPoints
 from idkit.responses.periodic import STABILITY_MARGIN, PeriodMap, newton_step, newton_steps, periodic_response
 from idkit.simulate import default_steps_per_period
 

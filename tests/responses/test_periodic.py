@@ -122,7 +122,7 @@ def test_default_map_shoots_after_48_periods_and_agrees_with_long_time_integrati
     # 2 windows of two; per-point shooting for what it leaves) against a plain grid of time
     # integrations run up to 4000 periods: every point settled, and wherever the long run settled
     # the two agree within the steady-state tolerance (1e-3 of |H1|, the long run's own)
-    from idkit.responses.harmonic_map import NEWTON_AFTER_PERIODS, NEWTON_TANGENT_PERIODS, NEWTON_WINDOWS
+    from idkit.responses.map_settling import NEWTON_AFTER_PERIODS, NEWTON_TANGENT_PERIODS, NEWTON_WINDOWS
 
     system = library.get("system_a1_asymmetric")
     freq, amplitude = np.geomspace(1.0, 100.0, 8), np.geomspace(1e-5, 1e-2, 4)
@@ -138,14 +138,12 @@ def test_default_map_shoots_after_48_periods_and_agrees_with_long_time_integrati
 
 
 def test_a_point_shooting_cannot_settle_keeps_a_reason(monkeypatch):
-    import importlib
+    from idkit.responses import map_settling
 
-    module = importlib.import_module("idkit.responses.harmonic_map")  # the package exports a function of that name
-
-    original = module.periodic_response
-    monkeypatch.setattr(module, "periodic_response",
+    original = map_settling.periodic_response  # the shooting of the points the time runs leave
+    monkeypatch.setattr(map_settling, "periodic_response",
                         lambda *args, **kwargs: original(*args, **{**kwargs, "max_iterations": 0}))
-    result = module.harmonic_map(library.get("system_a1_asymmetric"), [100.0], [2.4e-3], max_periods=200, workers=1)
+    result = harmonic_map(library.get("system_a1_asymmetric"), [100.0], [2.4e-3], max_periods=200, workers=1)
     assert not result.converged[0, 0] and not result.shooting[0, 0]
     reason = str(result.reasons[0, 0])
     assert reason != "ok" and "not settled" in reason and "shooting: shooting did not converge" in reason
