@@ -3,6 +3,7 @@
 import inspect
 
 import pandas as pd
+import pytest
 
 from idkit.plot._figure import new_axes
 from idkit.report.html import HtmlReport
@@ -49,33 +50,47 @@ def _make_report(root, processes, broken):
     (root / "report.html").write_text(report.render())
 
 
-# the same function run as a script in a fresh interpreter
+# the same function run as a script in a fresh interpreter: a good report, then one whose
+# fourth figure fails, each into its own folder; a failure's traceback goes to stderr and the
+# last line names the reports that failed
 _FORKED_SCRIPT = inspect.getsource(_make_report) + '''
 import sys
+import traceback
 from pathlib import Path
 
-_make_report(Path(sys.argv[1]), int(sys.argv[2]), sys.argv[3] == "broken")
+failed = []
+for name, broken in (("forked", False), ("broken", True)):
+    try:
+        _make_report(Path(sys.argv[1]) / name, 2, broken)
+    except Exception:
+        traceback.print_exc()
+        failed.append(name)
+print("failed:", " ".join(failed))
 '''
 
 
-def _run_forked_script(tmp_path, name, processes, broken=False):
+@pytest.fixture(scope="module")
+def forked_reports(tmp_path_factory):
+    """The good and the broken report, built by child processes of one fresh interpreter."""
     import subprocess
     import sys
 
-    script = tmp_path / "make_report.py"
+    root = tmp_path_factory.mktemp("forked")
+    script = root / "make_report.py"
     script.write_text(_FORKED_SCRIPT)
     # a fresh interpreter: one Python thread, so the report may fork (pytest-xdist workers run two)
-    return subprocess.run([sys.executable, str(script), str(tmp_path / name), str(processes),
-                           "broken" if broken else "fine"], capture_output=True, text=True, timeout=120)
-
-
-def test_figures_rendered_by_child_processes_equal_those_rendered_in_process(tmp_path):
-    done = _run_forked_script(tmp_path, "forked", 2)
+    done = subprocess.run([sys.executable, str(script), str(root)], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
+    return root, done
+
+
+def test_figures_rendered_by_child_processes_equal_those_rendered_in_process(tmp_path, forked_reports):
+    root, done = forked_reports
+    assert "forked" not in done.stdout.splitlines()[-1].split()[1:], done.stderr
     # the reference renders in this process: with no child processes there is nothing to fork,
     # so the fresh interpreter is needed only for the forked report
     _make_report(tmp_path / "inline", 0, False)
-    forked, inline = tmp_path / "forked", tmp_path / "inline"
+    forked, inline = root / "forked", tmp_path / "inline"
     names = sorted(p.name for p in (inline / "figures").iterdir())
     assert names == sorted(p.name for p in (forked / "figures").iterdir())
     assert len(names) == 10  # five PNG + five SVG
@@ -88,11 +103,11 @@ def test_figures_rendered_by_child_processes_equal_those_rendered_in_process(tmp
     assert order == sorted(order)
 
 
-def test_a_figure_that_fails_in_its_child_process_is_named(tmp_path):
-    done = _run_forked_script(tmp_path, "broken", 2, broken=True)
-    assert done.returncode != 0
+def test_a_figure_that_fails_in_its_child_process_is_named(forked_reports):
+    root, done = forked_reports
+    assert done.stdout.splitlines()[-1].split()[1:] == ["broken"]
     assert "figure 3" in done.stderr and "OutputError" in done.stderr
-    assert not (tmp_path / "broken" / "report.html").exists()
+    assert not (root / "broken" / "report.html").exists()
 
 
 def test_a_placeholder_is_filled_where_it_was_reserved(tmp_path):
@@ -118,8 +133,6 @@ def test_a_placeholder_is_filled_where_it_was_reserved(tmp_path):
 
 
 def test_filling_an_unknown_placeholder_is_an_error():
-    import pytest
-
     report = HtmlReport("t")
     report.section("S", "s")
     slot = report.placeholder()
@@ -151,8 +164,6 @@ def test_text_dumps_and_long_tables_are_collapsed_and_a_gist_stands_beside_a_col
 
 
 def test_a_thumbnail_shows_a_figure_drawn_later_and_links_to_it(tmp_path):
-    import pytest
-
     report = HtmlReport("t", figures_dir=tmp_path)
     report.section("Summary", "summary", front=True)
     report.thumbnail("a line", "the line")
