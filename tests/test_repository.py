@@ -1,6 +1,7 @@
 """Repository-level checks: README commands, CI script, import layering and the "never" rules."""
 
 import ast
+import functools
 import re
 import tomllib
 from importlib import metadata
@@ -96,6 +97,13 @@ def test_distribution_name_licence_and_typing_marker():
             assert not re.search(r"(?<![\w/.-])[\"']?idkit(\[|[\"']|\s|$)", command), f"{path.name}: {command}"
 
 
+@functools.lru_cache(maxsize=None)
+def parsed(source: str) -> ast.Module:
+    """The syntax tree of ``source``, parsed once per run: several checks below walk every idkit
+    module (none changes a tree)."""
+    return ast.parse(source)
+
+
 @pytest.mark.parametrize("layer", sorted(LAYERS))
 def test_imports_flow_one_way(layer):
     offenders = []
@@ -103,7 +111,7 @@ def test_imports_flow_one_way(layer):
     if not folder.exists():
         pytest.skip(f"layer {layer} has no code yet")
     for path in folder.rglob("*.py"):
-        tree = ast.parse(path.read_text())
+        tree = parsed(path.read_text())
         for node in ast.walk(tree):
             names = []
             if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
@@ -121,7 +129,7 @@ def test_imports_flow_one_way(layer):
 
 def imported_modules(path: Path, *, skip_type_checking: bool = False) -> list[tuple[int, str]]:
     """(line, module) of every absolute import in ``path``; optionally leaving out ``if TYPE_CHECKING:`` blocks."""
-    tree = ast.parse(path.read_text())
+    tree = parsed(path.read_text())
     skipped = set()
     if skip_type_checking:
         for node in ast.walk(tree):
@@ -180,7 +188,7 @@ def test_one_axes_helper_and_no_private_imports_across_plot_modules():
         for _, module in imported_modules(path):
             assert not (module.startswith("idkit.plot.") and module.split(".")[-1].startswith("_")
                         and module != "idkit.plot._figure"), f"{path.name} imports {module}"
-        tree = ast.parse(text)
+        tree = parsed(text)
         for node in ast.walk(tree):
             if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("idkit.plot"):
                 private = [a.name for a in node.names if a.name.startswith("_")]
@@ -200,7 +208,9 @@ def backend_switches(source):
     found = [number for number, line in enumerate(lines, 1)
              if line.lstrip().startswith("%matplotlib") and line.split()[1:] != ["inline"]]
     # IPython magics and shell lines are not Python: blank them, keeping the line numbers
-    tree = ast.parse("\n".join("" if line.lstrip().startswith(("%", "!")) else line for line in lines))
+    if any(line.lstrip().startswith(("%", "!")) for line in lines):
+        source = "\n".join("" if line.lstrip().startswith(("%", "!")) else line for line in lines)
+    tree = parsed(source)
     switches = {("matplotlib", "use"), ("matplotlib.pyplot", "switch_backend")}
     modules, functions = {}, set()  # local name -> module; local names of the switch functions
     for node in ast.walk(tree):
@@ -278,7 +288,7 @@ def _module_imports() -> dict[str, set[str]]:
     graph = {}
     for name, path in modules.items():
         targets = set()
-        for node in ast.walk(ast.parse(path.read_text())):
+        for node in ast.walk(parsed(path.read_text())):
             if isinstance(node, ast.ImportFrom) and node.level == 0 and (node.module or "").startswith("idkit"):
                 targets |= {node.module} | {f"{node.module}.{alias.name}" for alias in node.names}
             elif isinstance(node, ast.Import):
