@@ -30,6 +30,7 @@ from __future__ import annotations
 import dataclasses
 import gzip
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -350,11 +351,16 @@ def test_a_feasible_loop_optimum_is_kept_by_the_valid_range_fit(data_b, rope_fit
     from idkit.studies.pipeline import valid_range_of
 
     low, high = valid_range_of(data_b["wire_rope"])
-    free = rope_fit.model
-    assert lowest_spring_stiffness(free.g1, free.g2, free.g3, low, high) >= 0.0
-    ranged = fit_iwan_measurements(data_b["wire_rope"], valid_range=(low, high))
-    assert ranged.model.params() == free.params()
+    ranged = rope_fit  # the default valid range ("data") is the report's: 1.25 x the set's deflections
     assert ranged.result.settings.valid_range == (low, high) and ranged.success, ranged.reasons
+    free = fit_iwan_measurements(data_b["wire_rope"], valid_range=None).model  # the loops' own optimum
+    assert lowest_spring_stiffness(free.g1, free.g2, free.g3, low, high) >= 0.0
+    # an inactive barrier changes the objective by rounding only, which moves a determined
+    # optimum by about that perturbation over the conditioning (measured 2e-15 here; one ulp
+    # on every force moves it by ~1e-13, the ulp test below): 1e-6 leaves room for other CPUs
+    assert ranged.model.params().keys() == free.params().keys()
+    for name, value in free.params().items():
+        assert ranged.model.params()[name] == pytest.approx(value, rel=1e-6), name
 
 
 @pytest.mark.slow
@@ -385,7 +391,8 @@ def test_report_on_truth_b_passes_every_validation_and_flags_only_the_unresolved
 
     data = compute_report_data(data_b["folder"], quick=True)
     data.abandon_transport()  # the transport study is not what this test reads
-    summary = ReportSummary(out_dir=data_b["folder"], html=data_b["folder"] / "report.html", sections=(),
+    # the summary the CLI prints from (no page is written here, hence no folder)
+    summary = ReportSummary(out_dir=Path("."), html=Path("report.html"), sections=(),
                             validation_passed={}, timings_s={}, validation_verdicts=data.verdicts, quick=True,
                             fit_reasons=dict(zip(PREDICTING_FITS, (tuple(data.iwan.reasons),
                                                                    tuple(data.maxwell.reasons)))))
