@@ -410,8 +410,9 @@ def test_study_sigkill_before_or_after_the_renames_leaves_old_or_new(tmp_path, p
 @pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGTERM])  # SIGKILL at the swap: the study tests above (same writer)
 def test_report_killed_at_the_swap_keeps_old_or_complete_new(tmp_path, signum):
-    # every report writes through the same swap: a one-file report (a DMA table) reaches it fastest
-    data = write_complex_stiffness(_isotherms(np.arange(260.0, 321.0, 10.0)), tmp_path / "dma.csv")
+    # every report writes through the same swap: a one-file report (a DMA table, three isotherms)
+    # reaches it fastest
+    data = write_complex_stiffness(_isotherms(np.arange(280.0, 301.0, 10.0)), tmp_path / "dma.csv")
     target = tmp_path / "report"
     status, _, old, _ = _kill_at_swap(["report", data, "-o", target, "--force", "--quiet"], target,
                                         "between", signum, tmp_path)
