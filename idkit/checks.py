@@ -31,6 +31,7 @@ import argparse
 import functools
 import inspect
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -39,7 +40,7 @@ import numpy as np
 from idkit.errors import ParameterError
 from idkit.limits import SMALLEST_NORMAL
 
-__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Samples", "Seed", "Instance", "Either", "accepts",
+__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Text", "Samples", "Seed", "Instance", "Either", "accepts",
            "unchecked", "refuse", "DECLARED", "Contract", "OptionValueError"]
 
 #: Values that ``float()`` converts but that are not numbers.
@@ -65,6 +66,8 @@ def _found(value: Any) -> str:
         return f"{value!r} (bool)"
     if isinstance(value, np.ndarray):
         return f"an array of shape {value.shape}"
+    if isinstance(value, int) and abs(value) >= 10**20:  # a digit string would drown the message
+        return f"an integer of {len(str(abs(value)))} digits"
     return repr(value)
 
 
@@ -200,7 +203,7 @@ class Whole(Spec):
             number = int(real)
         if (self.ge is not None and number < self.ge) or (self.le is not None and number > self.le) \
                 or (self.even and number % 2):
-            raise _Refused(repr(number), self.expected())
+            raise _Refused(_found(number), self.expected())
         return number
 
     def bad_values(self) -> list:
@@ -255,6 +258,30 @@ class Flag(Spec):
 
 
 @dataclass(frozen=True)
+class Text(Spec):
+    """A string; with ``pattern``, one the regular expression matches in full; with ``nonempty``,
+    one with a character other than white space. ``what`` describes it in the message."""
+
+    pattern: str = ""
+    nonempty: bool = False
+    what: str = ""
+    optional: bool = False
+
+    def expected(self) -> str:
+        return self.what or ("a non-empty string" if self.nonempty else "a string")
+
+    def coerce(self, value: Any) -> str:
+        if not isinstance(value, str) or (self.nonempty and not value.strip()) \
+                or (self.pattern and re.fullmatch(self.pattern, value) is None):
+            raise _Refused(_found(value), self.expected())
+        return value
+
+    def bad_values(self) -> list:
+        bad = super().bad_values() + [3.0, True, ["a"]]
+        return bad + [" "] if self.nonempty else bad
+
+
+@dataclass(frozen=True)
 class Reals(Spec):
     """Real numbers in ``unit``, each within the bounds of :class:`Real`: a number or an array
     of any shape (amplitudes that broadcast with frequencies) with at least ``min_size`` values;
@@ -289,7 +316,9 @@ class Reals(Spec):
             array = np.asarray(value)
         except (TypeError, ValueError):
             raise _Refused(f"<{type(value).__name__}>", self.expected()) from None
-        if array.dtype.kind not in "iuf":
+        # numpy reads [False, 10] as integers: a boolean among numbers is refused, not read as 0 or 1
+        if array.dtype.kind not in "iuf" or (isinstance(value, (list, tuple))
+                                             and any(isinstance(item, (bool, np.bool_)) for item in value)):
             raise _Refused(_shown(value), self.expected())
         array = array.astype(np.float64, copy=False)
         if array.size < self.min_size or (self.max_size is not None and array.size > self.max_size):

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
+from idkit.checks import Choice, Instance, Real, Reals, Text, Whole
 from idkit.errors import DataError
+from idkit.io.contract import Field, check_fields
 
 __all__ = ["ISOLATORS", "MAX_REPETITION", "SPLITS", "Excitation", "MeasurementInfo"]
 
@@ -22,16 +23,14 @@ MAX_REPETITION = 2**53 - 1
 #: Quantities a nominal stepped-sine amplitude may have.
 AMPLITUDE_QUANTITIES: tuple[str, ...] = ("velocity", "length", "acceleration", "voltage")
 
-
-def _is_number(value: object) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool)
-
-
-def _check_positive(name: str, value: float | None) -> None:
-    if value is None:
-        return
-    if not _is_number(value) or not math.isfinite(value) or value <= 0:
-        raise DataError(f"{name}: found {value!r}, expected a finite number > 0")
+#: The contract of each :class:`Excitation` field (its unit and meaning in the spec).
+EXCITATION_FIELDS: tuple[Field, ...] = (
+    Field("freq", Real(unit="Hz", gt=0, optional=True, meaning="stepped-sine excitation frequency")),
+    Field("amplitude", Real(gt=0, optional=True, meaning="nominal amplitude in the SI unit of its quantity")),
+    Field("amplitude_quantity", Choice(AMPLITUDE_QUANTITIES, optional=True)),
+    Field("band", Reals(unit="Hz", ge=0, min_size=2, max_size=2, increasing=True, optional=True,
+                        meaning="white-noise band [low, high]")),
+)
 
 
 @dataclass(frozen=True)
@@ -63,28 +62,16 @@ class Excitation:
     band: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
-        _check_positive("excitation freq [Hz]", self.freq)
-        _check_positive("excitation amplitude", self.amplitude)
+        checked = check_fields({f.name: getattr(self, f.name) for f in fields(self)}, EXCITATION_FIELDS, "excitation")
+        if checked["band"] is not None:
+            checked["band"] = (float(checked["band"][0]), float(checked["band"][1]))
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
         if (self.amplitude is None) != (self.amplitude_quantity is None):
             raise DataError(
                 f"excitation: amplitude={self.amplitude!r} and "
                 f"amplitude_quantity={self.amplitude_quantity!r} must be given together"
             )
-        quantity = self.amplitude_quantity
-        if quantity is not None and quantity not in AMPLITUDE_QUANTITIES:
-            raise DataError(
-                f"excitation amplitude_quantity: found {self.amplitude_quantity!r}, "
-                f"expected one of {', '.join(AMPLITUDE_QUANTITIES)}"
-            )
-        if self.band is not None:
-            band = tuple(self.band)
-            if (len(band) != 2 or not all(_is_number(b) and math.isfinite(b) for b in band)
-                    or not 0 <= band[0] < band[1]):
-                raise DataError(
-                    f"excitation band [Hz]: found {self.band!r}, expected [low, high] "
-                    "with 0 <= low < high"
-                )
-            object.__setattr__(self, "band", (float(band[0]), float(band[1])))
 
 
 @dataclass(frozen=True)
@@ -128,27 +115,24 @@ class MeasurementInfo:
     excitation: Excitation | None = None
 
     def __post_init__(self) -> None:
-        if not isinstance(self.id, str):
-            raise DataError(f"id: found {self.id!r}, expected a string")
-        isolator = self.isolator
-        if isolator is not None and (not isinstance(isolator, str) or not isolator.strip()):
-            raise DataError(f"isolator: found {self.isolator!r}, expected a non-empty string "
-                            f"(one of {', '.join(ISOLATORS)} or free text)")
-        for name in ("top_mass_kg", "intermediate_mass_kg", "bottom_mass_kg",
-                     "drop_height_m", "sample_rate_hz"):
-            _check_positive(name, getattr(self, name))
-        if self.repetition is not None and (
-            not isinstance(self.repetition, int) or isinstance(self.repetition, bool)
-            or not 1 <= self.repetition <= MAX_REPETITION
-        ):
-            found = (repr(self.repetition) if not isinstance(self.repetition, int) or self.repetition < 10**20
-                     else f"an integer of {len(str(self.repetition))} digits")
-            raise DataError(f"repetition: found {found}, expected an integer from 1 to 2^53 - 1 = {MAX_REPETITION} "
-                            "(larger ones are not exact in JSON readers)")
-        if self.split is not None and self.split not in SPLITS:
-            raise DataError(f"split: found {self.split!r}, expected one of {', '.join(SPLITS)}")
-        if not isinstance(self.notes, str):
-            raise DataError(f"notes: found {self.notes!r}, expected a string")
-        if self.excitation is not None and not isinstance(self.excitation, Excitation):
-            raise DataError(f"excitation: found {type(self.excitation).__name__}, "
-                            "expected Excitation")
+        checked = check_fields({f.name: getattr(self, f.name) for f in fields(self)}, INFO_FIELDS, "")
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
+
+
+_MASS = Real(unit="kg", gt=0, optional=True)
+
+#: The contract of each :class:`MeasurementInfo` field; a manifest entry's metadata keys are these.
+INFO_FIELDS: tuple[Field, ...] = (
+    Field("id", Text()),
+    Field("isolator", Text(nonempty=True, optional=True,
+                           what=f"a non-empty string (one of {', '.join(ISOLATORS)} or free text)")),
+    Field("top_mass_kg", _MASS), Field("intermediate_mass_kg", _MASS), Field("bottom_mass_kg", _MASS),
+    Field("drop_height_m", Real(unit="m", gt=0, optional=True, meaning="drop height")),
+    Field("repetition", Whole(ge=1, le=MAX_REPETITION, optional=True,
+                              meaning="2^53 - 1 at most: larger ones are not exact in JSON readers")),
+    Field("sample_rate_hz", Real(unit="Hz", gt=0, optional=True, meaning="declared sample rate")),
+    Field("split", Choice(SPLITS, optional=True)),
+    Field("notes", Text()),
+    Field("excitation", Instance((Excitation,), optional=True)),
+)

@@ -14,21 +14,20 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
-import re
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path, PurePosixPath
 
 import pandas as pd
 
-from idkit.checks import Choice, Real, accepts
+from idkit.checks import Choice, Instance, Real, Reals, Text, accepts, refuse
 from idkit.errors import DataError
 from idkit.inputfiles import load_json, read_input_bytes
 from idkit.atomic import write_bytes_atomic
 from idkit.io.columns import KINDS
 from idkit.io.csv_measurement import read_csv_measurement, write_csv_measurement
-from idkit.io.info import Excitation, MeasurementInfo
+from idkit.io.contract import Field, check_fields, field_names
+from idkit.io.info import AMPLITUDE_QUANTITIES, INFO_FIELDS, Excitation, MeasurementInfo
 from idkit.io.matfile import MatColumn, parse_mat_column, read_mat
 from idkit.io.measurements import Measurement, check_excitation_resolved
 from idkit.io.units import SI_UNITS, lookup_unit
@@ -49,14 +48,50 @@ MANIFEST_NAME = "manifest.json"
 MANIFEST_FORMAT = "idkit-measurement-set"
 MANIFEST_VERSION = 1
 
-_TOP_KEYS = {"format", "version", "name", "notes", "defaults", "measurements"}
-_INFO_KEYS = ("isolator", "top_mass_kg", "intermediate_mass_kg", "bottom_mass_kg",
-              "drop_height_m", "repetition", "sample_rate_hz", "split", "notes")
-_ENTRY_KEYS = {"id", "kind", "file", "excitation", "mat_columns", *_INFO_KEYS}
-_EXCITATION_KEYS = {"freq_hz", "amplitude", "amplitude_unit", "band_hz"}
-_ID_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$")
-_SUFFIXES = (".csv", ".csv.gz", ".mat")
+_INFO_KEYS = tuple(name for name in field_names(INFO_FIELDS) if name not in ("id", "excitation"))
 
+#: A measurement id: also the stem of the file the writer names after it.
+_ID = Text(pattern=r"[A-Za-z0-9][A-Za-z0-9_.\-]*",
+           what="a string of letters, digits, '_', '-', '.' (starting with a letter or digit; usable as a file name)")
+
+#: The top-level keys of ``manifest.json``.
+MANIFEST_FIELDS: tuple[Field, ...] = (
+    Field("format", Choice((MANIFEST_FORMAT,))),
+    Field("version", Choice((MANIFEST_VERSION,))),
+    Field("name", Text()),
+    Field("notes", Text()),
+    Field("defaults", Instance((dict,), what="an object of entry keys other than id and file")),
+    Field("measurements", Instance((list,), what="a non-empty list of entries"), required=True),
+)
+
+#: The keys of a manifest entry besides the metadata of :data:`idkit.io.info.INFO_FIELDS`
+#: (checked by :class:`~idkit.io.info.MeasurementInfo`).
+ENTRY_FIELDS: tuple[Field, ...] = (
+    Field("id", _ID, required=True),
+    Field("kind", Choice(KINDS), required=True),
+    Field("file", Text(pattern=r"(?!/)(?!(?:.*/)?\.\.(?:/|$))[^\\\x00-\x1f]+\.(?:csv|csv\.gz|mat)",
+                       what="a relative POSIX path inside the set's folder (no '..', no absolute path, no "
+                            "backslash, no control characters) ending in .csv, .csv.gz or .mat"), required=True),
+    Field("excitation", Instance((dict, type(None)), what="an object of freq_hz, amplitude, amplitude_unit, band_hz")),
+    Field("mat_columns", Instance((dict,), what="an object mapping column names to 'var [unit]' or "
+                                                "'var[:,k] [unit]'")),
+)
+
+#: The keys of a manifest entry's ``excitation`` (units in the names; :class:`Excitation` checks the values).
+EXCITATION_FIELDS: tuple[Field, ...] = (
+    Field("freq_hz", Real(unit="Hz", gt=0, meaning="stepped-sine excitation frequency")),
+    Field("amplitude", Real(gt=0, meaning="nominal amplitude in amplitude_unit")),
+    Field("amplitude_unit", Text()),
+    Field("band_hz", Reals(unit="Hz", ge=0, min_size=2, max_size=2, increasing=True,
+                           meaning="white-noise band [low, high]")),
+)
+
+#: Metadata a kind of measurement cannot do without: (test on the info, what is expected).
+_NEEDED_BY_KIND = {
+    "drop": (lambda info: info.drop_height_m is not None, "'drop_height_m': the drop height in m"),
+    "stepped_sine": (lambda info: info.excitation is not None and info.excitation.freq is not None,
+                     "'excitation': {'freq_hz': ...}: the excitation frequency in Hz"),
+}
 
 @dataclass(frozen=True)
 class ManifestEntry:
@@ -117,34 +152,18 @@ def _load_json(path: Path, raw: bytes) -> object:
                      expected="a JSON object with a 'measurements' list")
 
 
-def _parse_excitation(value: object, where: str) -> Excitation:
-    if not isinstance(value, dict):
-        raise DataError(f"{where}: excitation: found {value!r}, expected an object with "
-                        f"{', '.join(sorted(_EXCITATION_KEYS))}")
-    unknown = sorted(set(value) - _EXCITATION_KEYS)
-    if unknown:
-        raise DataError(f"{where}: excitation: unknown key(s) {', '.join(unknown)}; expected "
-                        f"{', '.join(sorted(_EXCITATION_KEYS))}")
-    amplitude = value.get("amplitude")
-    unit = value.get("amplitude_unit")
+def _parse_excitation(value: dict, where: str) -> Excitation:
+    checked = check_fields(value, EXCITATION_FIELDS, f"{where}: excitation")
+    amplitude, unit = checked.get("amplitude"), checked.get("amplitude_unit")
     quantity = None
-    if amplitude is not None or unit is not None:
-        if amplitude is None or unit is None:
-            raise DataError(f"{where}: excitation: 'amplitude' and 'amplitude_unit' must be "
-                            "given together")
-        if isinstance(amplitude, bool) or not isinstance(amplitude, (int, float)):
-            raise DataError(f"{where}: excitation amplitude: found {amplitude!r}, "
-                            "expected a number")
-        scale = lookup_unit(unit if isinstance(unit, str) else None,
-                            ("velocity", "length", "acceleration", "voltage"),
-                            where=f"{where}: excitation amplitude_unit")
+    if (amplitude is None) != (unit is None):
+        raise DataError(f"{where}: excitation: 'amplitude' and 'amplitude_unit' must be given together")
+    if amplitude is not None:
+        scale = lookup_unit(unit, AMPLITUDE_QUANTITIES, where=f"{where}: excitation amplitude_unit")
         quantity = scale.quantity
-        amplitude = float(amplitude) * scale.numerator / scale.denominator
-    band = value.get("band_hz")
-    if band is not None and not isinstance(band, list):
-        raise DataError(f"{where}: excitation band_hz: found {band!r}, expected [low, high]")
-    return Excitation(freq=value.get("freq_hz"), amplitude=amplitude,
-                      amplitude_quantity=quantity,
+        amplitude = amplitude * scale.numerator / scale.denominator
+    band = checked.get("band_hz")
+    return Excitation(freq=checked.get("freq_hz"), amplitude=amplitude, amplitude_quantity=quantity,
                       band=None if band is None else tuple(band))
 
 
@@ -155,55 +174,26 @@ def _parse_entry(number: int, raw_entry: object, defaults: dict, path: Path) -> 
     if "id" in raw_entry:
         where += f", id {raw_entry['id']!r}"
     entry = {**defaults, **raw_entry}
-    unknown = sorted(set(entry) - _ENTRY_KEYS)
-    if unknown:
-        raise DataError(f"{where}: unknown key(s) {', '.join(unknown)}; expected keys from "
-                        f"{', '.join(sorted(_ENTRY_KEYS))}")
-    for key in ("id", "kind", "file"):
-        if key not in entry:
-            raise DataError(f"{where}: required key '{key}' missing")
-    entry_id, kind, file = entry["id"], entry["kind"], entry["file"]
-    if not isinstance(entry_id, str) or not _ID_RE.match(entry_id):
-        raise DataError(f"{where}: id: found {entry_id!r}, expected a string of letters, "
-                        "digits, '_', '-', '.' (starting with a letter or digit)")
-    if kind not in KINDS:
-        raise DataError(f"{where}: unknown kind {kind!r}; expected one of {', '.join(KINDS)}")
-    if not isinstance(file, str) or not file:
-        raise DataError(f"{where}: file: found {file!r}, expected a relative path")
-    pure = PurePosixPath(file)
-    if (pure.is_absolute() or ".." in pure.parts or "\\" in file
-            or any(ord(char) < 32 for char in file)):
-        raise DataError(f"{where}: file: found {file!r}, expected a relative POSIX path "
-                        "inside the set's folder (no '..', no absolute path, no control "
-                        "characters)")
-    if not file.endswith(_SUFFIXES):
-        raise DataError(f"{where}: file: found {file!r}, expected a name ending in "
-                        f"{', '.join(_SUFFIXES)}")
+    checked = check_fields(entry, ENTRY_FIELDS, where, known=_INFO_KEYS)
+    kind, file = checked["kind"], checked["file"]
     mat_columns: tuple = ()
+    if file.endswith(".mat") != ("mat_columns" in checked) or checked.get("mat_columns") == {}:
+        raise DataError(f"{where}: 'mat_columns' goes with a .mat file and only with one (file {file!r}); "
+                        "expected an object mapping column names to 'var [unit]' or 'var[:,k] [unit]' for a .mat file")
     if file.endswith(".mat"):
-        spec = entry.get("mat_columns")
-        if not isinstance(spec, dict) or not spec:
-            raise DataError(f"{where}: a .mat file needs 'mat_columns': an object mapping "
-                            "column names to 'var [unit]' or 'var[:,k] [unit]'")
         mat_columns = tuple((name, parse_mat_column(text, where=f"{where}: mat_columns.{name}"))
-                            for name, text in spec.items())
-    elif "mat_columns" in entry:
-        raise DataError(f"{where}: 'mat_columns' given for a non-.mat file {file!r}")
+                            for name, text in checked["mat_columns"].items())
     try:
-        excitation = (_parse_excitation(entry["excitation"], where)
-                      if entry.get("excitation") is not None else None)
-        info = MeasurementInfo(id=entry_id, excitation=excitation,
+        excitation = (_parse_excitation(checked["excitation"], where)
+                      if checked.get("excitation") is not None else None)
+        info = MeasurementInfo(id=checked["id"], excitation=excitation,
                                **{key: entry[key] for key in _INFO_KEYS if key in entry})
     except DataError as exc:
         text = str(exc)
         raise DataError(text if text.startswith(where) else f"{where}: {text}") from None
-    except TypeError as exc:  # e.g. a list where a number was expected
-        raise DataError(f"{where}: {exc}") from None
-    if kind == "drop" and info.drop_height_m is None:
-        raise DataError(f"{where}: drop without 'drop_height_m'; expected the drop height in m")
-    if kind == "stepped_sine" and (excitation is None or excitation.freq is None):
-        raise DataError(f"{where}: stepped_sine without 'excitation': {{'freq_hz': ...}}; "
-                        "expected the excitation frequency in Hz")
+    needed, expected = _NEEDED_BY_KIND.get(kind, (lambda info: True, ""))
+    if not needed(info):
+        raise DataError(f"{where}: {kind} without {expected}")
     return ManifestEntry(kind=kind, file=file, info=info, mat_columns=mat_columns)
 
 
@@ -278,30 +268,13 @@ def read_manifest(folder: str | Path) -> Manifest:
     if not isinstance(document, dict):
         raise DataError(f"manifest '{path}': found a JSON {type(document).__name__}, "
                         "expected an object with a 'measurements' list")
-    unknown = sorted(set(document) - _TOP_KEYS)
-    if unknown:
-        raise DataError(f"manifest '{path}': unknown top-level key(s) {', '.join(unknown)}; "
-                        f"expected {', '.join(sorted(_TOP_KEYS))}")
-    if document.get("format", MANIFEST_FORMAT) != MANIFEST_FORMAT:
-        raise DataError(f"manifest '{path}': format {document['format']!r}, expected "
-                        f"{MANIFEST_FORMAT!r}")
-    version = document.get("version", MANIFEST_VERSION)
-    # `true == 1` in Python: the type is checked, not only the value
-    if type(version) is not int or version != MANIFEST_VERSION:
-        raise DataError(f"manifest '{path}': version {version!r}, this idkit "
-                        f"reads version {MANIFEST_VERSION} (an integer)")
-    for key in ("name", "notes"):
-        if not isinstance(document.get(key, ""), str):
-            raise DataError(f"manifest '{path}': {key}: found {document[key]!r}, expected a "
-                            "string")
-    defaults = document.get("defaults", {})
-    if not isinstance(defaults, dict) or {"id", "file"} & set(defaults):
-        raise DataError(f"manifest '{path}': 'defaults' must be an object of entry keys "
-                        "other than id and file")
-    measurements = document.get("measurements")
-    if not isinstance(measurements, list) or not measurements:
-        raise DataError(f"manifest '{path}': 'measurements': found {measurements!r:.60}, "
-                        "expected a non-empty list of entries")
+    checked = check_fields(document, MANIFEST_FIELDS, f"manifest '{path}'")
+    defaults, measurements = checked.get("defaults", {}), checked["measurements"]
+    if not measurements:
+        raise refuse(f"manifest '{path}': measurements", measurements, "a non-empty list of entries", DataError)
+    if {"id", "file"} & set(defaults):
+        raise DataError(f"manifest '{path}': defaults: found key(s) {', '.join(sorted({'id', 'file'} & set(defaults)))}, "
+                        "expected an object of entry keys other than id and file")
     entries = tuple(_parse_entry(n, e, defaults, path) for n, e in enumerate(measurements, 1))
     seen: dict[str, int] = {}
     for number, entry in enumerate(entries, 1):
@@ -310,8 +283,8 @@ def read_manifest(folder: str | Path) -> Manifest:
                             f"duplicate id {entry.id!r} (first in entry {seen[entry.id]})")
         seen[entry.id] = number
     _check_data_files(folder, path, entries)
-    return Manifest(path=path, name=document.get("name", ""),
-                    notes=document.get("notes", ""), entries=entries, sha256=sha256)
+    return Manifest(path=path, name=checked.get("name", ""),
+                    notes=checked.get("notes", ""), entries=entries, sha256=sha256)
 
 
 def _read_entry(folder: Path, entry: ManifestEntry) -> Measurement:
@@ -532,10 +505,7 @@ def write_measurement_set(folder: str | Path, measurements: Iterable[Measurement
     plan = []
     seen: set[str] = set()
     for number, measurement in enumerate(measurements, 1):
-        entry_id = measurement.info.id
-        if not isinstance(entry_id, str) or not _ID_RE.match(entry_id):
-            raise DataError(f"measurement {number} (1-based): id {entry_id!r} is not usable as "
-                            "a file name; expected letters, digits, '_', '-', '.'")
+        entry_id = _ID.check(measurement.info.id, f"measurement {number} (1-based): id", DataError)
         if entry_id in seen:
             raise DataError(f"measurement {number} (1-based): duplicate id {entry_id!r}")
         seen.add(entry_id)
@@ -556,9 +526,5 @@ def write_measurement_set(folder: str | Path, measurements: Iterable[Measurement
         "format": MANIFEST_FORMAT, "version": MANIFEST_VERSION, "name": name, "notes": notes,
         "measurements": [_entry_json(m.kind, f, m.info) for m, f in plan],
     }
-    for entry in document["measurements"]:
-        for key, value in entry.items():
-            if isinstance(value, float) and not math.isfinite(value):
-                raise DataError(f"measurement {entry['id']!r}: {key} = {value!r} is not finite")
     text = json.dumps(document, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
     return write_bytes_atomic(manifest_path, text.encode("utf-8"), overwrite=overwrite)

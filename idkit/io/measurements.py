@@ -16,7 +16,9 @@ from typing import ClassVar
 import numpy as np
 import pandas as pd
 
+from idkit.checks import Instance
 from idkit.errors import DataError
+from idkit.io.contract import Column, check_columns
 from idkit.io.info import MeasurementInfo
 from idkit.io.provenance import Source
 from idkit.io.units import SI_UNITS
@@ -165,29 +167,27 @@ def check_excitation_resolved(measurement) -> None:
 _NYQUIST_SLACK = 1.0 + 1e-9
 
 
+_INFO = Instance((MeasurementInfo,))
+_SOURCE = Instance((Source,))
+
+
 @dataclass(frozen=True, eq=False)
 class _SignalMeasurement:
     """Common machinery of the time-series measurements (not public)."""
 
     kind: ClassVar[str] = ""
-    _signals: ClassVar[tuple[str, ...]] = ()
+    #: The record's columns (name, required or paired); their units are :data:`SIGNAL_QUANTITIES`'.
+    _columns: ClassVar[tuple[Column, ...]] = ()
 
     def _validate(self) -> None:
-        if not isinstance(self.info, MeasurementInfo):
-            raise DataError(f"info: found {type(self.info).__name__}, expected MeasurementInfo")
-        if not isinstance(self.source, Source):
-            raise DataError(f"source: found {type(self.source).__name__}, expected Source")
-        length = None
-        for name in self._signals:
-            value = getattr(self, name)
-            if value is None:
-                continue
-            array = _as_signal(value, name, self.source)
-            if length is None:
-                length = array.size
-            elif array.size != length:
+        _INFO.check(self.info, "info", DataError)
+        _SOURCE.check(self.source, "source", DataError)
+        check_columns({c.name: getattr(self, c.name) for c in self._columns}, self._columns, self.source.where())
+        arrays = {name: _as_signal(value, name, self.source) for name, value in self.signals().items()}
+        for name, array in arrays.items():  # every column as long as time
+            if array.size != arrays["time"].size:
                 raise DataError(f"{self.source.where(name)}: found {array.size} samples, "
-                                f"expected {length} (as many as time)")
+                                f"expected {arrays['time'].size} (as many as time)")
             object.__setattr__(self, name, array)
         check_time(self.time, self.source, self.info.sample_rate_hz)
 
@@ -209,8 +209,8 @@ class _SignalMeasurement:
 
     def signals(self) -> dict[str, np.ndarray]:
         """The signals present, by column name, in SI units."""
-        return {name: getattr(self, name) for name in self._signals
-                if getattr(self, name) is not None}
+        return {column.name: getattr(self, column.name) for column in self._columns
+                if getattr(self, column.name) is not None}
 
     def to_dataframe(self) -> pd.DataFrame:
         """The signals as a DataFrame with headers ``name [SI unit]``.
@@ -263,7 +263,8 @@ class QuasiStaticMeasurement(_SignalMeasurement):
     source: Source = field(default_factory=Source)
 
     kind: ClassVar[str] = "quasi_static"
-    _signals: ClassVar[tuple[str, ...]] = ("time", "deflection", "force", "v_rel")
+    _columns: ClassVar[tuple[Column, ...]] = (Column("time", required=True), Column("deflection", required=True),
+                                              Column("force", required=True), Column("v_rel"))
 
     def __post_init__(self) -> None:
         self._validate()
@@ -298,21 +299,11 @@ class WhiteNoiseMeasurement(_SignalMeasurement):
     source: Source = field(default_factory=Source)
 
     kind: ClassVar[str] = "white_noise"
-    _signals: ClassVar[tuple[str, ...]] = ("time", "v_base", "v_top", "a_base", "a_top")
+    _columns: ClassVar[tuple[Column, ...]] = (Column("time", required=True), Column("v_base", pair="velocity"),
+                                              Column("v_top", pair="velocity"), Column("a_base", pair="acceleration"),
+                                              Column("a_top", pair="acceleration"))
 
     def __post_init__(self) -> None:
-        pairs = (("v_base", "v_top"), ("a_base", "a_top"))
-        complete = False
-        for pair in pairs:
-            present = [getattr(self, n) is not None for n in pair]
-            if any(present) and not all(present):
-                missing = pair[present.index(False)]
-                raise DataError(f"{self.source.where()}: column '{missing}' missing: "
-                                f"expected both of {pair[0]}, {pair[1]}")
-            complete = complete or all(present)
-        if not complete:
-            raise DataError(f"{self.source.where()}: no response columns; expected "
-                            "v_base and v_top, or a_base and a_top")
         self._validate()
 
     @property
@@ -355,7 +346,8 @@ class SteppedSineMeasurement(_SignalMeasurement):
     source: Source = field(default_factory=Source)
 
     kind: ClassVar[str] = "stepped_sine"
-    _signals: ClassVar[tuple[str, ...]] = ("time", "v_base", "v_top", "x_base", "u_in")
+    _columns: ClassVar[tuple[Column, ...]] = (Column("time", required=True), Column("v_base", required=True),
+                                              Column("v_top", required=True), Column("x_base"), Column("u_in"))
 
     def __post_init__(self) -> None:
         if self.info.excitation is None or self.info.excitation.freq is None:
@@ -403,7 +395,9 @@ class DropMeasurement(_SignalMeasurement):
     source: Source = field(default_factory=Source)
 
     kind: ClassVar[str] = "drop"
-    _signals: ClassVar[tuple[str, ...]] = ("time", "deflection", "a_top_1", "a_top_2", "v_rel")
+    _columns: ClassVar[tuple[Column, ...]] = (Column("time", required=True), Column("deflection", required=True),
+                                              Column("a_top_1", required=True), Column("a_top_2", required=True),
+                                              Column("v_rel"))
 
     def __post_init__(self) -> None:
         self._validate()

@@ -536,13 +536,13 @@ def test_manifest_control_character_in_path(dataset, tmp_path):
 
 
 @pytest.mark.parametrize(("key", "value", "words"), [
-    ("top_mass_kg", "true", ["top_mass_kg", "True", "expected a finite number"]),
-    ("repetition", "true", ["repetition", "True", "expected an integer"]),
-    ("bottom_mass_kg", "false", ["bottom_mass_kg", "False", "expected a finite number"]),
+    ("top_mass_kg", "true", ["top_mass_kg", "True", "expected a finite real number"]),
+    ("repetition", "true", ["repetition", "True", "expected a whole number"]),
+    ("bottom_mass_kg", "false", ["bottom_mass_kg", "False", "expected a finite real number"]),
     ("top_mass_kg", "NaN", ["measurements[0].top_mass_kg", "NaN", "expected a finite"]),
     ("top_mass_kg", "-Infinity", ["-Infinity", "expected a finite"]),
     ("top_mass_kg", "1e400", ["1e400", "overflows to infinity"]),
-    ("top_mass_kg", '"4.2"', ["top_mass_kg", "'4.2'", "expected a finite number"]),
+    ("top_mass_kg", '"4.2"', ["top_mass_kg", "'4.2'", "expected a finite real number"]),
 ])
 def test_manifest_number_fields(dataset, tmp_path, key, value, words):
     _raw_entry_edit(dataset, '"repetition": 1,', f'"repetition": 1, "{key}": {value},'
@@ -552,7 +552,7 @@ def test_manifest_number_fields(dataset, tmp_path, key, value, words):
 
 def test_manifest_version_true(dataset, tmp_path):
     _raw_entry_edit(dataset, '"version": 1', '"version": true')
-    _inspect(dataset, tmp_path, [dataset], ["manifest.json", "version True", "integer"],
+    _inspect(dataset, tmp_path, [dataset], ["manifest.json", "version: found True", "one of 1"],
              case="manifest version true")
 
 

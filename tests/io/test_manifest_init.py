@@ -152,6 +152,6 @@ def test_repetition_beyond_json_exact_integers_is_refused(tmp_path):
     outcome = run_main(["data", "init", tmp_path, "--kind", "quasi_static", "--repetition", "1e300"],
                        inputs=[tmp_path / "a.csv"], must_not_exist=[tmp_path / "manifest.json"])
     check(outcome, "error", ["--repetition", "found '1e300'", "9007199254740991"], case="data-init-repetition-1e300")
-    with pytest.raises(DataError, match=r"repetition: found an integer of 301 digits, expected an integer from 1"):
+    with pytest.raises(DataError, match=r"repetition: found an integer of 301 digits, expected a whole number from 1"):
         MeasurementInfo(repetition=10**300)
     assert MeasurementInfo(repetition=2**53 - 1).repetition == 2**53 - 1

@@ -1,0 +1,88 @@
+"""Declared contracts of data-file contents: the keys of a JSON object and the columns of a record.
+
+A manifest entry, its excitation and a measurement's metadata are tables of :class:`Field` (key,
+:mod:`idkit.checks` spec with its unit and meaning, required or not), walked by
+:func:`check_fields`; a manifest value is checked as an argument is, so its refusal reads
+``<file and entry>: <key>: found X, expected Y`` like every other in idkit. A record's columns are
+a table of :class:`Column` (name, required or part of a pair), walked by :func:`check_columns`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+from idkit.checks import Spec
+from idkit.errors import DataError
+
+__all__ = ["Column", "Field", "check_columns", "check_fields", "field_names"]
+
+
+@dataclass(frozen=True)
+class Field:
+    """One key of a data-file object: its name, its contract (a :class:`idkit.checks.Spec`
+    stating kind, unit, range and meaning) and whether the object must hold it."""
+
+    name: str
+    spec: Spec
+    required: bool = False
+
+
+def field_names(fields: Sequence[Field]) -> tuple[str, ...]:
+    """The keys a table declares, in declaration order."""
+    return tuple(item.name for item in fields)
+
+
+def check_fields(values: Mapping, fields: Sequence[Field], where: str, *, known: Sequence[str] = (),
+                 error: type[Exception] = DataError) -> dict:
+    """The values of ``fields`` found in ``values``, each checked and coerced by its spec.
+
+    A key neither declared nor in ``known`` (keys another table checks) is refused, naming the
+    keys expected; a required key that is absent is refused; a value is refused as
+    ``<where>: <key>: found X, expected Y`` (``<key>: ...`` when ``where`` is empty). Keys absent and not required are left out of the
+    result (the reader's default applies).
+    """
+    names = field_names(fields)
+    unknown = sorted(set(values) - set(names) - set(known))
+    if unknown:
+        raise error(f"{where}: unknown key(s) {', '.join(map(str, unknown))}; expected keys from "
+                    f"{', '.join(sorted({*names, *known}))}")
+    missing = [item.name for item in fields if item.required and item.name not in values]
+    if missing:
+        raise error(f"{where}: required key '{missing[0]}' missing")
+    prefix = f"{where}: " if where else ""
+    return {item.name: item.spec.check(values[item.name], prefix + item.name, error)
+            for item in fields if item.name in values}
+
+
+@dataclass(frozen=True)
+class Column:
+    """One signal column of a record kind: its name, and whether it is required, optional, or one
+    of a pair that must be given together (``pair`` names the group; a kind needs at least one
+    complete pair when it declares any)."""
+
+    name: str
+    required: bool = False
+    pair: str = ""
+
+
+def check_columns(present: Mapping[str, object], columns: Sequence[Column], where: str) -> None:
+    """Refuse a record missing a required column, half a pair, or every pair (messages name
+    ``where``, the column missing and the columns expected)."""
+    pairs: dict[str, list[str]] = {}
+    for column in columns:
+        if column.required and present.get(column.name) is None:
+            raise DataError(f"{where}: column '{column.name}' missing; expected "
+                            f"{', '.join(c.name for c in columns if c.required)}")
+        if column.pair:
+            pairs.setdefault(column.pair, []).append(column.name)
+    complete = False
+    for names in pairs.values():
+        given = [present.get(name) is not None for name in names]
+        if any(given) and not all(given):
+            raise DataError(f"{where}: column '{names[given.index(False)]}' missing: expected both of "
+                            f"{', '.join(names)}")
+        complete = complete or all(given)
+    if pairs and not complete:
+        raise DataError(f"{where}: no response columns; expected "
+                        f"{', or '.join(' and '.join(names) for names in pairs.values())}")
