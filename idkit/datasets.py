@@ -35,13 +35,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from idkit.checks import Reals
 from idkit.errors import DataError
 from idkit.inputfiles import decode_utf8
 from idkit.io.complex_stiffness import ComplexStiffnessTable, ShiftFactorTable
 from idkit.io.csv_table import column_to_si, parse_number_cells, read_file_bytes
+from idkit.io.contract import Column, check_columns
 from idkit.io.info import MeasurementInfo
 from idkit.io.matfile import check_exact_in_float64, load_mat_variables, read_mat
-from idkit.io.measurements import AccelerationRecord, QuasiStaticMeasurement
+from idkit.io.measurements import AccelerationRecord, QuasiStaticMeasurement, as_signal
 from idkit.io.provenance import Source
 from idkit.io.units import lookup_unit
 
@@ -98,6 +100,14 @@ def _text_rows(path: Path) -> tuple[list[list[str]], str]:
     return rows, sha256
 
 
+def _check_row_widths(rows: list[list[str]], width: int, source: Source, names: str = "") -> None:
+    """Every data row holds ``width`` fields (the first that does not is named by its row)."""
+    short = next((i for i, row in enumerate(rows) if len(row) != width), None)
+    if short is not None:
+        raise DataError(f"{source.where()}: {source.row_label(short)}: found {len(rows[short])} "
+                        f"field(s), expected {width}{names}")
+
+
 def _two_line_header_table(path: Path, expected: dict[str, tuple[str, ...]]
                            ) -> tuple[dict[str, np.ndarray], dict[str, str], Source]:
     """Read a pyvisco CSV: line 1 names, line 2 units, then numbers.
@@ -116,10 +126,7 @@ def _two_line_header_table(path: Path, expected: dict[str, tuple[str, ...]]
         raise DataError(f"{source.where()}: header {names} / units {units}; expected names "
                         f"from {list(expected)} and one unit per name")
     body = rows[2:]
-    for i, row in enumerate(body):
-        if len(row) != len(names):
-            raise DataError(f"{source.where()}: {source.row_label(i)}: found {len(row)} "
-                            f"field(s), expected {len(names)}")
+    _check_row_widths(body, len(names), source)
     values, declared = {}, {}
     for k, name in enumerate(names):
         scale = lookup_unit(units[k], expected[name], where=source.where(name))
@@ -127,6 +134,12 @@ def _two_line_header_table(path: Path, expected: dict[str, tuple[str, ...]]
         values[name] = column_to_si(parse_number_cells(cells, name, source), scale, name, source)
         declared[name] = scale.quantity
     return values, declared, source
+
+
+#: Columns of a pyvisco DMA table (its names; the units are on line 2).
+_MODULUS_COLUMNS = (Column("f", required=True), Column("E_stor", required=True), Column("E_loss", required=True),
+                    Column("T"), Column("Set"))
+_SHIFT_COLUMNS = (Column("T", required=True), Column("log_aT", required=True))
 
 
 def read_pyvisco_complex_modulus(path: str | Path) -> ComplexStiffnessTable:
@@ -153,10 +166,7 @@ def read_pyvisco_complex_modulus(path: str | Path) -> ComplexStiffnessTable:
         "f": ("frequency",), "E_stor": ("modulus",), "E_loss": ("modulus",),
         "T": ("temperature",), "Set": ("dimensionless",),
     })
-    for name in ("f", "E_stor", "E_loss"):
-        if name not in values:
-            raise DataError(f"{source.where()}: column '{name}' missing; "
-                            "expected f, E_stor, E_loss")
+    check_columns(values, _MODULUS_COLUMNS, source.where())
     if "Set" in values and np.any(values["Set"] != np.round(values["Set"])):
         raise DataError(f"{source.where('Set')}: found non-integer isotherm numbers")
     return ComplexStiffnessTable(freq=values["f"], storage=values["E_stor"],
@@ -179,8 +189,7 @@ def read_pyvisco_shift_factors(path: str | Path) -> ShiftFactorTable:
     """
     values, _, source = _two_line_header_table(Path(path), {
         "T": ("temperature",), "log_aT": ("dimensionless",)})
-    if set(values) != {"T", "log_aT"}:
-        raise DataError(f"{source.where()}: expected columns T, log_aT")
+    check_columns(values, _SHIFT_COLUMNS, source.where())
     return ShiftFactorTable(temperature=values["T"], log_a_t=values["log_aT"], source=source)
 
 
@@ -267,6 +276,12 @@ def _read_ansys_prony(path: Path, text: str, sha256: str) -> tuple[np.ndarray, n
     return pairs[:, 0], pairs[:, 1], source
 
 
+_RELATIVE_MODULI = Reals(ge=0, meaning="relative moduli alpha_i = E_i / E_0")
+_RELAXATION_TIMES = Reals(unit="s", gt=0, meaning="relaxation times tau_i")
+#: The sample period ``Ts`` of an MR-damper file.
+_SAMPLE_PERIOD = Reals(unit="s", gt=0, min_size=1, max_size=1, meaning="the sample period")
+
+
 def read_prony_reference(path: str | Path, *,
                          instantaneous_modulus: float | None = None) -> PronyReference:
     """Read a reference Prony series of the pyvisco verification folder.
@@ -322,10 +337,7 @@ def read_prony_reference(path: str | Path, *,
         while body and not body[-1].strip():
             body.pop()
         rows = [[c.strip() for c in line.split(",")] for line in body]
-        for i, row in enumerate(rows):
-            if len(row) != 2:
-                raise DataError(f"{source.where()}: {source.row_label(i)}: found {len(row)} "
-                                "field(s), expected 2 (rel_mod, rel_time)")
+        _check_row_widths(rows, 2, source, " (rel_mod, rel_time)")
         alpha = parse_number_cells([r[0] for r in rows], "rel_mod", source)
         tau = parse_number_cells([r[1] for r in rows], "rel_time", source)
     if e0 is not None and instantaneous_modulus is not None and not np.isclose(
@@ -333,10 +345,8 @@ def read_prony_reference(path: str | Path, *,
         raise DataError(f"{source.where()}: file states E0 = {e0} Pa, caller passed "
                         f"instantaneous_modulus = {instantaneous_modulus} Pa")
     e0 = e0 if e0 is not None else instantaneous_modulus
-    if np.any(tau <= 0) or np.any(alpha < 0):
-        raise DataError(f"{source.where()}: expected alpha_i >= 0 and tau_i > 0 s")
-    alpha.setflags(write=False)
-    tau.setflags(write=False)
+    alpha = _RELATIVE_MODULI.check(alpha, f"{source.where()}: alpha", DataError)
+    tau = _RELAXATION_TIMES.check(tau, f"{source.where()}: tau", DataError)
     return PronyReference(alpha=alpha, tau=tau, instantaneous_modulus=e0, source=source)
 
 
@@ -363,10 +373,8 @@ def read_mr_damper(path: str | Path) -> QuasiStaticMeasurement:
     """
     path = Path(path)
     variables, _ = load_mat_variables(path)
-    ts = np.asarray(variables.get("Ts", np.array([])), dtype=float).ravel()
-    if ts.size != 1 or not np.isfinite(ts[0]) or ts[0] <= 0:
-        raise DataError(f"file '{path}': variable 'Ts': found {ts!r}, expected one sample "
-                        "period > 0 in s")
+    ts = _SAMPLE_PERIOD.check(np.asarray(variables.get("Ts", np.array([]))).ravel(), f"file '{path}': variable 'Ts'",
+                              DataError)
     info = MeasurementInfo(id=path.name.removesuffix(".mat"), isolator="mr_damper",
                            sample_rate_hz=1.0 / float(ts[0]),
                            notes="mr_damper_labcontrol; units mm, mm/s, N per SOURCE.txt")
@@ -405,10 +413,7 @@ def read_afrl_accel(path: str | Path) -> AccelerationRecord:
     width = len(body[0])
     if width < 2:
         raise DataError(f"{source.where()}: found {width} column(s), expected time + tests")
-    for i, row in enumerate(body):
-        if len(row) != width:
-            raise DataError(f"{source.where()}: {source.row_label(i)}: found {len(row)} "
-                            f"field(s), expected {width}")
+    _check_row_widths(body, width, source)
     time = parse_number_cells([r[0] for r in body], "time", source)
     scale = lookup_unit("1000g", "acceleration", where=source.where())
     accel = np.column_stack([
@@ -485,13 +490,7 @@ def read_boucwen_benchmark(path: str | Path) -> BoucWenBenchmark:
         if raw.ndim != 2 or min(raw.shape) != 1:
             raise DataError(f"{source.where(var)}: found shape {raw.shape}, expected a vector")
         check_exact_in_float64(raw.reshape(-1), var, source.where(var))  # int64 beyond 2^53 would round
-        value = raw.reshape(-1).astype(np.float64)
-        bad = np.flatnonzero(~np.isfinite(value))
-        if bad.size:  # named by sample, as read_mat does (it said only "found non-finite values")
-            raise DataError(f"{source.where(var)}: sample {int(bad[0]) + 1} (1-based): found {float(value[bad[0]])!r}, "
-                            f"expected a finite number ({bad.size} non-finite value(s) in total)")
-        value.setflags(write=False)
-        arrays[field_name] = value
+        arrays[field_name] = as_signal(raw.reshape(-1), var, source)
     for prefix in ("train", "test_multisine", "test_sinesweep"):
         if arrays[f"{prefix}_force"].size != arrays[f"{prefix}_displacement"].size:
             force_var, displacement_var = names[f"{prefix}_force"], names[f"{prefix}_displacement"]

@@ -46,7 +46,9 @@ SIGNAL_QUANTITIES: dict[str, str] = {
 }
 
 
-def _as_signal(value: object, name: str, source: Source) -> np.ndarray:
+def as_signal(value: object, name: str, source: Source) -> np.ndarray:
+    """``value`` as a read-only 1-D float64 copy, or DataError naming the column and the first
+    non-finite sample (its 1-based row or sample) of ``source``."""
     try:
         array = np.array(value, dtype=np.float64, copy=True)
     except (TypeError, ValueError) as exc:
@@ -183,7 +185,7 @@ class _SignalMeasurement:
         _INFO.check(self.info, "info", DataError)
         _SOURCE.check(self.source, "source", DataError)
         check_columns({c.name: getattr(self, c.name) for c in self._columns}, self._columns, self.source.where())
-        arrays = {name: _as_signal(value, name, self.source) for name, value in self.signals().items()}
+        arrays = {name: as_signal(value, name, self.source) for name, value in self.signals().items()}
         for name, array in arrays.items():  # every column as long as time
             if array.size != arrays["time"].size:
                 raise DataError(f"{self.source.where(name)}: found {array.size} samples, "
@@ -465,7 +467,7 @@ class AccelerationRecord:
     source: Source = field(default_factory=Source)
 
     def __post_init__(self) -> None:
-        time = _as_signal(self.time, "time", self.source)
+        time = as_signal(self.time, "time", self.source)
         try:
             accel = np.array(self.accel, dtype=np.float64, copy=True)
         except (TypeError, ValueError) as exc:
@@ -476,7 +478,7 @@ class AccelerationRecord:
             raise DataError(f"{self.source.where('accel')}: found shape {accel.shape}, "
                             f"expected ({time.size}, n_tests)")
         for j in range(accel.shape[1]):
-            _as_signal(accel[:, j], f"test {j + 1}", self.source)
+            as_signal(accel[:, j], f"test {j + 1}", self.source)
         accel.setflags(write=False)
         check_time(time, self.source, None)
         _check_uniform_time(time, self.source)
