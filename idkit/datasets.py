@@ -40,10 +40,10 @@ from idkit.errors import DataError
 from idkit.inputfiles import decode_utf8
 from idkit.io.complex_stiffness import ComplexStiffnessTable, ShiftFactorTable
 from idkit.io.csv_table import column_to_si, parse_number_cells, read_file_bytes
-from idkit.io.contract import Column, check_columns
+from idkit.io.contract import Column, as_signal, check_columns
 from idkit.io.info import MeasurementInfo
 from idkit.io.matfile import check_exact_in_float64, load_mat_variables, read_mat
-from idkit.io.measurements import AccelerationRecord, QuasiStaticMeasurement, as_signal
+from idkit.io.measurements import AccelerationRecord, QuasiStaticMeasurement
 from idkit.io.provenance import Source
 from idkit.io.units import lookup_unit
 

@@ -21,9 +21,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from idkit.checks import Choice
 from idkit.errors import DataError
 from idkit.atomic import write_bytes_atomic
 from idkit.io.columns import COMPLEX_STIFFNESS_SCHEMA, KindSchema
+from idkit.io.contract import as_signal
 from idkit.io.csv_measurement import format_csv
 from idkit.io.csv_table import read_csv_table
 from idkit.io.provenance import Source
@@ -40,20 +42,7 @@ __all__ = [
 SHIFT_FACTOR_SCHEMA = KindSchema("shift_factors", ("temperature", "log_aT"))
 
 
-def _frozen_array(value: object, name: str, source: Source) -> np.ndarray:
-    try:
-        array = np.array(value, dtype=np.float64, copy=True)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"{source.where(name)}: not numbers ({exc})") from exc
-    if array.ndim != 1:
-        raise DataError(f"{source.where(name)}: found shape {array.shape}, expected 1-D")
-    bad = np.flatnonzero(~np.isfinite(array))
-    if bad.size:
-        i = int(bad[0])
-        raise DataError(f"{source.where(name)}: {source.row_label(i)}: found {float(array[i])!r}, "
-                        "expected a finite number")
-    array.setflags(write=False)
-    return array
+_QUANTITY = Choice(("stiffness", "modulus"))
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,8 +77,7 @@ class ComplexStiffnessTable:
     source: Source = field(default_factory=Source)
 
     def __post_init__(self) -> None:
-        if self.quantity not in ("stiffness", "modulus"):
-            raise DataError(f"quantity: found {self.quantity!r}, expected 'stiffness' or 'modulus'")
+        _QUANTITY.check(self.quantity, "quantity", DataError)
         names = ("freq", "storage", "loss", "temperature", "log_a_t")
         labels = {"freq": "frequency", "log_a_t": "log_aT"}
         size = None
@@ -97,7 +85,7 @@ class ComplexStiffnessTable:
             value = getattr(self, name)
             if value is None:
                 continue
-            array = _frozen_array(value, labels.get(name, name), self.source)
+            array = as_signal(value, labels.get(name, name), self.source)
             if size is None:
                 size = array.size
             elif array.size != size:
@@ -213,8 +201,8 @@ class ShiftFactorTable:
     source: Source = field(default_factory=Source)
 
     def __post_init__(self) -> None:
-        temperature = _frozen_array(self.temperature, "temperature", self.source)
-        log_a_t = _frozen_array(self.log_a_t, "log_aT", self.source)
+        temperature = as_signal(self.temperature, "temperature", self.source)
+        log_a_t = as_signal(self.log_a_t, "log_aT", self.source)
         if temperature.size != log_a_t.size or temperature.size == 0:
             raise DataError(f"{self.source.where()}: found {temperature.size} temperatures and "
                             f"{log_a_t.size} shift factors, expected equal non-zero counts")

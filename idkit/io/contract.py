@@ -12,10 +12,13 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
+import numpy as np
+
 from idkit.checks import Spec
 from idkit.errors import DataError
+from idkit.io.provenance import Source
 
-__all__ = ["Column", "Field", "check_columns", "check_fields", "field_names"]
+__all__ = ["Column", "Field", "as_signal", "check_columns", "check_fields", "field_names"]
 
 
 @dataclass(frozen=True)
@@ -86,3 +89,23 @@ def check_columns(present: Mapping[str, object], columns: Sequence[Column], wher
     if pairs and not complete:
         raise DataError(f"{where}: no response columns; expected "
                         f"{', or '.join(' and '.join(names) for names in pairs.values())}")
+
+
+def as_signal(value: object, name: str, source: Source) -> np.ndarray:
+    """``value`` as a read-only 1-D float64 copy, or DataError naming the column and the first
+    non-finite sample (its 1-based row or sample) of ``source``."""
+    try:
+        array = np.array(value, dtype=np.float64, copy=True)
+    except (TypeError, ValueError) as exc:
+        raise DataError(f"{source.where(name)}: found values that are not numbers ({exc}), "
+                        "expected a 1-D array of floats") from exc
+    if array.ndim != 1:
+        raise DataError(f"{source.where(name)}: found an array of shape {array.shape}, "
+                        "expected 1-D")
+    bad = np.flatnonzero(~np.isfinite(array))
+    if bad.size:
+        i = int(bad[0])
+        raise DataError(f"{source.where(name)}: {source.row_label(i)}: found {float(array[i])!r}, "
+                        f"expected a finite number ({bad.size} non-finite value(s) in total)")
+    array.setflags(write=False)
+    return array

@@ -18,7 +18,7 @@ import pandas as pd
 
 from idkit.checks import Instance
 from idkit.errors import DataError
-from idkit.io.contract import Column, check_columns
+from idkit.io.contract import Column, as_signal, check_columns
 from idkit.io.info import MeasurementInfo
 from idkit.io.provenance import Source
 from idkit.io.units import SI_UNITS
@@ -44,26 +44,6 @@ SIGNAL_QUANTITIES: dict[str, str] = {
     "a_base": "acceleration", "a_top": "acceleration", "a_top_1": "acceleration",
     "a_top_2": "acceleration",
 }
-
-
-def as_signal(value: object, name: str, source: Source) -> np.ndarray:
-    """``value`` as a read-only 1-D float64 copy, or DataError naming the column and the first
-    non-finite sample (its 1-based row or sample) of ``source``."""
-    try:
-        array = np.array(value, dtype=np.float64, copy=True)
-    except (TypeError, ValueError) as exc:
-        raise DataError(f"{source.where(name)}: found values that are not numbers ({exc}), "
-                        "expected a 1-D array of floats") from exc
-    if array.ndim != 1:
-        raise DataError(f"{source.where(name)}: found an array of shape {array.shape}, "
-                        "expected 1-D")
-    bad = np.flatnonzero(~np.isfinite(array))
-    if bad.size:
-        i = int(bad[0])
-        raise DataError(f"{source.where(name)}: {source.row_label(i)}: found {float(array[i])!r}, "
-                        f"expected a finite number ({bad.size} non-finite value(s) in total)")
-    array.setflags(write=False)
-    return array
 
 
 def sample_rate_of(time: np.ndarray) -> float:
