@@ -12,6 +12,7 @@ import difflib
 import re
 from dataclasses import dataclass
 
+from idkit.checks import Choice
 from idkit.errors import DataError
 
 __all__ = [
@@ -27,6 +28,9 @@ __all__ = [
 
 #: Kinds of measurements (SPEC section 3).
 KINDS: tuple[str, ...] = ("quasi_static", "white_noise", "stepped_sine", "drop")
+
+#: The contract of a ``kind`` argument or manifest key.
+KIND = Choice(KINDS)
 
 #: Physical quantity (or admissible quantities) of every known column name.
 COLUMN_QUANTITIES: dict[str, tuple[str, ...]] = {

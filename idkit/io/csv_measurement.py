@@ -8,7 +8,7 @@ from pathlib import Path
 
 from idkit.errors import DataError
 from idkit.atomic import write_bytes_atomic
-from idkit.io.columns import KIND_SCHEMAS
+from idkit.io.columns import KIND, KIND_SCHEMAS
 from idkit.io.csv_table import read_csv_table
 from idkit.io.info import MeasurementInfo
 from idkit.io.measurements import (
@@ -81,9 +81,7 @@ def read_csv_measurement(path: str | Path, kind: str, *,
     >>> m = read_csv_measurement("qs_small_1.csv", "quasi_static")  # doctest: +SKIP
     >>> m.force  # N  # doctest: +SKIP
     """
-    if kind not in KIND_SCHEMAS:
-        raise DataError(f"file '{path}': unknown kind {kind!r}; expected one of "
-                        f"{', '.join(KIND_SCHEMAS)}")
+    KIND.check(kind, f"file '{path}': kind", DataError)
     table = read_csv_table(path, KIND_SCHEMAS[kind])
     if info is None:
         name = Path(path).name

@@ -24,7 +24,7 @@ from idkit.checks import Choice, Instance, Real, Reals, Text, accepts, refuse
 from idkit.errors import DataError
 from idkit.inputfiles import load_json, read_input_bytes
 from idkit.atomic import write_bytes_atomic
-from idkit.io.columns import KINDS
+from idkit.io.columns import KIND, KINDS
 from idkit.io.csv_measurement import read_csv_measurement, write_csv_measurement
 from idkit.io.contract import Field, check_fields, field_names
 from idkit.io.info import AMPLITUDE_QUANTITIES, INFO_FIELDS, Excitation, MeasurementInfo
@@ -68,7 +68,7 @@ MANIFEST_FIELDS: tuple[Field, ...] = (
 #: (checked by :class:`~idkit.io.info.MeasurementInfo`).
 ENTRY_FIELDS: tuple[Field, ...] = (
     Field("id", _ID, required=True),
-    Field("kind", Choice(KINDS), required=True),
+    Field("kind", KIND, required=True),
     Field("file", Text(pattern=r"(?!/)(?!(?:.*/)?\.\.(?:/|$))[^\\\x00-\x1f]+\.(?:csv|csv\.gz|mat)",
                        what="a relative POSIX path inside the set's folder (no '..', no absolute path, no "
                             "backslash, no control characters) ending in .csv, .csv.gz or .mat"), required=True),

@@ -23,8 +23,9 @@ from pathlib import Path
 import numpy as np
 import scipy.io
 
+from idkit.checks import Instance
 from idkit.errors import DataError
-from idkit.io.columns import COLUMN_QUANTITIES, KIND_SCHEMAS, did_you_mean
+from idkit.io.columns import COLUMN_QUANTITIES, KIND, KIND_SCHEMAS, did_you_mean
 from idkit.io.csv_measurement import build_measurement
 from idkit.io.csv_table import column_to_si, read_file_bytes
 from idkit.io.info import MeasurementInfo
@@ -168,6 +169,10 @@ def check_exact_in_float64(values: np.ndarray, variable: str, where: str) -> Non
                             "representable as float64")
 
 
+_COLUMN_MAPPING = Instance((Mapping,), what="a mapping idkit column -> 'var [unit]' (a .mat file has no header "
+                                          "to read the units from)")
+
+
 def read_mat(path: str | Path, kind: str, *, columns: Mapping[str, str | MatColumn],
              info: MeasurementInfo | None = None) -> Measurement:
     """Read one measurement from a MATLAB ``.mat`` file.
@@ -202,13 +207,8 @@ def read_mat(path: str | Path, kind: str, *, columns: Mapping[str, str | MatColu
     ...     "time": "Tout [s]", "deflection": "x_F[:,0] [mm]", "force": "x_F[:,2] [N]"})
     """
     path = Path(path)
-    if kind not in KIND_SCHEMAS:
-        raise DataError(f"file '{path}': unknown kind {kind!r}; expected one of "
-                        f"{', '.join(KIND_SCHEMAS)}")
-    schema = KIND_SCHEMAS[kind]
-    if not isinstance(columns, Mapping):
-        raise DataError(f"file '{path}': columns: found {columns!r:.80}, expected a mapping idkit column -> "
-                        "'var [unit]' (a .mat file has no header to read the units from)")
+    schema = KIND_SCHEMAS[KIND.check(kind, f"file '{path}': kind", DataError)]
+    _COLUMN_MAPPING.check(columns, f"file '{path}': columns", DataError)
     specs = {name: parse_mat_column(spec, where=f"file '{path}', column '{name}'")
              for name, spec in columns.items()}
     unknown = [name for name in specs if name not in schema.allowed]

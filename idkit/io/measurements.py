@@ -18,6 +18,7 @@ import pandas as pd
 
 from idkit.checks import Instance
 from idkit.errors import DataError
+from idkit.io.columns import KIND
 from idkit.io.contract import Column, as_signal, check_columns
 from idkit.io.info import MeasurementInfo
 from idkit.io.provenance import Source
@@ -416,10 +417,7 @@ def measurement_class(kind: str) -> type:
     DataError
         For an unknown kind.
     """
-    try:
-        return _CLASSES[kind]
-    except (KeyError, TypeError):
-        raise DataError(f"unknown kind {kind!r}; expected one of {', '.join(_CLASSES)}") from None
+    return _CLASSES[KIND.check(kind, "kind", DataError)]
 
 
 @dataclass(frozen=True, eq=False)

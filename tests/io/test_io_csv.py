@@ -170,7 +170,7 @@ def test_declared_sample_rate_checked_within_one_percent(tmp_path, declared_hz, 
 
 
 def test_unknown_kind(tmp_path):
-    with pytest.raises(DataError, match="unknown kind 'sweep'"):
+    with pytest.raises(DataError, match="a.csv': kind: found 'sweep', expected one of 'quasi_static'"):
         read_csv_measurement(_write(tmp_path / "a.csv", QS_TEXT), "sweep")
 
 
