@@ -40,7 +40,7 @@ from idkit.errors import DataError
 from idkit.inputfiles import decode_utf8
 from idkit.io.complex_stiffness import ComplexStiffnessTable, ShiftFactorTable
 from idkit.io.csv_table import column_to_si, parse_number_cells, read_file_bytes
-from idkit.io.contract import Column, as_signal, check_columns
+from idkit.io.contract import Column, as_signal, check_columns, check_row_widths
 from idkit.io.info import MeasurementInfo
 from idkit.io.matfile import check_exact_in_float64, load_mat_variables, read_mat
 from idkit.io.measurements import AccelerationRecord, QuasiStaticMeasurement
@@ -100,14 +100,6 @@ def _text_rows(path: Path) -> tuple[list[list[str]], str]:
     return rows, sha256
 
 
-def _check_row_widths(rows: list[list[str]], width: int, source: Source, names: str = "") -> None:
-    """Every data row holds ``width`` fields (the first that does not is named by its row)."""
-    short = next((i for i, row in enumerate(rows) if len(row) != width), None)
-    if short is not None:
-        raise DataError(f"{source.where()}: {source.row_label(short)}: found {len(rows[short])} "
-                        f"field(s), expected {width}{names}")
-
-
 def _two_line_header_table(path: Path, expected: dict[str, tuple[str, ...]]
                            ) -> tuple[dict[str, np.ndarray], dict[str, str], Source]:
     """Read a pyvisco CSV: line 1 names, line 2 units, then numbers.
@@ -126,7 +118,7 @@ def _two_line_header_table(path: Path, expected: dict[str, tuple[str, ...]]
         raise DataError(f"{source.where()}: header {names} / units {units}; expected names "
                         f"from {list(expected)} and one unit per name")
     body = rows[2:]
-    _check_row_widths(body, len(names), source)
+    check_row_widths(body, len(names), source)
     values, declared = {}, {}
     for k, name in enumerate(names):
         scale = lookup_unit(units[k], expected[name], where=source.where(name))
@@ -337,7 +329,7 @@ def read_prony_reference(path: str | Path, *,
         while body and not body[-1].strip():
             body.pop()
         rows = [[c.strip() for c in line.split(",")] for line in body]
-        _check_row_widths(rows, 2, source, " (rel_mod, rel_time)")
+        check_row_widths(rows, 2, source, " (rel_mod, rel_time)")
         alpha = parse_number_cells([r[0] for r in rows], "rel_mod", source)
         tau = parse_number_cells([r[1] for r in rows], "rel_time", source)
     if e0 is not None and instantaneous_modulus is not None and not np.isclose(
@@ -413,7 +405,7 @@ def read_afrl_accel(path: str | Path) -> AccelerationRecord:
     width = len(body[0])
     if width < 2:
         raise DataError(f"{source.where()}: found {width} column(s), expected time + tests")
-    _check_row_widths(body, width, source)
+    check_row_widths(body, width, source)
     time = parse_number_cells([r[0] for r in body], "time", source)
     scale = lookup_unit("1000g", "acceleration", where=source.where())
     accel = np.column_stack([

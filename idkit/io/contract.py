@@ -4,7 +4,8 @@ A manifest entry, its excitation and a measurement's metadata are tables of :cla
 :mod:`idkit.checks` spec with its unit and meaning, required or not), walked by
 :func:`check_fields`; a manifest value is checked as an argument is, so its refusal reads
 ``<file and entry>: <key>: found X, expected Y`` like every other in idkit. A record's columns are
-a table of :class:`Column` (name, required or part of a pair), walked by :func:`check_columns`.
+a table of :class:`Column` (name, required or part of a pair), walked by :func:`check_columns`;
+each column is read by :func:`as_signal` and the rows of a text table by :func:`check_row_widths`.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from idkit.checks import Spec
 from idkit.errors import DataError
 from idkit.io.provenance import Source
 
-__all__ = ["Column", "Field", "as_signal", "check_columns", "check_fields", "field_names"]
+__all__ = ["Column", "Field", "as_signal", "check_columns", "check_fields", "check_row_widths", "field_names"]
 
 
 @dataclass(frozen=True)
@@ -109,3 +110,12 @@ def as_signal(value: object, name: str, source: Source) -> np.ndarray:
                         f"expected a finite number ({bad.size} non-finite value(s) in total)")
     array.setflags(write=False)
     return array
+
+
+def check_row_widths(rows: Sequence[Sequence[str]], width: int, source: Source, why: str = "") -> None:
+    """Every data row of a text table holds ``width`` fields; the first that does not is refused,
+    named by its 1-based data row and file line (``why`` ends the expectation)."""
+    odd = next((index for index, row in enumerate(rows) if len(row) != width), None)
+    if odd is not None:
+        found = f"{len(rows[odd])} field(s)" if rows[odd] else "an empty line"
+        raise DataError(f"{source.where()}: {source.row_label(odd)}: found {found}, expected {width} fields{why}")

@@ -44,6 +44,7 @@ import pandas as pd
 from idkit.errors import DataError
 from idkit.inputfiles import decode_utf8, read_input_bytes
 from idkit.io.columns import COLUMN_QUANTITIES, KindSchema, did_you_mean, parse_header_cell
+from idkit.io.contract import check_row_widths
 from idkit.io.provenance import Source
 from idkit.io.units import SI_UNITS, UnitScale, convert_to_si, lookup_unit
 
@@ -301,12 +302,7 @@ def _parse_strict(path: Path, sha256: str, text: str, schema: KindSchema) -> Csv
         raise DataError(f"{source.where()}: header only, no data rows; expected at least "
                         "2 data rows")
     n_columns = len(names)
-    for i, row in enumerate(body):
-        if len(row) != n_columns:
-            what = "an empty line" if not row else f"{len(row)} field(s)"
-            raise DataError(f"{source.where()}: {source.row_label(i)}: found {what}, "
-                            f"expected {n_columns} fields as in the header "
-                            f"(truncated or malformed row)")
+    check_row_widths(body, n_columns, source, " as in the header (truncated or malformed row)")
     values = {}
     for k, name in enumerate(names):
         cells = [row[k].strip() for row in body]

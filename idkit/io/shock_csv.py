@@ -25,6 +25,7 @@ import numpy as np
 
 from idkit.errors import DataError
 from idkit.io.columns import parse_header_cell
+from idkit.io.contract import check_row_widths
 from idkit.io.csv_table import column_to_si, decode_text, parse_number_cells, read_file_bytes
 from idkit.io.measurements import AccelerationRecord, DropMeasurement
 from idkit.io.provenance import Source
@@ -160,11 +161,7 @@ def read_shock_csv(path: str | Path, *, channel: str | None = None) -> Accelerat
     source = Source(path=path, sha256=hashlib.sha256(raw).hexdigest(), columns=tuple(zip(names, header)),
                     header_lines=1)
     body = [[cell.strip() for cell in row] for row in rows[1:]]
-    for index, row in enumerate(body):
-        if len(row) != len(header):
-            what = "an empty line" if not row else f"{len(row)} field(s)"
-            raise DataError(f"{where}: {source.row_label(index)}: found {what}, "
-                            f"expected {len(header)} as in the header")
+    check_row_widths(body, len(header), source, " as in the header")
     time_scale = lookup_unit(units[0], "time", where=source.where("time"))
     time = column_to_si(parse_number_cells([row[0] for row in body], "time", source), time_scale, "time", source)
     columns = []
