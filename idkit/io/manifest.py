@@ -197,6 +197,14 @@ def _parse_entry(number: int, raw_entry: object, defaults: dict, path: Path) -> 
     return ManifestEntry(kind=kind, file=file, info=info, mat_columns=mat_columns)
 
 
+def _check_unique_ids(ids: list[str], what: str) -> None:
+    """Refuse the first id given twice, naming both positions (1-based) after ``what``."""
+    first: dict[str, int] = {}
+    for number, entry_id in enumerate(ids, 1):
+        if first.setdefault(entry_id, number) != number:
+            raise DataError(f"{what} {number} (1-based): duplicate id {entry_id!r} (first in entry {first[entry_id]})")
+
+
 def _file_problem(folder: Path, file: str) -> str | None:
     """Why ``folder/file`` is not a usable data file (None if it is one)."""
     target = folder / file
@@ -276,12 +284,7 @@ def read_manifest(folder: str | Path) -> Manifest:
         raise DataError(f"manifest '{path}': defaults: found key(s) {', '.join(sorted({'id', 'file'} & set(defaults)))}, "
                         "expected an object of entry keys other than id and file")
     entries = tuple(_parse_entry(n, e, defaults, path) for n, e in enumerate(measurements, 1))
-    seen: dict[str, int] = {}
-    for number, entry in enumerate(entries, 1):
-        if entry.id in seen:
-            raise DataError(f"manifest '{path}': measurements entry {number} (1-based): "
-                            f"duplicate id {entry.id!r} (first in entry {seen[entry.id]})")
-        seen[entry.id] = number
+    _check_unique_ids([entry.id for entry in entries], f"manifest '{path}': measurements entry")
     _check_data_files(folder, path, entries)
     return Manifest(path=path, name=checked.get("name", ""),
                     notes=checked.get("notes", ""), entries=entries, sha256=sha256)
@@ -502,14 +505,10 @@ def write_measurement_set(folder: str | Path, measurements: Iterable[Measurement
     folder = Path(folder)
     measurements = list(measurements)
     suffix = ".csv.gz" if gzip else ".csv"
-    plan = []
-    seen: set[str] = set()
-    for number, measurement in enumerate(measurements, 1):
-        entry_id = _ID.check(measurement.info.id, f"measurement {number} (1-based): id", DataError)
-        if entry_id in seen:
-            raise DataError(f"measurement {number} (1-based): duplicate id {entry_id!r}")
-        seen.add(entry_id)
-        plan.append((measurement, f"{measurement.kind}/{entry_id}{suffix}"))
+    ids = [_ID.check(m.info.id, f"measurement {number} (1-based): id", DataError)
+           for number, m in enumerate(measurements, 1)]
+    _check_unique_ids(ids, "measurement")
+    plan = [(m, f"{m.kind}/{entry_id}{suffix}") for m, entry_id in zip(measurements, ids)]
     if not plan:
         raise DataError("write_measurement_set: no measurements given")
     manifest_path = folder / MANIFEST_NAME
