@@ -25,7 +25,7 @@ from idkit.checks import Choice
 from idkit.errors import DataError
 from idkit.atomic import write_bytes_atomic
 from idkit.io.columns import COMPLEX_STIFFNESS_SCHEMA, KindSchema
-from idkit.io.contract import as_signal
+from idkit.io.contract import as_signal, read_columns
 from idkit.io.csv_measurement import format_csv
 from idkit.io.csv_table import read_csv_table
 from idkit.io.provenance import Source
@@ -79,20 +79,11 @@ class ComplexStiffnessTable:
     def __post_init__(self) -> None:
         _QUANTITY.check(self.quantity, "quantity", DataError)
         names = ("freq", "storage", "loss", "temperature", "log_a_t")
-        labels = {"freq": "frequency", "log_a_t": "log_aT"}
-        size = None
-        for name in names:
-            value = getattr(self, name)
-            if value is None:
-                continue
-            array = as_signal(value, labels.get(name, name), self.source)
-            if size is None:
-                size = array.size
-            elif array.size != size:
-                raise DataError(f"{self.source.where(labels.get(name, name))}: found "
-                                f"{array.size} values, expected {size}")
+        arrays = read_columns({name: getattr(self, name) for name in names}, self.source,
+                              {"freq": "frequency", "log_a_t": "log_aT"})
+        for name, array in arrays.items():
             object.__setattr__(self, name, array)
-        if size == 0:
+        if self.freq.size == 0:
             raise DataError(f"{self.source.where()}: no rows, expected at least one")
         bad = np.flatnonzero(self.freq <= 0)
         if bad.size:

@@ -19,7 +19,7 @@ from idkit.checks import Spec
 from idkit.errors import DataError
 from idkit.io.provenance import Source
 
-__all__ = ["Column", "Field", "as_signal", "check_columns", "check_fields", "check_row_widths", "field_names"]
+__all__ = ["Column", "Field", "as_signal", "check_columns", "check_fields", "check_row_widths", "field_names", "read_columns"]
 
 
 @dataclass(frozen=True)
@@ -119,3 +119,18 @@ def check_row_widths(rows: Sequence[Sequence[str]], width: int, source: Source, 
     if odd is not None:
         found = f"{len(rows[odd])} field(s)" if rows[odd] else "an empty line"
         raise DataError(f"{source.where()}: {source.row_label(odd)}: found {found}, expected {width} fields{why}")
+
+
+def read_columns(values: Mapping[str, object], source: Source, labels: Mapping[str, str] | None = None
+                 ) -> dict[str, np.ndarray]:
+    """The columns given (``None`` skipped), each read by :func:`as_signal` under its label, all as
+    long as the first (the message names the column, its length and the first's)."""
+    labels = labels or {}
+    arrays = {name: as_signal(value, labels.get(name, name), source) for name, value in values.items()
+              if value is not None}
+    first = next(iter(arrays), None)
+    odd = next((name for name, array in arrays.items() if array.size != arrays[first].size), None)
+    if odd is not None:
+        raise DataError(f"{source.where(labels.get(odd, odd))}: found {arrays[odd].size} values, expected "
+                        f"{arrays[first].size} (as many as {labels.get(first, first)})")
+    return arrays

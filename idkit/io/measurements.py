@@ -19,7 +19,7 @@ import pandas as pd
 from idkit.checks import Instance
 from idkit.errors import DataError
 from idkit.io.columns import KIND
-from idkit.io.contract import Column, as_signal, check_columns
+from idkit.io.contract import Column, as_signal, check_columns, read_columns
 from idkit.io.info import MeasurementInfo
 from idkit.io.provenance import Source
 from idkit.io.units import SI_UNITS
@@ -166,11 +166,7 @@ class _SignalMeasurement:
         _INFO.check(self.info, "info", DataError)
         _SOURCE.check(self.source, "source", DataError)
         check_columns({c.name: getattr(self, c.name) for c in self._columns}, self._columns, self.source.where())
-        arrays = {name: as_signal(value, name, self.source) for name, value in self.signals().items()}
-        for name, array in arrays.items():  # every column as long as time
-            if array.size != arrays["time"].size:
-                raise DataError(f"{self.source.where(name)}: found {array.size} samples, "
-                                f"expected {arrays['time'].size} (as many as time)")
+        for name, array in read_columns(self.signals(), self.source).items():
             object.__setattr__(self, name, array)
         check_time(self.time, self.source, self.info.sample_rate_hz)
 

@@ -189,7 +189,7 @@ def test_successful_read_leaves_file_byte_identical(tmp_path):
 # --- constructors check their inputs too -------------------------------------------------
 
 def test_constructor_rejects_length_mismatch():
-    with pytest.raises(DataError, match="found 2 samples, expected 3"):
+    with pytest.raises(DataError, match="found 2 values, expected 3 \\(as many as time\\)"):
         QuasiStaticMeasurement(time=[0.0, 1.0, 2.0], deflection=[0.0, 1.0, 2.0], force=[0.0, 1.0])
 
 

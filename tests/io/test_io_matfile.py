@@ -60,7 +60,7 @@ def test_length_mismatch_and_nan_in_mat(tmp_path):
     with pytest.raises(DataError, match=r"column 'x \[m\]': sample 3 \(1-based\): found nan"):
         read_mat(path, "quasi_static", columns={"time": "t [s]", "deflection": "x [m]",
                                                  "force": "t [N]"})
-    with pytest.raises(DataError, match="found 4 samples, expected 5"):
+    with pytest.raises(DataError, match="found 4 values, expected 5"):
         read_mat(path, "quasi_static", columns={"time": "t [s]", "deflection": "t [m]",
                                                  "force": "f [N]"})
 
