@@ -42,7 +42,7 @@ from idkit.io.complex_stiffness import ComplexStiffnessTable, ShiftFactorTable
 from idkit.io.csv_table import column_to_si, parse_number_cells, read_file_bytes
 from idkit.io.contract import Column, as_signal, check_columns, check_row_widths
 from idkit.io.info import MeasurementInfo
-from idkit.io.matfile import check_exact_in_float64, load_mat_variables, read_mat
+from idkit.io.matfile import MatColumn, load_mat_variables, mat_column_values, read_mat
 from idkit.io.measurements import AccelerationRecord, QuasiStaticMeasurement
 from idkit.io.provenance import Source
 from idkit.io.units import lookup_unit
@@ -473,16 +473,8 @@ def read_boucwen_benchmark(path: str | Path) -> BoucWenBenchmark:
              "test_sinesweep_displacement": "yval_sinesweep"}
     arrays = {}
     for field_name, var in names.items():
-        if var not in variables:
-            raise DataError(f"{source.where()}: variable '{var}' missing; expected "
-                            f"{', '.join(names.values())}")
-        raw = np.asarray(variables[var])
-        if raw.dtype.kind not in "iuf":
-            raise DataError(f"{source.where(var)}: found dtype {raw.dtype}, expected real numbers")
-        if raw.ndim != 2 or min(raw.shape) != 1:
-            raise DataError(f"{source.where(var)}: found shape {raw.shape}, expected a vector")
-        check_exact_in_float64(raw.reshape(-1), var, source.where(var))  # int64 beyond 2^53 would round
-        arrays[field_name] = as_signal(raw.reshape(-1), var, source)
+        values = mat_column_values(variables, MatColumn(var, None, None), source.where(var))
+        arrays[field_name] = as_signal(values, var, source)
     for prefix in ("train", "test_multisine", "test_sinesweep"):
         if arrays[f"{prefix}_force"].size != arrays[f"{prefix}_displacement"].size:
             force_var, displacement_var = names[f"{prefix}_force"], names[f"{prefix}_displacement"]

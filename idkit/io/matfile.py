@@ -33,7 +33,8 @@ from idkit.io.measurements import Measurement
 from idkit.io.provenance import Source
 from idkit.io.units import lookup_unit
 
-__all__ = ["MatColumn", "check_exact_in_float64", "load_mat_variables", "parse_mat_column", "read_mat"]
+__all__ = ["MatColumn", "check_exact_in_float64", "load_mat_variables", "mat_column_values", "parse_mat_column",
+           "read_mat"]
 
 _SPEC_RE = re.compile(
     r"^\s*([A-Za-z][A-Za-z0-9_]*)\s*(?:\[\s*:\s*,\s*(\d+)\s*\])?\s*(?:\[([^\[\]]*)\])?\s*$"
@@ -133,7 +134,9 @@ def load_mat_variables(path: str | Path) -> tuple[dict[str, np.ndarray], str]:
 _EXACT_INTEGER_LIMIT = 2**53  # every integer up to this magnitude is exact in float64
 
 
-def _column_values(variables: dict, column: MatColumn, where: str) -> np.ndarray:
+def mat_column_values(variables: dict, column: MatColumn, where: str) -> np.ndarray:
+    """The values of one column of loaded ``.mat`` variables (a vector, or column ``k`` of a 2-D
+    variable), refused unless present, real and exactly representable in float64."""
     if column.variable not in variables:
         raise DataError(f"{where}: variable '{column.variable}' not in the file; found "
                         f"{', '.join(sorted(variables)) or 'no variables'}")
@@ -225,7 +228,7 @@ def read_mat(path: str | Path, kind: str, *, columns: Mapping[str, str | MatColu
     for name, spec in specs.items():
         where = source.where(name)
         scale = lookup_unit(spec.unit, COLUMN_QUANTITIES[name], where=where)
-        values[name] = column_to_si(_column_values(variables, spec, where), scale, name, source)
+        values[name] = column_to_si(mat_column_values(variables, spec, where), scale, name, source)
     if info is None:
         info = MeasurementInfo(id=path.name.removesuffix(".mat"))
     return build_measurement(kind, values, info=info, source=source)
