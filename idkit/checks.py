@@ -40,8 +40,8 @@ import numpy as np
 from idkit.errors import ParameterError
 from idkit.limits import SMALLEST_NORMAL
 
-__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Text", "Samples", "Seed", "Instance", "Either", "accepts",
-           "unchecked", "refuse", "DECLARED", "Contract", "OptionValueError"]
+__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Text", "Samples", "Seed", "Instance", "Either",
+           "accepts", "unchecked", "refuse", "DECLARED", "Contract", "OptionValueError"]
 
 #: Values that ``float()`` converts but that are not numbers.
 _NOT_NUMBERS = (bool, np.bool_, str, bytes)

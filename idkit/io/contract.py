@@ -19,7 +19,8 @@ from idkit.checks import Spec
 from idkit.errors import DataError
 from idkit.io.provenance import Source
 
-__all__ = ["Column", "Field", "as_signal", "check_columns", "check_fields", "check_row_widths", "field_names", "read_columns"]
+__all__ = ["Column", "Field", "as_signal", "check_columns", "check_fields", "check_row_widths", "field_names",
+           "read_columns"]
 
 
 @dataclass(frozen=True)
@@ -43,8 +44,8 @@ def check_fields(values: Mapping, fields: Sequence[Field], where: str, *, known:
 
     A key neither declared nor in ``known`` (keys another table checks) is refused, naming the
     keys expected; a required key that is absent is refused; a value is refused as
-    ``<where>: <key>: found X, expected Y`` (``<key>: ...`` when ``where`` is empty). Keys absent and not required are left out of the
-    result (the reader's default applies).
+    ``<where>: <key>: found X, expected Y`` (``<key>: ...`` when ``where`` is empty). Keys absent
+    and not required are left out of the result (the reader's default applies).
     """
     names = field_names(fields)
     unknown = sorted(set(values) - set(names) - set(known))

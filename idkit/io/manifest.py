@@ -16,7 +16,7 @@ import hashlib
 import json
 from collections.abc import Iterable, Iterator, Mapping
 from dataclasses import dataclass, replace
-from pathlib import Path, PurePosixPath
+from pathlib import Path
 
 import pandas as pd
 
@@ -281,7 +281,8 @@ def read_manifest(folder: str | Path) -> Manifest:
     if not measurements:
         raise refuse(f"manifest '{path}': measurements", measurements, "a non-empty list of entries", DataError)
     if {"id", "file"} & set(defaults):
-        raise DataError(f"manifest '{path}': defaults: found key(s) {', '.join(sorted({'id', 'file'} & set(defaults)))}, "
+        raise DataError(f"manifest '{path}': defaults: found key(s) "
+                        f"{', '.join(sorted({'id', 'file'} & set(defaults)))}, "
                         "expected an object of entry keys other than id and file")
     entries = tuple(_parse_entry(n, e, defaults, path) for n, e in enumerate(measurements, 1))
     _check_unique_ids([entry.id for entry in entries], f"manifest '{path}': measurements entry")
