@@ -93,6 +93,7 @@ _NEEDED_BY_KIND = {
                      "'excitation': {'freq_hz': ...}: the excitation frequency in Hz"),
 }
 
+
 @dataclass(frozen=True)
 class ManifestEntry:
     """One checked entry of a manifest.
