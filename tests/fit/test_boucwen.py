@@ -199,7 +199,13 @@ def test_standard_error_of_n_is_not_set_by_the_integrators_sub_step_jumps():
     1e-5 across such a jump read it as a slope. Measured on these loops (0.11 N force noise on
     every set, seed 18): n = 1.548 +- 0.00084 for a truth of 1.3 (294 standard errors) and a
     success; with a step of 1e-3 (the jump is then 1 % of the slope) and a variance per set,
-    1.548 +- 0.079 (3.2 standard errors)."""
+    1.548 +- 0.079 (3.2 standard errors).
+
+    The standard errors are computed wherever the search stops, so a short search serves (local
+    stages of 600 evaluations, no global stage): it stops at n within 6e-4 of the full fit's (whose
+    global stage does not move n), where a step of 1e-5 puts n 217 standard errors from the truth
+    and 1e-3 puts it 3.2. Neither fit is a success (both stop at their evaluation budget); the
+    standard error is reported, and checked, all the same."""
     phase = np.linspace(0, 6 * np.pi, 900)
     sigma = 0.002 * np.std(TRUTH.force(14e-3 * np.sin(phase)))
     rng = np.random.default_rng(18)
@@ -209,6 +215,6 @@ def test_standard_error_of_n_is_not_set_by_the_integrators_sub_step_jumps():
                               points_per_set=120, name=f"{prefix}{i}") for i, a in enumerate(amplitudes)]
 
     result = fit_boucwen(group([0.3e-3, 1e-3, 2e-3, 4e-3], "s"), group([6e-3, 10e-3, 14e-3], "l"), seed=3,
-                         global_max_evals=600)
+                         global_search=False, max_evals=600)
     n = result.params["n"]
-    assert not result.success or abs(n.value - TRUTH.n) < 5.0 * n.stderr, (n.value, n.stderr)
+    assert abs(n.value - TRUTH.n) < 5.0 * n.stderr, (n.value, n.stderr)

@@ -88,7 +88,14 @@ def test_benchmark_fit_beats_the_best_black_box_model_on_both_test_sets():
     if folder is None:
         pytest.skip("real data folder ../shared/realdata/boucwen_benchmark is absent (set IDKIT_REALDATA)")
     data = read_boucwen_benchmark(folder / "bouc-wen.mat")
-    fit = fit_boucwen_output(data.train_force, data.train_displacement, data.sample_rate_hz,
+    # the first of the training record's five periods of one multisine (from rest, its transient
+    # included): a whole period, as the band-limited force needs, and a fifth of the fit's work.
+    # The model is the benchmark's own form, so one period determines it: the errors reached,
+    # 2.7e-7 m (multisine) and 2.4e-6 m (sweep, the simulator's floor: the true model re-simulated
+    # gives 2.6e-6 m), are those of the fit on all five periods (docs/boucwen-benchmark.md)
+    # within 1e-7 m, and three times below the target.
+    train = slice(0, PERIOD)
+    fit = fit_boucwen_output(data.train_force[train], data.train_displacement[train], data.sample_rate_hz,
                              interpolation="fourier", substeps=10)
     assert fit.success, fit.reasons
     periods = np.tile(data.test_multisine_force, 3)
