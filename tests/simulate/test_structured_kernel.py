@@ -11,6 +11,8 @@ by emptying ``_kernel.SPECIALISED`` (every structure then runs the generic drive
 
 from __future__ import annotations
 
+import functools
+
 import numba
 import numpy as np
 import pytest
@@ -145,27 +147,33 @@ def test_each_structures_driver_has_its_own_name_and_cache_files():
         assert len(names) == len(indexes) == len(structures)
 
 
-@numba.njit
-def _sdof_step(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
-    return step_sdof(numba.literally(kind), m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
-
-
-@numba.njit
-def _hybrid_step(kind, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
-    return step_hybrid(numba.literally(kind), m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
-
-
 #: The step each specialised driver calls (its kind of Iwan or Maxwell part), as the drivers' dispatch.
 _STEPS = {SDOF_IWAN: (1, 1), SDOF_MAXWELL: (1, 2), HYBRID: (2, 1), SDOF_IWAN_MODULATED: (1, 3),
           HYBRID_MODULATED: (2, 3)}
 
 
-def _specialised_step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+@functools.lru_cache(maxsize=None)
+def _specialised_step_of(structure):
+    """The specialised step of ``structure`` compiled as its driver calls it, the kind a literal: a
+    constant of the closure (numba types it as a literal and prunes the other kinds' branches), as
+    the structure is in the drivers. One compile per structure; a literal made at each call instead
+    (``numba.literally``) would type the call again every time."""
     masses, kind = _STEPS[structure]
+    if masses == 1:
+        @numba.njit
+        def step(m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+            return step_sdof(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+    else:
+        @numba.njit
+        def step(m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+            return step_hybrid(kind, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+    return masses, step
+
+
+def _specialised_step(structure, ndof, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale):
+    masses, step = _specialised_step_of(structure)
     assert masses == ndof
-    if ndof == 1:
-        return _sdof_step(kind, m0, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
-    return _hybrid_step(kind, m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
+    return step(m0, m1, state, h, load, xb_old, xb_new, vb_new, P, S, force_scale)
 
 
 def _random_step_inputs(arrays, rng):
