@@ -14,7 +14,8 @@ import numpy as np
 
 from idkit.checks import accepts
 from idkit.errors import ParameterError
-from idkit.models.laws import kernel_array, polynomial_spring_force, polynomial_spring_stiffness, stop_operator
+from idkit.models.laws import (CONSTANT_SLIP, kernel_array, polynomial_spring_force, polynomial_spring_stiffness,
+                               stop_operator)
 from idkit.models.base import C_VISC_SPEC, IsolatorArrays, IsolatorModel
 from idkit.models.base import DEFLECTION, FREQUENCY, TIME, _as_time, _velocity
 from idkit.params import ParamSpec, check_array
@@ -38,7 +39,7 @@ def jenkin_force(deflection, stiffness: float, friction_force: float, initial_fo
     x = deflection
     forces = stop_operator(
         kernel_array(x), np.array([float(stiffness)]), np.array([float(friction_force)]),
-        np.array([float(initial_force)]),
+        np.array([float(initial_force)]), *CONSTANT_SLIP,
     )
     return forces[:, 0]
 
@@ -168,7 +169,8 @@ class IwanModel(IsolatorModel):
         """Forces in N of every Jenkin element, shape ``(n_samples, order)``."""
         x = deflection
         start = np.zeros(self.order) if initial_forces is None else np.asarray(initial_forces, float)
-        return stop_operator(kernel_array(x), kernel_array(self._k), kernel_array(self._fc), kernel_array(start))
+        return stop_operator(kernel_array(x), kernel_array(self._k), kernel_array(self._fc), kernel_array(start),
+                             *CONSTANT_SLIP)
 
     @accepts(deflection=DEFLECTION, time=TIME)
     def force(self, deflection, time=None, initial_forces=None) -> np.ndarray:

@@ -115,6 +115,12 @@ def scaled_jenkin_step(state, stiffness, friction_force, scale, step):
         state[j] = trial
 
 
+#: ``(modulation, growth, length)`` of :func:`stop_operator` for constant slip forces, its defaults.
+#: Python callers pass them: a call to a compiled kernel that leaves defaults out goes through
+#: numba's slow dispatch (it resolves the call's types again every time).
+CONSTANT_SLIP = (0.0, 0.0, 1.0)
+
+
 @numba.njit(cache=True)
 def stop_operator(deflection, stiffness, friction_force, initial_force, modulation=0.0, growth=0.0, length=1.0):
     """Forces of parallel Jenkin elements along a deflection history (SPEC 1.1).
@@ -503,7 +509,7 @@ def clearance_jenkin_forces(deflection, stiffness, friction_force, gap, initial_
     dead = stiffness * float(gap)
     virtual = stop_operator(kernel_array(deflection), kernel_array(stiffness),
                             kernel_array(np.asarray(friction_force, dtype=float) + dead),
-                            kernel_array(initial_virtual_force))
+                            kernel_array(initial_virtual_force), *CONSTANT_SLIP)
     return dead_zone(virtual, dead)
 
 
