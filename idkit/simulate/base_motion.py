@@ -145,11 +145,14 @@ def integrate_acceleration(acceleration, time_step: float, initial_displacement=
     """
     a = np.asarray(acceleration, dtype=float)
     h = float(time_step)
-    rows = np.ascontiguousarray(a.reshape(-1, a.shape[-1]))
+    # C-contiguous and writeable arrays only (a read-only input or broadcast is another numba type:
+    # another compile of the kernel)
+    rows = np.require(a.reshape(-1, a.shape[-1]), requirements=["C", "W"])
     v0 = np.broadcast_to(np.asarray(initial_velocity, dtype=float), a.shape[:-1]).reshape(-1)
     x0 = np.broadcast_to(np.asarray(initial_displacement, dtype=float), a.shape[:-1]).reshape(-1)
     displacement, velocity = np.empty_like(rows), np.empty_like(rows)
-    _trapezoid_rows(rows, h, np.ascontiguousarray(x0), np.ascontiguousarray(v0), displacement, velocity)
+    _trapezoid_rows(rows, h, np.require(x0, requirements=["C", "W"]), np.require(v0, requirements=["C", "W"]),
+                    displacement, velocity)
     return displacement.reshape(a.shape), velocity.reshape(a.shape)
 
 

@@ -290,7 +290,7 @@ def _integers(values, name: str, size: int, minimum: int) -> np.ndarray:
     if not (np.issubdtype(array.dtype, np.integer) and (array >= minimum).all()):
         raise SimulationError(f"{name}: found {np.asarray(values)!r:.80}, expected whole numbers >= {minimum} "
                               f"(one, or one per run: {size})")
-    return np.ascontiguousarray(array, dtype=np.int64)
+    return np.require(array, dtype=np.int64, requirements=["C", "W"])  # writeable (simulate_parameter_sets)
 
 
 def simulate_parameter_sets(sets: ParameterSets, set_index, *, time_step, n_steps, base_displacement=None,
@@ -329,7 +329,9 @@ def simulate_parameter_sets(sets: ParameterSets, set_index, *, time_step, n_step
     if batch == 0 or set_index.max() >= len(sets):
         raise SimulationError(f"set_index: found {set_index!r:.80}, expected at least one index below {len(sets)}")
     n_steps = _integers(n_steps, "n_steps", batch, 1)
-    h = np.ascontiguousarray(np.broadcast_to(np.asarray(time_step, dtype=float), (batch,)))
+    # every array the kernel gets is C-contiguous and writeable: a read-only one (np.broadcast_to gives
+    # one, kept as is when it needs no copy) is another numba type, so another compile of the driver
+    h = np.require(np.broadcast_to(np.asarray(time_step, dtype=float), (batch,)), requirements=["C", "W"])
     if not (np.isfinite(h) & (h > 0)).all():
         raise SimulationError(f"time_step: found {time_step!r:.80}, expected steps > 0 s")
     ndof = sets.ndof
@@ -345,7 +347,7 @@ def simulate_parameter_sets(sets: ParameterSets, set_index, *, time_step, n_step
                               f"expected equal, at least {int(n_steps.max()) + 1} samples and {int(base_row.max()) + 1} "
                               "rows")
     v0 = np.zeros((batch, ndof)) if initial_velocity is None else np.asarray(initial_velocity, dtype=float)
-    v0 = np.ascontiguousarray(np.broadcast_to(v0, (batch, ndof)))
+    v0 = np.require(np.broadcast_to(v0, (batch, ndof)), requirements=["C", "W"])
     scale_of_run = np.broadcast_to(np.asarray(acceleration_scale, dtype=float), (batch,))
     scale = np.array([force_scale(sets.each[s], scale_of_run[b]) for b, s in enumerate(set_index)], dtype=float)
     record_from = _integers(record_from, "record_from", batch, 0)
