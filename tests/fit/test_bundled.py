@@ -26,7 +26,6 @@ from idkit.fit import (
     fit_iwan_measurements,
     fit_maxwell_measurements,
     k0_from_measurements,
-    maxwell_order_table,
     transmissibility_sets,
 )
 from idkit.io import load_measurement_set
@@ -86,7 +85,9 @@ def test_maxwell_fit_and_order_table(maxwell_fit, elastomer):
     assert len(maxwell_fit.data) == 16  # 8 masses x repetitions 1-2
     assert result.error <= MAXWELL_2_MAX
     assert all(result.parameters[name].stderr is not None for name in ("k_1", "k_2", "rate_1", "rate_2", "m_eff"))
-    table = maxwell_order_table(list(maxwell_fit.data), k0=maxwell_fit.model.k0).set_index("model", append=True)
+    # the table the order rule chose from: order "auto" runs maxwell_order_table on the fit's FRFs and k0
+    assert maxwell_fit.options["order_rule"] and maxwell_fit.model.order == 2
+    table = maxwell_fit.order_table.set_index("model", append=True)
     errors = table["error_percent"].to_numpy()
     maxwell, voigt = errors[:4], errors[4]
     # orders 1-4 (with the loss rule each drops the non-decreasing constraint, which costs the
