@@ -225,23 +225,28 @@ def test_one_step_equals_the_generic_step(name, seed):
     assert _kernel.FLAG_OK in flags
 
 
-def test_a_driver_compiles_only_its_own_step(tmp_path):
-    """The drivers choose their step by an if-chain on the structure, a constant of the closure:
-    numba prunes the other branches before typing, so the SDOF driver compiles the SDOF step
-    alone (were the branches typed, every step would compile with every driver, the hybrid's
-    included). A fresh process with an empty cache, so nothing is loaded instead of compiled."""
+def test_a_driver_compiles_only_its_own_step():
+    """A driver calls _kernel.structure_step with its structure, a constant of its closure: the
+    call resolves at compile time to that structure's step alone, so the SDOF driver types the
+    SDOF step only (were every structure's step typed, every step would compile with every driver,
+    the hybrid's included). A fresh process, so that no step has been typed before, with the
+    driver's own on-disk cache off: it is compiled, and so typed, there (a driver loaded from the
+    cache types nothing); the steps it calls are then compiled or loaded, and either way counted
+    in their signatures."""
     import os
     import subprocess
     import sys
 
     code = (
+        "from numba.core import caching\n"
         "from idkit.models import library\n"
-        "from idkit.simulate import simulate, _generic_step, _structured\n"
+        "from idkit.simulate import simulate, _generic_step, _kernel, _structured\n"
         "import numpy as np\n"
+        "_kernel.time_kernel(_structured.SDOF_MAXWELL)._cache = caching.NullCache()\n"
         "simulate(library.get('system_b1_low'), np.arange(11) * 1e-3, base_acceleration=np.zeros(11), workers=1)\n"
         "print([str(s[0]) for s in _structured.step_hybrid.signatures], len(_structured.step_sdof.signatures), "
         "len(_generic_step._step.signatures))\n"
     )
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), IDKIT_CACHE_DIR=str(tmp_path), IDKIT_WORKERS="1")
+    env = dict(os.environ, IDKIT_WORKERS="1")
     result = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     assert result.stdout.strip().splitlines()[-1] == "[] 1 0"
