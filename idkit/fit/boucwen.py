@@ -181,7 +181,8 @@ def fit_boucwen(
         |F_meas|_set x sqrt(S w_set / e_set)``, ``w_set`` the set's weight in the objective
         and ``S`` the number of sets, so that ``chisqr = S x objective`` and the
         least-squares optimum of ``r`` is the objective's, as for :func:`fit_iwan`. ``J``
-        by central differences (step 1e-5) in the scaled coordinates, propagated to
+        by central differences (step 1e-3 in the scaled coordinates, wider than the
+        integrator's sub-step jumps), propagated to
         ``k1 .. c`` (and ``z_max``, ``shape``) by the Jacobian of the parameter map; a
         coordinate at a bound of the box is held there. ``chisqr``, ``redchi``, ``aic``,
         ``bic``, ``fit_report()`` as in lmfit; a missing stderr is named with the reason in
