@@ -11,10 +11,10 @@ the study's resolution (800 Hz, 0.05 Hz lines, one realization per draw), five d
 1-5 cm, every limit. Prints:
 
 * the search: ``--candidates`` candidates x ``--draws`` draws on ``--workers`` processes forked
-  after the warm-up (the screening path, every candidate, chunks of 10 candidates), wall time
-  min and median over ``--repeat`` runs, and the CPU time of the runs (this process and its
-  worker processes): on a machine shared with other jobs the wall time is the CPU time spread
-  over the share of the cores the run got;
+  after the warm-up (the screening path, every candidate, guided chunks shrinking to one
+  candidate), wall time min and median over ``--repeat`` runs, and the CPU time of the runs
+  (this process and its worker processes): on a machine shared with other jobs the wall time is
+  the CPU time spread over the share of the cores the run got; ``uptime`` before and after;
 * one core: CPU per candidate batched and one draw at a time (``--per-draw`` candidates), and
   whether their rows agree;
 * ``--dask N``: N candidates on a ``distributed.LocalCluster`` of 2 worker processes and the same
@@ -35,6 +35,7 @@ import json
 import multiprocessing
 import resource
 import statistics
+import subprocess
 import time
 from concurrent.futures import ProcessPoolExecutor
 
@@ -86,6 +87,14 @@ def cpu_seconds() -> float:
     return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
+def uptime() -> str:
+    """``uptime``'s line (the machine's load), or the load averages where it is missing."""
+    try:
+        return subprocess.run(["uptime"], capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "load average " + ", ".join(f"{load:.2f}" for load in os.getloadavg())
+
+
 def same_rows(a: list, b: list) -> bool:
     # NaN (a limit a single mount has no component for) never equals itself: compare the JSON text
     return json.dumps(a, default=float) == json.dumps(b, default=float)
@@ -112,6 +121,7 @@ def main():
     parser.add_argument("--dask", type=int, default=0)
     parser.add_argument("--dask-draws", type=int, default=3)
     args = parser.parse_args()
+    print(f"uptime before: {uptime()}")
     environment = Environment.from_dict(ENVIRONMENT)
     chosen = candidates(args.candidates)
     kinds = {kind: sum(c.kind == kind for c in chosen) for kind in ("single", "hybrid")}
@@ -124,7 +134,7 @@ def main():
         start, start_cpu = time.perf_counter(), cpu_seconds()
         # worker processes forked from this one (their CPU time counts once they are joined)
         with ProcessPoolExecutor(args.workers, mp_context=multiprocessing.get_context("fork")) as pool:
-            rows = evaluate_candidates(chosen, environment, n_draws=args.draws, executor=pool, chunk_size=10)
+            rows = evaluate_candidates(chosen, environment, n_draws=args.draws, executor=pool, workers=args.workers)
         walls.append(time.perf_counter() - start)
         cpus.append(cpu_seconds() - start_cpu)
     load = os.getloadavg()[0]
@@ -132,6 +142,7 @@ def main():
           f"CPU min {min(cpus):.1f} s, median {statistics.median(cpus):.1f} s "
           f"(CPU / {args.workers} cores: {min(cpus) / args.workers:.1f} s); load average {load:.1f} on "
           f"{os.cpu_count()} cores")
+    print(f"uptime after: {uptime()}")
     table = judge(rows, environment)
     print(f"verdicts: {table['verdict'].value_counts().to_dict()}; flagged runs {int(table['flagged'].sum())}")
 

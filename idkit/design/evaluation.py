@@ -23,9 +23,12 @@ every limit it would have been judged on.
 
 **Batched** (the default): a candidate's draws are one parameter-set batch
 (:func:`idkit.simulate.parameter_sets.simulate_parameter_sets`): one compiled call runs every
-draw's floor record that needs the time domain, one runs every draw's drops; the
-frequency-domain parts (resonances, the stays-stuck test, the linear responses) are array
-operations over the draws. ``batched=False`` runs one draw at a time through the public
+draw's floor record that needs the time domain (records only, one call per settling length;
+the RMS by :func:`~idkit.signal.psd.welch_rms`), one runs every draw's drops; the
+frequency-domain parts (resonances, the stays-stuck test, the linear responses; the transfer
+once per candidate for every floor profile) are array operations over the draws. The draws'
+floors and the integrated base motion of a set of slipping draws are kept per process: every
+candidate meets the same floors. ``batched=False`` runs one draw at a time through the public
 one-system functions (``random_response``, ``shock_sweep``; the dissipated energy from the
 free falls' records and final states): the same numbers, the kernel runs bit for bit and the
 frequency-domain ones to round-off (``tests/design/test_batched.py``).
@@ -63,7 +66,7 @@ from idkit.responses.random_vibration import (
     small_amplitude_transfer,
 )
 from idkit.responses.shock import default_shock_grid
-from idkit.signal.psd import rms_from_psd, synthesize_random, welch_psd
+from idkit.signal.psd import synthesize_random, welch_rms
 from idkit.simulate import free_fall, small_amplitude_resonance
 from idkit.simulate._kernel import _pack, _pack_states
 from idkit.simulate._arrays import system_arrays
@@ -177,6 +180,9 @@ def _draw_metrics(system, environment: Environment, *, screening: bool, seed: in
 
 _SIGNALS: dict = {}
 _SIGNALS_KEPT = 128
+_FLOORS: dict = {}
+_BASES: dict = {}
+_STACKS_KEPT = 4  # stacked floors, and integrated base motions, kept per process
 
 
 def _floor_record(profile, seed: int, rate: float) -> tuple[np.ndarray, np.ndarray]:
@@ -197,76 +203,124 @@ def _floor_record(profile, seed: int, rate: float) -> tuple[np.ndarray, np.ndarr
     return found
 
 
+def _kept(store: dict, key, compute):
+    """``store[key]``, computed (and the store emptied when full) the first time."""
+    found = store.get(key)
+    if found is None:
+        if len(store) >= _STACKS_KEPT:
+            store.clear()
+        found = store[key] = compute()
+    return found
+
+
+def _floor_records(profile, seed: int, count: int, rate: float) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_floor_record` of draws ``0 .. count - 1`` (seeds ``seed + draw``), stacked: the records
+    (count, samples) and their line amplitudes, kept for the next candidate."""
+    def stack():
+        records = [_floor_record(profile, seed + index, rate) for index in range(count)]
+        out = (np.array([r[0] for r in records]), np.array([r[1] for r in records]))
+        for values in out:
+            values.setflags(write=False)
+        return out
+
+    return _kept(_FLOORS, (profile.freq.tobytes(), profile.level.tobytes(), int(seed), int(count), float(rate)), stack)
+
+
+def _floor_motion(profile, seed: int, count: int, draws: tuple, rate: float, total: int):
+    """The base motion :func:`simulate` integrates from the floor records of ``draws`` (of
+    :func:`_floor_records`) repeated over ``total`` steps at ``rate``: its step (s), displacements and
+    velocities (draws, total + 1) and each row's acceleration scale (m/s^2), kept for the next
+    candidate (whose draws slip alike under a floor: often all of them)."""
+    def integrate():
+        signals, _ = _floor_records(profile, seed, count, rate)
+        rows = signals[list(draws)]
+        drive = np.tile(rows, total // rows.shape[1] + 1)[:, :total + 1]
+        h = float(np.diff(np.arange(total + 1) / rate).mean())  # simulate's step of this grid
+        disp, vel = integrate_acceleration(drive, h)
+        # left writable: the compiled drivers take writable arrays (a read-only one is another signature)
+        return h, disp, vel, np.abs(np.diff(vel, axis=1)).max(axis=1) / h
+
+    return _kept(_BASES, (profile.freq.tobytes(), profile.level.tobytes(), int(seed), int(count), tuple(draws),
+                          float(rate), int(total)), integrate)
+
+
 def _resonances(systems) -> np.ndarray:
-    """:func:`small_amplitude_resonance` of each system (the same 2000-point search)."""
-    freq = np.logspace(np.log10(RESONANCE_BAND_HZ[0]), np.log10(RESONANCE_BAND_HZ[1]), 2000)
+    """:func:`small_amplitude_resonance` of each system (the grid of its 2000-point search,
+    :func:`idkit.signal.harmonics.search_resonance`, not refined)."""
+    freq = np.geomspace(RESONANCE_BAND_HZ[0], RESONANCE_BAND_HZ[1], 2000)
     top, _ = small_amplitude_transfer(systems, np.array([system.masses for system in systems]), freq)
     return freq[np.argmax(np.abs(top), axis=1)]
 
 
-def _random_rms(systems, profile, *, seed: int, oversample: int, settle) -> tuple[np.ndarray, np.ndarray]:
+def _floor_transfer(systems, profiles, rate: float):
+    """The systems' small-amplitude transfer on every line of the floor records (at ``rate``) where
+    a profile has power: one computation for every profile
+    (:func:`~idkit.responses.random_vibration.frequency_domain_rms`'s ``transfer``)."""
+    freq = np.fft.rfftfreq(round(rate / _FREQ_STEP), d=1.0 / rate)[1:]  # the records' lines
+    powered = np.zeros(freq.size, dtype=bool)
+    for profile in profiles:
+        powered |= np.asarray(profile(freq), dtype=float) > 0
+    top, middle = small_amplitude_transfer(systems, np.array([system.masses for system in systems]), freq[powered])
+    return freq[powered], top, middle
+
+
+def _random_rms(systems, sets, profile, *, seed: int, oversample: int, settle, transfer) -> tuple[np.ndarray,
+                                                                                                 np.ndarray]:
     """Payload RMS acceleration of each draw under its own floor record, and which were flagged: the
     frequency domain where it applies (:func:`~idkit.responses.random_vibration.frequency_domain_rms`),
-    one compiled call for the others."""
+    one compiled call for the others (``sets``: a callable giving the systems' parameter sets)."""
     rate = _FS * oversample
-    records = [_floor_record(profile, seed + index, rate) for index in range(len(systems))]
-    rms = frequency_domain_rms(systems, profile, np.array([r[0] for r in records]), fs=_FS, freq_step=_FREQ_STEP,
-                               oversample=oversample, lines=np.array([r[1] for r in records]))
+    signals, lines = _floor_records(profile, seed, len(systems), rate)
+    rms = frequency_domain_rms(systems, profile, signals, fs=_FS, freq_step=_FREQ_STEP, oversample=oversample,
+                               lines=lines, transfer=transfer)
     flagged = np.isinf(rms)
     timed = np.flatnonzero(np.isnan(rms))
     if timed.size:
-        rms[timed], flagged[timed] = _timed_rms([systems[i] for i in timed], profile, seeds=seed + timed,
-                                                oversample=oversample, settle=settle)
+        rms[timed], flagged[timed] = _timed_rms(systems, sets(), timed, profile, seed=seed, oversample=oversample,
+                                                settle=settle)
     return rms, flagged
 
 
-def _timed_rms(systems, profile, *, seeds, oversample: int, settle) -> tuple[np.ndarray, np.ndarray]:
-    """The time method of :func:`random_response` for each system under its own record, one call."""
+def _timed_rms(systems, sets, timed, profile, *, seed: int, oversample: int, settle) -> tuple[np.ndarray, np.ndarray]:
+    """The time method of :func:`random_response` for draws ``timed`` (each under its own record, seed
+    ``seed + draw``), one compiled call per settling length."""
     rate = _FS * oversample
     step = int(oversample)
-    records = [_floor_record(profile, int(s), rate)[0] for s in seeds]
-    n_samples = records[0].size
-    record = n_samples // step
+    record = round(rate / _FREQ_STEP) // step
     overlap = round(WELCH_OVERLAP * record)
     analysed = record + overlap
-    firsts = [round(float(settle_records_for(system) if settle is None else settle()) * record) for system in systems]
-    totals = [(first + analysed) * step for first in firsts]
-    base_disp = np.zeros((len(systems), max(totals) + 1))
-    base_vel = np.zeros_like(base_disp)
-    steps, scales = np.empty(len(systems)), np.empty(len(systems))
-    for row, (signal, total) in enumerate(zip(records, totals)):
-        drive = np.tile(signal, total // n_samples + 1)[:total + 1]
-        h = float(np.diff(np.arange(total + 1) / rate).mean())  # simulate's step of this grid
-        disp, vel = integrate_acceleration(drive, h)
-        base_disp[row, :total + 1], base_vel[row, :total + 1] = disp, vel
-        steps[row] = h
-        scales[row] = np.abs(np.diff(vel)).max() / h
-    runs = simulate_parameter_sets(stack_parameter_sets(systems), np.arange(len(systems)), time_step=steps,
-                                   n_steps=np.array(totals), base_displacement=base_disp, base_velocity=base_vel,
-                                   base_row=np.arange(len(systems)), acceleration_scale=scales,
-                                   record_from=np.array(firsts) * step, record_every=step, n_records=analysed)
-    ok = runs.flags == 0
-    rms = np.full(len(systems), np.inf)
-    if ok.any():
-        estimate = welch_psd(runs.records[ok], fs=_FS, nperseg=record, overlap=WELCH_OVERLAP, average=False)
-        keep = estimate.freq <= 0.5 * _FS + 1e-9
-        rms[ok] = [rms_from_psd(estimate.freq[keep], psd[keep]) for psd in estimate.psd]
-    return rms, ~ok
+    firsts = np.array([round(float(settle_records_for(systems[i]) if settle is None else settle()) * record)
+                       for i in timed])
+    totals = (firsts + analysed) * step
+    rms, flagged = np.full(timed.size, np.inf), np.zeros(timed.size, dtype=bool)
+    for total in np.unique(totals):
+        mine = np.flatnonzero(totals == total)
+        draws = timed[mine]
+        h, disp, vel, scales = _floor_motion(profile, seed, len(systems), tuple(draws.tolist()), rate, int(total))
+        runs = simulate_parameter_sets(sets, draws, time_step=h, n_steps=int(total), base_displacement=disp,
+                                       base_velocity=vel, base_row=np.arange(draws.size), acceleration_scale=scales,
+                                       record_from=firsts[mine] * step, record_every=step, n_records=analysed,
+                                       reduce=False)
+        ok = runs.flags == 0
+        flagged[mine] = ~ok
+        if ok.any():
+            rms[mine[ok]] = welch_rms(runs.records[ok], fs=_FS, nperseg=record, overlap=WELCH_OVERLAP)
+    return rms, flagged
 
 
-def _drop_metrics(systems, heights, grids) -> dict:
-    """Drop metrics of every draw (``grids``: each draw's duration and step), one compiled call."""
+def _drop_metrics(sets, heights, grids) -> dict:
+    """Drop metrics of every draw (``sets``: their parameter sets; ``grids``: each draw's duration and
+    step), one compiled call."""
     v0 = np.atleast_1d(impact_velocity_from_height(np.asarray(heights)))
-    sets = stack_parameter_sets(systems)
     n_heights = v0.size
-    set_index = np.repeat(np.arange(len(systems)), n_heights)
+    set_index = np.repeat(np.arange(len(sets)), n_heights)
     n_steps = np.array([_steps_covering(duration, step) for duration, step in grids])
     # free_fall's grid and simulate's step on it
     h = np.array([float(np.diff(np.arange(n + 1) * step).mean()) for n, (_, step) in zip(n_steps, grids)])
     runs = simulate_parameter_sets(sets, set_index, time_step=np.repeat(h, n_heights),
                                    n_steps=np.repeat(n_steps, n_heights),
-                                   initial_velocity=np.repeat(np.tile(v0, len(systems))[:, None], sets.ndof, axis=1))
-    shape = (len(systems), n_heights)
+                                   initial_velocity=np.repeat(np.tile(v0, len(sets))[:, None], sets.ndof, axis=1))
+    shape = (len(sets), n_heights)
     flagged = (runs.flags != 0).reshape(shape)
     energy = runs.dissipated_energy.reshape(*shape, sets.ndof)
     travel = np.fmax(runs.travel_compression, runs.travel_tension).reshape(shape)
@@ -301,12 +355,15 @@ def _batched_metrics(systems, environment: Environment, *, screening: bool, seed
     resonances = _resonances(systems)
     for result, value in zip(results, resonances):
         result["resonance_hz"] = float(value)
+    sets = _Once(lambda: stack_parameter_sets(systems))
     if environment.profiles:
         settle = _Once(lambda: _screening_settle(systems[0])) if screening else None
+        oversample = 1 if screening else 4
+        transfer = _floor_transfer(systems, environment.profiles.values(), _FS * oversample)
         worst = np.full(len(systems), -np.inf)
         for profile in environment.profiles.values():
-            rms, flagged = _random_rms(systems, profile, seed=int(seed), oversample=1 if screening else 4,
-                                       settle=settle)
+            rms, flagged = _random_rms(systems, sets, profile, seed=int(seed), oversample=oversample, settle=settle,
+                                       transfer=transfer)
             worst = np.maximum(worst, np.where(flagged, np.inf, rms))
             for result, bad in zip(results, flagged):
                 result["flagged"] += int(bad)
@@ -315,7 +372,7 @@ def _batched_metrics(systems, environment: Environment, *, screening: bool, seed
     if environment.drop_heights_m:
         grids = _screening_grids(_drop_grid(systems[0], True), resonances[0], resonances) if screening else \
             [_drop_grid(system, False) for system in systems]
-        drops = _drop_metrics(systems, environment.drop_heights_m, grids)
+        drops = _drop_metrics(sets(), environment.drop_heights_m, grids)
         for index, result in enumerate(results):
             result["flagged"] += int(drops["flagged"][index])
             for name in _DROP_METRICS:
@@ -369,15 +426,32 @@ def _evaluate_chunk(entries: list, environment: dict, n_draws: int, seed: int, s
             for entry in entries]
 
 
+def _chunk_bounds(count: int, workers: int) -> list[tuple[int, int]]:
+    """Guided chunks of ``count`` items for ``workers``: each ``ceil(remaining / (2 workers))``
+    items, so the chunk a worker takes last is short (one item at the end) and no worker waits
+    long for another's last chunk."""
+    bounds, start = [], 0
+    while start < count:
+        size = -(-(count - start) // (2 * workers))
+        bounds.append((start, start + size))
+        start += size
+    return bounds
+
+
 def evaluate_candidates(candidates, environment: Environment, *, n_draws: int = 30, seed: int = 0,
                         screening: bool = True, workers: int = 1, executor=None, chunk_size: int | None = None,
                         ) -> list[dict]:
     """:func:`evaluate_candidate` over many candidates, serially, in processes or on an executor.
 
     ``executor``: any ``concurrent.futures``-style executor (``submit(fn, *args)``; a
-    ``dask.distributed.Client`` included); chunks of ``chunk_size`` candidates (default about
-    four per worker) are submitted as picklable dictionaries. The rows come back in the
-    candidates' order and do not depend on how they were run.
+    ``dask.distributed.Client`` included; ``workers``: how many it runs at once, for the chunks).
+    Chunks of candidates are submitted as picklable dictionaries: ``chunk_size`` each, or by
+    default shrinking as they go (each a ``2 workers``-th of the candidates not yet chunked, at
+    least one: :func:`_chunk_bounds`), so that the last ones are short and every worker finishes
+    at about the same time whatever the candidates cost (a hybrid whose floor runs in the
+    frequency domain costs a fraction of a rope that slips); with an executor and ``workers=1``
+    four equal chunks. The rows come back in the candidates' order and do not depend on how they
+    were run.
     """
     candidates = list(candidates)
     if isinstance(workers, bool) or not (isinstance(workers, int) and workers >= 1):
@@ -387,8 +461,12 @@ def evaluate_candidates(candidates, environment: Environment, *, n_draws: int = 
     if executor is None and workers == 1:
         return [evaluate_candidate(c, environment, n_draws=n_draws, seed=seed, screening=screening)
                 for c in candidates]
-    size = max(1, chunk_size or -(-len(candidates) // (4 * max(workers, 1))))
-    chunks = [[c.to_dict() for c in candidates[i:i + size]] for i in range(0, len(candidates), size)]
+    if chunk_size is not None or (executor is not None and workers == 1):
+        size = max(1, chunk_size or -(-len(candidates) // 4))
+        bounds = [(i, min(i + size, len(candidates))) for i in range(0, len(candidates), size)]
+    else:
+        bounds = _chunk_bounds(len(candidates), workers)
+    chunks = [[c.to_dict() for c in candidates[start:stop]] for start, stop in bounds]
     env = environment.to_dict()
     if executor is not None:
         futures = [executor.submit(_evaluate_chunk, chunk, env, n_draws, seed, screening) for chunk in chunks]

@@ -20,8 +20,8 @@ from idkit.models.iwan_modulated import lowest_slip_scale
 from idkit.models.laws import hybrid_displacements, sdof_transmissibility
 from idkit.signal.psd import PsdProfile, synthesize_random
 
-__all__ = ["LINEARITY_TOLERANCE", "line_amplitudes", "linear_start", "peak_deflection", "small_amplitude_lines",
-           "stays_stuck", "stuck_at_peaks", "synthesized_records"]
+__all__ = ["LINEARITY_TOLERANCE", "isolator_stuck_at", "line_amplitudes", "linear_start", "peak_deflection",
+           "small_amplitude_lines", "stays_stuck", "stuck_at_peaks", "synthesized_records"]
 
 
 #: largest relative nonlinearity of a polynomial spring, ``(|g2| x + |g3| x^2) / g1`` at the
@@ -134,30 +134,38 @@ def peak_deflection(lines: NDArray[np.complex128], n_samples: int) -> NDArray[np
 
 def stuck_at_peaks(system, peaks) -> tuple[bool, str]:
     """The rule of :func:`stays_stuck` given each isolator's peak small-amplitude deflection (m,
-    top isolator first; an array is reduced to its largest value): every Jenkin element below
-    its lowest slip force there, every spring linear to :data:`LINEARITY_TOLERANCE`, no
-    Bouc-Wen part."""
+    top isolator first; an array is reduced to its largest value): every isolator stuck there
+    (:func:`isolator_stuck_at`)."""
     for index, (isolator, peak) in enumerate(zip(system.isolators, peaks)):
-        peak = float(np.max(peak))
-        if not np.isfinite(peak):
-            return False, f"isolator {index + 1}: the small-amplitude (stuck) response is unbounded"
-        arrays = isolator.kernel_arrays()
-        if arrays.boucwen[0] != 0:
-            return False, f"isolator {index + 1} has a Bouc-Wen part"
-        g1, g2, g3 = (float(v) for v in arrays.poly)
-        if (g2 or g3) and not (g1 > 0 and (abs(g2) * peak + abs(g3) * peak**2) / g1 <= LINEARITY_TOLERANCE):
-            return False, (f"isolator {index + 1}: the spring is nonlinear by more than {LINEARITY_TOLERANCE:g} at "
-                           f"{peak:.3g} m")
-        friction = np.asarray(arrays.jenkin_friction, dtype=float)
-        a, y_ref, b = (float(v) for v in arrays.slip_modulation)
-        if (a or b) and y_ref > 0:  # the lowest slip forces over +-peak
-            friction = friction * lowest_slip_scale(a, b, np.tanh(peak / y_ref))
-        force = np.asarray(arrays.jenkin_stiffness, dtype=float) * peak
-        if np.any(force >= friction):
-            element = int(np.argmax(force / np.maximum(friction, np.finfo(float).tiny)))
-            return False, (f"isolator {index + 1}: Jenkin element {element + 1} would slip "
-                           f"({force[element]:.3g} N >= {friction[element]:.3g} N at {peak:.3g} m)")
+        reason = isolator_stuck_at(isolator.kernel_arrays(), float(np.max(peak)), index)
+        if reason:
+            return False, reason
     return True, ""
+
+
+def isolator_stuck_at(arrays, peak: float, index: int = 0) -> str:
+    """Why isolator ``index`` (0 = top; ``arrays``: its ``kernel_arrays()``) of :func:`stuck_at_peaks`
+    would not stay stuck at a peak small-amplitude deflection ``peak`` (m), "" when it would: every
+    Jenkin element below its lowest slip force there, the spring linear to
+    :data:`LINEARITY_TOLERANCE`, no Bouc-Wen part. The rule is monotone in ``peak``: stuck at a
+    peak, stuck at every smaller one."""
+    if not np.isfinite(peak):
+        return f"isolator {index + 1}: the small-amplitude (stuck) response is unbounded"
+    if arrays.boucwen[0] != 0:
+        return f"isolator {index + 1} has a Bouc-Wen part"
+    g1, g2, g3 = (float(v) for v in arrays.poly)
+    if (g2 or g3) and not (g1 > 0 and (abs(g2) * peak + abs(g3) * peak**2) / g1 <= LINEARITY_TOLERANCE):
+        return f"isolator {index + 1}: the spring is nonlinear by more than {LINEARITY_TOLERANCE:g} at {peak:.3g} m"
+    friction = np.asarray(arrays.jenkin_friction, dtype=float)
+    a, y_ref, b = (float(v) for v in arrays.slip_modulation)
+    if (a or b) and y_ref > 0:  # the lowest slip forces over +-peak
+        friction = friction * lowest_slip_scale(a, b, np.tanh(peak / y_ref))
+    force = np.asarray(arrays.jenkin_stiffness, dtype=float) * peak
+    if np.any(force >= friction):
+        element = int(np.argmax(force / np.maximum(friction, np.finfo(float).tiny)))
+        return (f"isolator {index + 1}: Jenkin element {element + 1} would slip "
+                f"({force[element]:.3g} N >= {friction[element]:.3g} N at {peak:.3g} m)")
+    return ""
 
 
 def linear_start(system, signals: NDArray[np.float64], rate: float) -> dict[str, NDArray[np.float64]]:

@@ -30,6 +30,7 @@ __all__ = [
     "rms_from_psd",
     "synthesize_random",
     "welch_psd",
+    "welch_rms",
 ]
 
 _DB_PER_OCTAVE_PER_EXPONENT = 10.0 * np.log10(2.0)  # 3.0103 dB/octave for S ~ f^1
@@ -329,6 +330,50 @@ def welch_psd(
         nperseg=nperseg,
         noverlap=noverlap,
     )
+
+
+@accepts(signals=Samples(ndim=(1, 2), min_size=8), fs=Real(unit="Hz", gt=0), nperseg=Whole(ge=2),
+         overlap=Real(ge=0, lt=1), error=DataError)
+def welch_rms(signals: ArrayLike, *, fs: float, nperseg: int, overlap: float = 2.0 / 3.0) -> NDArray[np.float64]:
+    """RMS of each realization's Welch PSD, without forming the spectrum.
+
+    What :func:`rms_from_psd` gives of each row of ``welch_psd(signals, fs=fs, nperseg=nperseg,
+    overlap=overlap, average=False).psd`` (the trapezoidal rule over every bin, DC to the last
+    one), to round-off, from Parseval's theorem: a segment's one-sided density sums to
+    ``sum v^2 / (fs sum w^2)`` per bin width ``fs / nperseg`` (``v`` the windowed segment less its
+    mean, ``w`` the Hann window), and the trapezoidal rule takes away half of the first and last
+    bins' values, which are single DFT terms: ``|V_0|^2`` and ``|V_H|^2`` (``H = nperseg // 2``; the
+    last bin counts twice for an odd ``nperseg``, whose one-sided spectrum doubles it). The
+    segments' values are averaged as :func:`welch_psd` averages their densities.
+
+    Returns
+    -------
+    ndarray, shape (n_realizations,)
+        RMS in the unit of the signals (a 1-D signal is one realization).
+    """
+    values = signals if signals.ndim == 2 else signals[None, :]
+    n_samples = values.shape[1]
+    if nperseg > n_samples:
+        raise DataError(f"nperseg: found {nperseg}, expected at most the record length {n_samples}")
+    noverlap = int(round(overlap * nperseg))
+    n_segments = (n_samples - noverlap) // (nperseg - noverlap)
+    window = sps.get_window("hann", nperseg)  # what welch_psd's window="hann" takes
+    half = nperseg // 2
+    # the DFT terms of the first and last bins: sums against these rows (DC; Nyquist, or the last bin)
+    if nperseg % 2 == 0:
+        ends = np.vstack([np.ones(nperseg), np.where(np.arange(nperseg) % 2 == 0, 1.0, -1.0)])
+    else:
+        ends = np.vstack([np.ones(nperseg), np.exp(-2j * np.pi * half * np.arange(nperseg) / nperseg)])
+    # the end bins' shares: half of each, and the last bin twice for an odd nperseg
+    shares = np.array([0.5, 0.5 if nperseg % 2 == 0 else 1.0])
+    power = np.zeros(values.shape[0])
+    for start in range(0, n_segments * (nperseg - noverlap), nperseg - noverlap):
+        segment = values[:, start:start + nperseg]
+        windowed = (segment - segment.mean(axis=1, keepdims=True)) * window
+        terms = np.abs(windowed @ ends.T) ** 2
+        power += np.einsum("rn,rn->r", windowed, windowed) - terms @ shares / nperseg
+    power /= n_segments * np.sum(window**2)
+    return np.sqrt(power)
 
 
 #: The contract of a one-sided spectrum: frequencies (Hz) and levels (unit^2/Hz) of one length.

@@ -95,7 +95,7 @@ def _sets_kernel(structure):
     """The compiled :func:`run_sets_batch` of one structure."""
 
     def run_sets_batch(masses, poly, cvisc, jk, jfc, mk, mrate, bw, sm, set_index, h, n_steps, base_disp,
-                       base_vel, base_row, gravity, v0, force_scale, record_from, record_every, n_records):
+                       base_vel, base_row, gravity, v0, force_scale, record_from, record_every, n_records, reduce):
         """Runs of parameter sets (module docstring); arrays float64 unless said.
 
         Parameters
@@ -104,6 +104,7 @@ def _sets_kernel(structure):
         set_index, base_row, n_steps, record_from : (batch,) int64; h, force_scale : (batch,)
         base_disp, base_vel : (n_base, n_max + 1); v0 : (batch, ndof) initial absolute velocities.
         record_every, n_records : int.
+        reduce : bool; False skips the reductions (``peaks`` stay NaN: records only).
 
         Returns
         -------
@@ -168,6 +169,13 @@ def _sets_kernel(structure):
                     flags[b] = flag
                     flag_step[b] = n
                     break
+                until_record -= 1
+                if until_record == 0 and r < n_records:
+                    records[b, r] = state[4]
+                    r += 1
+                    until_record = record_every
+                if not reduce:
+                    continue
                 _isolator_forces_now(ndof, state, xb_new, vb_new, P, S, frc)
                 _deflections(ndof, state, xb_new, y)
                 for d in range(ndof):
@@ -185,12 +193,7 @@ def _sets_kernel(structure):
                 elif relative > 0.0:
                     tension = max(tension, magnitude)
                     travel_high = max(travel_high, relative)
-                until_record -= 1
-                if until_record == 0 and r < n_records:
-                    records[b, r] = state[4]
-                    r += 1
-                    until_record = record_every
-            if flags[b] == FLAG_OK:
+            if flags[b] == FLAG_OK and reduce:
                 peaks[b, 0] = compression if compression > -math.inf else math.nan
                 peaks[b, 1] = tension if tension > -math.inf else math.nan
                 peaks[b, 2] = -travel_low
@@ -295,7 +298,7 @@ def _integers(values, name: str, size: int, minimum: int) -> np.ndarray:
 
 def simulate_parameter_sets(sets: ParameterSets, set_index, *, time_step, n_steps, base_displacement=None,
                             base_velocity=None, base_row=0, initial_velocity=None, acceleration_scale=0.0,
-                            record_from=0, record_every: int = 1, n_records: int = 0) -> SetRuns:
+                            record_from=0, record_every: int = 1, n_records: int = 0, reduce: bool = True) -> SetRuns:
     """Run parameter sets in one compiled call (module docstring).
 
     Parameters
@@ -323,6 +326,9 @@ def simulate_parameter_sets(sets: ParameterSets, set_index, *, time_step, n_step
     record_from, record_every, n_records :
         Record the top-mass acceleration at step ``record_from`` (per run) and every
         ``record_every`` steps after it, ``n_records`` records.
+    reduce : bool, default True
+        False: records only, the reductions skipped (the peaks, travels and energies of
+        :class:`SetRuns` are NaN); the records are the same bit for bit.
     """
     set_index = _integers(set_index, "set_index", np.size(set_index), 0)
     batch = set_index.size
@@ -349,13 +355,16 @@ def simulate_parameter_sets(sets: ParameterSets, set_index, *, time_step, n_step
     v0 = np.zeros((batch, ndof)) if initial_velocity is None else np.asarray(initial_velocity, dtype=float)
     v0 = np.require(np.broadcast_to(v0, (batch, ndof)), requirements=["C", "W"])
     scale_of_run = np.broadcast_to(np.asarray(acceleration_scale, dtype=float), (batch,))
-    scale = np.array([force_scale(sets.each[s], scale_of_run[b]) for b, s in enumerate(set_index)], dtype=float)
+    scale = np.empty(batch)
+    for s in np.unique(set_index):  # each run's own force scale, the runs of a set in one call
+        runs = set_index == s
+        scale[runs] = force_scale(sets.each[s], np.ascontiguousarray(scale_of_run[runs]))
     record_from = _integers(record_from, "record_from", batch, 0)
     record_every = int(_integers(record_every, "record_every", 1, 1)[0])
     n_records = int(_integers(n_records, "n_records", 1, 0)[0])
     kernel = _sets_kernel_for(sets.structure)
     records, flags, flag_step, peaks = kernel(*sets.stacked, set_index, h, n_steps, base_disp, base_vel, base_row,
-                                              0.0, v0, scale, record_from, record_every, n_records)
+                                              0.0, v0, scale, record_from, record_every, n_records, bool(reduce))
     return SetRuns(records=records, flags=flags, flag_step=flag_step, acceleration_compression=peaks[:, 0],
                    acceleration_tension=peaks[:, 1], travel_compression=peaks[:, 2], travel_tension=peaks[:, 3],
                    isolator_compression=peaks[:, 4::3], isolator_extension=peaks[:, 5::3],

@@ -98,3 +98,16 @@ def test_a_dask_cluster_gives_the_local_rows():
             as cluster, distributed.Client(cluster) as client:
         remote = evaluate_candidates(candidates, environment, n_draws=1, seed=2, executor=client, chunk_size=5)
     assert judge(remote, environment).equals(judge(local, environment))
+
+
+def test_guided_chunks_cover_the_candidates_in_order_and_shrink_to_one():
+    from idkit.design.evaluation import _chunk_bounds
+
+    for count, workers in ((1000, 2), (7, 3), (1, 1)):
+        bounds = _chunk_bounds(count, workers)
+        assert bounds[0][0] == 0 and bounds[-1][1] == count
+        assert all(previous[1] == following[0] for previous, following in zip(bounds, bounds[1:]))
+        sizes = [stop - start for start, stop in bounds]
+        # each a 2 workers-th of what is left: the first ceil(count / (2 workers)), the last one item
+        assert sizes[0] == -(-count // (2 * workers)) and sizes == sorted(sizes, reverse=True) and sizes[-1] == 1
+    assert _chunk_bounds(0, 2) == []

@@ -57,6 +57,14 @@ def test_floor_records_of_several_parameter_sets_are_simulates_records_bit_for_b
     for index, system in enumerate(systems):
         reference = simulate(system, time, base_acceleration=floor[index:index + 1], workers=1)
         assert np.array_equal(runs.records[index], reference.acceleration[0, 0, 200:1200:2])
+    # records only: the same records, no reductions
+    bare = simulate_parameter_sets(stack_parameter_sets(systems), [0, 1], time_step=h, n_steps=n_steps,
+                                   base_displacement=disp, base_velocity=vel, base_row=[0, 1],
+                                   acceleration_scale=np.abs(np.diff(vel, axis=1)).max(axis=1) / h,
+                                   record_from=200, record_every=2, n_records=500, reduce=False)
+    assert np.array_equal(bare.records, runs.records) and np.array_equal(bare.flags, runs.flags)
+    assert np.isfinite(runs.travel_compression).all() and np.isnan(bare.travel_compression).all()
+    assert np.isnan(bare.dissipated_energy).all()
 
 
 def test_a_viscous_dampers_dissipated_energy_is_the_initial_energy_less_what_remains():
