@@ -238,3 +238,34 @@ def test_an_entry_another_process_is_compiling_is_waited_for_and_loaded(tmp_path
     assert first.returncode == 0
     assert first_out.split() == ["6.0", "0", "1"]  # compiled
     assert second.stdout.split() == ["6.0", "1", "0"]  # loaded what the first compiled
+
+
+@pytest.mark.skipif(not _numba_cache.INSTALLED, reason="no fcntl or another numba: numba's own save is used")
+def test_a_compile_that_fails_releases_its_claim(tmp_path, monkeypatch):
+    """A compile that raises (here numba's typing error for a text argument) leaves no claim held:
+    another process could otherwise wait for that entry until this one exits."""
+    import fcntl
+
+    import numba.core.errors
+
+    package = tmp_path / "src" / "claimdemo"
+    package.mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    (package / "kernel.py").write_text("import numba\n\n\n@numba.njit(cache=True)\ndef half(x):\n    return x / 2.0\n")
+    monkeypatch.setenv("IDKIT_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setitem(_numba_cache._PACKAGES, "claimdemo", package)
+    monkeypatch.syspath_prepend(str(tmp_path / "src"))
+    try:
+        from claimdemo.kernel import half
+
+        with pytest.raises(numba.core.errors.TypingError):
+            half("text")
+        assert _numba_cache._CLAIMS == {}
+        claims = list((tmp_path / "cache").rglob("*.claim"))
+        assert len(claims) == 1  # the failed entry was claimed, and released:
+        with open(claims[0], "ab") as claim:
+            fcntl.flock(claim.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)  # raises BlockingIOError if still held
+        assert half(4.0) == 2.0
+    finally:
+        for name in ("claimdemo.kernel", "claimdemo"):
+            sys.modules.pop(name, None)
