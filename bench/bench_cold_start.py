@@ -17,7 +17,8 @@ Printed per run: wall and CPU seconds (user + system of every process the part s
 forked children included) of each part, the compiled kernels the report wrote to the cache
 (``.nbc`` files created or rewritten: numba writes one per compiled specialisation, so a run that
 compiles nothing writes none), the report's own stage timings (``provenance.json``) and the load
-average; then min and median over the repetitions. ``--quick`` adds ``--quick`` to the report
+average; then min and median over the repetitions, wall and CPU (on a shared machine the wall
+depends on the other processes' load, the CPU far less). ``--quick`` adds ``--quick`` to the report
 (faster, for trying the script); ``--pip-option`` adds an option to the install (e.g.
 ``--no-compile``: pip then writes no bytecode for the installed packages). The machine is used
 as it is: the load average is printed beside the figures. Nothing is asserted.
@@ -161,10 +162,12 @@ def main() -> None:
                 _print_run(name, found)
     for name, found in runs.items():
         print(_summary(f"{name}: whole command", [sum(s for s, _ in f["parts"].values()) for f in found]))
+        print(_summary(f"{name}: whole command CPU", [sum(c for _, c in f["parts"].values()) for f in found]))
         for label in found[0]["parts"]:
             print(_summary(f"{name}: {label}", [f["parts"][label][0] for f in found]))
-        print(_summary(f"{name}: report CPU", [f["parts"]["report"][1] for f in found]))
-        print(f"{name}: kernels compiled per run {[f['compiled'] for f in found]}")
+            print(_summary(f"{name}: {label} CPU", [f["parts"][label][1] for f in found]))
+        print(f"{name}: kernels compiled per run {[f['compiled'] for f in found]}; load average before each run "
+              f"{[f['load before'] for f in found]}")
 
 
 if __name__ == "__main__":

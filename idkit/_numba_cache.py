@@ -47,6 +47,17 @@ disk, a file-size limit) warns and leaves the cache as it was: the compiled code
 memory, and the command goes on to fail, if at all, on its own outputs, whose errors name them.
 Loading is unchanged (numba replaces both files atomically). Where ``fcntl`` is missing (Windows) or a numba version lacks
 the methods used, numba's own save is left in place and :data:`INSTALLED` says so.
+
+**Each entry compiled once** (:func:`load_or_claim`, :func:`compile_once`). Two processes that
+need the same missing entry at the same moment (the report's forked workers on an empty cache)
+would both compile it, the same machine code twice. A process that misses an entry of an idkit
+kernel takes an exclusive ``flock`` on a claim file named by the entry's index key (beside the
+index; one file per compiled signature and closure, so different entries still compile in
+parallel) and looks in the cache again: a process that compiled the entry meanwhile has saved
+it, and it is loaded; else this process compiles it and releases the claim when its compile
+returns or fails. A process waiting for a claim holds claims only on the functions it is
+compiling that call the awaited one, so two processes cannot wait on each other (kernels do not
+call each other in a cycle).
 """
 
 from __future__ import annotations
@@ -64,6 +75,7 @@ from pathlib import Path
 
 import numba
 from numba.core import caching, config
+from numba.core.registry import CPUDispatcher
 
 try:
     import fcntl
@@ -77,8 +89,10 @@ __all__ = [
     "build_key",
     "cache_package",
     "cache_root",
+    "compile_once",
     "install",
     "kernel_folder",
+    "load_or_claim",
     "locked_save",
     "usable_folder",
 ]
@@ -88,6 +102,9 @@ CACHE_DIR_VARIABLE = "IDKIT_CACHE_DIR"
 
 _NEEDED = ("_load_index", "_save_index", "_save_data", "_data_name")
 _NUMBA_SAVE = caching.IndexDataCacheFile.save
+_NUMBA_LOAD_OVERLOAD = caching.Cache.load_overload
+_NUMBA_COMPILE = CPUDispatcher.compile
+_CLAIMS: dict[tuple[int, str], object] = {}  # (id of a Cache, repr of a signature) -> the open, locked claim file
 _PACKAGES: dict[str, Path] = {}  # top-level package name -> its source folder
 
 
@@ -114,6 +131,44 @@ def locked_save(self, key, data) -> None:
             warnings.warn(f"numba cache not written ({problem.strerror or problem}, in "
                           f"{Path(self._index_path).parent}); the compiled code is used from memory and "
                           "compiled again by the next run", RuntimeWarning, stacklevel=2)
+
+
+def load_or_claim(self, sig, target_context):
+    """:meth:`numba.core.caching.Cache.load_overload`; on a miss of an idkit kernel, the entry's
+    compile claim is taken (waiting while another process holds it) and the cache looked at again
+    (module docstring). Returns the loaded entry, or None: then this process holds the claim until
+    :func:`compile_once` returns."""
+    data = _NUMBA_LOAD_OVERLOAD(self, sig, target_context)
+    if data is not None or not getattr(self, "_enabled", False) \
+            or not isinstance(getattr(self._impl, "locator", None), PackageCacheLocator):
+        return data
+    key = self._index_key(sig, target_context.codegen())
+    claim_path = f"{self._cache_file._index_path}.{hashlib.sha256(repr(key).encode()).hexdigest()[:16]}.claim"
+    try:
+        claim = open(claim_path, "ab")  # noqa: SIM115 - held until the compile returns (compile_once)
+    except OSError:  # cannot be made where the cache could still be read: compile unclaimed
+        return None
+    fcntl.flock(claim.fileno(), fcntl.LOCK_EX)  # waits while another process compiles this entry
+    data = _NUMBA_LOAD_OVERLOAD(self, sig, target_context)
+    if data is not None:
+        claim.close()
+        return data
+    previous = _CLAIMS.pop((id(self), repr(sig)), None)
+    if previous is not None:  # a compile that never returned through compile_once
+        previous.close()
+    _CLAIMS[(id(self), repr(sig))] = claim
+    return None
+
+
+def compile_once(self, sig):
+    """:meth:`numba.core.registry.CPUDispatcher.compile`, releasing the compile claim
+    :func:`load_or_claim` took for ``sig`` when it returns or raises."""
+    try:
+        return _NUMBA_COMPILE(self, sig)
+    finally:
+        claim = _CLAIMS.pop((id(self._cache), repr(sig)), None)
+        if claim is not None:
+            claim.close()
 
 
 def _platform_cache_root(environ, platform: str, home: Path) -> Path:
@@ -277,13 +332,17 @@ def cache_package(package: str, source_folder: Path | str) -> None:
 
 
 def install() -> bool:
-    """Put :class:`PackageCacheLocator` first among numba's locators and replace numba's cache
-    save by :func:`locked_save` (idempotent); whether the locked save is in place."""
+    """Put :class:`PackageCacheLocator` first among numba's locators, replace numba's cache save by
+    :func:`locked_save` and its load and compile by :func:`load_or_claim` and :func:`compile_once`
+    (idempotent); whether the locked save is in place."""
     if PackageCacheLocator not in caching.CacheImpl._locator_classes:
         caching.CacheImpl._locator_classes = [PackageCacheLocator, *caching.CacheImpl._locator_classes]
     if fcntl is None or not all(hasattr(caching.IndexDataCacheFile, name) for name in _NEEDED):
         return False
     caching.IndexDataCacheFile.save = locked_save
+    if hasattr(caching.Cache, "_index_key"):  # the claim is named by numba's index key
+        caching.Cache.load_overload = load_or_claim
+        CPUDispatcher.compile = compile_once
     return True
 
 

@@ -176,3 +176,96 @@ def test_two_environments_with_the_same_sources_share_the_compiled_code(tmp_path
     value_c, hits_c, misses_c, path_c = _import_and_call(changed, cache)
     assert (value_c, hits_c, misses_c) == (10.0, 0, 1)  # other source: compiled, not the 6.0 kernel
     assert path_c != path_a
+
+
+_COMPILE_SLOWLY = '''import os, sys, time
+from idkit import _numba_cache
+
+_numba_cache.cache_package("cachedemo", sys.argv[1] + "/cachedemo")
+sys.path.insert(0, sys.argv[1])
+from cachedemo.kernel import scaled
+
+signals = sys.argv[2]
+compile_for_real = scaled._compiler.compile
+
+
+def slow_compile(*args, **kwargs):  # holds the claim until the other process is about to look
+    open(os.path.join(signals, "claimed"), "w").close()
+    while not os.path.exists(os.path.join(signals, "looking")):
+        time.sleep(0.01)
+    time.sleep(1.0)
+    return compile_for_real(*args, **kwargs)
+
+
+scaled._compiler.compile = slow_compile
+print(scaled(2.0), sum(scaled.stats.cache_hits.values()), sum(scaled.stats.cache_misses.values()))
+'''
+
+_LOOK_AFTER_CLAIM = '''import os, sys, time
+from idkit import _numba_cache
+
+_numba_cache.cache_package("cachedemo", sys.argv[1] + "/cachedemo")
+sys.path.insert(0, sys.argv[1])
+from cachedemo.kernel import scaled
+
+import numba
+
+numba.njit(lambda x: x + 1.0)(1.0)  # numba's compiler set up first: the look below comes at once
+signals = sys.argv[2]
+while not os.path.exists(os.path.join(signals, "claimed")):
+    time.sleep(0.01)
+open(os.path.join(signals, "looking"), "w").close()
+print(scaled(2.0), sum(scaled.stats.cache_hits.values()), sum(scaled.stats.cache_misses.values()))
+'''
+
+
+@pytest.mark.skipif(not _numba_cache.INSTALLED, reason="no fcntl or another numba: numba's own save is used")
+def test_an_entry_another_process_is_compiling_is_waited_for_and_loaded(tmp_path):
+    """Two processes need the same missing kernel at once (the report's workers on an empty
+    cache): the first claims and compiles it, slowly; the second, looking while the first still
+    compiles, waits for the claim and loads the entry instead of compiling it too (without the
+    claim it finds the cache empty and compiles: one miss)."""
+    environment = _install_demo(tmp_path / "venv", 3.0, mtime=1.0e9)
+    signals = tmp_path / "signals"
+    signals.mkdir()
+    env = dict(os.environ, IDKIT_CACHE_DIR=str(tmp_path / "cache"))
+    env.pop("NUMBA_CACHE_DIR", None)
+    first = subprocess.Popen([sys.executable, "-c", _COMPILE_SLOWLY, str(environment), str(signals)], env=env,
+                             stdout=subprocess.PIPE, text=True)
+    second = subprocess.run([sys.executable, "-c", _LOOK_AFTER_CLAIM, str(environment), str(signals)], env=env,
+                            capture_output=True, text=True, check=True, timeout=120)
+    first_out, _ = first.communicate(timeout=120)
+    assert first.returncode == 0
+    assert first_out.split() == ["6.0", "0", "1"]  # compiled
+    assert second.stdout.split() == ["6.0", "1", "0"]  # loaded what the first compiled
+
+
+@pytest.mark.skipif(not _numba_cache.INSTALLED, reason="no fcntl or another numba: numba's own save is used")
+def test_a_compile_that_fails_releases_its_claim(tmp_path, monkeypatch):
+    """A compile that raises (here numba's typing error for a text argument) leaves no claim held:
+    another process could otherwise wait for that entry until this one exits."""
+    import fcntl
+
+    import numba.core.errors
+
+    package = tmp_path / "src" / "claimdemo"
+    package.mkdir(parents=True)
+    (package / "__init__.py").write_text("")
+    (package / "kernel.py").write_text("import numba\n\n\n@numba.njit(cache=True)\ndef half(x):\n    return x / 2.0\n")
+    monkeypatch.setenv("IDKIT_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setitem(_numba_cache._PACKAGES, "claimdemo", package)
+    monkeypatch.syspath_prepend(str(tmp_path / "src"))
+    try:
+        from claimdemo.kernel import half
+
+        with pytest.raises(numba.core.errors.TypingError):
+            half("text")
+        assert _numba_cache._CLAIMS == {}
+        claims = list((tmp_path / "cache").rglob("*.claim"))
+        assert len(claims) == 1  # the failed entry was claimed, and released:
+        with open(claims[0], "ab") as claim:
+            fcntl.flock(claim.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)  # raises BlockingIOError if still held
+        assert half(4.0) == 2.0
+    finally:
+        for name in ("claimdemo.kernel", "claimdemo"):
+            sys.modules.pop(name, None)

@@ -68,7 +68,8 @@ def _cmd_report(args) -> int:
     from idkit.cli.progress import say
     from idkit.io.discover import default_data_dir
     from idkit.output_checks import check_output
-    from idkit.report.main_report import QUICK_NOTE, run_report
+    from idkit.report.main_report import run_report
+    from idkit.studies.pipeline import QUICK_NOTE
 
     if args.data_dir is not None and Path(args.data_dir).is_file():
         return _cmd_file_report(args)

@@ -9,15 +9,16 @@ computes nothing. Stages (each timed):
    per isolator: ``wire_rope``, ``elastomer``, ``hybrid``), refusing two records with the same
    samples (:func:`refuse_repeated_records`) and one with no record for a validation
    (:func:`refuse_missing_held_out`), before any fit;
-2. fit the wire rope (three-stage Iwan, its parameters' spread over one refit per
-   repetition (:meth:`~idkit.fit.MeasurementFit.with_repetition_spread`); Bouc-Wen for
-   comparison, in a forked child process beside the Iwan and elastomer fits
-   (:func:`idkit.forked.fork_call`), so its time is shared by the two stages' timings) and
-   the elastomer (bounded SQP with a global cross-check; order table
-   n = 1..4 and Voigt) on the ``fit`` split;
+2. fit the elastomer (bounded SQP with a global cross-check; order table n = 1..4 and
+   Voigt) and then the wire rope (three-stage Iwan, its parameters' spread over one refit per
+   repetition (:meth:`~idkit.fit.MeasurementFit.with_repetition_spread`)) on the ``fit``
+   split; the Bouc-Wen comparison fit runs in a forked child process beside both
+   (:func:`idkit.forked.fork_call`), so its time is shared by the two stages' timings;
 3. validate both on the ``validation`` split, and the hybrid built from them on all hybrid
    sweeps and drops (nothing was fitted to the hybrid), with the wrong components each
-   hybrid check cannot see (:func:`idkit.validate.blind_spots`);
+   hybrid check cannot see (:func:`idkit.validate.blind_spots`); the elastomer's checks need
+   no wire rope and run in a forked child beside the wire-rope fit (:func:`_elastomer_checks`),
+   which also compiles the kernels they share with the later stages on an empty kernel cache;
 4. run the transport-tool study with the identified parts (:mod:`idkit.studies.transport`),
    in a forked child process while stage 3 runs and the report is written
    (:func:`idkit.forked.fork_call`): :func:`compute_report_data` returns without waiting for
@@ -178,8 +179,8 @@ def quick_subset(measurements, limit: int | None) -> tuple[list, list]:
 #: the computing stages, in order (their names label the timings)
 STAGES = (
     "loading and inspecting the data",
-    "fitting the wire rope (three-stage Iwan, Bouc-Wen comparison)",
     "fitting the elastomer (SQP, global cross-check, order table)",
+    "fitting the wire rope (three-stage Iwan, Bouc-Wen comparison)",
     "validating on held-out data",
     "transport-tool study",
 )
@@ -454,49 +455,69 @@ def refuse_missing_held_out(sets: dict) -> None:
                         "(docs/validation.md; split 'validation' is the held-out data)")
 
 
-def _validations(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell,
-                 limit: int | None, drop_model: str = "auto", static_stiffness=None, wire_loop_range=None
+def _held_out(measurement_set, kind: str, limit: int | None, split: str | None = "validation") -> tuple[list, tuple]:
+    """The records of one validation (:func:`quick_subset`) and the ids of those a quick run skips."""
+    chosen, left_out = quick_subset(measurement_set.select(kind=kind, split=split), limit)
+    return chosen, tuple(m.info.id for m in left_out)
+
+
+def _history_check(isolator: str, measurement_set, model, limit: int | None) -> ValidationEntry | None:
+    """The held-out loop / force records of one isolator scored as force histories (None when it has none)."""
+    records, skipped = _held_out(measurement_set, "quasi_static", limit)
+    if not records:
+        return None
+    return ValidationEntry(f"{isolator} force histories", isolator, "histories", validate_histories(
+        model, records, split=None, name=f"{isolator}: force histories (validation split)"), skipped)
+
+
+def _elastomer_checks(elastomer, elastomer_model: GeneralizedMaxwell, limit: int | None, drop_model: str,
+                      static_stiffness) -> tuple[dict[str, ValidationEntry], DropHistories | None]:
+    """Everything the report computes on the elastomer's held-out records, which needs no wire rope: its
+    validations by key (FRF, sweeps, drops, force histories when there are such records) and its drop time
+    histories. :func:`compute_report_data` runs it in a forked child beside the wire-rope fit."""
+    frf, frf_skipped = _held_out(elastomer, "white_noise", limit)
+    sweeps, sweeps_skipped = _held_out(elastomer, "stepped_sine", limit)
+    drops, drops_skipped = _held_out(elastomer, "drop", limit)
+    entries = {
+        "elastomer FRF": ValidationEntry("elastomer FRF", "elastomer", "FRF", validate_frf(
+            frf, isolator=elastomer_model, static_stiffness=static_stiffness,
+            name="elastomer: white-noise FRFs (validation split)"), frf_skipped),
+        "elastomer sweeps": ValidationEntry("elastomer sweeps", "elastomer", "sweeps", validate_harmonic(
+            sweeps, isolator=elastomer_model, name="elastomer: harmonic sweeps (validation split)"), sweeps_skipped),
+        "elastomer drops": ValidationEntry("elastomer drops", "elastomer", "drops", validate_drops(
+            drops, isolator=elastomer_model, drop_model=drop_model, name="elastomer: drops (validation split)"),
+            drops_skipped),
+    }
+    histories = _history_check("elastomer", elastomer, elastomer_model, limit)
+    if histories is not None:
+        entries[histories.key] = histories
+    return entries, drop_histories(list(elastomer.select(kind="drop", split="validation")), isolator=elastomer_model)
+
+
+def _validations(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell, elastomer_entries: dict,
+                 limit: int | None, drop_model: str = "auto", wire_loop_range=None
                  ) -> tuple[tuple[ValidationEntry, ...], HybridSystem | None, str | None]:
-    skipped: dict[tuple[int, str], tuple[str, ...]] = {}
-
-    def held_out(measurement_set, kind, split="validation"):
-        chosen, left_out = quick_subset(measurement_set.select(kind=kind, split=split), limit)
-        skipped[id(measurement_set), kind] = tuple(m.info.id for m in left_out)
-        return chosen
-
-    def entry(key, isolator, observable, result, measurement_set, kind):
-        return ValidationEntry(key, isolator, observable, result, skipped[id(measurement_set), kind])
-
-    wire_rope, elastomer = sets["wire_rope"], sets["elastomer"]
-    rope_sweeps, rope_drops = validate_wire_rope(held_out(wire_rope, "stepped_sine"), held_out(wire_rope, "drop"),
-                                                 wire_model, loop_amplitude_range=wire_loop_range,
-                                                 drop_model=drop_model)
+    """Every validation of the report, in page order; the elastomer's (:func:`_elastomer_checks`) are given."""
+    wire_rope = sets["wire_rope"]
+    (rope_sweeps, sweeps_skipped), (rope_drops, drops_skipped) = (_held_out(wire_rope, "stepped_sine", limit),
+                                                                  _held_out(wire_rope, "drop", limit))
+    sweeps_result, drops_result = validate_wire_rope(rope_sweeps, rope_drops, wire_model,
+                                                     loop_amplitude_range=wire_loop_range, drop_model=drop_model)
     entries = [
-        entry("wire rope sweeps", "wire rope", "sweeps", rope_sweeps, wire_rope, "stepped_sine"),
-        entry("wire rope drops", "wire rope", "drops", rope_drops, wire_rope, "drop"),
-        entry("elastomer FRF", "elastomer", "FRF", validate_frf(
-            held_out(elastomer, "white_noise"), isolator=elastomer_model, static_stiffness=static_stiffness,
-            name="elastomer: white-noise FRFs (validation split)"), elastomer, "white_noise"),
-        entry("elastomer sweeps", "elastomer", "sweeps", validate_harmonic(
-            held_out(elastomer, "stepped_sine"), isolator=elastomer_model,
-            name="elastomer: harmonic sweeps (validation split)"), elastomer, "stepped_sine"),
-        entry("elastomer drops", "elastomer", "drops", validate_drops(
-            held_out(elastomer, "drop"), isolator=elastomer_model, drop_model=drop_model,
-            name="elastomer: drops (validation split)"), elastomer, "drop"),
+        ValidationEntry("wire rope sweeps", "wire rope", "sweeps", sweeps_result, sweeps_skipped),
+        ValidationEntry("wire rope drops", "wire rope", "drops", drops_result, drops_skipped),
+        *(elastomer_entries[key] for key in ("elastomer FRF", "elastomer sweeps", "elastomer drops")),
     ]
-    for isolator, measurement_set, model in (("wire rope", wire_rope, wire_model), ("elastomer", elastomer,
-                                                                                     elastomer_model)):
-        records = held_out(measurement_set, "quasi_static")  # held-out loop / force records, when there are
-        if records:
-            entries.append(entry(f"{isolator} force histories", isolator, "histories", validate_histories(
-                model, records, split=None, name=f"{isolator}: force histories (validation split)"),
-                measurement_set, "quasi_static"))
+    rope_histories = _history_check("wire rope", wire_rope, wire_model, limit)
+    entries += [entry for entry in (rope_histories, elastomer_entries.get("elastomer force histories"))
+                if entry is not None]
     hybrid_set = sets.get("hybrid")
     if hybrid_set is None:
         return tuple(entries), None, None
     # the hybrid's components were identified elsewhere: probe which wrong ones it would miss
     components = {"upper": elastomer_model, "lower": wire_model}
-    hybrid_sweeps, hybrid_drops = held_out(hybrid_set, "stepped_sine", None), held_out(hybrid_set, "drop", None)
+    (hybrid_sweeps, sweeps_skipped), (hybrid_drops, drops_skipped) = (_held_out(hybrid_set, "stepped_sine", limit, None),
+                                                                      _held_out(hybrid_set, "drop", limit, None))
 
     def rerun_sweeps(**models):
         return validate_harmonic(hybrid_sweeps, name="hybrid: harmonic sweeps (all; not fitted)", **models)
@@ -504,32 +525,36 @@ def _validations(sets: dict, wire_model: IwanModel, elastomer_model: Generalized
     def rerun_drops(**models):
         return validate_drops(hybrid_drops, name="hybrid: drops (all; not fitted)", drop_model=drop_model, **models)
 
-    entries.append(entry("hybrid sweeps", "hybrid", "sweeps",
-                         blind_spots(rerun_sweeps(**components), rerun_sweeps, components), hybrid_set, "stepped_sine"))
-    entries.append(entry("hybrid drops", "hybrid", "drops",
-                         blind_spots(rerun_drops(**components), rerun_drops, components), hybrid_set, "drop"))
+    entries.append(ValidationEntry("hybrid sweeps", "hybrid", "sweeps",
+                                   blind_spots(rerun_sweeps(**components), rerun_sweeps, components), sweeps_skipped))
+    entries.append(ValidationEntry("hybrid drops", "hybrid", "drops",
+                                   blind_spots(rerun_drops(**components), rerun_drops, components), drops_skipped))
     sweep = next(iter(hybrid_set.select(kind="stepped_sine")))
     hybrid = HybridSystem(sweep.info.top_mass_kg, elastomer_model, sweep.info.intermediate_mass_kg, wire_model)
     return tuple(entries), hybrid, sweep.info.id
 
 
-def _figures_data(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell
+def _figures_data(sets: dict, wire_model: IwanModel, elastomer_model: GeneralizedMaxwell,
+                  elastomer_histories: DropHistories | None
                   ) -> tuple[dict[str, SweepMaps], dict[str, DropHistories]]:
-    """The HOSIDF maps of the nonlinear isolators and a few drop time histories per isolator."""
-    models = {"wire rope": {"isolator": wire_model}, "elastomer": {"isolator": elastomer_model},
-              "hybrid": {"upper": elastomer_model, "lower": wire_model}}
+    """The HOSIDF maps of the nonlinear isolators and a few drop time histories per isolator (the
+    elastomer's are given: :func:`_elastomer_checks`; its model is linear, its higher HOSIDFs zero)."""
+    models = {"wire rope": {"isolator": wire_model}, "hybrid": {"upper": elastomer_model, "lower": wire_model}}
     maps, histories = {}, {}
-    for isolator, model in models.items():
+    for isolator in ("wire rope", "elastomer", "hybrid"):
+        if isolator == "elastomer":
+            if elastomer_histories is not None:
+                histories[isolator] = elastomer_histories
+            continue
         measurement_set = sets.get(isolator.replace(" ", "_"))
         if measurement_set is None:
             continue
-        if isolator != "elastomer":  # the elastomer model is linear: its higher HOSIDFs are zero
-            found = sweep_maps(measurement_set.measurements, **model)
-            if found is not None:
-                maps[isolator] = found
+        found = sweep_maps(measurement_set.measurements, **models[isolator])
+        if found is not None:
+            maps[isolator] = found
         # held-out drops; nothing was fitted to the hybrid, so all of its drops are held out
         drops = list(measurement_set.select(kind="drop", split=None if isolator == "hybrid" else "validation"))
-        found = drop_histories(drops, **model)
+        found = drop_histories(drops, **models[isolator])
         if found is not None:
             histories[isolator] = found
     return maps, histories
@@ -578,20 +603,19 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
     refuse_missing_held_out(sets)
     inspections = {isolator: summarize_measurements(s.measurements) for isolator, s in sets.items()}
 
-    stages.start(STAGES[1])
+    limit = QUICK_HELD_OUT if quick else None
     wire_rope = sets["wire_rope"]
     valid_range = valid_range_of(wire_rope)
-    # the Bouc-Wen comparison fit runs in a forked child beside the Iwan and elastomer fits
-    # (idkit.forked: the same seeded computation, so the same result as run here)
+    # forked children beside the fits here (idkit.forked: the same seeded computations, so the
+    # same results as run here): the Bouc-Wen comparison fit from the start, and the elastomer's
+    # validations, which need no wire rope, once the elastomer is fitted; the kernels they compile
+    # are in the cache when the wire rope's validations need them
     boucwen_call = fork_call(fit_boucwen_measurements, wire_rope, isolator="wire_rope", seed=seed,
                              initial_state=start_state,
                              **({"global_max_evals": 800} if quick else {}))
+    elastomer_call = None
     try:
-        iwan = fit_iwan_measurements(wire_rope, **wire_rope_fit_options(wire_rope, seed=seed, start_state=start_state))
-        iwan = iwan.with_repetition_spread()  # one refit per repetition of the fit split (a few seconds)
-        iwan_loops = predict_loops(iwan.model, iwan.data.small, iwan.data.large)
-
-        stages.start(STAGES[2])
+        stages.start(STAGES[1])
         maxwell = fit_maxwell_measurements(sets["elastomer"], isolator="elastomer", cross_check=True, seed=seed,
                                            **({"global_max_evals": 2000} if quick else {}))
         maxwell = maxwell.with_repetition_spread()  # one refit per repetition (a fraction of a second)
@@ -600,7 +624,18 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
         if order_table is None:
             order_table = maxwell_order_table(list(maxwell.data), k0=maxwell.k0.k0,
                                               orders=(1, 2) if quick else (1, 2, 3, 4))
+        elastomer_call = fork_call(_elastomer_checks, sets["elastomer"], maxwell.model, limit, drop_model,
+                                   maxwell.data.static_stiffness)
+
+        stages.start(STAGES[2])
+        iwan = fit_iwan_measurements(wire_rope, **wire_rope_fit_options(wire_rope, seed=seed, start_state=start_state))
+        iwan = iwan.with_repetition_spread()  # one refit per repetition of the fit split (a few seconds)
+        iwan_loops = predict_loops(iwan.model, iwan.data.small, iwan.data.large)
         boucwen = boucwen_call.result()
+    except BaseException:
+        if elastomer_call is not None:
+            elastomer_call.abandon()
+        raise
     finally:
         boucwen_call.abandon()
     boucwen_loops = predict_loops(boucwen.model, boucwen.data.small, boucwen.data.large)
@@ -612,15 +647,16 @@ def compute_report_data(data_dir=None, *, quick: bool = False, seed: int = 2026,
                                workers=workers, **options)
     try:
         stages.start(STAGES[3])
-        validations, hybrid, masses_from = _validations(sets, iwan.model, maxwell.model,
-                                                        QUICK_HELD_OUT if quick else None, drop_model,
-                                                        static_stiffness=maxwell.data.static_stiffness,
-                                                        wire_loop_range=iwan.loop_amplitude_range)
         rope_drops = list(wire_rope.select(kind="drop", split="validation"))
-        drop_models = wire_rope_drop_models(quick_subset(rope_drops, QUICK_HELD_OUT if quick else None)[0],
-                                            iwan,
+        drop_models = wire_rope_drop_models(quick_subset(rope_drops, limit)[0], iwan,
                                             valid_range=valid_range) if rope_drops else None
-        maps, histories = _figures_data(sets, iwan.model, maxwell.model)
+        try:
+            elastomer_entries, elastomer_histories = elastomer_call.result()
+        finally:
+            elastomer_call.abandon()
+        validations, hybrid, masses_from = _validations(sets, iwan.model, maxwell.model, elastomer_entries, limit,
+                                                        drop_model, wire_loop_range=iwan.loop_amplitude_range)
+        maps, histories = _figures_data(sets, iwan.model, maxwell.model, elastomer_histories)
     except BaseException:
         transport_call.abandon()
         raise

@@ -52,7 +52,8 @@ def test_exit_status_follows_the_verdicts(quick_report):
 
 
 def test_exit_status_rules():
-    from idkit.report.main_report import EXIT_STATUSES, ReportSummary
+    from idkit.exit_status import REPORT_EXIT_STATUSES
+    from idkit.report.main_report import ReportSummary
 
     def status(verdicts, reasons):
         return ReportSummary(out_dir=Path("."), html=Path("r.html"), sections=(), validation_passed={}, timings_s={},
@@ -64,7 +65,7 @@ def test_exit_status_rules():
     assert status({"a": "PASS", "b": "PASS"}, flagged) == 4
     assert status({"a": "PASS", "b": "INCONCLUSIVE"}, flagged) == 3
     assert status({"a": "FAIL", "b": "INCONCLUSIVE"}, fine) == 1
-    assert set(EXIT_STATUSES) == {0, 1, 3, 4}
+    assert set(REPORT_EXIT_STATUSES) == {0, 1, 3, 4}
 
 
 def test_printed_verdicts_carry_their_reasons_notes_and_the_flagged_fits():
@@ -333,7 +334,7 @@ def test_the_figures_a_reader_of_the_study_expects_are_there(quick_report):
 def test_the_summary_states_the_outcome_and_the_exit_status(quick_report):
     """The page said every verdict but not what they add up to: a quick run whose validations
     all pass exits 4 when a predicting fit is flagged, which the page did not say."""
-    from idkit.report.main_report import outcome_sentence
+    from idkit.report.front_page import outcome_sentence
 
     assert outcome_sentence({"a": "PASS", "b": "PASS"}, ()) == (
         "Outcome: 2 PASS of 2 validation(s). idkit report exits with status 0: every validation passed and "

@@ -7,7 +7,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from idkit.report.main_report import _valid_range_words
+from idkit.report.fit_sections import _valid_range_words
 
 
 def _data(lower, upper):
@@ -32,7 +32,7 @@ def test_the_valid_range_sentence_reads_for_every_kind_of_range(lower, upper, wo
 def test_the_outcome_names_as_failed_only_the_validations_that_failed():
     """With status 1 every non-PASS verdict was listed as failed: 'a validation failed (wire rope
     sweeps, elastomer FRF)' where the sweeps were INCONCLUSIVE (Table A.1 / Table B.1 high set)."""
-    from idkit.report.main_report import outcome_sentence
+    from idkit.report.front_page import outcome_sentence
 
     verdicts = {"wire rope sweeps": "INCONCLUSIVE", "wire rope drops": "PASS", "elastomer FRF": "FAIL"}
     assert outcome_sentence(verdicts, ()).endswith(
@@ -48,7 +48,7 @@ def test_the_transport_gist_groups_the_floor_levels_by_their_best_system():
     import numpy as np
     import pandas as pd
 
-    from idkit.report.main_report import transport_gist
+    from idkit.report.transport_section import transport_gist
     from idkit.studies.transport import TransportStudy
 
     unit = "[(m/s^2)^2/Hz]"
