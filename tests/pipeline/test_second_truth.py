@@ -386,7 +386,8 @@ def test_report_on_truth_b_passes_every_validation_and_flags_only_the_unresolved
     the CLI's exit status end to end) is tested on the bundled data in tests/report/test_report.py.
     """
     from idkit.cli.report import verdict_lines
-    from idkit.report.main_report import PREDICTING_FITS, ReportSummary
+    from idkit.report.front_page import PREDICTING_FITS
+    from idkit.report.main_report import ReportSummary
     from idkit.studies.pipeline import compute_report_data
 
     data = compute_report_data(data_b["folder"], quick=True)
