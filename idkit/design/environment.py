@@ -34,25 +34,48 @@ components" as a design criterion beside their deflections).
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from idkit.checks import Instance, Real, Reals, Text, refuse
 from idkit.errors import DataError
-from idkit.signal.psd import PsdProfile
+from idkit.gravity import STANDARD_GRAVITY
+from idkit.io.contract import Field, check_fields, field_names
+from idkit.signal.psd import _BREAKPOINTS, _LEVELS, PsdProfile
 
 __all__ = ["DROP_LIMITS", "LIMIT_KEYS", "Environment", "load_environment"]
 
+_OBJECT = Instance((dict,), what="an object")
+#: The keys of the document.
+_TOP = (Field("floor_psd", Instance((list,), what="a list of profiles")),
+        Field("drops", Instance((dict,), what="an object with heights_m or impact_velocity_m_per_s")),
+        Field("limits", Instance((dict,), what="an object of limits")), Field("name", Text()))
+#: A breakpoint profile, and a flat level over a band (``f_lo < f_hi`` is checked by hand).
+_BREAKPOINT_PROFILE = (Field("name", Text()), Field("freq_hz", _BREAKPOINTS, required=True),
+                       Field("level", _LEVELS, required=True))
+_FLAT_PROFILE = (Field("name", Text()), Field("flat", Real(unit="(m/s^2)^2/Hz", gt=0), required=True),
+                 Field("f_lo", Real(unit="Hz", gt=0), required=True), Field("f_hi", Real(unit="Hz", gt=0), required=True))
+#: The drops, as heights or as impact speeds |v0| (one of the two).
+_DROPS = (Field("heights_m", Reals(unit="m", gt=0)), Field("impact_velocity_m_per_s", Reals(unit="m/s", gt=0)))
+#: The limits an environment may set (every one optional).
+_LIMITS = (
+    Field("rms_acceleration_m_per_s2", Real(unit="m/s^2", gt=0, meaning="payload RMS under each floor PSD")),
+    Field("peak_acceleration_m_per_s2", Real(unit="m/s^2", gt=0, meaning="payload peak under the drops")),
+    Field("max_deflection_m", Real(unit="m", gt=0, meaning="isolator travel under the drops")),
+    Field("max_component_deflection_m", Real(unit="m", gt=0, meaning="each hybrid component's travel")),
+    Field("max_dissipated_energy_j", Real(unit="J", gt=0, meaning="energy one mount dissipates in a drop")),
+    Field("max_component_dissipated_energy_j", Real(unit="J", gt=0, meaning="each hybrid component's own")),
+    Field("resonance_band_hz", Reals(unit="Hz", gt=0, min_size=2, max_size=2, increasing=True,
+                                     meaning="[f_low, f_high] the first resonance must avoid")),
+    Field("probability", Real(gt=0, lt=1, meaning="required probability of meeting every limit")),
+)
+
 #: Limits an environment may set and their units.
-LIMIT_KEYS = {
-    "rms_acceleration_m_per_s2": "m/s^2", "peak_acceleration_m_per_s2": "m/s^2", "max_deflection_m": "m",
-    "max_component_deflection_m": "m", "max_dissipated_energy_j": "J", "max_component_dissipated_energy_j": "J",
-    "resonance_band_hz": "Hz", "probability": "-",
-}
+LIMIT_KEYS = {item.name: item.spec.unit for item in _LIMITS}
+
 #: Limits judged on the drops.
 DROP_LIMITS = ("peak_acceleration_m_per_s2", "max_deflection_m", "max_component_deflection_m",
                "max_dissipated_energy_j", "max_component_dissipated_energy_j")
-_TOP_KEYS = {"floor_psd", "drops", "limits", "name"}
 
 
 @dataclass(frozen=True)
@@ -89,74 +112,44 @@ class Environment:
     @classmethod
     def from_dict(cls, document: dict, *, where: str = "environment") -> Environment:
         """Check and build from a document (module docstring); errors name ``where`` and the key."""
-        if not isinstance(document, dict):
-            raise DataError(f"{where}: found {type(document).__name__}, expected an object")
-        unknown = sorted(set(document) - _TOP_KEYS)
-        if unknown:
-            raise DataError(f"{where}: unknown key(s) {unknown}; expected keys from {sorted(_TOP_KEYS)}")
+        top = check_fields(_OBJECT.check(document, where, DataError), _TOP, where)
         profiles = {}
-        entries = document.get("floor_psd", [])
-        if not isinstance(entries, list):
-            raise DataError(f"{where}: floor_psd: found {type(entries).__name__}, expected a list of profiles")
-        for index, entry in enumerate(entries):
+        for index, entry in enumerate(top.get("floor_psd", [])):
             label = f"{where}: floor_psd[{index}]"
-            if not isinstance(entry, dict):
-                raise DataError(f"{label}: found {type(entry).__name__}, expected an object")
-            name = str(entry.get("name", f"profile {index + 1}"))
+            entry = _OBJECT.check(entry, label, DataError)
             if "flat" in entry:
-                values = [entry.get(key) for key in ("flat", "f_lo", "f_hi")]
-                if not all(_positive(v) for v in values) or not values[1] < values[2]:
-                    raise DataError(f"{label}: flat, f_lo, f_hi: found {values}, expected a level > 0 "
-                                    "((m/s^2)^2/Hz) over 0 < f_lo < f_hi (Hz)")
-                profiles[name] = PsdProfile.flat(float(values[0]), f_lo=float(values[1]), f_hi=float(values[2]))
+                flat = check_fields(entry, _FLAT_PROFILE, label)
+                if not flat["f_lo"] < flat["f_hi"]:
+                    raise DataError(f"{label}: f_lo, f_hi: found {flat['f_lo']:g}, {flat['f_hi']:g}, expected "
+                                    "f_lo < f_hi (Hz)")
+                profile = PsdProfile.flat(flat["flat"], f_lo=flat["f_lo"], f_hi=flat["f_hi"])
             else:
-                try:
-                    profiles[name] = PsdProfile(entry["freq_hz"], entry["level"])
-                except KeyError as missing:
-                    raise DataError(f"{label}: missing {missing.args[0]!r}; expected freq_hz and level "
-                                    "(breakpoints, Hz and (m/s^2)^2/Hz) or flat, f_lo, f_hi") from None
-                except (DataError, ValueError, TypeError) as problem:
-                    raise DataError(f"{label}: {problem}") from None
-        drops = document.get("drops", {})
-        if not isinstance(drops, dict) or len(drops) > 1 or (drops and not set(drops) <= {
-                "heights_m", "impact_velocity_m_per_s"}):
-            raise DataError(f"{where}: drops: found {drops!r:.80}, expected {{'heights_m': [...]}} or "
-                            "{'impact_velocity_m_per_s': [...]} (|v0|)")
+                points = check_fields(entry, _BREAKPOINT_PROFILE, label, known=field_names(_FLAT_PROFILE))
+                if points["freq_hz"].size != points["level"].size:
+                    raise DataError(f"{label}: level: found {points['level'].size} values, expected "
+                                    f"{points['freq_hz'].size} (one per freq_hz breakpoint)")
+                profile = PsdProfile(points["freq_hz"], points["level"])
+            profiles[entry.get("name", f"profile {index + 1}")] = profile
+        drops = check_fields(top.get("drops", {}), _DROPS, f"{where}: drops")
+        if len(drops) > 1:
+            raise DataError(f"{where}: drops: found {sorted(drops)}, expected one of heights_m or "
+                            "impact_velocity_m_per_s")
         heights: tuple = ()
         for key, values in drops.items():
-            if not isinstance(values, list) or not values or not all(_positive(v) for v in values):
-                raise DataError(f"{where}: drops.{key}: found {values!r:.80}, expected a non-empty list of positive "
-                                "numbers")
-            heights = tuple(float(v) if key == "heights_m" else float(v) ** 2 / (2.0 * 9.80665) for v in values)
-        limits = document.get("limits", {})
-        if not isinstance(limits, dict) or not limits:
-            raise DataError(f"{where}: limits: found {limits!r:.80}, expected an object with at least one of "
-                            f"{sorted(LIMIT_KEYS)}")
-        unknown = sorted(set(limits) - set(LIMIT_KEYS))
-        if unknown:
-            raise DataError(f"{where}: limits: unknown key(s) {unknown}; expected keys from {sorted(LIMIT_KEYS)}")
-        for key, value in limits.items():
-            if key == "resonance_band_hz":
-                if not (isinstance(value, list) and len(value) == 2 and all(_positive(v) for v in value)
-                        and value[0] < value[1]):
-                    raise DataError(f"{where}: limits.resonance_band_hz: found {value!r}, expected [f_low, f_high] "
-                                    "with 0 < f_low < f_high (Hz)")
-            elif key == "probability":
-                if not (_positive(value) and value < 1):
-                    raise DataError(f"{where}: limits.probability: found {value!r}, expected a probability in (0, 1)")
-            elif not _positive(value):
-                raise DataError(f"{where}: limits.{key}: found {value!r}, expected a positive number "
-                                f"({LIMIT_KEYS[key]})")
+            if values.ndim != 1:
+                raise refuse(f"{where}: drops: {key}", values, "a list of numbers > 0", DataError)
+            heights = tuple(float(v) if key == "heights_m" else float(v) ** 2 / (2.0 * STANDARD_GRAVITY) for v in values)
+        limits = check_fields(top.get("limits", {}), _LIMITS, f"{where}: limits")
+        if not limits:
+            raise DataError(f"{where}: limits: found none, expected at least one of {', '.join(LIMIT_KEYS)}")
+        if "resonance_band_hz" in limits:
+            limits["resonance_band_hz"] = [float(v) for v in limits["resonance_band_hz"]]
         if "rms_acceleration_m_per_s2" in limits and not profiles:
             raise DataError(f"{where}: limits.rms_acceleration_m_per_s2 needs floor_psd profiles; found none")
         needs_drops = set(DROP_LIMITS) & set(limits)
         if needs_drops and not heights:
             raise DataError(f"{where}: limits {sorted(needs_drops)} need drops; found none")
-        return cls(profiles=profiles, drop_heights_m=heights, limits=dict(limits), name=str(document.get("name", "")))
-
-
-def _positive(value) -> bool:
-    return (not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(value) and value > 0)
+        return cls(profiles=profiles, drop_heights_m=heights, limits=limits, name=top.get("name", ""))
 
 
 def load_environment(path) -> Environment:

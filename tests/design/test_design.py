@@ -119,10 +119,19 @@ def test_run_design_writes_the_best_designs_as_model_files(tmp_path):
 @pytest.mark.parametrize("document, message", [
     ({"limits": {"peak_acceleration_m_per_s2": 1.0}, "wind": 1}, "unknown key"),
     ({"drops": {"heights_m": [0.01]}, "limits": {"peak_acceleration_m_per_s2": -1.0}},
-     r"limits.peak_acceleration_m_per_s2: found -1.0"),
+     r"limits: peak_acceleration_m_per_s2: found -1, expected a finite real number > 0"),
     ({"drops": {"heights_m": [0.01]}, "limits": {"resonance_band_hz": [5, 2]}}, "resonance_band_hz"),
     ({"limits": {"rms_acceleration_m_per_s2": 1.0}}, "needs floor_psd"),
-    ({"floor_psd": [{"freq_hz": [1, 10]}], "limits": {"rms_acceleration_m_per_s2": 1.0}}, "missing 'level'"),
+    ({"floor_psd": [{"freq_hz": [1, 10]}], "limits": {"rms_acceleration_m_per_s2": 1.0}}, "required key 'level' missing"),
+    ({"floor_psd": [{"flat": 1e-4, "f_lo": 10, "f_hi": 1}], "limits": {"probability": 0.5}},
+     r"floor_psd\[0\]: f_lo, f_hi: found 10, 1, expected f_lo < f_hi"),
+    ({"floor_psd": [{"freq_hz": [1, 10], "level": [1e-3, 1e-3, 1e-3]}], "limits": {"probability": 0.5}},
+     r"floor_psd\[0\]: level: found 3 values, expected 2"),
+    ({"drops": {"heights_m": [0.01], "impact_velocity_m_per_s": [1.0]}, "limits": {"probability": 0.5}},
+     "drops: found .*, expected one of heights_m or impact_velocity_m_per_s"),
+    ({"drops": {"heights_m": [[0.01]]}, "limits": {"max_deflection_m": 0.1}}, "drops: heights_m: found an array"),
+    ({"limits": {"probability": True}}, "limits: probability: found True"),
+    ([{"limits": {}}], "found list, expected an object"),
 ])
 def test_bad_environments_are_refused_naming_the_key(document, message):
     with pytest.raises(DataError, match=message):
