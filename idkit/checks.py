@@ -32,16 +32,18 @@ import functools
 import inspect
 import math
 import re
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
 import numpy as np
 
-from idkit.errors import ParameterError
+from idkit.errors import DataError, ParameterError
 from idkit.limits import SMALLEST_NORMAL
 
 __all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Text", "Samples", "Seed", "Instance", "Either",
-           "accepts", "unchecked", "refuse", "DECLARED", "Contract", "OptionValueError"]
+           "accepts", "unchecked", "refuse", "DECLARED", "Contract", "OptionValueError", "Field", "field_names",
+           "check_fields"]
 
 #: Values that ``float()`` converts but that are not numbers.
 _NOT_NUMBERS = (bool, np.bool_, str, bytes)
@@ -574,3 +576,42 @@ def unchecked(function: Callable) -> Callable:
     function that has checked the same arguments itself and calls another (inner layers trust
     the boundary)."""
     return function.__wrapped__
+
+
+# ---------------------------------------------------------------- contents of JSON objects
+
+@dataclass(frozen=True)
+class Field:
+    """One key of a data-file object: its name, its contract (a :class:`idkit.checks.Spec`
+    stating kind, unit, range and meaning) and whether the object must hold it."""
+
+    name: str
+    spec: Spec
+    required: bool = False
+
+
+def field_names(fields: Sequence[Field]) -> tuple[str, ...]:
+    """The keys a table declares, in declaration order."""
+    return tuple(item.name for item in fields)
+
+
+def check_fields(values: Mapping, fields: Sequence[Field], where: str, *, known: Sequence[str] = (),
+                 error: type[Exception] = DataError) -> dict:
+    """The values of ``fields`` found in ``values``, each checked and coerced by its spec.
+
+    A key neither declared nor in ``known`` (keys another table checks) is refused, naming the
+    keys expected; a required key that is absent is refused; a value is refused as
+    ``<where>: <key>: found X, expected Y`` (``<key>: ...`` when ``where`` is empty). Keys absent
+    and not required are left out of the result (the reader's default applies).
+    """
+    names = field_names(fields)
+    unknown = sorted(set(values) - set(names) - set(known))
+    if unknown:
+        raise error(f"{where}: unknown key(s) {', '.join(map(str, unknown))}; expected keys from "
+                    f"{', '.join(sorted({*names, *known}))}")
+    missing = [item.name for item in fields if item.required and item.name not in values]
+    if missing:
+        raise error(f"{where}: required key '{missing[0]}' missing")
+    prefix = f"{where}: " if where else ""
+    return {item.name: item.spec.check(values[item.name], prefix + item.name, error)
+            for item in fields if item.name in values}

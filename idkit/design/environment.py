@@ -37,10 +37,9 @@ import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from idkit.checks import Instance, Real, Reals, Text, refuse
+from idkit.checks import Field, Instance, Real, Reals, Text, check_fields, field_names, refuse
 from idkit.errors import DataError
 from idkit.gravity import STANDARD_GRAVITY
-from idkit.io.contract import Field, check_fields, field_names
 from idkit.signal.psd import _BREAKPOINTS, _LEVELS, PsdProfile
 
 __all__ = ["DROP_LIMITS", "LIMIT_KEYS", "Environment", "load_environment"]
@@ -54,7 +53,8 @@ _TOP = (Field("floor_psd", Instance((list,), what="a list of profiles")),
 _BREAKPOINT_PROFILE = (Field("name", Text()), Field("freq_hz", _BREAKPOINTS, required=True),
                        Field("level", _LEVELS, required=True))
 _FLAT_PROFILE = (Field("name", Text()), Field("flat", Real(unit="(m/s^2)^2/Hz", gt=0), required=True),
-                 Field("f_lo", Real(unit="Hz", gt=0), required=True), Field("f_hi", Real(unit="Hz", gt=0), required=True))
+                 Field("f_lo", Real(unit="Hz", gt=0), required=True),
+                 Field("f_hi", Real(unit="Hz", gt=0), required=True))
 #: The drops, as heights or as impact speeds |v0| (one of the two).
 _DROPS = (Field("heights_m", Reals(unit="m", gt=0)), Field("impact_velocity_m_per_s", Reals(unit="m/s", gt=0)))
 #: The limits an environment may set (every one optional).
@@ -138,7 +138,8 @@ class Environment:
         for key, values in drops.items():
             if values.ndim != 1:
                 raise refuse(f"{where}: drops: {key}", values, "a list of numbers > 0", DataError)
-            heights = tuple(float(v) if key == "heights_m" else float(v) ** 2 / (2.0 * STANDARD_GRAVITY) for v in values)
+            heights = tuple(float(v) if key == "heights_m" else float(v) ** 2 / (2.0 * STANDARD_GRAVITY)
+                            for v in values)
         limits = check_fields(top.get("limits", {}), _LIMITS, f"{where}: limits")
         if not limits:
             raise DataError(f"{where}: limits: found none, expected at least one of {', '.join(LIMIT_KEYS)}")

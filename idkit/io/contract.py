@@ -1,9 +1,11 @@
 """Declared contracts of data-file contents: the keys of a JSON object and the columns of a record.
 
-A manifest entry, its excitation and a measurement's metadata are tables of :class:`Field` (key,
-:mod:`idkit.checks` spec with its unit and meaning, required or not), walked by
-:func:`check_fields`; a manifest value is checked as an argument is, so its refusal reads
-``<file and entry>: <key>: found X, expected Y`` like every other in idkit. A record's columns are
+A manifest entry, its excitation and a measurement's metadata are tables of
+:class:`idkit.checks.Field` (key, spec with its unit and meaning, required or not), walked by
+:func:`idkit.checks.check_fields` (defined beside the specs so that every floor, model files
+included, declares its JSON contents the same way; re-exported here); a manifest value is
+checked as an argument is, so its refusal reads ``<file and entry>: <key>: found X, expected Y``
+like every other in idkit. A record's columns are
 a table of :class:`Column` (name, required or part of a pair), walked by :func:`check_columns`;
 each column is read by :func:`as_signal` and the rows of a text table by :func:`check_row_widths`.
 """
@@ -15,49 +17,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from idkit.checks import Spec
+from idkit.checks import Field, check_fields, field_names
 from idkit.errors import DataError
 from idkit.io.provenance import Source
 
 __all__ = ["Column", "Field", "as_signal", "check_columns", "check_fields", "check_row_widths", "field_names",
            "read_columns"]
-
-
-@dataclass(frozen=True)
-class Field:
-    """One key of a data-file object: its name, its contract (a :class:`idkit.checks.Spec`
-    stating kind, unit, range and meaning) and whether the object must hold it."""
-
-    name: str
-    spec: Spec
-    required: bool = False
-
-
-def field_names(fields: Sequence[Field]) -> tuple[str, ...]:
-    """The keys a table declares, in declaration order."""
-    return tuple(item.name for item in fields)
-
-
-def check_fields(values: Mapping, fields: Sequence[Field], where: str, *, known: Sequence[str] = (),
-                 error: type[Exception] = DataError) -> dict:
-    """The values of ``fields`` found in ``values``, each checked and coerced by its spec.
-
-    A key neither declared nor in ``known`` (keys another table checks) is refused, naming the
-    keys expected; a required key that is absent is refused; a value is refused as
-    ``<where>: <key>: found X, expected Y`` (``<key>: ...`` when ``where`` is empty). Keys absent
-    and not required are left out of the result (the reader's default applies).
-    """
-    names = field_names(fields)
-    unknown = sorted(set(values) - set(names) - set(known))
-    if unknown:
-        raise error(f"{where}: unknown key(s) {', '.join(map(str, unknown))}; expected keys from "
-                    f"{', '.join(sorted({*names, *known}))}")
-    missing = [item.name for item in fields if item.required and item.name not in values]
-    if missing:
-        raise error(f"{where}: required key '{missing[0]}' missing")
-    prefix = f"{where}: " if where else ""
-    return {item.name: item.spec.check(values[item.name], prefix + item.name, error)
-            for item in fields if item.name in values}
 
 
 @dataclass(frozen=True)

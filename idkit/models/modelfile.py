@@ -29,6 +29,7 @@ import json
 from pathlib import Path
 
 from idkit.atomic import write_bytes_atomic
+from idkit.checks import Choice, Field, Instance, Real, Text, check_fields
 from idkit.errors import ModelFileError, ParameterError
 from idkit.inputfiles import load_json, read_input_bytes
 from idkit.models.boucwen import BoucWenModel
@@ -48,16 +49,27 @@ _ISOLATORS = {cls.kind: cls for cls in (IwanModel, ModulatedIwanModel, Clearance
                                         BoucWenModel, PinchedBoucWenModel, GeneralizedMaxwell, VoigtModel)}
 
 
-_ISOLATOR_KEYS = ("kind", "params", "units")
-_SYSTEM_KEYS = {
-    "sdof": (("kind", "mass", "isolator"), ()),
-    "hybrid": (("kind", "mass", "intermediate_mass", "upper", "lower"), ()),
-    "coulomb_spring": (("kind", "mass", "stiffness", "friction_force"),
-                       ("damping", "contact_stiffness_ratio")),
+_NUMBER = Real(meaning="a JSON number")
+_ENTRY = Instance((dict,), what="an object with a 'kind'")
+_OBJECT = Instance((dict,), what="an object")
+#: The keys of an isolator entry besides ``kind``.
+_ISOLATOR_FIELDS = (Field("params", Instance((dict,), what="an object name -> value"), required=True),
+                    Field("units", Instance((dict,), what="an object parameter -> unit string"), required=True))
+#: The keys of each system kind besides ``kind``.
+_SYSTEM_FIELDS = {
+    "sdof": (Field("mass", Real(unit="kg"), required=True), Field("isolator", _ENTRY, required=True)),
+    "hybrid": (Field("mass", Real(unit="kg"), required=True),
+               Field("intermediate_mass", Real(unit="kg"), required=True),
+               Field("upper", _ENTRY, required=True), Field("lower", _ENTRY, required=True)),
+    "coulomb_spring": (Field("mass", Real(unit="kg"), required=True),
+                       Field("stiffness", Real(unit="N/m"), required=True),
+                       Field("friction_force", Real(unit="N"), required=True), Field("damping", Real(unit="N s/m")),
+                       Field("contact_stiffness_ratio", Real())),
 }
-_SYSTEM_NUMBERS = ("mass", "intermediate_mass", "stiffness", "friction_force", "damping",
-                   "contact_stiffness_ratio")
-_TOP_KEYS = ("format", "format_version", "idkit_version", "model", "provenance")
+_KIND = Choice(tuple(sorted([*_ISOLATORS, *_SYSTEM_FIELDS])))
+#: The keys of the document besides ``format`` (checked first: another format is named as such).
+_TOP = (Field("format_version", Choice((FORMAT_VERSION,)), required=True), Field("idkit_version", Text()),
+        Field("model", _ENTRY, required=True), Field("provenance", _OBJECT))
 
 
 def model_to_dict(model) -> dict:
@@ -65,32 +77,9 @@ def model_to_dict(model) -> dict:
     return model.to_dict()
 
 
-def _check_keys(entry: dict, required, optional, where: str, kind: str) -> None:
-    allowed = (*required, *optional)
-    unknown = [key for key in entry if key not in allowed]
-    if unknown:
-        raise ModelFileError(f"{where}: unknown key(s) {', '.join(map(repr, unknown))} for kind "
-                             f"{kind!r}; expected keys {', '.join(allowed)}")
-    missing = [key for key in required if key not in entry]
-    if missing:
-        raise ModelFileError(f"{where}: key {missing[0]!r} missing for kind {kind!r}; expected "
-                             f"keys {', '.join(allowed)}")
-
-
-def _check_number(value: object, where: str) -> None:
-    """A JSON number: ``true``/``false`` (Python's bool is an int) and strings are refused."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        note = " (JSON true/false is not a number)" if isinstance(value, bool) else ""
-        raise ModelFileError(f"{where}: found {value!r} ({type(value).__name__}), expected a "
-                             f"number{note}")
-
-
-def _check_units(entry: dict, model, where: str) -> None:
-    units = entry["units"]
+def _check_units(units: dict, model, where: str) -> None:
+    """Exactly one unit per declared parameter, each the declared SI unit (never converted)."""
     declared = {spec.name: spec.unit for spec in model.param_specs()}
-    if not isinstance(units, dict):
-        raise ModelFileError(f"{where}.units: found {units!r}, expected an object parameter -> "
-                             "unit string")
     unknown = [name for name in units if name not in declared]
     if unknown:
         raise ModelFileError(f"{where}.units: unknown parameter(s) {', '.join(map(repr, unknown))}; "
@@ -101,25 +90,20 @@ def _check_units(entry: dict, model, where: str) -> None:
                              "a unit for every parameter (SI, as declared: "
                              f"{', '.join(f'{k} {v}' for k, v in declared.items())})")
     for name, unit in units.items():
-        if unit != declared[name]:
-            raise ModelFileError(
-                f"{where}.units.{name}: found {unit!r}, expected {declared[name]!r} (SI, not converted)"
-            )
+        Choice((declared[name],)).check(unit, f"{where}.units.{name}", ModelFileError)
 
 
 def _isolator_from_dict(entry: dict, kind: str, where: str):
-    _check_keys(entry, _ISOLATOR_KEYS, (), where, kind)
-    params = entry["params"]
-    if not isinstance(params, dict):
-        raise ModelFileError(f"{where}.params: found {params!r}, expected an object name -> value")
+    fields = check_fields(entry, _ISOLATOR_FIELDS, f"{where} (kind {kind!r})", known=("kind",), error=ModelFileError)
+    params, units = fields["params"], fields["units"]
     for name, value in params.items():
-        _check_number(value, f"{where}.params.{name}")
-    if kind == "generalized_maxwell" and isinstance(entry["units"], dict) and entry["units"].get("k0") == "Pa":
+        _NUMBER.check(value, f"{where}.params.{name}", ModelFileError)
+    if kind == "generalized_maxwell" and units.get("k0") == "Pa":
         # a Prony series of a material: the units say so (N/m = a part, Pa = a modulus)
         model = GeneralizedMaxwell.from_params(params, quantity="modulus")
     else:
         model = _ISOLATORS[kind].from_params(params)
-    _check_units(entry, model, where)
+    _check_units(units, model, where)
     return model
 
 
@@ -130,19 +114,11 @@ def model_from_dict(entry: dict, *, where: str = "model"):
     (a unit for every parameter, as declared); a system entry the keys of its kind. Numbers
     must be JSON numbers (not ``true``/``false``, not strings).
     """
-    if not isinstance(entry, dict) or "kind" not in entry:
-        raise ModelFileError(f"{where}: found {type(entry).__name__}, expected an object with a 'kind'")
-    kind = entry["kind"]
-    known = sorted([*_ISOLATORS, *_SYSTEM_KEYS])
-    if not isinstance(kind, str) or kind not in known:
-        raise ModelFileError(f"{where}.kind: found {kind!r}, expected one of {known}")
+    kind = _KIND.check(_ENTRY.check(entry, where, ModelFileError).get("kind"), f"{where}.kind", ModelFileError)
     try:
         if kind in _ISOLATORS:
             return _isolator_from_dict(entry, kind, where)
-        _check_keys(entry, *_SYSTEM_KEYS[kind], where, kind)
-        for key in _SYSTEM_NUMBERS:
-            if key in entry:
-                _check_number(entry[key], f"{where}.{key}")
+        check_fields(entry, _SYSTEM_FIELDS[kind], f"{where} (kind {kind!r})", known=("kind",), error=ModelFileError)
         if kind == "sdof":
             return SDOFSystem(entry["mass"], model_from_dict(entry["isolator"], where=f"{where}.isolator"))
         if kind == "hybrid":
@@ -150,12 +126,7 @@ def model_from_dict(entry: dict, *, where: str = "model"):
                 entry["mass"], model_from_dict(entry["upper"], where=f"{where}.upper"),
                 entry["intermediate_mass"], model_from_dict(entry["lower"], where=f"{where}.lower"),
             )
-        fields = {key: value for key, value in entry.items() if key != "kind"}
-        return CoulombSpringSystem(**fields)
-    except KeyError as missing:
-        raise ModelFileError(f"{where}: key {missing.args[0]!r} missing for kind {kind!r}") from None
-    except TypeError as problem:
-        raise ModelFileError(f"{where}: {problem}") from None
+        return CoulombSpringSystem(**{key: value for key, value in entry.items() if key != "kind"})
     except ParameterError as problem:
         raise ModelFileError(f"{where}: {problem}") from None
 
@@ -201,19 +172,5 @@ def load_model_document(path) -> dict:
     if not isinstance(document, dict) or document.get("format") != FORMAT:
         found = document.get("format") if isinstance(document, dict) else f"a JSON {type(document).__name__}"
         raise ModelFileError(f"{label}: found format {found!r}, expected {FORMAT!r}")
-    version = document.get("format_version")
-    if type(version) is not int or version != FORMAT_VERSION:  # `true == 1` in Python
-        raise ModelFileError(f"{label}: found format_version {version!r}, expected {FORMAT_VERSION}")
-    unknown = [key for key in document if key not in _TOP_KEYS]
-    if unknown:
-        raise ModelFileError(f"{label}: unknown top-level key(s) {', '.join(map(repr, unknown))}; "
-                             f"expected keys {', '.join(_TOP_KEYS)} (put notes in 'provenance')")
-    if "model" not in document:
-        raise ModelFileError(f"{label}: key 'model' missing")
-    if not isinstance(document.get("idkit_version", ""), str):
-        raise ModelFileError(f"{label}: idkit_version: found {document['idkit_version']!r}, "
-                             "expected a string")
-    if not isinstance(document.get("provenance", {}), dict):
-        raise ModelFileError(f"{label}: provenance: found {document['provenance']!r:.60}, "
-                             "expected an object")
+    check_fields(document, _TOP, label, known=("format",), error=ModelFileError)
     return document
