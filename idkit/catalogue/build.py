@@ -20,7 +20,6 @@ idkit error is recorded with ``status = "failed"`` and the reason, and the other
 from __future__ import annotations
 
 import json
-import math
 import multiprocessing
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
@@ -31,8 +30,9 @@ from idkit import __version__
 from idkit.atomic import atomic_output_folder, write_text_atomic
 from idkit.catalogue.identify import identified_record, identify_measurements
 from idkit.catalogue.table import parts_table, write_parts_table
-from idkit.checks import Whole, accepts
+from idkit.checks import Choice, Field, Instance, Real, Text, Whole, accepts, check_fields, field_names
 from idkit.errors import DataError, IdkitError, OutputError
+from idkit.inputfiles import load_json, read_input_bytes
 from idkit.io import load_measurement_set
 from idkit.models import load_model, save_model
 
@@ -41,11 +41,27 @@ __all__ = ["CATALOGUE_FILE", "FAMILY_DIMENSIONS", "PART_FILE", "Catalogue", "bui
 
 PART_FILE = "part.json"
 CATALOGUE_FILE = "catalogue.json"
-#: Dimensions each family's part.json must give (SI; ``loops`` a count, ``compound`` a name).
-FAMILY_DIMENSIONS = {
-    "wire_rope": ("cable_diameter_m", "loops", "height_m", "width_m"),
-    "elastomer": ("area_m2", "thickness_m", "shape_factor", "compound"),
+_OBJECT = Instance((dict,), what="an object")
+#: The dimensions each family's part.json must give (SI); other keys are carried along unchecked.
+_DIMENSION_FIELDS = {
+    "wire_rope": (Field("cable_diameter_m", Real(unit="m", gt=0), required=True),
+                  Field("loops", Real(gt=0, meaning="a count"), required=True),
+                  Field("height_m", Real(unit="m", gt=0), required=True),
+                  Field("width_m", Real(unit="m", gt=0), required=True)),
+    "elastomer": (Field("area_m2", Real(unit="m^2", gt=0), required=True),
+                  Field("thickness_m", Real(unit="m", gt=0), required=True),
+                  Field("shape_factor", Real(gt=0), required=True),
+                  Field("compound", Text(nonempty=True, what="a compound name"), required=True)),
 }
+#: Dimensions each family's part.json must give (SI; ``loops`` a count, ``compound`` a name).
+FAMILY_DIMENSIONS = {family: field_names(fields) for family, fields in _DIMENSION_FIELDS.items()}
+#: The keys of part.json read here; other keys are carried along unchecked.
+_PART_FIELDS = (Field("part", Text(pattern=r"[^/]*[^/\s][^/]*", what="a non-empty name without '/'"), required=True),
+                Field("family", Choice(tuple(FAMILY_DIMENSIONS)), required=True),
+                Field("dimensions", _OBJECT, required=True))
+#: ``fit_options`` of :func:`build_catalogue`: per family, the options passed to its fitter.
+_FIT_OPTION_FIELDS = tuple(Field(family, Instance((dict,), what="a dict of fit options"))
+                           for family in FAMILY_DIMENSIONS)
 
 
 def read_part(folder) -> dict:
@@ -57,30 +73,15 @@ def read_part(folder) -> dict:
         Missing file, bad JSON, unknown family, a missing or non-positive dimension (naming
         the file, the key, what was found and what was expected).
     """
-    path = Path(folder) / PART_FILE
-    if not path.is_file():
-        raise DataError(f"{path}: not found; expected a part description (part, family, dimensions)")
-    try:
-        document = json.loads(path.read_text())
-    except (json.JSONDecodeError, UnicodeDecodeError) as problem:
-        raise DataError(f"{path}: not valid JSON ({problem})") from None
-    if not isinstance(document, dict):
-        raise DataError(f"{path}: found {type(document).__name__}, expected an object")
-    part, family, dimensions = document.get("part"), document.get("family"), document.get("dimensions")
-    if not (isinstance(part, str) and part.strip() and "/" not in part):
-        raise DataError(f"{path}: part: found {part!r}, expected a non-empty name without '/'")
-    if family not in FAMILY_DIMENSIONS:
-        raise DataError(f"{path}: family: found {family!r}, expected one of {sorted(FAMILY_DIMENSIONS)}")
-    if not isinstance(dimensions, dict):
-        raise DataError(f"{path}: dimensions: found {type(dimensions).__name__}, expected an object")
-    for name in FAMILY_DIMENSIONS[family]:
-        value = dimensions.get(name)
-        if name == "compound":
-            if not (isinstance(value, str) and value.strip()):
-                raise DataError(f"{path}: dimensions.compound: found {value!r}, expected a compound name")
-        elif isinstance(value, bool) or not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-            raise DataError(f"{path}: dimensions.{name}: found {value!r}, expected a positive number (SI)")
-    return {"part": part, "family": family, "dimensions": dict(dimensions)}
+    label = f"part description '{Path(folder) / PART_FILE}'"
+    raw = read_input_bytes(Path(folder) / PART_FILE, label, DataError)
+    document = _OBJECT.check(load_json(raw, label, DataError, expected="an object with part, family, dimensions"),
+                             label, DataError)
+    part = check_fields(document, _PART_FIELDS, label, known=tuple(document))
+    check_fields(part["dimensions"], _DIMENSION_FIELDS[part["family"]], f"{label}: dimensions",
+                 known=tuple(part["dimensions"]))
+    # the values as written (an integer stays one in the catalogue and the model files' provenance)
+    return {"part": part["part"], "family": part["family"], "dimensions": dict(document["dimensions"])}
 
 
 def find_parts(folder) -> list[Path]:
@@ -170,8 +171,7 @@ def load_catalogue(folder) -> Catalogue:
         document = json.loads(path.read_text())
     except json.JSONDecodeError as problem:
         raise DataError(f"{path}: not valid JSON ({problem})") from None
-    if document.get("format") != "idkit-catalogue":
-        raise DataError(f"{path}: format: found {document.get('format')!r}, expected 'idkit-catalogue'")
+    Choice(("idkit-catalogue",)).check(document.get("format"), f"{path}: format", DataError)
     return Catalogue(folder, tuple(document["parts"]))
 
 
@@ -221,10 +221,7 @@ def build_catalogue(parts, output, *, add: Sequence | None = None, workers: int 
     if executor is not None and not callable(getattr(executor, "submit", None)):
         raise OutputError(f"executor: found {type(executor).__name__}, expected an object with submit(fn, *args)")
     fit_options = dict(fit_options or {})
-    unknown = sorted(set(fit_options) - set(FAMILY_DIMENSIONS))
-    if unknown or not all(isinstance(value, dict) for value in fit_options.values()):
-        raise OutputError(f"fit_options: found keys {sorted(fit_options)}, expected a dict of option dicts keyed by "
-                          f"family ({', '.join(sorted(FAMILY_DIMENSIONS))})")
+    check_fields(fit_options, _FIT_OPTION_FIELDS, "fit_options", error=OutputError)
     existing: list[dict] = []
     if add:
         catalogue = load_catalogue(output)

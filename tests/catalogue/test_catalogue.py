@@ -41,7 +41,7 @@ def test_every_part_is_identified_and_the_broken_one_is_recorded_with_its_reason
     status = {r["part"]: r["status"] for r in catalogue.records}
     assert status == {**{name: "identified" for name in truths if name.startswith("WR")}, "WR-broken": "failed",
                       "WR-unreadable": "failed"}
-    assert "not valid JSON" in catalogue.record("WR-unreadable")["reasons"][0]
+    assert "part.json': invalid JSON" in catalogue.record("WR-unreadable")["reasons"][0]
     broken = catalogue.record("WR-broken")
     assert "manifest.json" in broken["reasons"][0] and "DataError" in broken["reasons"][0]
     table = pd.read_csv(root / "cat" / "parts.csv")
@@ -107,12 +107,20 @@ def test_bad_inputs_are_refused_naming_what_is_wrong(family, tmp_path):
     part.mkdir()
     (part / "part.json").write_text(json.dumps({"part": "x", "family": "elastomer", "dimensions": {
         "area_m2": 1e-3, "thickness_m": -0.01, "shape_factor": 0.5, "compound": "NR"}}))
-    with pytest.raises(DataError, match=r"dimensions\.thickness_m: found -0.01"):
+    with pytest.raises(DataError, match=r"part.json': dimensions: thickness_m: found -0.01, expected a finite real"):
         read_part(part)
-    (part / "part.json").write_text(json.dumps({"part": "x", "family": "steel", "dimensions": {}}))
-    with pytest.raises(DataError, match="family: found 'steel'"):
-        read_part(part)
-    with pytest.raises(OutputError, match="fit_options"):
+    for document, message in [({"part": "x", "family": "steel", "dimensions": {}}, "family: found 'steel'"),
+                              ({"part": "a/b", "family": "wire_rope", "dimensions": {}},
+                               "part: found 'a/b', expected a non-empty name without '/'"),
+                              ({"part": "x", "family": "wire_rope", "dimensions": {"loops": 8}},
+                               "dimensions: required key 'cable_diameter_m' missing"),
+                              ({"part": "x", "family": "elastomer", "dimensions": {
+                                  "area_m2": 1e-3, "thickness_m": 0.01, "shape_factor": 0.5, "compound": " "}},
+                               "dimensions: compound: found ' ', expected a compound name")]:
+        (part / "part.json").write_text(json.dumps(document))
+        with pytest.raises(DataError, match=message):
+            read_part(part)
+    with pytest.raises(OutputError, match="fit_options: unknown key.s. order; expected keys from elastomer, wire_rope"):
         build_catalogue(root / "parts", tmp_path / "c2", fit_options={"order": 3})
 
 
