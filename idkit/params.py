@@ -10,16 +10,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
+from idkit.checks import Real, Reals
 from idkit.errors import ParameterError
 
 __all__ = ["ParamSpec", "check_value", "check_array"]
-
-
-#: Values that convert to a float but are not numbers: a boolean, text.
-_NOT_NUMBERS = (bool, np.bool_, str, bytes)
 
 
 @dataclass(frozen=True)
@@ -57,27 +55,15 @@ class ParamSpec:
             Naming the model, the parameter, the value found and what was expected.
         """
         where = f"{model} parameter {self.name!r}" if model else f"parameter {self.name!r}"
-        if isinstance(value, _NOT_NUMBERS):  # float() would take True as 1 and "8" as 8
-            raise ParameterError(f"{where}: found {value!r} ({type(value).__name__}), expected a real number "
-                                 f"in {self.unit}")
-        try:
-            number = float(value)
-        except (TypeError, ValueError):
-            raise ParameterError(
-                f"{where}: found {value!r}, expected a real number in {self.unit}"
-            ) from None
-        if not math.isfinite(number):
-            raise ParameterError(f"{where}: found {number}, expected a finite number in {self.unit}")
-        if self.positive and number <= self.lower:
-            raise ParameterError(
-                f"{where}: found {number:g} {self.unit}, expected > {self.lower:g} ({self.meaning})"
-            )
-        if number < self.lower or number > self.upper:
-            raise ParameterError(
-                f"{where}: found {number:g} {self.unit}, expected within "
-                f"[{self.lower:g}, {self.upper:g}] ({self.meaning})"
-            )
-        return number
+        return self.spec.check(value, where, ParameterError)
+
+    @cached_property
+    def spec(self) -> Real:
+        """The declaration as an :class:`idkit.checks.Real` (finite bounds only; ``positive``
+        makes ``lower`` an open bound)."""
+        lower = self.lower if math.isfinite(self.lower) else None
+        return Real(unit=self.unit, gt=lower if self.positive else None, ge=None if self.positive else lower,
+                    le=self.upper if math.isfinite(self.upper) else None, meaning=self.meaning)
 
 
 def check_value(spec: ParamSpec, value: float, *, model: str = "") -> float:
@@ -102,26 +88,14 @@ def check_array(
     Returns a read-only float64 copy. Raises :class:`ParameterError` naming the
     first offending element (1-based, as in the model's parameter names).
     """
-    try:
-        if any(isinstance(value, _NOT_NUMBERS) for value in np.ravel(np.asarray(values, dtype=object))):
-            raise TypeError  # np.array(..., dtype=float) would take True as 1 and "8" as 8
-        array = np.array(values, dtype=float, ndmin=1)
-    except (TypeError, ValueError):
-        raise ParameterError(
-            f"{model} parameter {name!r}: found {values!r}, expected a sequence of numbers in {unit}"
-        ) from None
+    where = f"{model} parameter {name!r}"
+    array = np.array(Reals(unit=unit, min_size=0).check(values, where, ParameterError), ndmin=1)
     if array.ndim != 1:
-        raise ParameterError(
-            f"{model} parameter {name!r}: found an array of shape {array.shape}, expected 1-D"
-        )
+        raise ParameterError(f"{where}: found an array of shape {array.shape}, expected 1-D")
     if length is not None and array.size != length:
-        raise ParameterError(
-            f"{model} parameter {name!r}: found {array.size} values, expected {length}"
-        )
+        raise ParameterError(f"{where}: found {array.size} values, expected {length}")
     if array.size < min_length:
-        raise ParameterError(
-            f"{model} parameter {name!r}: found {array.size} values, expected at least {min_length}"
-        )
+        raise ParameterError(f"{where}: found {array.size} values, expected at least {min_length}")
     for index, number in enumerate(array, start=1):
         ParamSpec(f"{name}_{index}", unit, lower, math.inf, meaning, positive).check(number, model=model)
     array.setflags(write=False)

@@ -50,7 +50,7 @@ GOOD_BOUCWEN = dict(k1=3e4, k2=1e6, k3=0.0, alpha=1e5, beta=8e4, gamma=2e4, n=2)
         # booleans and text are not numbers: float(True) is 1 kg, float("8") is 8 kg (a model file refuses both)
         (SDOFSystem, dict(mass=True, isolator=VoigtModel(k=1.0, damping=1.0)), "found True (bool)"),
         (SDOFSystem, dict(mass=np.True_, isolator=VoigtModel(k=1.0, damping=1.0)), "'mass': found"),
-        (VoigtModel, dict(k="1e4", damping=1.0), "found '1e4' (str)"),
+        (VoigtModel, dict(k="1e4", damping=1.0), "'k': found '1e4', expected a finite real number"),
         (IwanModel, {**GOOD_IWAN, "k": [3e3, True]}, "'k': found [3000.0, True]"),
         (IwanModel, {**GOOD_IWAN, "fc": np.array(["8.3", "14.6"])}, "'fc': found"),
         (GeneralizedMaxwell, dict(k0=1e3, k=[1e3], rate=np.array([True])), "'rate': found"),
