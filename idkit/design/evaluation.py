@@ -59,12 +59,8 @@ from idkit.design.environment import Environment
 from idkit.errors import SimulationError
 from idkit.gravity import impact_velocity_from_height
 from idkit.responses import random_response, shock_sweep
-from idkit.responses.random_vibration import (
-    WELCH_OVERLAP,
-    frequency_domain_rms,
-    settle_records_for,
-    small_amplitude_transfer,
-)
+from idkit.responses.frequency_domain import frequency_domain_rms, small_amplitude_transfer
+from idkit.responses.random_vibration import WELCH_OVERLAP, settle_records_for
 from idkit.responses.shock import default_shock_grid
 from idkit.signal.psd import synthesize_random, welch_rms
 from idkit.simulate import free_fall, small_amplitude_resonance
@@ -255,7 +251,7 @@ def _resonances(systems) -> np.ndarray:
 def _floor_transfer(systems, profiles, rate: float):
     """The systems' small-amplitude transfer on every line of the floor records (at ``rate``) where
     a profile has power: one computation for every profile
-    (:func:`~idkit.responses.random_vibration.frequency_domain_rms`'s ``transfer``)."""
+    (:func:`~idkit.responses.frequency_domain.frequency_domain_rms`'s ``transfer``)."""
     freq = np.fft.rfftfreq(round(rate / _FREQ_STEP), d=1.0 / rate)[1:]  # the records' lines
     powered = np.zeros(freq.size, dtype=bool)
     for profile in profiles:
@@ -267,7 +263,7 @@ def _floor_transfer(systems, profiles, rate: float):
 def _random_rms(systems, sets, profile, *, seed: int, oversample: int, settle, transfer) -> tuple[np.ndarray,
                                                                                                  np.ndarray]:
     """Payload RMS acceleration of each draw under its own floor record, and which were flagged: the
-    frequency domain where it applies (:func:`~idkit.responses.random_vibration.frequency_domain_rms`),
+    frequency domain where it applies (:func:`~idkit.responses.frequency_domain.frequency_domain_rms`),
     one compiled call for the others (``sets``: a callable giving the systems' parameter sets)."""
     rate = _FS * oversample
     signals, lines = _floor_records(profile, seed, len(systems), rate)

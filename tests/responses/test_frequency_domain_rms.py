@@ -6,13 +6,8 @@ import pytest
 from scipy import integrate
 
 from idkit.models import HybridSystem, library
-from idkit.responses.random_vibration import (
-    _expected_output_rms,
-    _folded_lines,
-    _hann_line_smoothing,
-    frequency_domain_rms,
-    small_amplitude_transfer,
-)
+from idkit.responses.frequency_domain import _expected_output_rms, frequency_domain_rms, small_amplitude_transfer
+from idkit.responses.random_vibration import _folded_lines, _hann_line_smoothing
 from idkit.responses.small_amplitude import small_amplitude_lines, stays_stuck
 from idkit.signal.psd import PsdProfile, synthesize_random
 
