@@ -117,7 +117,8 @@ def main():
     parser.add_argument("--draws", type=int, default=30)
     parser.add_argument("--repeat", type=int, default=2)
     parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--per-draw", type=int, default=4)
+    parser.add_argument("--per-draw", type=int, default=4,
+                        help="candidates re-run one draw at a time to compare (0: skip the comparison)")
     parser.add_argument("--dask", type=int, default=0)
     parser.add_argument("--dask-draws", type=int, default=3)
     args = parser.parse_args()
@@ -146,20 +147,21 @@ def main():
     table = judge(rows, environment)
     print(f"verdicts: {table['verdict'].value_counts().to_dict()}; flagged runs {int(table['flagged'].sum())}")
 
-    sample = chosen[:: max(1, len(chosen) // args.per_draw)][:args.per_draw]
-    batched_cpu, single_cpu, worst = [], [], 0.0
-    for candidate in sample:
-        start = time.process_time()
-        fast = evaluate_candidate(candidate, environment, n_draws=args.draws)
-        batched_cpu.append(time.process_time() - start)
-        start = time.process_time()
-        slow = evaluate_candidate(candidate, environment, n_draws=args.draws, batched=False)
-        single_cpu.append(time.process_time() - start)
-        worst = max(worst, largest_difference(fast, slow))
-    print(f"one core, {len(sample)} candidates x {args.draws} draws: CPU per candidate batched min "
-          f"{min(batched_cpu):.3f} s, median {statistics.median(batched_cpu):.3f} s; one draw at a time min "
-          f"{min(single_cpu):.3f} s, median {statistics.median(single_cpu):.3f} s; largest relative difference "
-          f"{worst:.1e}")
+    if args.per_draw >= 1:
+        sample = chosen[:: max(1, len(chosen) // args.per_draw)][:args.per_draw]
+        batched_cpu, single_cpu, worst = [], [], 0.0
+        for candidate in sample:
+            start = time.process_time()
+            fast = evaluate_candidate(candidate, environment, n_draws=args.draws)
+            batched_cpu.append(time.process_time() - start)
+            start = time.process_time()
+            slow = evaluate_candidate(candidate, environment, n_draws=args.draws, batched=False)
+            single_cpu.append(time.process_time() - start)
+            worst = max(worst, largest_difference(fast, slow))
+        print(f"one core, {len(sample)} candidates x {args.draws} draws: CPU per candidate batched min "
+              f"{min(batched_cpu):.3f} s, median {statistics.median(batched_cpu):.3f} s; one draw at a time min "
+              f"{min(single_cpu):.3f} s, median {statistics.median(single_cpu):.3f} s; largest relative difference "
+              f"{worst:.1e}")
 
     if args.dask:
         from dask.distributed import Client, LocalCluster
