@@ -34,7 +34,7 @@ from idkit.simulate._parallel import run_chunked
 SHOOTING_AFTER_PERIODS = 200
 
 #: Newton iterations on the period map a map point may spend, one period with the propagated
-#: Jacobian each, to come within the steady-state tolerance of its orbit (:func:`_newton_points`);
+#: Jacobian each, to come within the steady-state tolerance of its orbit (:func:`settle_by_newton`);
 #: a point that does not is left to the time run.
 NEWTON_TANGENT_PERIODS = 3
 #: Windows of two plain periods a Newton point may run to verify its orbit, with a chord step between
@@ -44,10 +44,9 @@ NEWTON_WINDOWS = 2
 #: started from and still be taken: where friction makes orbits coexist, a longer step may land on one
 #: the time run from that state would not reach.
 NEWTON_REACH = 0.1
-#: Period cap of a map's time runs before Newton settles the points left (the default cap): on the
-#: Table A.1 50 x 30 map, 16 and 24 periods left points whose time run picks another member of a
-#: friction-memory family than 200 periods do (|H1| 1.7e-2 and 6.9e-3 apart); 48 agree within the
-#: tolerance.
+#: Period cap of a map's time runs before Newton settles the points left (the default cap): long
+#: enough that the transient has chosen the member of a friction-memory family of orbits a long run
+#: reaches, which Newton cannot choose (shorter caps and their measured effect: docs/responses.md).
 NEWTON_AFTER_PERIODS = 48
 
 
@@ -260,7 +259,7 @@ def _clip_jenkin(one: PeriodMap, states):
 
 @dataclass
 class _NewtonPoints:
-    """What :func:`_newton_points` found, one row a point: ``accepted`` points carry their orbit's
+    """What :func:`_newton_batch` found, one row a point: ``accepted`` points carry their orbit's
     two-period window (``response``), end state and multipliers; every point its start state and the
     periods it spent."""
 
