@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from idkit.checks import Real, accepts
+from idkit.checks import Real, Samples, accepts
 from idkit.errors import FitError
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import select_measurements
@@ -45,7 +45,7 @@ class K0Estimate:
 WINDOW = Real(unit="m", gt=0, meaning="half-width of the deflection window")
 
 
-@accepts(window=WINDOW, error=FitError)
+@accepts(deflection=Samples(unit="m"), force=Samples(unit="N"), window=WINDOW, error=FitError)
 def estimate_k0(deflection, force, window: float) -> K0Estimate:
     """Least-squares slope of force over deflection around the origin, with its standard error.
 
@@ -72,13 +72,10 @@ def estimate_k0(deflection, force, window: float) -> K0Estimate:
     >>> round(estimate_k0(x, 1.4e4 * x + 0.1, window=1e-3).k0)
     14000
     """
-    x = np.asarray(deflection, dtype=float)
-    f = np.asarray(force, dtype=float)
-    if x.shape != f.shape or x.ndim != 1:
+    x, f = deflection, force
+    if x.shape != f.shape:
         raise FitError(f"estimate_k0: found deflection shape {x.shape} and force shape {f.shape}, "
-                       "expected equal 1-D shapes")
-    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(f))):
-        raise FitError("estimate_k0: found non-finite deflection or force, expected finite values")
+                       "expected equal shapes")
     inside = np.abs(x) <= window
     n = int(inside.sum())
     if n < 3 or np.ptp(x[inside]) <= 0:
