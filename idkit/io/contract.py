@@ -3,7 +3,7 @@
 A manifest entry, its excitation and a measurement's metadata are tables of
 :class:`idkit.checks.Field` (key, spec with its unit and meaning, required or not), walked by
 :func:`idkit.checks.check_fields` (defined beside the specs so that every floor, model files
-included, declares its JSON contents the same way; re-exported here); a manifest value is
+included, declares its JSON contents the same way, and imported from there); a manifest value is
 checked as an argument is, so its refusal reads ``<file and entry>: <key>: found X, expected Y``
 like every other in idkit. A record's columns are
 a table of :class:`Column` (name, required or part of a pair), walked by :func:`check_columns`;
@@ -17,12 +17,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from idkit.checks import Field, check_fields, field_names
 from idkit.errors import DataError
 from idkit.io.provenance import Source
 
-__all__ = ["Column", "Field", "as_signal", "check_columns", "check_fields", "check_row_widths", "field_names",
-           "read_columns"]
+__all__ = ["Column", "as_signal", "check_columns", "check_row_widths", "read_columns"]
 
 
 @dataclass(frozen=True)

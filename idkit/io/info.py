@@ -4,9 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, fields
 
-from idkit.checks import Choice, Instance, Real, Reals, Text, Whole
+from idkit.checks import Choice, Field, Instance, Real, Reals, Text, Whole, check_fields
 from idkit.errors import DataError
-from idkit.io.contract import Field, check_fields
 
 __all__ = ["ISOLATORS", "MAX_REPETITION", "SPLITS", "Excitation", "MeasurementInfo"]
 

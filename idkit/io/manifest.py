@@ -20,13 +20,12 @@ from pathlib import Path
 
 import pandas as pd
 
-from idkit.checks import Choice, Instance, Real, Reals, Text, accepts, refuse
+from idkit.checks import Choice, Field, Instance, Real, Reals, Text, accepts, check_fields, field_names, refuse
 from idkit.errors import DataError
 from idkit.inputfiles import load_json, read_input_bytes
 from idkit.atomic import write_bytes_atomic
 from idkit.io.columns import KIND, KINDS
 from idkit.io.csv_measurement import read_csv_measurement, write_csv_measurement
-from idkit.io.contract import Field, check_fields, field_names
 from idkit.io.info import AMPLITUDE_QUANTITIES, INFO_FIELDS, Excitation, MeasurementInfo
 from idkit.io.matfile import MatColumn, parse_mat_column, read_mat
 from idkit.io.measurements import Measurement, check_excitation_resolved

@@ -11,11 +11,11 @@ import pytest
 
 from idkit.errors import DataError
 from idkit.io import Excitation, MeasurementInfo, QuasiStaticMeasurement, WhiteNoiseMeasurement, read_manifest
-from idkit.io.contract import Column, Field, check_columns, check_fields
+from idkit.io.contract import Column, check_columns
 from idkit.io.info import EXCITATION_FIELDS as INFO_EXCITATION_FIELDS
 from idkit.io.info import INFO_FIELDS
 from idkit.io.manifest import ENTRY_FIELDS, EXCITATION_FIELDS, MANIFEST_FIELDS
-from idkit.checks import Real
+from idkit.checks import Field, Real, check_fields
 
 
 def _json_value(value):
