@@ -62,12 +62,13 @@ from idkit.responses import random_response, shock_sweep
 from idkit.responses.frequency_domain import frequency_domain_rms, small_amplitude_transfer
 from idkit.responses.random_vibration import WELCH_OVERLAP, settle_records_for
 from idkit.responses.shock import default_shock_grid
+from idkit.signal.harmonics import resonance_grid_maxima
 from idkit.signal.psd import synthesize_random, welch_rms
 from idkit.simulate import free_fall, small_amplitude_resonance
 from idkit.simulate._kernel import _pack, _pack_states
 from idkit.simulate._arrays import system_arrays
 from idkit.simulate.base_motion import integrate_acceleration
-from idkit.simulate.harmonic import RESONANCE_BAND_HZ
+from idkit.simulate.harmonic import RESONANCE_BAND_HZ, RESONANCE_GRID_POINTS
 from idkit.simulate.parameter_sets import simulate_parameter_sets, stack_parameter_sets, stored_energy
 from idkit.simulate.time_response import _steps_covering
 
@@ -241,11 +242,14 @@ def _floor_motion(profile, seed: int, count: int, draws: tuple, rate: float, tot
 
 
 def _resonances(systems) -> np.ndarray:
-    """:func:`small_amplitude_resonance` of each system (the grid of its 2000-point search,
-    :func:`idkit.signal.harmonics.search_resonance`, not refined)."""
-    freq = np.geomspace(RESONANCE_BAND_HZ[0], RESONANCE_BAND_HZ[1], 2000)
-    top, _ = small_amplitude_transfer(systems, np.array([system.masses for system in systems]), freq)
-    return freq[np.argmax(np.abs(top), axis=1)]
+    """:func:`small_amplitude_resonance` of each system, every system's transmissibility evaluated
+    at once on the same grid (:func:`idkit.signal.harmonics.resonance_grid_maxima`, the grid part
+    of the search, not refined)."""
+    masses = np.array([system.masses for system in systems])
+    grid, _, index = resonance_grid_maxima(lambda freq: np.abs(small_amplitude_transfer(systems, masses, freq)[0]),
+                                           f_min=RESONANCE_BAND_HZ[0], f_max=RESONANCE_BAND_HZ[1],
+                                           n_grid=RESONANCE_GRID_POINTS)
+    return grid[index]
 
 
 def _floor_transfer(systems, profiles, rate: float):

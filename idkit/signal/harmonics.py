@@ -47,6 +47,7 @@ __all__ = [
     "hosidf",
     "resonance_peak",
     "ResonanceSearch",
+    "resonance_grid_maxima",
     "search_resonance",
     "input_flatness",
 ]
@@ -556,13 +557,36 @@ class ResonanceSearch:
 
 
 @accepts(f_min=Real(unit="Hz", gt=0), f_max=Real(unit="Hz", gt=0),
+         n_grid=Whole(ge=3, meaning="a peak needs a sample on each side"))
+def resonance_grid_maxima(magnitude: Callable[[NDArray[np.float64]], NDArray[np.float64]], *, f_min: float,
+                          f_max: float, n_grid: int) -> tuple[NDArray[np.float64], NDArray[np.float64], np.ndarray]:
+    """The grid part of the resonance search, for one magnitude or several evaluated at once.
+
+    ``magnitude(grid)`` is evaluated on ``n_grid`` log-spaced frequencies from ``f_min`` to
+    ``f_max`` Hz (:func:`numpy.geomspace`) and may return shape ``(n_grid,)`` or ``(..., n_grid)``
+    (one row per system, e.g.); the maximum of each row is its first largest value.
+
+    Returns
+    -------
+    (ndarray, ndarray, ndarray)
+        The grid (Hz), the magnitudes on it and the index of each row's maximum (shape
+        ``values.shape[:-1]``: a 0-d integer array for one magnitude).
+    """
+    if not f_min < f_max:
+        raise ParameterError(f"f_min, f_max: found {f_min!r}, {f_max!r}, expected f_min < f_max in Hz")
+    grid = np.geomspace(f_min, f_max, n_grid)
+    values = magnitude(grid)
+    return grid, values, np.argmax(values, axis=-1)
+
+
+@accepts(f_min=Real(unit="Hz", gt=0), f_max=Real(unit="Hz", gt=0),
          n_grid=Whole(ge=3, meaning="a peak needs a sample on each side"), refine=Flag())
 def search_resonance(magnitude: Callable[[NDArray[np.float64]], NDArray[np.float64]], *, f_min: float,
                      f_max: float, n_grid: int, refine: bool = True) -> ResonanceSearch:
     """The largest value of ``magnitude(freq)`` over ``[f_min, f_max]`` Hz.
 
-    ``magnitude`` is evaluated on ``n_grid`` log-spaced frequencies (:func:`numpy.geomspace`);
-    with ``refine``, a maximum inside the grid is refined by bounded Brent minimisation of
+    ``magnitude`` is evaluated on ``n_grid`` log-spaced frequencies (:func:`numpy.geomspace`,
+    :func:`resonance_grid_maxima`, which also serves many systems at once); with ``refine``, a maximum inside the grid is refined by bounded Brent minimisation of
     ``-log magnitude`` in ``log f`` between the grid neighbours, to ``1e-12`` in ``log f``. A
     maximum at an end of the grid is returned as it is (:attr:`ResonanceSearch.inside` false).
 
@@ -576,11 +600,8 @@ def search_resonance(magnitude: Callable[[NDArray[np.float64]], NDArray[np.float
     >>> round(found.freq, 6), round(float(f_n * np.sqrt(np.sqrt(1 + 8 * zeta**2) - 1) / (2 * zeta)), 6)
     (4.987608, 4.987608)
     """
-    if not f_min < f_max:
-        raise ParameterError(f"f_min, f_max: found {f_min!r}, {f_max!r}, expected f_min < f_max in Hz")
-    grid = np.geomspace(f_min, f_max, n_grid)
-    values = magnitude(grid)
-    index = int(np.argmax(values))
+    grid, values, index = unchecked(resonance_grid_maxima)(magnitude, f_min=f_min, f_max=f_max, n_grid=n_grid)
+    index = int(index)
     if not refine or index in (0, grid.size - 1):
         return ResonanceSearch(float(grid[index]), float(values[index]), grid, values, index)
     refined = optimize.minimize_scalar(lambda log_f: -np.log(magnitude(np.exp(log_f))),

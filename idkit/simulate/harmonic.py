@@ -128,6 +128,9 @@ _RESONANCES_KEPT = 256
 #: resonance lies at or beyond it (not located).
 RESONANCE_BAND_HZ = (0.1, 5e3)
 
+#: Points of the log grid :func:`small_amplitude_resonance` searches (a step of 0.54 %).
+RESONANCE_GRID_POINTS = 2000
+
 
 def small_amplitude_resonance(system, *, arrays=None) -> float:
     """Frequency (Hz) of the peak of the small-amplitude transmissibility (0.1 Hz - 5 kHz): the
@@ -144,7 +147,7 @@ def small_amplitude_resonance(system, *, arrays=None) -> float:
     found = _RESONANCES.get(key)
     if found is None:
         found = search_resonance(lambda freq: np.abs(system.transmissibility(freq)), f_min=RESONANCE_BAND_HZ[0],
-                                 f_max=RESONANCE_BAND_HZ[1], n_grid=2000, refine=False).freq
+                                 f_max=RESONANCE_BAND_HZ[1], n_grid=RESONANCE_GRID_POINTS, refine=False).freq
         if len(_RESONANCES) >= _RESONANCES_KEPT:
             _RESONANCES.clear()
         _RESONANCES[key] = found
