@@ -28,9 +28,9 @@ from idkit.io.manifest import (
     read_manifest,
     write_measurement_set,
 )
+from idkit.io.contract import SAMPLE_RATE_TOLERANCE
 from idkit.io.matfile import MatColumn, read_mat
 from idkit.io.measurements import (
-    SAMPLE_RATE_TOLERANCE,
     AccelerationRecord,
     DropMeasurement,
     Measurement,

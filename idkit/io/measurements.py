@@ -2,8 +2,9 @@
 
 All arrays are SI (s, m, N, m/s, m/s^2, V), 1-D float64, read-only copies.
 Deflection is ``x_top - x_base``: positive = tension. Constructors check
-their inputs (same length, at least two samples, finite values, strictly
-increasing time, declared sample rate consistent with the time column) and
+their inputs against each kind's declared columns (:class:`idkit.io.contract.Column`:
+same length, finite values; the time column's :class:`~idkit.io.contract.Axis`: at
+least two samples, strictly increasing, declared sample rate consistent with it) and
 raise :class:`~idkit.errors.DataError` naming the source file, column and
 1-based row. Nothing is altered, dropped or clipped.
 """
@@ -16,16 +17,15 @@ from typing import ClassVar
 import numpy as np
 import pandas as pd
 
-from idkit.checks import Instance
+from idkit.checks import Instance, Real, Reals
 from idkit.errors import DataError
 from idkit.io.columns import KIND
-from idkit.io.contract import Column, as_signal, check_columns, read_columns
+from idkit.io.contract import TIME_AXIS, UNIFORM_TIME_AXIS, Column, as_signal, read_record
 from idkit.io.info import MeasurementInfo
 from idkit.io.provenance import Source
 from idkit.io.units import SI_UNITS
 
 __all__ = [
-    "SAMPLE_RATE_TOLERANCE",
     "AccelerationRecord",
     "DropMeasurement",
     "Measurement",
@@ -34,9 +34,6 @@ __all__ = [
     "WhiteNoiseMeasurement",
     "measurement_class",
 ]
-
-#: Relative tolerance between a declared sample rate and ``1 / median(diff(time))``.
-SAMPLE_RATE_TOLERANCE = 0.01
 
 # SI unit of each signal field, used by to_dataframe() and the writer.
 SIGNAL_QUANTITIES: dict[str, str] = {
@@ -47,108 +44,39 @@ SIGNAL_QUANTITIES: dict[str, str] = {
 }
 
 
-def sample_rate_of(time: np.ndarray) -> float:
-    """Sample rate in Hz of a time column: ``1 / median(diff(time))`` (robust to one odd step)."""
-    return 1.0 / float(np.median(np.diff(np.asarray(time, dtype=float))))
-
-
-def check_time(time: np.ndarray, source: Source, sample_rate_hz: float | None) -> None:
-    """Check a time column: at least two samples, strictly increasing, declared rate.
-
-    Parameters
-    ----------
-    time : numpy.ndarray
-        Time stamps in s (finite).
-    source : Source
-        For error messages.
-    sample_rate_hz : float or None
-        Declared sample rate in Hz; if given, ``1 / median(diff(time))`` must
-        agree within :data:`SAMPLE_RATE_TOLERANCE` (1 %, relative).
-
-    Raises
-    ------
-    DataError
-        On fewer than two samples, a repeated or decreasing time stamp, or a
-        contradicting sample rate.
-    """
-    if time.size < 2:
-        raise DataError(f"{source.where('time')}: found {time.size} data row(s), "
-                        "expected at least 2")
-    step = np.diff(time)
-    bad = np.flatnonzero(step <= 0)
-    if bad.size:
-        i = int(bad[0]) + 1
-        what = "duplicate time stamp" if step[i - 1] == 0 else "time decreases (unsorted)"
-        raise DataError(
-            f"{source.where('time')}: {source.row_label(i)}: {what}: found "
-            f"{float(time[i])!r} after {float(time[i - 1])!r}, expected strictly increasing time"
-        )
-    if sample_rate_hz is not None:
-        rate_hz = 1.0 / float(np.median(step))
-        if abs(rate_hz - sample_rate_hz) > SAMPLE_RATE_TOLERANCE * sample_rate_hz:
-            raise DataError(
-                f"{source.where('time')}: sample rate from the time column "
-                f"{rate_hz:.6g} Hz (1 / median step) contradicts the declared "
-                f"sample_rate_hz {sample_rate_hz:.6g} Hz (tolerance "
-                f"{SAMPLE_RATE_TOLERANCE:.0%} relative)"
-            )
-
-
-def _check_uniform_time(time: np.ndarray, source: Source) -> None:
-    """Every step within :data:`SAMPLE_RATE_TOLERANCE` of the median step (shock records).
-
-    The shock response spectra, the low-pass filter and the velocity change run at one
-    sample rate, ``1 / median step``; a missing sample (a step of two), a splice or a
-    pause would be processed as if the samples were evenly spaced. The tolerance is the
-    one between a declared and the measured sample rate; stamps rounded to four
-    significant digits of the step stay within it.
-    """
-    step = np.diff(time)
-    median = float(np.median(step))
-    bad = np.flatnonzero(np.abs(step - median) > SAMPLE_RATE_TOLERANCE * median)
-    if bad.size:
-        i = int(bad[0]) + 1
-        raise DataError(
-            f"{source.where('time')}: {source.row_label(i)}: time step {float(step[i - 1]):.6g} s from "
-            f"{float(time[i - 1])!r} to {float(time[i])!r}, {float(step[i - 1]) / median:.4g} x the median step "
-            f"{median:.6g} s ({bad.size} such step(s)); expected uniform sampling within "
-            f"{SAMPLE_RATE_TOLERANCE:.0%} (a missing or inserted sample?), since the spectra and integrals run "
-            "at one sample rate"
-        )
-
-
 def check_excitation_resolved(measurement) -> None:
     """Refuse a stated excitation the samples cannot hold (a manifest's ``freq_hz`` or ``band_hz``).
 
     A stepped-sine frequency must lie below the Nyquist frequency (half the sample rate read off the
     time column: at or above it the sine aliases or has no resolved phase); a white-noise band may
-    end at it.
+    end at it. The bounds are declared as specs of the one message template.
 
     Raises
     ------
     DataError
         Naming the file, the stated value and the Nyquist frequency.
     """
-    rate = measurement.sample_rate_hz
     excitation = measurement.info.excitation
     if excitation is None:
         return
-    if measurement.kind == "stepped_sine" and not excitation.freq < rate / 2:
-        raise DataError(f"{measurement.source.where()}: stepped-sine frequency {excitation.freq:g} Hz (excitation "
-                        f"freq_hz) is not below the Nyquist frequency {rate / 2:.6g} Hz of its {rate:.6g} Hz "
-                        "samples; expected a frequency the record resolves (< sample rate / 2)")
-    if measurement.kind == "white_noise" and excitation.band is not None and \
-            excitation.band[1] > _NYQUIST_SLACK * rate / 2:
-        raise DataError(f"{measurement.source.where()}: white-noise band [{excitation.band[0]:g}, "
-                        f"{excitation.band[1]:g}] Hz (excitation band_hz) reaches above the Nyquist frequency "
-                        f"{rate / 2:.6g} Hz of its {rate:.6g} Hz samples; expected a band the record can hold "
-                        "(HIGH <= sample rate / 2)")
+    nyquist = measurement.sample_rate_hz / 2
+    samples = f"the Nyquist frequency {nyquist:.6g} Hz of its {2 * nyquist:.6g} Hz samples"
+    where = measurement.source.where()
+    if measurement.kind == "stepped_sine":
+        Real(unit="Hz", lt=nyquist, meaning=f"below {samples}: a sine there aliases or has no resolved phase"
+             ).check(excitation.freq, f"{where}: excitation freq_hz", DataError)
+    if measurement.kind == "white_noise" and excitation.band is not None:
+        Reals(unit="Hz", le=_NYQUIST_SLACK * nyquist, meaning=f"up to {samples}").check(
+            excitation.band, f"{where}: excitation band_hz", DataError)
 
 
 #: A white-noise band may end at the Nyquist frequency; the sample rate is read off the median
 #: time step, so its round-off (relative 1e-9 covers time columns written with 10 digits) is allowed.
 _NYQUIST_SLACK = 1.0 + 1e-9
 
+
+#: Every measurement kind's time column, in s, with the time axis rule.
+_TIME = Column("time", required=True, axis=TIME_AXIS)
 
 _INFO = Instance((MeasurementInfo,))
 _SOURCE = Instance((Source,))
@@ -165,16 +93,16 @@ class _SignalMeasurement:
     def _validate(self) -> None:
         _INFO.check(self.info, "info", DataError)
         _SOURCE.check(self.source, "source", DataError)
-        check_columns({c.name: getattr(self, c.name) for c in self._columns}, self._columns, self.source.where())
-        for name, array in read_columns(self.signals(), self.source).items():
+        for name, array in read_record({c.name: getattr(self, c.name) for c in self._columns}, self._columns,
+                                       self.source, self.info.sample_rate_hz).items():
             object.__setattr__(self, name, array)
-        check_time(self.time, self.source, self.info.sample_rate_hz)
 
     @property
     def sample_rate_hz(self) -> float:
-        """Sample rate in Hz from the median time step (the one rule; ``info.sample_rate_hz``,
-        when declared, has been checked against it within :data:`SAMPLE_RATE_TOLERANCE`)."""
-        return sample_rate_of(self.time)
+        """Sample rate in Hz from the median time step (the one rule, :meth:`Axis.rate_hz`;
+        ``info.sample_rate_hz``, when declared, has been checked against it within
+        :data:`~idkit.io.contract.SAMPLE_RATE_TOLERANCE`)."""
+        return TIME_AXIS.rate_hz(self.time)
 
     @property
     def n_samples(self) -> int:
@@ -242,7 +170,7 @@ class QuasiStaticMeasurement(_SignalMeasurement):
     source: Source = field(default_factory=Source)
 
     kind: ClassVar[str] = "quasi_static"
-    _columns: ClassVar[tuple[Column, ...]] = (Column("time", required=True), Column("deflection", required=True),
+    _columns: ClassVar[tuple[Column, ...]] = (_TIME, Column("deflection", required=True),
                                               Column("force", required=True), Column("v_rel"))
 
     def __post_init__(self) -> None:
@@ -278,7 +206,7 @@ class WhiteNoiseMeasurement(_SignalMeasurement):
     source: Source = field(default_factory=Source)
 
     kind: ClassVar[str] = "white_noise"
-    _columns: ClassVar[tuple[Column, ...]] = (Column("time", required=True), Column("v_base", pair="velocity"),
+    _columns: ClassVar[tuple[Column, ...]] = (_TIME, Column("v_base", pair="velocity"),
                                               Column("v_top", pair="velocity"), Column("a_base", pair="acceleration"),
                                               Column("a_top", pair="acceleration"))
 
@@ -325,7 +253,7 @@ class SteppedSineMeasurement(_SignalMeasurement):
     source: Source = field(default_factory=Source)
 
     kind: ClassVar[str] = "stepped_sine"
-    _columns: ClassVar[tuple[Column, ...]] = (Column("time", required=True), Column("v_base", required=True),
+    _columns: ClassVar[tuple[Column, ...]] = (_TIME, Column("v_base", required=True),
                                               Column("v_top", required=True), Column("x_base"), Column("u_in"))
 
     def __post_init__(self) -> None:
@@ -374,7 +302,7 @@ class DropMeasurement(_SignalMeasurement):
     source: Source = field(default_factory=Source)
 
     kind: ClassVar[str] = "drop"
-    _columns: ClassVar[tuple[Column, ...]] = (Column("time", required=True), Column("deflection", required=True),
+    _columns: ClassVar[tuple[Column, ...]] = (_TIME, Column("deflection", required=True),
                                               Column("a_top_1", required=True), Column("a_top_2", required=True),
                                               Column("v_rel"))
 
@@ -454,8 +382,7 @@ class AccelerationRecord:
         for j in range(accel.shape[1]):
             as_signal(accel[:, j], f"test {j + 1}", self.source)
         accel.setflags(write=False)
-        check_time(time, self.source, None)
-        _check_uniform_time(time, self.source)
+        UNIFORM_TIME_AXIS.check(time, "time", self.source)
         object.__setattr__(self, "time", time)
         object.__setattr__(self, "accel", accel)
 
@@ -466,8 +393,8 @@ class AccelerationRecord:
 
     @property
     def sample_rate_hz(self) -> float:
-        """Sample rate in Hz from the median time step."""
-        return sample_rate_of(self.time)
+        """Sample rate in Hz from the median time step (:meth:`Axis.rate_hz`)."""
+        return TIME_AXIS.rate_hz(self.time)
 
     def to_dataframe(self) -> pd.DataFrame:
         """Time and one acceleration column per test (``test_1 [m/s^2]`` ...)."""

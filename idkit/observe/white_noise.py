@@ -152,7 +152,7 @@ def frf_from_white_noise(measurement: WhiteNoiseMeasurement, *,
     Notes
     -----
     The sample rate is the measurement's ``sample_rate_hz`` (1 / median step of the time
-    column, :func:`idkit.io.measurements.sample_rate_of`) to 10 significant digits;
+    column, :meth:`idkit.io.contract.Axis.rate_hz`) to 10 significant digits;
     a declared ``info.sample_rate_hz`` was checked against it to 1 % when the measurement was
     built.
 
