@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 from idkit.errors import DataError
-from idkit.io import Excitation, MeasurementInfo, QuasiStaticMeasurement, WhiteNoiseMeasurement, read_manifest
-from idkit.io.contract import Column, check_columns
+from idkit.io import (AccelerationRecord, Excitation, MeasurementInfo, QuasiStaticMeasurement, Source,
+                      WhiteNoiseMeasurement, read_manifest)
+from idkit.io.contract import TIME_AXIS, UNIFORM_TIME_AXIS, Column, check_columns
 from idkit.io.info import EXCITATION_FIELDS as INFO_EXCITATION_FIELDS
 from idkit.io.info import INFO_FIELDS
 from idkit.io.manifest import ENTRY_FIELDS, EXCITATION_FIELDS, MANIFEST_FIELDS
@@ -114,3 +115,25 @@ def test_column_contract_walks_required_and_paired_columns():
         WhiteNoiseMeasurement(time=t, a_base=t)
     with pytest.raises(DataError, match="column 'force' missing"):
         QuasiStaticMeasurement(time=t, deflection=t, force=None)
+
+
+@pytest.mark.parametrize(("time", "axis", "rate", "fragments"), [
+    ([0.0], TIME_AXIS, None, ["found 1 data row(s), expected at least 2"]),
+    ([0.0, 0.1, 0.1], TIME_AXIS, None, ["sample 3 (1-based)", "duplicate time stamp", "found 0.1 after 0.1"]),
+    ([0.0, 0.2, 0.1], TIME_AXIS, None, ["sample 3", "time decreases (unsorted)", "expected strictly increasing"]),
+    ([0.0, 0.1, 0.2], TIME_AXIS, 20.0, ["10 Hz (1 / median step)", "declared sample_rate_hz 20 Hz", "tolerance 1%"]),
+    ([0.0, 0.1, 0.2, 0.4], UNIFORM_TIME_AXIS, None, ["sample 4", "time step 0.2 s", "2 x the median step 0.1 s",
+                                                     "expected uniform sampling within 1%"]),
+])
+def test_the_time_axis_rule_names_the_column_the_row_and_what_was_expected(time, axis, rate, fragments):
+    """One declared rule (io.contract.Axis) for every reader's time column; a record whose steps vary
+    is refused only where the axis is declared uniform."""
+    source = Source(path="rec.csv")
+    with pytest.raises(DataError) as raised:
+        axis.check(np.array(time), "time", source, rate)
+    message = str(raised.value)
+    assert message.startswith("file 'rec.csv', column 'time': ")
+    assert all(fragment in message for fragment in fragments), message
+    TIME_AXIS.check(np.array([0.0, 0.1, 0.2, 0.4]), "time", source)  # irregular steps: fine when not uniform
+    with pytest.raises(DataError, match="expected uniform sampling"):
+        AccelerationRecord(time=[0.0, 0.1, 0.2, 0.4], accel=np.zeros(4))
