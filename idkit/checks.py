@@ -31,18 +31,21 @@ import argparse
 import functools
 import inspect
 import math
+import os
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
 from idkit.errors import DataError, ParameterError
+from idkit.inputfiles import path_problem
 from idkit.limits import SMALLEST_NORMAL
 
-__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Text", "Samples", "Seed", "Instance", "Either",
-           "accepts", "unchecked", "refuse", "DECLARED", "Contract", "OptionValueError", "Field", "field_names",
+__all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Text", "Samples", "Seed", "Instance", "InputPath",
+           "Either", "accepts", "unchecked", "refuse", "DECLARED", "Contract", "OptionValueError", "Field", "field_names",
            "check_fields"]
 
 #: Values that ``float()`` converts but that are not numbers.
@@ -471,6 +474,32 @@ class Instance(Spec):
 
     def bad_values(self) -> list:
         return super().bad_values() + ["abc", 3.0]
+
+
+@dataclass(frozen=True)
+class InputPath(Spec):
+    """A path to read from: a string or path-like naming an existing ``kind`` of entry (``"file"``,
+    a regular file; ``"folder"``; ``"any"``, either: :func:`idkit.inputfiles.path_problem`),
+    returned as a :class:`pathlib.Path`. ``what`` says what it should be, in the message."""
+
+    kind: str = "any"
+    what: str = ""
+    optional: bool = False
+
+    def expected(self) -> str:
+        return self.what or {"file": "a regular file", "folder": "a folder", "any": "a file or folder"}[self.kind]
+
+    def coerce(self, value: Any) -> Path:
+        if not isinstance(value, (str, os.PathLike)) or not str(value):
+            raise _Refused(_found(value), self.expected())
+        path = Path(value)
+        problem = path_problem(path, self.kind)
+        if problem is not None:
+            raise _Refused(f"'{path}' ({problem})", self.expected())
+        return path
+
+    def bad_values(self) -> list:
+        return super().bad_values() + [3.0, True, "", "/nonexistent/idkit-input-path"]
 
 
 @dataclass(frozen=True)

@@ -27,10 +27,36 @@ from pathlib import Path
 
 from idkit.errors import IdkitError
 
-__all__ = ["decode_utf8", "load_json", "read_input_bytes"]
+__all__ = ["decode_utf8", "load_json", "path_problem", "read_input_bytes"]
 
 _UTF16_32_BOMS = ((b"\xff\xfe\x00\x00", "UTF-32"), (b"\x00\x00\xfe\xff", "UTF-32"),
                   (b"\xff\xfe", "UTF-16"), (b"\xfe\xff", "UTF-16"))
+
+
+def path_problem(path: Path, kind: str = "file") -> str | None:
+    """Why ``path`` is not an existing entry of ``kind`` to read, in words (None when it is one).
+
+    ``kind``: ``"file"`` (a regular file: a FIFO or a device would block or never end),
+    ``"folder"``, or ``"any"`` (either). The one rule of :func:`read_input_bytes`, of a manifest's
+    data files and of the :class:`idkit.checks.InputPath` arguments.
+    """
+    try:
+        mode = path.stat().st_mode
+    except FileNotFoundError:
+        return "not found"
+    except NotADirectoryError:
+        return "not found (a part of the path is a file, not a folder)"
+    except OSError as exc:  # symlink loop, name too long, no permission on a parent folder
+        return f"cannot be read ({exc.strerror or exc})"
+    except ValueError as exc:  # an embedded NUL byte in the name
+        return f"invalid path ({exc})"
+    if kind == "folder" and not stat.S_ISDIR(mode):
+        return "not a folder"
+    if kind == "file" and stat.S_ISDIR(mode):
+        return "is a folder, expected a file"
+    if kind == "file" and not stat.S_ISREG(mode):
+        return "not a regular file (a FIFO, socket or device), expected a file"
+    return None
 
 
 def read_input_bytes(path: str | Path, label: str, error: type[IdkitError]) -> bytes:
@@ -53,23 +79,12 @@ def read_input_bytes(path: str | Path, label: str, error: type[IdkitError]) -> b
     Raises
     ------
     error
-        Not found, a folder, not a regular file, not readable.
+        Not found, a folder, not a regular file, not readable (:func:`path_problem`).
     """
     path = Path(path)
-    try:
-        mode = path.stat().st_mode
-    except FileNotFoundError:
-        raise error(f"{label}: not found") from None
-    except NotADirectoryError:
-        raise error(f"{label}: not found (a part of the path is a file, not a folder)") from None
-    except OSError as exc:  # symlink loop, name too long, no permission on a parent folder
-        raise error(f"{label}: cannot be read ({exc.strerror or exc})") from None
-    except ValueError as exc:  # an embedded NUL byte in the name
-        raise error(f"{label}: invalid path ({exc})") from None
-    if stat.S_ISDIR(mode):
-        raise error(f"{label}: is a folder, expected a file") from None
-    if not stat.S_ISREG(mode):
-        raise error(f"{label}: not a regular file (a FIFO, socket or device), expected a file")
+    problem = path_problem(path, "file")
+    if problem is not None:
+        raise error(f"{label}: {problem}")
     try:
         return path.read_bytes()
     except OSError as exc:  # PermissionError, EIO, ...

@@ -12,6 +12,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from idkit.checks import InputPath, accepts
 from idkit.errors import DataError
 from idkit.io.columns import KINDS
 from idkit.io.csv_measurement import read_csv_measurement
@@ -33,6 +34,7 @@ def default_data_dir() -> Path:
     return Path(__file__).resolve().parents[2] / "data"
 
 
+@accepts(data_dir=InputPath(kind="folder", what="a data folder holding measurement sets"), error=DataError)
 def find_measurement_sets(data_dir, *, required=("wire_rope", "elastomer")) -> dict[str, MeasurementSet]:
     """Load every measurement set in ``data_dir`` and its sub-folders, keyed by the isolator its records name.
 
@@ -52,9 +54,6 @@ def find_measurement_sets(data_dir, *, required=("wire_rope", "elastomer")) -> d
     DataError
         Not a folder, no manifest, an isolator in two sets, or a required isolator missing.
     """
-    data_dir = Path(data_dir)
-    if not data_dir.is_dir():
-        raise DataError(f"{data_dir}: not a folder, expected a data folder holding measurement sets")
     folders = sorted({path.parent for path in data_dir.glob("*/manifest.json")})
     if (data_dir / "manifest.json").exists():
         folders.insert(0, data_dir)
@@ -147,6 +146,7 @@ def guess_kind(path) -> str:
                     "(or pass --kind)")
 
 
+@accepts(path=InputPath(what="a measurement-set folder (with manifest.json) or a data file"), error=DataError)
 def load_measurements(path, kind: str | None = None) -> tuple[str, list]:
     """Measurements of a measurement-set folder or of a single data file.
 
@@ -158,10 +158,6 @@ def load_measurements(path, kind: str | None = None) -> tuple[str, list]:
     (str, list)
         A title (the set's name or the file name) and the measurements.
     """
-    path = Path(path)
-    if not path.exists():
-        raise DataError(f"'{path}': no such file or folder; expected a measurement-set folder "
-                        "(with manifest.json) or a data file")
     if path.is_dir():
         if not (path / "manifest.json").exists():
             raise DataError(f"folder '{path}': no manifest.json; expected a measurement-set "

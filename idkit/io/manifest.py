@@ -22,7 +22,7 @@ import pandas as pd
 
 from idkit.checks import Choice, Field, Instance, Real, Reals, Text, accepts, check_fields, field_names, refuse
 from idkit.errors import DataError
-from idkit.inputfiles import load_json, read_input_bytes
+from idkit.inputfiles import load_json, path_problem, read_input_bytes
 from idkit.atomic import write_bytes_atomic
 from idkit.io.columns import KIND, KINDS
 from idkit.io.csv_measurement import read_csv_measurement, write_csv_measurement
@@ -205,28 +205,12 @@ def _check_unique_ids(ids: list[str], what: str) -> None:
             raise DataError(f"{what} {number} (1-based): duplicate id {entry_id!r} (first in entry {first[entry_id]})")
 
 
-def _file_problem(folder: Path, file: str) -> str | None:
-    """Why ``folder/file`` is not a usable data file (None if it is one)."""
-    target = folder / file
-    try:
-        target.stat()
-    except FileNotFoundError:
-        return "not found"
-    except OSError as exc:  # a symlink loop, a file where a folder is expected, ...
-        return f"cannot be read ({exc.strerror or exc})"
-    if target.is_dir():
-        return "is a folder, expected a file"
-    if not target.is_file():
-        return "is not a regular file (a FIFO, socket or device)"
-    return None
-
-
 def _check_data_files(folder: Path, path: Path, entries: tuple[ManifestEntry, ...]) -> None:
     """Every listed file exists, is a regular file, lies inside the set's folder once
     symlinks are resolved, and no two entries name the same file (checked before any
     data file is read; all missing files are listed in one message)."""
     problems = [f"entry {n} (id {e.id!r}): '{e.file}' {why}" for n, e in enumerate(entries, 1)
-                if (why := _file_problem(folder, e.file)) is not None]
+                if (why := path_problem(folder / e.file, "file")) is not None]
     if problems:
         raise DataError(f"manifest '{path}': data file(s) not found or unusable (relative to "
                         f"'{folder}'): {'; '.join(problems)}")

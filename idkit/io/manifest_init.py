@@ -14,10 +14,12 @@ from __future__ import annotations
 
 import json
 import re
-from pathlib import Path
+from collections.abc import Mapping
 
 from idkit.atomic import write_text_atomic
+from idkit.checks import Flag, InputPath, Instance, Text, accepts
 from idkit.errors import DataError
+from idkit.io.columns import KIND
 from idkit.io.manifest import (
     MANIFEST_NAME,
     Manifest,
@@ -49,6 +51,16 @@ def _entry_id(relative: str, taken: set[str]) -> str:
     return name
 
 
+#: ``files``: a glob pattern relative to the folder that stays inside it (pathlib's glob refuses
+#: an empty or absolute pattern, ``.`` names no file, a ``..`` component leaves the folder).
+_FILES = Text(pattern=r"(?![./]*$)(?!/)(?!(?:.*/)?\.\.(?:/|$)).+", optional=True,
+              what="a glob pattern relative to the folder and inside it (e.g. 'drops/*.csv')")
+
+
+@accepts(folder=InputPath(kind="folder", what="the folder holding the data files"), kind=KIND, files=_FILES,
+         metadata=Instance((Mapping,), what="a mapping of manifest entry keys to values", optional=True),
+         mat_columns=Instance((Mapping,), what="a mapping of column names to 'var [unit]'", optional=True),
+         name=Text(), append=Flag(), force=Flag(), error=DataError)
 def init_manifest(folder, *, kind: str, files: str | None = None, metadata: dict | None = None,
                   mat_columns: dict | None = None, name: str = "", append: bool = False,
                   force: bool = False) -> Manifest:
@@ -89,9 +101,6 @@ def init_manifest(folder, *, kind: str, files: str | None = None, metadata: dict
         file, the column and what was expected), an existing manifest without ``force`` or
         ``append``.
     """
-    folder = Path(folder)
-    if not folder.is_dir():
-        raise DataError(f"folder '{folder}': not a folder, expected the folder holding the data files")
     path = folder / MANIFEST_NAME
     if append and force:
         raise DataError("give at most one of append and force")
@@ -109,10 +118,6 @@ def init_manifest(folder, *, kind: str, files: str | None = None, metadata: dict
         raise DataError(f"manifest '{path}': not found, nothing to append to")
     listed = {entry["file"] for entry in existing.get("measurements", [])}
     pattern = "**/*" if files is None else files
-    parts = Path(pattern).parts
-    if not parts or Path(pattern).is_absolute() or ".." in parts:  # pathlib's glob refuses '' and '/...'
-        raise DataError(f"files: found {pattern!r}, expected a glob pattern relative to the folder '{folder}' "
-                        "and inside it (e.g. 'drops/*.csv')")
     found = sorted(p for p in folder.glob(pattern) if p.is_file() and p.name.endswith(DATA_SUFFIXES))
     relative = [p.relative_to(folder).as_posix() for p in found]
     relative = [r for r in relative if r not in listed] if append else relative

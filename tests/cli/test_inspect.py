@@ -76,7 +76,7 @@ def test_inspect_broken_folder_exits_2_with_a_clear_message(quick_data, tmp_path
     err = capsys.readouterr().err
     assert "idkit: error:" in err and missing in err
     assert main(["inspect", str(tmp_path / "nowhere")]) == 2
-    assert "no such file or folder" in capsys.readouterr().err
+    assert "nowhere' (not found), expected a measurement-set folder" in capsys.readouterr().err
     empty = tmp_path / "empty"
     empty.mkdir()
     assert main(["inspect", str(empty)]) == 2

@@ -50,9 +50,12 @@ def test_bundled_data_sets_and_a_listed_file():
 
 
 def test_missing_and_empty_folders_are_refused(tmp_path):
-    with pytest.raises(DataError, match="not a folder"):
+    with pytest.raises(DataError, match=r"^data_dir: found '.*nowhere' \(not found\), expected a data folder"):
         find_measurement_sets(tmp_path / "nowhere")
+    (tmp_path / "file.csv").write_text("time [s]\n")
+    with pytest.raises(DataError, match=r"^data_dir: found '.*file.csv' \(not a folder\), expected a data folder"):
+        find_measurement_sets(tmp_path / "file.csv")
     with pytest.raises(DataError, match="no manifest.json"):
         find_measurement_sets(tmp_path)
-    with pytest.raises(DataError, match="no such file or folder"):
+    with pytest.raises(DataError, match=r"^path: found '.*nowhere' \(not found\), expected a measurement-set folder"):
         load_measurements(tmp_path / "nowhere")
