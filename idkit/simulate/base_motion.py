@@ -172,9 +172,3 @@ def _trapezoid_rows(a, h, x0, v0, displacement, velocity):
             velocity[row, i] = sum_v
             sum_x += half * (velocity[row, i] + velocity[row, i - 1])
             displacement[row, i] = sum_x
-
-
-def _column(value):
-    """A scalar, or a per-run array broadcast along time."""
-    value = np.asarray(value, dtype=float)
-    return value[..., None] if value.ndim else float(value)
