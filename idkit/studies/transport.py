@@ -42,8 +42,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from idkit.checks import Instance, Real, Reals, Whole, accepts
 from idkit.errors import ParameterError, SimulationError
-from idkit.gravity import STANDARD_GRAVITY
 from idkit.models import GeneralizedMaxwell, HybridSystem, IwanModel, SDOFSystem, VoigtModel, library
 from idkit.responses.random_vibration import FLAT_LEVELS, random_response, settle_records_for
 from idkit.responses.shock import shock_sweep
@@ -90,14 +90,16 @@ class TransportSystem:
 MAX_TARGET_FREQ = float(np.sqrt(np.sqrt(np.finfo(float).max))) / (2.0 * np.pi)
 
 
-def _omega(target_freq: float) -> float:
-    if isinstance(target_freq, (bool, np.bool_)) or not isinstance(target_freq, (int, float, np.integer, np.floating)) \
-            or not (np.isfinite(target_freq) and 0 < target_freq <= MAX_TARGET_FREQ):
-        raise ParameterError(f"target_freq: found {target_freq!r}, expected a positive frequency in Hz, at most "
-                             f"{MAX_TARGET_FREQ:.3g} (omega^2 at most sqrt of the largest float64)")
-    return 2.0 * np.pi * float(target_freq)
+#: ``target_freq`` of the tuning, Hz.
+_TARGET_FREQ = Real(unit="Hz", gt=0, le=MAX_TARGET_FREQ, meaning="omega^2 at most sqrt of the largest float64")
 
 
+@accepts(wire_rope=Instance((IwanModel,), optional=True), elastomer=Instance(
+             (GeneralizedMaxwell,), what="a GeneralizedMaxwell stiffness model", optional=True),
+         target_freq=_TARGET_FREQ, reference_mass=Real(unit="kg", gt=0), reference_damping_ratio=Real(ge=0),
+         r_k_values=Reals(gt=0, min_size=0, meaning="stiffness ratios g1 / |k*_el|: none, no hybrids"),
+         intermediate_fraction=Real(gt=0, lt=1, meaning="of the top mass: the hybrids are tuned to target_freq on "
+                                    "the top mass alone, the intermediate mass small beside it (thesis 5.1)"))
 def transport_systems(*, wire_rope: IwanModel | None = None, elastomer: GeneralizedMaxwell | None = None,
                       target_freq: float = 5.0, reference_mass: float = 15.0, reference_damping_ratio: float = 0.07,
                       r_k_values=RK_VALUES, intermediate_fraction: float = 0.01) -> list[TransportSystem]:
@@ -109,31 +111,7 @@ def transport_systems(*, wire_rope: IwanModel | None = None, elastomer: Generali
     """
     wire_rope = wire_rope if wire_rope is not None else library.get("table_7_1_wire_rope")
     elastomer = elastomer if elastomer is not None else library.get("table_7_3_elastomer")
-    if not isinstance(wire_rope, IwanModel):  # its stuck stiffness and g1 tune the systems
-        raise ParameterError(f"wire_rope: found {type(wire_rope).__name__}, expected an IwanModel")
-    if not isinstance(elastomer, GeneralizedMaxwell):  # its |k*| at target_freq and scaling
-        raise ParameterError(f"elastomer: found {type(elastomer).__name__}, expected a GeneralizedMaxwell "
-                             "stiffness model")
-    omega = _omega(target_freq)
-    for name, value in (("reference_mass", reference_mass), ("intermediate_fraction", intermediate_fraction)):
-        if isinstance(value, bool) or not (isinstance(value, (int, float, np.integer, np.floating))
-                                           and np.isfinite(value) and value > 0):
-            raise ParameterError(f"{name}: found {value!r}, expected a finite number > 0")
-    if not intermediate_fraction < 1:  # 1e300 built a 1.4e301 kg intermediate mass
-        raise ParameterError(f"intermediate_fraction: found {intermediate_fraction!r}, expected a fraction of the "
-                             "top mass below 1 (the hybrids are tuned to target_freq on the top mass alone, the "
-                             "intermediate mass small beside it: thesis 5.1, 1 % in the study)")
-    if isinstance(reference_damping_ratio, bool) or not (
-            isinstance(reference_damping_ratio, (int, float, np.integer, np.floating))
-            and np.isfinite(reference_damping_ratio) and reference_damping_ratio >= 0):
-        raise ParameterError(f"reference_damping_ratio: found {reference_damping_ratio!r}, expected a finite "
-                             "ratio >= 0")
-    if isinstance(r_k_values, (str, bytes)) or not np.iterable(r_k_values):
-        raise ParameterError(f"r_k_values: found {r_k_values!r}, expected a sequence of positive ratios g1 / |k*_el|")
-    for r_k in r_k_values:
-        if isinstance(r_k, (bool, np.bool_)) or not isinstance(r_k, (int, float, np.integer, np.floating)) \
-                or not (np.isfinite(r_k) and r_k > 0):
-            raise ParameterError(f"r_k: found {r_k!r}, expected positive ratios g1 / |k*_el|")
+    omega = 2.0 * np.pi * target_freq
     systems = []
 
     stiffness = reference_mass * omega**2
@@ -149,9 +127,7 @@ def transport_systems(*, wire_rope: IwanModel | None = None, elastomer: Generali
     k_stuck = wire_rope.stuck_stiffness
     systems.append(TransportSystem("wire rope", "wire_rope", SDOFSystem(k_stuck / omega**2, wire_rope), k_stuck))
 
-    for r_k in r_k_values:
-        if not (np.isfinite(r_k) and r_k > 0):
-            raise ParameterError(f"r_k: found {r_k!r}, expected positive ratios g1 / |k*_el|")
+    for r_k in np.ravel(r_k_values).tolist():
         scaled = elastomer.scaled(wire_rope.g1 / (r_k * k_elastomer))
         series = float(abs(1.0 / (1.0 / scaled.complex_stiffness(target_freq)
                                    + 1.0 / wire_rope.small_amplitude_stiffness(target_freq))))
@@ -163,16 +139,6 @@ def transport_systems(*, wire_rope: IwanModel | None = None, elastomer: Generali
     return systems
 
 
-def _reals(values, name: str, what: str) -> np.ndarray:
-    """``values`` as a float array, or a :class:`ParameterError` naming ``name`` (numpy's ValueError before)."""
-    if isinstance(values, (str, bytes)):
-        raise ParameterError(f"{name}: found {values!r}, expected {what}")
-    try:
-        return np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name}: found {str(values)[:80]!r}, expected {what}") from None
-
-
 def _top_mass(moving_mass: float, isolator) -> float:
     top = moving_mass - isolator.m_eff
     if top <= 0:
@@ -182,6 +148,7 @@ def _top_mass(moving_mass: float, isolator) -> float:
     return top
 
 
+@accepts(target_freq=_TARGET_FREQ)
 def tuning_table(systems: list[TransportSystem], target_freq: float = 5.0) -> pd.DataFrame:
     """Masses and tuning checks of the study systems (one row each).
 
@@ -192,7 +159,6 @@ def tuning_table(systems: list[TransportSystem], target_freq: float = 5.0) -> pd
     ``SDOFSystem.mass`` / ``HybridSystem.mass`` holds); ``intermediate mass [kg]``;
     ``stiffness at target [N/m]``; ``r_k [-]`` requested and, for the hybrids, achieved.
     """
-    _omega(target_freq)  # checked: a negative one gave the same |k*| and a NaN a warning and NaN ratios
     if isinstance(systems, (str, bytes)) or not np.iterable(systems):
         raise ParameterError(f"systems: found {type(systems).__name__}, expected a list of TransportSystem "
                              "(transport_systems)")
@@ -350,6 +316,16 @@ def quick_transport_options(*, max_speed: float = 1.0, max_height: float = 0.15)
                 speeds=np.linspace(0.02, max_speed, 8), heights=np.linspace(0.01, max_height, 6))
 
 
+#: Fastest impact speed (m/s) of the shock sweeps: ``v0^2`` (the drop height ``v0^2 / (2 g)``) stays finite.
+MAX_IMPACT_SPEED = float(np.sqrt(np.finfo(float).max))
+
+
+# checked before the first simulation, not after minutes of random vibration
+@accepts(levels=Reals(unit="(m/s^2)^2/Hz", gt=0, meaning="flat floor PSD levels"), n_realizations=Whole(ge=1),
+         seed=Whole(ge=0, meaning="random seed"),
+         speeds=Reals(unit="m/s", ge=0, lt=MAX_IMPACT_SPEED, optional=True,
+                      meaning="impact speeds |v0|: a negative one would be an upward impact"),
+         heights=Reals(unit="m", ge=0, optional=True, meaning="drop heights"))
 def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVELS, n_realizations: int = 30,
                             seed: int = 2026, r_k_values=RK_VALUES, speeds=None, heights=None, workers=None,
                             progress=None) -> TransportStudy:
@@ -379,31 +355,12 @@ def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVEL
     TransportStudy
     """
     systems = transport_systems(wire_rope=wire_rope, elastomer=elastomer, r_k_values=r_k_values)
-    speeds = np.linspace(0.01, 1.0, 40) if speeds is None else _reals(speeds, "speeds", "impact speeds in m/s")
-    heights = np.linspace(0.005, 0.15, 30) if heights is None else _reals(heights, "heights", "drop heights in m")
-    levels = _reals(levels, "levels", "floor PSD levels in (m/s^2)^2/Hz").ravel()
-    # 2.5 realizations ran as 2, a seed 'a' failed in numpy after the tuning
-    if isinstance(n_realizations, (bool, np.bool_)) or not isinstance(n_realizations, (int, np.integer, float,
-                                                                                          np.floating)) \
-            or not np.isfinite(n_realizations) or n_realizations != int(n_realizations) or n_realizations < 1:
-        raise ParameterError(f"n_realizations: found {n_realizations!r}, expected a whole number >= 1")
-    n_realizations = int(n_realizations)
-    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise ParameterError(f"seed: found {seed!r}, expected an integer >= 0")
-    # checked before the first simulation, not after minutes of random vibration
-    if speeds.ndim != 1 or speeds.size == 0 or not np.all(np.isfinite(speeds) & (speeds >= 0)):
-        raise ParameterError(f"speeds: found {speeds!r:.80}, expected a non-empty 1-D array of impact speeds "
-                             "|v0| >= 0 m/s (a negative one would be an upward impact)")
-    with np.errstate(over="ignore"):
-        too_fast = ~np.isfinite(speeds**2 / (2.0 * STANDARD_GRAVITY))
-    if too_fast.any():  # refused by shock_sweep only after the random vibration
-        raise ParameterError(f"speeds: found {float(speeds[too_fast][0])!r} m/s, whose drop height v0^2 / (2 g) "
-                             f"overflows float64; expected speeds below {np.sqrt(2.0 * STANDARD_GRAVITY) * np.sqrt(np.finfo(float).max):.3g} m/s")
-    if heights.ndim != 1 or heights.size == 0 or not np.all(np.isfinite(heights) & (heights >= 0)):
-        raise ParameterError(f"heights: found {heights!r:.80}, expected a non-empty 1-D array of drop heights "
-                             ">= 0 m")
-    if len(levels) == 0:
-        raise ParameterError("levels: found none, expected at least one floor PSD level in (m/s^2)^2/Hz")
+    speeds = np.linspace(0.01, 1.0, 40) if speeds is None else speeds
+    heights = np.linspace(0.005, 0.15, 30) if heights is None else heights
+    levels = np.ravel(levels)
+    for name, values in (("speeds", speeds), ("heights", heights)):  # shock_sweep takes one axis
+        if values.ndim != 1:
+            raise ParameterError(f"{name}: found an array of shape {values.shape}, expected a 1-D array")
     profiles = {float(level): PsdProfile.flat(level, f_lo=0.1, f_hi=100.0) for level in levels}
     total = len(systems) * (len(levels) + 2)
     done = 0
