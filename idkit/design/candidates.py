@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from idkit.catalogue.scaling import fit_scaling_law, geometry_factor
+from idkit.checks import Flag, Real, accepts
 from idkit.catalogue.uncertainty import draw_models as draw_catalogue_models
 from idkit.errors import ParameterError
 from idkit.models import GeneralizedMaxwell, HybridSystem, SDOFSystem
@@ -185,6 +186,8 @@ def predicted_part(catalogue, family: str, dimensions: dict, *, name: str | None
                       dict(dimensions))
 
 
+@accepts(payload_mass_kg=Real(unit="kg", gt=0), hybrids=Flag(), singles=Flag(),
+         intermediate_fraction=Real(gt=0, lt=1, meaning="of the payload per mount"))
 def make_candidates(parts, payload_mass_kg: float, *, counts=(4,), hybrids: bool = True, singles: bool = True,
                     intermediate_fraction: float = 0.01) -> list[Candidate]:
     """Every single part and every (elastomer, wire rope) pair, at every mount count.
@@ -201,13 +204,9 @@ def make_candidates(parts, payload_mass_kg: float, *, counts=(4,), hybrids: bool
     intermediate_fraction : float
         Hybrid intermediate mass per mount as a fraction of the payload per mount.
     """
-    if not (isinstance(payload_mass_kg, (int, float)) and math.isfinite(payload_mass_kg) and payload_mass_kg > 0):
-        raise ParameterError(f"payload_mass_kg: found {payload_mass_kg!r}, expected a positive mass in kg")
     for count in counts:
         if isinstance(count, bool) or not (isinstance(count, (int, np.integer)) and count >= 1):
             raise ParameterError(f"counts: found {count!r}, expected whole numbers >= 1")
-    if not 0 < intermediate_fraction < 1:
-        raise ParameterError(f"intermediate_fraction: found {intermediate_fraction!r}, expected a fraction in (0, 1)")
     candidates = []
     ropes = [p for p in parts if p.family == "wire_rope"]
     bodies = [p for p in parts if p.family == "elastomer"]

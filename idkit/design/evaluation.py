@@ -54,6 +54,7 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
+from idkit.checks import Flag, Instance, Whole, accepts, unchecked
 from idkit.design.candidates import Candidate, candidate_rng, draw_models
 from idkit.design.environment import Environment
 from idkit.errors import SimulationError
@@ -381,6 +382,12 @@ def _batched_metrics(systems, environment: Environment, *, screening: bool, seed
     return results
 
 
+#: ``n_draws``: parameter draws per candidate, besides its mean model.
+_DRAWS = Whole(ge=0, meaning="parameter draws per candidate")
+
+
+@accepts(candidate=Instance((Candidate,)), environment=Instance((Environment,)), n_draws=_DRAWS, screening=Flag(),
+         batched=Flag(), error=SimulationError)
 def evaluate_candidate(candidate: Candidate, environment: Environment, *, n_draws: int = 30, seed: int = 0,
                        screening: bool = True, batched: bool = True) -> dict:
     """Metrics of the mean model and of ``n_draws`` parameter draws of one candidate.
@@ -438,6 +445,8 @@ def _chunk_bounds(count: int, workers: int) -> list[tuple[int, int]]:
     return bounds
 
 
+@accepts(environment=Instance((Environment,)), n_draws=_DRAWS, screening=Flag(), workers=Whole(ge=1),
+         chunk_size=Whole(ge=1, optional=True), error=SimulationError)
 def evaluate_candidates(candidates, environment: Environment, *, n_draws: int = 30, seed: int = 0,
                         screening: bool = True, workers: int = 1, executor=None, chunk_size: int | None = None,
                         ) -> list[dict]:
@@ -454,12 +463,8 @@ def evaluate_candidates(candidates, environment: Environment, *, n_draws: int = 
     were run.
     """
     candidates = list(candidates)
-    if isinstance(workers, bool) or not (isinstance(workers, int) and workers >= 1):
-        raise SimulationError(f"workers: found {workers!r}, expected a whole number >= 1")
-    if isinstance(n_draws, bool) or not (isinstance(n_draws, int) and n_draws >= 0):
-        raise SimulationError(f"n_draws: found {n_draws!r}, expected a whole number >= 0")
     if executor is None and workers == 1:
-        return [evaluate_candidate(c, environment, n_draws=n_draws, seed=seed, screening=screening)
+        return [unchecked(evaluate_candidate)(c, environment, n_draws=n_draws, seed=seed, screening=screening)
                 for c in candidates]
     if chunk_size is not None or (executor is not None and workers == 1):
         size = max(1, chunk_size or -(-len(candidates) // 4))
