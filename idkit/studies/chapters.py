@@ -30,6 +30,7 @@ import numpy as np
 import pandas as pd
 
 from idkit import __version__
+from idkit.checks import Choice, Flag, accepts
 from idkit.errors import IdkitError
 from idkit.models import library
 from idkit.responses.harmonic_map import HarmonicMap, harmonic_map
@@ -410,6 +411,7 @@ def _elastomer_cases(grid: StudyGrid, progress: _Progress, workers) -> tuple[Ela
     return tuple(cases)
 
 
+@accepts(name=Choice(STUDY_NAMES), quick=Flag(), error=StudyError)
 def compute_chapter_study(name: str, *, quick: bool = False, workers: int | None = None,
                           progress: Callable[[int, int], None] | None = None) -> ChapterStudy:
     """Simulate the chapter 3 (``"wire-rope"``), 4 (``"elastomer"``) or 5 (``"hybrid"``) study.
@@ -435,10 +437,6 @@ def compute_chapter_study(name: str, *, quick: bool = False, workers: int | None
     StudyError
         ``name`` is not one of :data:`STUDY_NAMES`, or ``quick`` is not a bool.
     """
-    if name not in STUDY_NAMES:
-        raise StudyError(f"study: found {name!r}, expected one of {list(STUDY_NAMES)}")
-    if not isinstance(quick, (bool, np.bool_)):  # quick="no" ran the quick grids (a truthy string)
-        raise StudyError(f"quick: found {quick!r}, expected True or False")
     grid = study_grid(quick)
     tracker = _Progress(progress, _total_work(name, grid))
     started = time.perf_counter()
