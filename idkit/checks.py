@@ -405,7 +405,8 @@ class Samples(Spec):
         shape = " or ".join(f"{n}-D" for n in self.ndim)
         finite = "finite " if self.finite else ""
         unit = f" in {self.unit}" if self.unit not in ("", "-") else ""
-        return f"a {shape} array of at least {self.min_size} {finite}real samples{unit}"
+        count = f"at least {self.min_size} " if self.min_size else ""
+        return f"a {shape} array of {count}{finite}real samples{unit}"
 
     def coerce(self, value: Any) -> np.ndarray:
         if isinstance(value, (str, bytes, bool, np.bool_)) or value is None:
@@ -427,9 +428,11 @@ class Samples(Spec):
         return view
 
     def bad_values(self) -> list:
-        bad = super().bad_values() + ["abc", np.zeros((self.min_size, 2, 2)), np.zeros(max(self.min_size - 1, 0))]
+        bad = super().bad_values() + ["abc", np.zeros((self.min_size, 2, 2))]
+        if self.min_size > 0:
+            bad.append(np.zeros(self.min_size - 1))
         if self.finite:
-            bad.append(np.full(self.min_size, np.nan))
+            bad.append(np.full(max(self.min_size, 1), np.nan))
         return bad
 
 

@@ -41,22 +41,22 @@ __all__ = [
 _MIN_POINTS = 3  # a reversal needs at least one sample on either side of it
 
 
-def _as_record(values: ArrayLike, name: str) -> NDArray[np.float64]:
-    """Return ``values`` as a finite 1-D float array or raise :class:`FitError`."""
-    array = np.asarray(values, dtype=float)
-    if array.ndim != 1:
-        raise DataError(f"{name} must be 1-D; found shape {array.shape}")
+#: A deflection or force record: 1-D, finite (a record too short for a reversal is a
+#: :class:`FitError`, :func:`_reversible`, not a malformed argument).
+_DEFLECTION = Samples(unit="m", min_size=0)
+_FORCE = Samples(unit="N", min_size=0)
+
+
+def _reversible(array: NDArray[np.float64], name: str) -> NDArray[np.float64]:
+    """``array`` (a checked record) if it is long enough to hold a reversal, else :class:`FitError`."""
     if array.size < _MIN_POINTS:
         raise FitError(
             f"{name} has {array.size} samples; at least {_MIN_POINTS} are needed to find a reversal"
         )
-    if not np.all(np.isfinite(array)):
-        bad = int(np.flatnonzero(~np.isfinite(array))[0])
-        raise DataError(f"{name} must be finite; found {array[bad]} at index {bad}")
     return array
 
 
-@accepts(min_excursion=Real(unit="m", gt=0), error=DataError)
+@accepts(deflection=_DEFLECTION, min_excursion=Real(unit="m", gt=0), error=DataError)
 def find_reversals(deflection: ArrayLike, *, min_excursion: float) -> NDArray[np.intp]:
     """Indices of the turning points (reversals) of a deflection record.
 
@@ -96,7 +96,7 @@ def find_reversals(deflection: ArrayLike, *, min_excursion: float) -> NDArray[np
     >>> find_reversals(x, min_excursion=1e-5).tolist()
     [50, 150, 250, 350]
     """
-    x = _as_record(deflection, "deflection")
+    x = _reversible(deflection, "deflection")
     reversals: list[int] = []
     # Direction: first departure from the start by more than the threshold.
     departed = np.flatnonzero(np.abs(x - x[0]) > min_excursion)
@@ -266,7 +266,8 @@ def reversal_threshold(deflection) -> float:
     return max(REVERSAL_NOISE_FACTOR * noise_level(x), REVERSAL_RANGE_FRACTION * float(np.ptp(x)))
 
 
-@accepts(min_excursion=Real(unit="m", gt=0), large_threshold=Real(unit="m", ge=0, optional=True), error=DataError)
+@accepts(deflection=_DEFLECTION, min_excursion=Real(unit="m", gt=0),
+         large_threshold=Real(unit="m", ge=0, optional=True), error=DataError)
 def split_cycles(
     deflection: ArrayLike,
     *,
@@ -302,7 +303,7 @@ def split_cycles(
     >>> split.n_cycles, round(float(split.amplitude[0]), 6)
     (2, 0.002)
     """
-    x = _as_record(deflection, "deflection")
+    x = _reversible(deflection, "deflection")
     reversals = unchecked(find_reversals)(x, min_excursion=min_excursion)
     branch_start = reversals[:-1]
     branch_stop = reversals[1:]
@@ -405,8 +406,8 @@ def _branch_positions(
     return positions
 
 
-@accepts(min_excursion=Real(unit="m", gt=0, optional=True), points_per_branch=Whole(ge=2),
-         spacing=Choice(("deflection", "index")), error=DataError)
+@accepts(deflection=_DEFLECTION, force=_FORCE, min_excursion=Real(unit="m", gt=0, optional=True),
+         points_per_branch=Whole(ge=2), spacing=Choice(("deflection", "index")), error=DataError)
 def resample_loops(
     deflection: ArrayLike,
     force: ArrayLike,
@@ -471,8 +472,8 @@ def resample_loops(
     >>> loops.deflection.shape
     (31,)
     """
-    x = _as_record(deflection, "deflection")
-    f = _as_record(force, "force")
+    x = _reversible(deflection, "deflection")
+    f = _reversible(force, "force")
     if f.size != x.size:
         raise DataError(f"force has {f.size} samples; expected {x.size} like deflection")
     points = points_per_branch
