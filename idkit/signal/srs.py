@@ -241,16 +241,14 @@ class ShockSpectra(_OscillatorBankSpectrum):
 
     Attributes
     ----------
-    freq : ndarray, shape (n_freq,)
-        Natural frequencies, Hz.
     absolute_acceleration : ndarray, shape (n_freq,)
         Maximax absolute acceleration of the oscillators, m/s^2 (unit of the input).
     relative_displacement : ndarray, shape (n_freq,)
         Maximax relative displacement ``max |z|``, m (input unit times s^2).
     pseudo_velocity : ndarray, shape (n_freq,)
         ``2 pi freq * relative_displacement``, m/s.
-    damping_ratio : float
-        Damping ratio of the oscillators.
+    freq, damping_ratio : ndarray, shape (n_freq,); float
+        Natural frequencies (Hz) and the oscillators' damping ratio, as every spectrum here.
 
     ``to_dataframe()``: columns ``freq [Hz]``, ``absolute_acceleration [m/s^2]``,
     ``pseudo_velocity [m/s]``, ``relative_displacement [m]``.
@@ -269,8 +267,6 @@ class ShockResponseSpectrum(_OscillatorBankSpectrum):
 
     Attributes
     ----------
-    freq : ndarray, shape (n_freq,)
-        Natural frequencies, Hz.
     positive : ndarray, shape (n_freq,)
         Largest response acceleration (signed maximum), m/s^2 (unit of the input).
     negative : ndarray, shape (n_freq,)
@@ -278,8 +274,8 @@ class ShockResponseSpectrum(_OscillatorBankSpectrum):
         ``-min(response)``, m/s^2.
     maximax : ndarray, shape (n_freq,)
         ``max(|response|) = max(positive, negative)``, m/s^2.
-    damping_ratio : float
-        Damping ratio of the oscillators.
+    freq, damping_ratio : ndarray, shape (n_freq,); float
+        Natural frequencies (Hz) and the oscillators' damping ratio, as every spectrum here.
 
     ``to_dataframe()``: columns ``freq [Hz]``, ``positive``, ``negative``, ``maximax``
     (unit of the input).
