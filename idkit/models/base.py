@@ -9,6 +9,8 @@ exposed by name through :meth:`IsolatorModel.params`; fitters build models with
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import ClassVar
 
@@ -57,6 +59,20 @@ class IsolatorArrays:
     clearance: float = 0.0  # m, half-width of the clearance before every Jenkin element
     slip_rate: np.ndarray = field(default_factory=lambda: np.zeros(2))  # (2,) r [-], v_ref [m/s]
     pinching: np.ndarray = field(default_factory=lambda: np.zeros(3))  # (3,) pinch [-], width [N], shift [N]
+
+
+@contextmanager
+def taking_params(model: str, params: Mapping[str, float], expected: str | None = None) -> Iterator[dict]:
+    """A copy of ``params`` for :meth:`IsolatorModel.from_params` to take values from with
+    ``dict.pop``: a name missing there is a :class:`ParameterError` naming ``model`` and the
+    name; with ``expected`` (the names the model takes, for the message), so is a name left over."""
+    left = dict(params)
+    try:
+        yield left
+    except KeyError as missing:
+        raise ParameterError(f"{model}: parameter {missing.args[0]!r} missing") from None
+    if expected is not None and left:
+        raise ParameterError(f"{model}: unknown parameters {sorted(left)}, expected {expected}")
 
 
 class IsolatorModel(ABC):

@@ -134,6 +134,8 @@ class BoucWenModel(IsolatorModel):
     """
 
     kind = "bouc_wen"
+    #: values :meth:`from_params` takes for the parameters a mapping leaves out
+    _DEFAULTS = {"b": 1.0, "c": 0.0, "c_visc": 0.0}
     _SPECS = (
         ParamSpec("k1", "N/m", 0.0, math.inf, "linear stiffness"),
         ParamSpec("k2", "N/m^2", -math.inf, math.inf, "sgn(x) x^2 coefficient"),
@@ -185,16 +187,14 @@ class BoucWenModel(IsolatorModel):
 
     @classmethod
     def from_params(cls, params: dict[str, float]) -> BoucWenModel:
-        params = dict(params)
         required = [spec.name for spec in cls._SPECS]
-        defaults = {"b": 1.0, "c": 0.0, "c_visc": 0.0}
-        missing = [name for name in required if name not in params and name not in defaults]
+        missing = [name for name in required if name not in params and name not in cls._DEFAULTS]
         if missing:
-            raise ParameterError(f"BoucWenModel: parameter {missing[0]!r} missing")
+            raise ParameterError(f"{cls.__name__}: parameter {missing[0]!r} missing")
         unknown = sorted(set(params) - set(required))
         if unknown:
-            raise ParameterError(f"BoucWenModel: unknown parameters {unknown}, expected {required}")
-        return cls(**{**defaults, **params})
+            raise ParameterError(f"{cls.__name__}: unknown parameters {unknown}, expected {required}")
+        return cls(**{**cls._DEFAULTS, **params})
 
     @accepts(deflection=DEFLECTION)
     def hysteretic_force(self, deflection, initial_z: float = 0.0) -> np.ndarray:

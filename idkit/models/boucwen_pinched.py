@@ -64,6 +64,7 @@ class PinchedBoucWenModel(BoucWenModel):
 
     kind = "bouc_wen_pinched"
     _SPECS = (*BoucWenModel._SPECS, *PINCH_SPECS)
+    _DEFAULTS = {**BoucWenModel._DEFAULTS, "pinch_shift": 0.0}
 
     def __init__(self, *, k1, k2, k3, alpha, beta, gamma, n, pinch, pinch_width, pinch_shift=0.0, b=1.0, c=0.0,
                  c_visc=0.0):
@@ -82,19 +83,6 @@ class PinchedBoucWenModel(BoucWenModel):
     def plain(self) -> BoucWenModel:
         """The Bouc-Wen model with the same parameters and no pinching."""
         return BoucWenModel(**{spec.name: value for spec, value in zip(BoucWenModel._SPECS, self._values)})
-
-    @classmethod
-    def from_params(cls, params: dict[str, float]) -> PinchedBoucWenModel:
-        params = dict(params)
-        required = [spec.name for spec in cls._SPECS]
-        defaults = {"b": 1.0, "c": 0.0, "c_visc": 0.0, "pinch_shift": 0.0}
-        missing = [name for name in required if name not in params and name not in defaults]
-        if missing:
-            raise ParameterError(f"PinchedBoucWenModel: parameter {missing[0]!r} missing")
-        unknown = sorted(set(params) - set(required))
-        if unknown:
-            raise ParameterError(f"PinchedBoucWenModel: unknown parameters {unknown}, expected {required}")
-        return cls(**{**defaults, **params})
 
     @property
     def saturated_force(self) -> float:

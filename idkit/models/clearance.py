@@ -28,8 +28,7 @@ import math
 import numpy as np
 
 from idkit.checks import accepts
-from idkit.errors import ParameterError
-from idkit.models.base import DEFLECTION, FREQUENCY, IsolatorArrays
+from idkit.models.base import DEFLECTION, FREQUENCY, IsolatorArrays, taking_params
 from idkit.models.iwan import IwanModel
 from idkit.models.laws import clearance_jenkin_forces
 from idkit.params import ParamSpec
@@ -82,11 +81,9 @@ class ClearanceIwanModel(IwanModel):
 
     @classmethod
     def from_params(cls, params: dict[str, float]) -> ClearanceIwanModel:
-        params = dict(params)
-        if "gap" not in params:
-            raise ParameterError("ClearanceIwanModel: parameter 'gap' missing")
-        gap = params.pop("gap")
-        plain = IwanModel.from_params(params)
+        with taking_params("ClearanceIwanModel", params) as left:  # the rest: IwanModel's
+            gap = left.pop("gap")
+        plain = IwanModel.from_params(left)
         return cls(gap=gap, g1=plain.g1, g2=plain.g2, g3=plain.g3, k=plain.k, fc=plain.fc, c_visc=plain.c_visc)
 
     def loop_area(self, amplitude: float) -> float:

@@ -13,10 +13,9 @@ import math
 import numpy as np
 
 from idkit.checks import accepts
-from idkit.errors import ParameterError
 from idkit.models.laws import (CONSTANT_SLIP, kernel_array, polynomial_spring_force, polynomial_spring_stiffness,
                                stop_operator)
-from idkit.models.base import C_VISC_SPEC, IsolatorArrays, IsolatorModel
+from idkit.models.base import C_VISC_SPEC, IsolatorArrays, IsolatorModel, taking_params
 from idkit.models.base import DEFLECTION, FREQUENCY, TIME, _as_time, _velocity
 from idkit.params import ParamSpec, check_array
 
@@ -127,19 +126,14 @@ class IwanModel(IsolatorModel):
 
     @classmethod
     def from_params(cls, params: dict[str, float]) -> IwanModel:
-        params = dict(params)
-        order = sum(1 for name in params if name.startswith("k_"))
-        try:
+        with taking_params("IwanModel", params, "g1..g3, k_i, fc_i, c_visc") as left:
+            order = sum(1 for name in left if name.startswith("k_"))
             model = cls(
-                g1=params.pop("g1"), g2=params.pop("g2", 0.0), g3=params.pop("g3", 0.0),
-                k=[params.pop(f"k_{i}") for i in range(1, order + 1)],
-                fc=[params.pop(f"fc_{i}") for i in range(1, order + 1)],
-                c_visc=params.pop("c_visc", 0.0),
+                g1=left.pop("g1"), g2=left.pop("g2", 0.0), g3=left.pop("g3", 0.0),
+                k=[left.pop(f"k_{i}") for i in range(1, order + 1)],
+                fc=[left.pop(f"fc_{i}") for i in range(1, order + 1)],
+                c_visc=left.pop("c_visc", 0.0),
             )
-        except KeyError as missing:
-            raise ParameterError(f"IwanModel: parameter {missing.args[0]!r} missing") from None
-        if params:
-            raise ParameterError(f"IwanModel: unknown parameters {sorted(params)}, expected g1..g3, k_i, fc_i, c_visc")
         return model
 
     def spring_force(self, deflection) -> np.ndarray:

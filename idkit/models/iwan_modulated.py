@@ -49,7 +49,7 @@ import numpy as np
 
 from idkit.checks import accepts
 from idkit.errors import ParameterError
-from idkit.models.base import DEFLECTION, IsolatorArrays
+from idkit.models.base import DEFLECTION, IsolatorArrays, taking_params
 from idkit.models.iwan import IwanModel
 from idkit.models import laws
 from idkit.models.laws import kernel_array
@@ -197,14 +197,10 @@ class ModulatedIwanModel(IwanModel):
 
     @classmethod
     def from_params(cls, params: dict[str, float]) -> ModulatedIwanModel:
-        params = dict(params)
-        try:
-            modulation = params.pop("slip_modulation")
-            length = params.pop("slip_length")
-        except KeyError as missing:
-            raise ParameterError(f"ModulatedIwanModel: parameter {missing.args[0]!r} missing") from None
-        growth = params.pop("slip_growth", 0.0)  # model files written before the symmetric term: b = 0
-        return cls.from_iwan(IwanModel.from_params(params), slip_modulation=modulation, slip_length=length,
+        with taking_params("ModulatedIwanModel", params) as left:  # the rest: IwanModel's
+            modulation, length = left.pop("slip_modulation"), left.pop("slip_length")
+        growth = left.pop("slip_growth", 0.0)  # model files written before the symmetric term: b = 0
+        return cls.from_iwan(IwanModel.from_params(left), slip_modulation=modulation, slip_length=length,
                              slip_growth=growth)
 
     @accepts(deflection=DEFLECTION)

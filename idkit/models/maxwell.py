@@ -21,7 +21,7 @@ import numpy as np
 from idkit.checks import Choice, Real, accepts
 from idkit.errors import ParameterError
 from idkit.models.laws import kernel_array, maxwell_states
-from idkit.models.base import M_EFF_SPEC, IsolatorArrays, IsolatorModel
+from idkit.models.base import M_EFF_SPEC, IsolatorArrays, IsolatorModel, taking_params
 from idkit.models.base import DEFLECTION, FREQUENCY, TIME, _as_time, _velocity
 from idkit.params import ParamSpec, check_array
 
@@ -269,20 +269,15 @@ class GeneralizedMaxwell(_Viscoelastic, IsolatorModel):
 
     @classmethod
     def from_params(cls, params: dict[str, float], *, quantity: str = "stiffness") -> GeneralizedMaxwell:
-        params = dict(params)
-        order = sum(1 for name in params if name.startswith("k_"))
-        try:
+        with taking_params("GeneralizedMaxwell", params, "k0, k_i, rate_i, m_eff") as left:
+            order = sum(1 for name in left if name.startswith("k_"))
             model = cls(
-                k0=params.pop("k0"),
-                k=[params.pop(f"k_{i}") for i in range(1, order + 1)],
-                rate=[params.pop(f"rate_{i}") for i in range(1, order + 1)],
-                m_eff=params.pop("m_eff", 0.0),
+                k0=left.pop("k0"),
+                k=[left.pop(f"k_{i}") for i in range(1, order + 1)],
+                rate=[left.pop(f"rate_{i}") for i in range(1, order + 1)],
+                m_eff=left.pop("m_eff", 0.0),
                 quantity=quantity,
             )
-        except KeyError as missing:
-            raise ParameterError(f"GeneralizedMaxwell: parameter {missing.args[0]!r} missing") from None
-        if params:
-            raise ParameterError(f"GeneralizedMaxwell: unknown parameters {sorted(params)}, expected k0, k_i, rate_i, m_eff")
         return model
 
     @accepts(freq=FREQUENCY)
@@ -370,13 +365,8 @@ class VoigtModel(_Viscoelastic, IsolatorModel):
 
     @classmethod
     def from_params(cls, params: dict[str, float]) -> VoigtModel:
-        params = dict(params)
-        try:
-            model = cls(k=params.pop("k"), damping=params.pop("damping"), m_eff=params.pop("m_eff", 0.0))
-        except KeyError as missing:
-            raise ParameterError(f"VoigtModel: parameter {missing.args[0]!r} missing") from None
-        if params:
-            raise ParameterError(f"VoigtModel: unknown parameters {sorted(params)}, expected k, damping, m_eff")
+        with taking_params("VoigtModel", params, "k, damping, m_eff") as left:
+            model = cls(k=left.pop("k"), damping=left.pop("damping"), m_eff=left.pop("m_eff", 0.0))
         return model
 
     @accepts(freq=FREQUENCY)

@@ -28,7 +28,7 @@ import numpy as np
 
 from idkit.checks import accepts
 from idkit.errors import ParameterError
-from idkit.models.base import DEFLECTION, TIME, IsolatorArrays, _as_time, _velocity
+from idkit.models.base import DEFLECTION, TIME, IsolatorArrays, _as_time, _velocity, taking_params
 from idkit.models.iwan import IwanModel
 from idkit.models.laws import kernel_array, rate_dependent_slip_force, rate_dependent_stop_operator
 from idkit.params import ParamSpec
@@ -96,12 +96,9 @@ class RateDependentIwanModel(IwanModel):
 
     @classmethod
     def from_params(cls, params: dict[str, float]) -> RateDependentIwanModel:
-        params = dict(params)
-        try:
-            gain, speed = params.pop("slip_rate_gain"), params.pop("slip_speed")
-        except KeyError as missing:
-            raise ParameterError(f"RateDependentIwanModel: parameter {missing.args[0]!r} missing") from None
-        plain = IwanModel.from_params(params)
+        with taking_params("RateDependentIwanModel", params) as left:  # the rest: IwanModel's
+            gain, speed = left.pop("slip_rate_gain"), left.pop("slip_speed")
+        plain = IwanModel.from_params(left)
         return cls(g1=plain.g1, g2=plain.g2, g3=plain.g3, k=plain.k, fc=plain.fc, c_visc=plain.c_visc,
                    slip_rate_gain=gain, slip_speed=speed)
 

@@ -9,68 +9,12 @@ figure pyplot/Jupyter displays. The backend is never chosen here: that is the ca
 (``MPLBACKEND``, ``%matplotlib``).
 """
 
-from idkit.plot.basic import (
-    plot_bode,
-    plot_harmonic_cross_sections,
-    plot_loops,
-    plot_shock_levels,
-    save_figure,
-)
-from idkit.plot.branches import plot_branch
-from idkit.plot.fits import (
-    plot_error_landscape,
-    plot_frf_fit,
-    plot_loop_fit,
-    plot_parameter_spread,
-    plot_storage_loss,
-    save_fit_plots,
-)
-from idkit.plot.responses import (
-    plot_complex_stiffness,
-    plot_map_cross_sections,
-    plot_map_surface,
-    plot_map_top_view,
-    plot_output_psd,
-    plot_resonance_vs_amplitude,
-    plot_shock_deflection,
-    plot_shock_sweep,
-    plot_transmissibility,
-)
-from idkit.plot.validation import (
-    plot_drop_histories,
-    plot_drop_validation,
-    plot_frf_validation,
-    plot_harmonic_validation,
-    plot_sweep_bode,
-    plot_sweep_maps,
-)
+# each module's __all__ is its public list, re-exported here as it stands (as scipy.signal does)
+from idkit.plot import basic, branches, fits, responses, validation
+from idkit.plot.basic import *  # noqa: F403
+from idkit.plot.branches import *  # noqa: F403
+from idkit.plot.fits import *  # noqa: F403
+from idkit.plot.responses import *  # noqa: F403
+from idkit.plot.validation import *  # noqa: F403
 
-__all__ = [
-    "plot_bode",
-    "plot_branch",
-    "plot_complex_stiffness",
-    "plot_drop_histories",
-    "plot_drop_validation",
-    "plot_error_landscape",
-    "plot_frf_fit",
-    "plot_frf_validation",
-    "plot_harmonic_cross_sections",
-    "plot_harmonic_validation",
-    "plot_sweep_bode",
-    "plot_sweep_maps",
-    "plot_loop_fit",
-    "plot_parameter_spread",
-    "plot_loops",
-    "plot_map_cross_sections",
-    "plot_map_surface",
-    "plot_map_top_view",
-    "plot_output_psd",
-    "plot_resonance_vs_amplitude",
-    "plot_shock_deflection",
-    "plot_shock_levels",
-    "plot_shock_sweep",
-    "plot_storage_loss",
-    "plot_transmissibility",
-    "save_figure",
-    "save_fit_plots",
-]
+__all__ = [*basic.__all__, *branches.__all__, *fits.__all__, *responses.__all__, *validation.__all__]

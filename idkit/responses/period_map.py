@@ -22,14 +22,13 @@ from idkit.errors import SimulationError
 from idkit.responses._sensitivity import tangent_start, tangent_step
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
 from idkit.simulate._parallel import run_chunked
-from idkit.simulate._generic_step import _initial_acceleration
 from idkit.simulate._kernel import (
     FLAG_OK,
-    _pack,
-    _pack_states,
     _store_end_state,
     base_motion_table,
     drivers_per_structure,
+    harmonic_member,
+    start_member,
     structure_step,
 )
 from idkit.simulate._structured import structure_of
@@ -83,17 +82,10 @@ def _period_kernel(structure):
         base_sin = np.empty(0)
         base_cos = np.empty(0)
         for b in range(batch):
-            omega = 2.0 * math.pi * freq[b]
-            n_per = steps_per_period[b]
-            h = 1.0 / (freq[b] * n_per)
-            amp = amplitude[b]
-            P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
-            state = np.zeros(6)
-            for d in range(ndof):
-                state[d] = q0[b, d]
-                state[2 + d] = v0[b, d]
-            S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
-            _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
+            omega, n_per, h, amp, P = harmonic_member(b, freq, steps_per_period, amplitude, poly, cvisc, jk, jfc, mk,
+                                                      mrate, bw, sm)
+            state, S = start_member(ndof, masses, q0[b], v0[b], jforce0[b], mstate0[b], bwz0[b], 0.0, 0.0, amp * omega,
+                                    P)
             # the member's tangent block, bound once: a view made inside the step loop costs numba a
             # reference-count increment and decrement (atomic) per step
             tangent = tangents[b]

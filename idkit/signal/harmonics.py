@@ -52,6 +52,12 @@ __all__ = [
     "input_flatness",
 ]
 
+#: The contract of the analysis window and the fit's orders, shared by :func:`fit_harmonics` and
+#: :func:`hosidf` (which analyses both its signals over one window).
+_WINDOW_ARGUMENTS = dict(fs=Real(unit="Hz", gt=0), freq=Real(unit="Hz", gt=0), n_harmonics=Whole(ge=1),
+                         n_periods=Whole(ge=1, optional=True), subharmonic=Flag(), align=Choice(("end", "start")),
+                         error=DataError)
+
 
 @dataclass(frozen=True)
 class HarmonicFit:
@@ -155,8 +161,7 @@ def _analysis_window(
     return first, n_samples, periods
 
 
-@accepts(signal=Samples(), fs=Real(unit="Hz", gt=0), freq=Real(unit="Hz", gt=0), n_harmonics=Whole(ge=1),
-         n_periods=Whole(ge=1, optional=True), subharmonic=Flag(), align=Choice(("end", "start")), error=DataError)
+@accepts(signal=Samples(), **_WINDOW_ARGUMENTS)
 def fit_harmonics(
     signal: ArrayLike,
     *,
@@ -314,8 +319,7 @@ class HosidfResult:
         )
 
 
-@accepts(base=Samples(), top=Samples(), fs=Real(unit="Hz", gt=0), freq=Real(unit="Hz", gt=0), n_harmonics=Whole(ge=1),
-         n_periods=Whole(ge=1, optional=True), subharmonic=Flag(), align=Choice(("end", "start")), error=DataError)
+@accepts(base=Samples(), top=Samples(), **_WINDOW_ARGUMENTS)
 def hosidf(
     base: ArrayLike,
     top: ArrayLike,

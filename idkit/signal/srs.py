@@ -43,6 +43,7 @@ rate), 1.2 % at ``20 f_n``, 0.2 % at ``50 f_n``. Sample the record accordingly.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 from math import factorial
 
 import numpy as np
@@ -217,48 +218,55 @@ def _oscillator_peaks(padded: NDArray[np.float64], fn: NDArray[np.float64], fs: 
     return largest, smallest, displacement
 
 
-@dataclass(frozen=True)
-class ShockSpectra:
+@dataclass(frozen=True, kw_only=True)
+class _OscillatorBankSpectrum:
+    """Peaks per natural frequency of a bank of oscillators with one damping ratio: the natural
+    frequencies, the damping ratio and the table every spectrum of this module gives.
+
+    ``_COLUMNS``: (attribute, column label with its unit) of each spectrum, in table order.
+    """
+
+    freq: NDArray[np.float64]
+    damping_ratio: float
+    _COLUMNS: ClassVar[tuple[tuple[str, str], ...]] = ()
+
+    def to_dataframe(self) -> pd.DataFrame:
+        """One row per natural frequency: ``freq [Hz]``, then each spectrum."""
+        return pd.DataFrame({"freq [Hz]": self.freq, **{label: getattr(self, name) for name, label in self._COLUMNS}})
+
+
+@dataclass(frozen=True, kw_only=True)
+class ShockSpectra(_OscillatorBankSpectrum):
     """The three shock response spectra of ISO 18431-4 of one acceleration record.
 
     Attributes
     ----------
-    freq : ndarray, shape (n_freq,)
-        Natural frequencies, Hz.
     absolute_acceleration : ndarray, shape (n_freq,)
         Maximax absolute acceleration of the oscillators, m/s^2 (unit of the input).
     relative_displacement : ndarray, shape (n_freq,)
         Maximax relative displacement ``max |z|``, m (input unit times s^2).
     pseudo_velocity : ndarray, shape (n_freq,)
         ``2 pi freq * relative_displacement``, m/s.
-    damping_ratio : float
-        Damping ratio of the oscillators.
+    freq, damping_ratio : ndarray, shape (n_freq,); float
+        Natural frequencies (Hz) and the oscillators' damping ratio, as every spectrum here.
+
+    ``to_dataframe()``: columns ``freq [Hz]``, ``absolute_acceleration [m/s^2]``,
+    ``pseudo_velocity [m/s]``, ``relative_displacement [m]``.
     """
 
-    freq: NDArray[np.float64]
     absolute_acceleration: NDArray[np.float64]
     relative_displacement: NDArray[np.float64]
     pseudo_velocity: NDArray[np.float64]
-    damping_ratio: float
-
-    def to_dataframe(self) -> pd.DataFrame:
-        """One row per natural frequency, units in the column names."""
-        return pd.DataFrame({
-            "freq [Hz]": self.freq,
-            "absolute_acceleration [m/s^2]": self.absolute_acceleration,
-            "pseudo_velocity [m/s]": self.pseudo_velocity,
-            "relative_displacement [m]": self.relative_displacement,
-        })
+    _COLUMNS = (("absolute_acceleration", "absolute_acceleration [m/s^2]"), ("pseudo_velocity", "pseudo_velocity [m/s]"),
+                ("relative_displacement", "relative_displacement [m]"))
 
 
-@dataclass(frozen=True)
-class ShockResponseSpectrum:
+@dataclass(frozen=True, kw_only=True)
+class ShockResponseSpectrum(_OscillatorBankSpectrum):
     """Shock response spectrum (absolute acceleration).
 
     Attributes
     ----------
-    freq : ndarray, shape (n_freq,)
-        Natural frequencies, Hz.
     positive : ndarray, shape (n_freq,)
         Largest response acceleration (signed maximum), m/s^2 (unit of the input).
     negative : ndarray, shape (n_freq,)
@@ -266,26 +274,17 @@ class ShockResponseSpectrum:
         ``-min(response)``, m/s^2.
     maximax : ndarray, shape (n_freq,)
         ``max(|response|) = max(positive, negative)``, m/s^2.
-    damping_ratio : float
-        Damping ratio of the oscillators.
+    freq, damping_ratio : ndarray, shape (n_freq,); float
+        Natural frequencies (Hz) and the oscillators' damping ratio, as every spectrum here.
+
+    ``to_dataframe()``: columns ``freq [Hz]``, ``positive``, ``negative``, ``maximax``
+    (unit of the input).
     """
 
-    freq: NDArray[np.float64]
     positive: NDArray[np.float64]
     negative: NDArray[np.float64]
     maximax: NDArray[np.float64]
-    damping_ratio: float
-
-    def to_dataframe(self) -> pd.DataFrame:
-        """One row per natural frequency: freq_Hz, positive, negative, maximax."""
-        return pd.DataFrame(
-            {
-                "freq [Hz]": self.freq,
-                "positive": self.positive,
-                "negative": self.negative,
-                "maximax": self.maximax,
-            }
-        )
+    _COLUMNS = (("positive", "positive"), ("negative", "negative"), ("maximax", "maximax"))
 
 
 def _checked(acceleration, fs, freq, damping_ratio, residual_duration):

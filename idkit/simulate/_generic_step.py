@@ -1,5 +1,6 @@
 """The generic step (numba): one step of any system, every part of each isolator read off its
-packed parameters at run time (:mod:`idkit.simulate._kernel` for the scheme and the layout).
+packed parameters at run time (:mod:`idkit.simulate._kernel` for the scheme,
+:mod:`idkit.simulate._layout` for the layout).
 
 Structures with a specialised step (:mod:`idkit.simulate._structured`) run the same operations
 on their parts only; everything else (Bouc-Wen, pinched Bouc-Wen, clearance or rate-dependent
@@ -23,13 +24,8 @@ from idkit.models.laws import (
     polynomial_spring_force,
     polynomial_spring_stiffness,
 )
+from idkit.simulate._layout import _BW, _GAP, _MGSUM, _NJ, _NM, _PINCH
 from idkit.simulate._structured import (
-    _BW,
-    _GAP,
-    _MGSUM,
-    _NJ,
-    _NM,
-    _PINCH,
     _RES_TOL,
     FLAG_NEGATIVE_STIFFNESS,
     FLAG_NO_CONVERGENCE,

@@ -24,11 +24,11 @@ Scheme (documented in ``docs/simulator.md``):
 A run that leaves the model's valid range stops and reports a flag; the other
 members of the batch go on.
 
-Here: the packed layout of parameters and states, the one step dispatcher
-(:func:`structure_step`) and the drivers compiled per structure (:data:`time_kernel`: a time
-grid, :data:`harmonic_kernel`: harmonic base motion to steady state). The steps are in
+Here: the one step dispatcher (:func:`structure_step`) and the drivers compiled per structure
+(:data:`time_kernel`: a time grid, :data:`harmonic_kernel`: harmonic base motion to steady state). The steps are in
 :mod:`idkit.simulate._structured` (one per structure) and :mod:`idkit.simulate._generic_step`
-(every other system); the drop rig's chain of masses in :mod:`idkit.simulate._rig_kernel`.
+(every other system), the packed layout of parameters and states they read in
+:mod:`idkit.simulate._layout`; the drop rig's chain of masses in :mod:`idkit.simulate._rig_kernel`.
 """
 
 from __future__ import annotations
@@ -43,15 +43,8 @@ from numba.extending import overload
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.simulate._generic_step import _initial_acceleration, _isolator_forces_now, _step
+from idkit.simulate._layout import _pack, _pack_states
 from idkit.simulate._structured import (
-    _BW,
-    _GAP,
-    _MGSUM,
-    _NJ,
-    _NM,
-    _PINCH,
-    _RATE,
-    _SM,
     FLAG_NEGATIVE_STIFFNESS,
     FLAG_NO_CONVERGENCE,
     FLAG_NON_FINITE,
@@ -76,88 +69,36 @@ FLAG_REASONS = {
 }
 
 
-# Packed layout. Parameters P[j, row, i] of isolator j (0 below the top mass):
-#   row 0: g1, g2, g3, c_visc, mgsum, n_jenkin, n_maxwell, Bouc-Wen[10] (columns 0..16),
-#          slip modulation a, y_ref, 1 / y_ref, b (columns 17, 18, 19, 20), clearance gap (21),
-#          rate-dependent slip r, 1 / v_ref (22, 23), Bouc-Wen pinching pinch, width, shift (24-26)
-#   row 1: Jenkin stiffness, row 2: Jenkin slip force,
-#   row 3: Maxwell stiffness, row 4: exp(-rate h), row 5: (1 - exp(-rate h)) / (rate h)
-# States S[j, row, i]: row 0 Jenkin forces, row 1 Maxwell elongations,
-#   row 2: [Bouc-Wen z, mbase, z of the last trial], row 3: the Jenkin forces of the last
-#   trial (a step's last evaluation is at its end point: it commits them by a copy). Packing
-#   keeps the number of arrays handed between the functions small. The steps and the isolator
-#   force are compiled once each and called by every driver (numba's IR inlining re-types a
-#   body at each call site: minutes of compile time); they allocate nothing, so they are compiled without reference counting
-#   (``_nrt=False``: an array argument otherwise costs an atomic increment and decrement per
-#   call) and with NumPy's error model (a division by zero gives inf/NaN, caught as a failed
-#   Newton iteration or a non-finite state, instead of raising).
-_P_WIDTH = 27
+# The steps and the isolator force are compiled once each and called by every driver (numba's IR
+# inlining re-types a body at each call site: minutes of compile time); they allocate nothing,
+# so they are compiled without reference counting (``_nrt=False``: an array argument otherwise
+# costs an atomic increment and decrement per call) and with NumPy's error model (a division
+# by zero gives inf/NaN, caught as a failed Newton iteration or a non-finite state, instead of
+# raising). The packed parameters and states they read: :mod:`idkit.simulate._layout`.
 
 
 @numba.njit(cache=True)
-def _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h):
-    """Parameter block for step ``h`` (see the layout above); ``mgsum = sum k_i g_i``."""
-    ndof = poly.shape[0]
-    width = max(_P_WIDTH, jk.shape[1], mk.shape[1])
-    packed = np.zeros((ndof, 6, width))
-    for j in range(ndof):
-        packed[j, 0, 0] = poly[j, 0]
-        packed[j, 0, 1] = poly[j, 1]
-        packed[j, 0, 2] = poly[j, 2]
-        packed[j, 0, 3] = cvisc[j]
-        n_jenkin = 0
-        for i in range(jk.shape[1]):
-            if jk[j, i] > 0.0:  # padding has zero stiffness; real ones are > 0
-                packed[j, 1, n_jenkin] = jk[j, i]
-                packed[j, 2, n_jenkin] = jfc[j, i]
-                n_jenkin += 1
-        n_maxwell = 0
-        gain_sum = 0.0
-        for i in range(mk.shape[1]):
-            if mk[j, i] > 0.0:
-                x = mrate[j, i] * h
-                decay = math.exp(-x)
-                gain = -math.expm1(-x) / x if x > 0.0 else 1.0
-                packed[j, 3, n_maxwell] = mk[j, i]
-                packed[j, 4, n_maxwell] = decay
-                packed[j, 5, n_maxwell] = gain
-                gain_sum += mk[j, i] * gain
-                n_maxwell += 1
-        packed[j, 0, _MGSUM] = gain_sum
-        packed[j, 0, _NJ] = n_jenkin
-        packed[j, 0, _NM] = n_maxwell
-        for i in range(10):
-            packed[j, 0, _BW + i] = bw[j, i]
-        packed[j, 0, _SM] = sm[j, 0]
-        packed[j, 0, _SM + 1] = sm[j, 1]
-        packed[j, 0, _SM + 2] = 1.0 / sm[j, 1] if sm[j, 1] > 0.0 else 0.0  # the steps multiply by 1 / y_ref
-        packed[j, 0, _SM + 3] = sm[j, 2]
-        if sm.shape[1] >= 6:
-            packed[j, 0, _GAP] = sm[j, 3]
-            packed[j, 0, _RATE] = sm[j, 4]
-            packed[j, 0, _RATE + 1] = 1.0 / sm[j, 5] if sm[j, 5] > 0.0 else 0.0
-        if bw.shape[1] >= 13:
-            for i in range(3):
-                packed[j, 0, _PINCH + i] = bw[j, 10 + i]
-    return packed
+def start_member(ndof, masses, q, v, jforce, mstate, bwz, load, xb, vb, P):
+    """A member's ``state = [q0, q1, v0, v1, a0, a1]`` and state block ``S`` at its start:
+    displacements ``q`` (m) and velocities ``v`` (m/s) of its masses, internal states ``jforce``
+    (N), ``mstate`` (m), ``bwz`` (N) in the layout of a driver's inputs, and the accelerations of
+    equilibrium there (gravity ``load`` in m/s^2, base at ``xb`` (m) moving at ``vb`` (m/s))."""
+    state = np.zeros(6)
+    for d in range(ndof):
+        state[d] = q[d]
+        state[2 + d] = v[d]
+    S = _pack_states(P, jforce, mstate, bwz)
+    _initial_acceleration(ndof, masses, state, load, xb, vb, P, S)
+    return state, S
 
 
 @numba.njit(cache=True)
-def _pack_states(packed, jforce, mstate, bwz):
-    """State block from Jenkin forces (N), Maxwell elongations (m) and Bouc-Wen z (N)."""
-    ndof = packed.shape[0]
-    width = max(3, jforce.shape[1], mstate.shape[1])
-    states = np.zeros((ndof, 4, width))
-    for j in range(ndof):
-        for i in range(jforce.shape[1]):
-            states[j, 0, i] = jforce[j, i]
-        base = 0.0
-        for i in range(int(packed[j, 0, _NM])):
-            states[j, 1, i] = mstate[j, i]
-            base += packed[j, 3, i] * packed[j, 4, i] * mstate[j, i]
-        states[j, 2, 0] = bwz[j]
-        states[j, 2, 1] = base
-    return states
+def harmonic_member(b, freq, steps_per_period, amplitude, poly, cvisc, jk, jfc, mk, mrate, bw, sm):
+    """Member ``b`` of a harmonic batch: its angular frequency (rad/s), steps per period, step
+    ``h = 1 / (freq n_per)`` (s), base amplitude (m) and its parameters packed for ``h``."""
+    n_per = steps_per_period[b]
+    h = 1.0 / (freq[b] * n_per)
+    return 2.0 * math.pi * freq[b], n_per, h, amplitude[b], _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
 
 
 @numba.njit(cache=True, _nrt=False)
@@ -306,12 +247,8 @@ def _time_kernel(structure):
         for b in range(batch):
             row = np.int64(b) if base_disp.shape[0] > 1 else np.int64(0)
             scale = force_scale[b]
-            state = np.zeros(6)
-            for d in range(ndof):
-                state[d] = q0[b, d]
-                state[2 + d] = v0[b, d]
-            S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
-            _initial_acceleration(ndof, masses, state, gravity, base_disp[row, 0], base_vel[row, 0], P, S)
+            state, S = start_member(ndof, masses, q0[b], v0[b], jforce0[b], mstate0[b], bwz0[b], gravity,
+                                    base_disp[row, 0], base_vel[row, 0], P)
             if not math.isnan(a0[b, 0]):  # a continued run: the trapezoidal rule's own accelerations
                 for d in range(ndof):
                     state[4 + d] = a0[b, d]
@@ -422,6 +359,8 @@ def _harmonic_kernel(structure):
         start_j = np.empty(jforce0.shape[1:])
         start_m = np.empty(mstate0.shape[1:])
         start_z = np.empty(ndof)
+        start_q = np.empty(ndof)
+        start_v = np.empty(ndof)
         # the window's twiddle factors and the base motion's table depend on the steps per
         # period only: built once for a run of points with the same n_per (a map's points mostly
         # share it), from one table of cos / sin(2 pi k / window) indexed by m n mod window
@@ -432,33 +371,27 @@ def _harmonic_kernel(structure):
         base_sin = np.empty(0)
         base_cos = np.empty(0)
         for b in range(batch):
-            omega = 2.0 * math.pi * freq[b]
-            n_per = steps_per_period[b]
-            h = 1.0 / (freq[b] * n_per)
-            amp = amplitude[b]
+            omega, n_per, h, amp, P = harmonic_member(b, freq, steps_per_period, amplitude, poly, cvisc, jk, jfc, mk,
+                                                      mrate, bw, sm)
             scale = force_scale[b]
-            P = _pack(poly, cvisc, jk, jfc, mk, mrate, bw, sm, h)
-            state = np.zeros(6)
             after = b - 1 if chain[b] and b > 0 and flags[b - 1] == FLAG_OK else b  # whose end state starts b
             if after == b:
-                for d in range(ndof):
-                    state[d] = q0[b, d]
-                    state[2 + d] = v0[b, d]
-                S = _pack_states(P, jforce0[b], mstate0[b], bwz0[b])
+                state, S = start_member(ndof, masses, q0[b], v0[b], jforce0[b], mstate0[b], bwz0[b], 0.0, 0.0,
+                                        amp * omega, P)
             else:
                 # along an amplitude axis, the neighbour's state scaled to this amplitude (exact
                 # where the response is linear); Jenkin forces kept within their slip limits
                 ratio = amp / amplitude[after]
                 for d in range(ndof):
-                    state[d] = ratio * end_q[after, d]
-                    state[2 + d] = ratio * end_v[after, d]
+                    start_q[d] = ratio * end_q[after, d]
+                    start_v[d] = ratio * end_v[after, d]
                     start_z[d] = ratio * end_bwz[after, d]
                     for i in range(jforce0.shape[2]):
                         start_j[d, i] = min(max(ratio * end_jforce[after, d, i], -jfc[d, i]), jfc[d, i])
                     for i in range(mstate0.shape[2]):
                         start_m[d, i] = ratio * end_mstate[after, d, i]
-                S = _pack_states(P, start_j, start_m, start_z)
-            _initial_acceleration(ndof, masses, state, 0.0, 0.0, amp * omega, P, S)
+                state, S = start_member(ndof, masses, start_q, start_v, start_j, start_m, start_z, 0.0, 0.0,
+                                        amp * omega, P)
             window = 2 * n_per
             if n_per != table_n:
                 one_cos, one_sin = np.empty(window), np.empty(window)

@@ -17,7 +17,7 @@ import numpy as np
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.models.laws import polynomial_spring_stiffness
 from idkit.simulate._generic_step import _commit_isolator, _isolator_force
-from idkit.simulate._kernel import _pack, _pack_states
+from idkit.simulate._layout import _pack, _pack_states
 from idkit.simulate._structured import (
     _NEWTON_MAX_ITER,
     _RES_TOL,

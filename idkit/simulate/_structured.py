@@ -32,6 +32,7 @@ import numba
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.models.laws import polynomial_spring_force, polynomial_spring_stiffness
+from idkit.simulate._layout import _COMMITTED, _GAP, _MGSUM, _NJ, _NM, _RATE, _SM, _TRIAL
 
 GENERIC = 0
 SDOF_IWAN = 1
@@ -46,26 +47,20 @@ STRUCTURE_NAMES = {GENERIC: "generic", SDOF_IWAN: "SDOF Iwan", SDOF_MAXWELL: "SD
 STRUCTURE_KEYS = {GENERIC: "generic", SDOF_IWAN: "sdof_iwan", SDOF_MAXWELL: "sdof_maxwell", HYBRID: "hybrid",
                   SDOF_IWAN_MODULATED: "sdof_iwan_modulated", HYBRID_MODULATED: "hybrid_modulated"}
 
-# The flags every step returns (idkit.simulate._kernel.FLAG_REASONS says them), the Newton
-# settings of every step, and the columns of row 0 of the packed parameters
-# (idkit.simulate._kernel's layout): defined here, below every kernel module that reads them.
+# The flags every step returns (idkit.simulate._kernel.FLAG_REASONS says them) and the Newton
+# settings of every step: defined here, below every kernel module that reads them.
 FLAG_OK = 0
 FLAG_NEGATIVE_STIFFNESS = 1
 FLAG_NON_FINITE = 2
 FLAG_NO_CONVERGENCE = 3
 _NEWTON_MAX_ITER = 60
 _RES_TOL = 1e-13
-_MGSUM, _NJ, _NM, _BW, _SM = 4, 5, 6, 7, 17
-_GAP, _RATE, _PINCH = 21, 22, 24
 
 _IWAN = 1
 _MAXWELL = 2
 _IWAN_MODULATED = 3
 _IWAN_CLEARANCE = 4
 _IWAN_RATE = 5
-# rows of the state block S[j, row, i] (idkit.simulate._kernel._pack_states) holding Jenkin forces
-_COMMITTED = 0
-_TRIAL = 3
 
 
 def structure_of(arrays) -> int:

@@ -38,13 +38,11 @@ import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (befor
 from idkit.errors import SimulationError
 from idkit.simulate._arrays import force_scale, system_arrays
 from idkit.simulate._generic_step import _initial_acceleration, _isolator_forces_now
-from idkit.simulate._kernel import FLAG_OK, _pack, _pack_states, drivers_per_structure, structure_step
+from idkit.simulate._kernel import FLAG_OK, drivers_per_structure, structure_step
+from idkit.simulate._layout import _BW, _GAP, _NJ, _NM, _pack, _pack_states
 from idkit.simulate._structured import structure_of
 
 __all__ = ["ParameterSets", "SetRuns", "simulate_parameter_sets", "stack_parameter_sets", "stored_energy"]
-
-# packed parameter columns (idkit.simulate._kernel's layout)
-_NJ, _NM, _BW, _GAP = 5, 6, 7, 21
 
 
 @numba.njit(cache=True, error_model="numpy", _nrt=False)

@@ -10,10 +10,14 @@ import pytest
 from idkit.errors import ModelFileError, ParameterError
 from idkit.models import (
     BoucWenModel,
+    ClearanceIwanModel,
     CoulombSpringSystem,
     GeneralizedMaxwell,
     HybridSystem,
     IwanModel,
+    ModulatedIwanModel,
+    PinchedBoucWenModel,
+    RateDependentIwanModel,
     SDOFSystem,
     VoigtModel,
     library,
@@ -158,3 +162,37 @@ def test_model_frequencies_accept_finite_numbers_and_arrays():
     np.testing.assert_array_equal(elastomer.complex_stiffness([1, 2.5]),
                                   elastomer.complex_stiffness(np.array([1.0, 2.5])))
     assert abs(library.get("system_a1_symmetric").transmissibility(0.0)) == pytest.approx(1.0)
+
+
+_IWAN = dict(g1=1e4, g2=1e5, g3=1e8, k=[1e4, 2e4], fc=[1.0, 3.0], c_visc=2.0)
+_BOUC_WEN = dict(k1=1e3, k2=0.0, k3=0.0, alpha=5e3, beta=2e3, gamma=1e3, n=1.0)
+#: every isolator model from a parameter mapping, with the names its from_params may do without
+FROM_PARAMS_MODELS = [
+    (IwanModel(**_IWAN), {"g2", "g3", "c_visc"}),
+    (GeneralizedMaxwell(k0=1e4, k=[1e3, 2e3], rate=[10.0, 100.0], m_eff=0.1), {"m_eff"}),
+    (VoigtModel(k=1e4, damping=5.0), {"m_eff"}),
+    (BoucWenModel(**_BOUC_WEN), {"b", "c", "c_visc"}),
+    (PinchedBoucWenModel(**_BOUC_WEN, pinch=0.8, pinch_width=0.2), {"b", "c", "c_visc", "pinch_shift"}),
+    (ModulatedIwanModel.from_iwan(IwanModel(**_IWAN), slip_modulation=0.3, slip_length=2e-3),
+     {"g2", "g3", "c_visc", "slip_growth"}),
+    (RateDependentIwanModel(**_IWAN, slip_rate_gain=0.2, slip_speed=0.01), {"g2", "g3", "c_visc"}),
+    (ClearanceIwanModel(gap=1e-4, **_IWAN), {"g2", "g3", "c_visc"}),
+]
+
+
+@pytest.mark.parametrize("model, optional", FROM_PARAMS_MODELS, ids=lambda value: type(value).__name__)
+def test_from_params_round_trips_and_names_a_missing_or_unknown_parameter(model, optional):
+    params = model.params()
+    assert type(model).from_params(params) == model
+    for name in params:
+        others = {key: value for key, value in params.items() if key != name}
+        if name in optional:
+            type(model).from_params(others)  # a default stands in
+        elif not re.fullmatch(r"(k|fc|rate)_\d", name):  # an element's value: the element count says it
+            with pytest.raises(ParameterError, match=rf": parameter '{name}' missing"):
+                type(model).from_params(others)
+        else:
+            with pytest.raises(ParameterError):
+                type(model).from_params(others)
+    with pytest.raises(ParameterError, match=r"unknown parameters \['bogus'\]"):
+        type(model).from_params({**params, "bogus": 1.0})

@@ -73,8 +73,12 @@ def test_stiff_oscillators_follow_the_pulse():
 
 def test_table_has_units_and_bad_band_is_named():
     pulse, fs = half_sine()
-    frame = shock_spectra(pulse, fs=fs, freq=[10.0, 100.0]).to_dataframe()
+    spectra = shock_spectra(pulse, fs=fs, freq=[10.0, 100.0])
+    frame = spectra.to_dataframe()
     assert list(frame.columns) == ["freq [Hz]", "absolute_acceleration [m/s^2]", "pseudo_velocity [m/s]",
                                    "relative_displacement [m]"]
+    for column, values in zip(frame.columns, (spectra.freq, spectra.absolute_acceleration, spectra.pseudo_velocity,
+                                              spectra.relative_displacement)):
+        np.testing.assert_array_equal(frame[column].to_numpy(), values)
     with pytest.raises(DataError, match="freq"):
         shock_spectra(pulse, fs=fs, freq=[fs])
