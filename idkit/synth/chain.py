@@ -37,6 +37,7 @@ import numba
 import numpy as np
 
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
+from idkit.models.laws import jenkin_step, scaled_jenkin_step
 
 __all__ = ["LINK_ELASTOMER", "LINK_WIRE_ROPE", "LINK_WIRE_ROPE_MODULATED", "ChainRun", "link_force_path", "run_chain"]
 
@@ -62,15 +63,9 @@ def _link_force(kind, scalars, k, b, n, state, y_old, y_new, ydot, h):
         deep = -y_new - y_bot
         if deep > 0.0:
             total -= k_bot * deep * deep * deep
+        scaled_jenkin_step(state[:n], k[:n], b[:n], scale, dy)
         for i in range(n):
-            limit = scale * b[i]
-            trial = state[i] + k[i] * dy
-            if trial > limit:
-                trial = limit
-            elif trial < -limit:
-                trial = -limit
-            state[i] = trial
-            total += trial
+            total += state[i]
         return total + c_visc * ydot
     if kind == LINK_WIRE_ROPE_MODULATED:
         # a branch of its own: the sums of LINK_WIRE_ROPE keep their rounding order bit for bit
@@ -80,15 +75,7 @@ def _link_force(kind, scalars, k, b, n, state, y_old, y_new, ydot, h):
         deep = -y_new - y_bot
         if deep > 0.0:
             spring -= k_bot * deep * deep * deep
-        hysteretic = 0.0
-        for i in range(n):
-            trial = state[i] + k[i] * dy
-            if trial > b[i]:
-                trial = b[i]
-            elif trial < -b[i]:
-                trial = -b[i]
-            state[i] = trial
-            hysteretic += trial
+        hysteretic = jenkin_step(state[:n], k[:n], b[:n], dy)
         width = math.tanh(y_new / y_ref)
         return spring + (1.0 + beta * width * width) * hysteretic + c_visc * ydot
     k0, alpha, y_soft = scalars[0], scalars[1], scalars[2]

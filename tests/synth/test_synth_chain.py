@@ -6,20 +6,22 @@ import numpy as np
 import pytest
 
 from idkit.models import IwanModel, SDOFSystem
-from idkit.synth.chain import LINK_WIRE_ROPE, link_force_path, pack_links, run_chain
+from idkit.synth.chain import LINK_WIRE_ROPE, LINK_WIRE_ROPE_MODULATED, link_force_path, pack_links, run_chain
 from idkit.synth.truth import default_wire_rope
 from idkit.simulate import free_fall
 
 
-def _plain_iwan_link(model: IwanModel):
-    """The wire-rope link with constant slip forces and no bottoming = an Iwan model."""
+def _plain_iwan_link(model: IwanModel, kind=LINK_WIRE_ROPE):
+    """A wire-rope link (either kind) with constant slip forces (no modulation) and no bottoming =
+    an Iwan model."""
     scalars = [model.g1, model.g2, model.g3, model.c_visc, 0.0, 1.0, 0.0, 1.0]
-    return (LINK_WIRE_ROPE, scalars, list(model.k), list(model.fc))
+    return (kind, scalars, list(model.k), list(model.fc))
 
 
-def test_link_force_equals_iwan_stop_operator_when_slip_forces_are_constant():
+@pytest.mark.parametrize("kind", [LINK_WIRE_ROPE, LINK_WIRE_ROPE_MODULATED])
+def test_link_force_equals_iwan_stop_operator_when_slip_forces_are_constant(kind):
     model = IwanModel(g1=1.84e4, g2=2.45e5, g3=-4.57e5, k=[1.88e5, 9.09e3], fc=[15.5, 10.3])
-    kinds, scalars, ks, bs, ns = pack_links([_plain_iwan_link(model)])
+    kinds, scalars, ks, bs, ns = pack_links([_plain_iwan_link(model, kind)])
     x = 4e-3 * np.sin(np.linspace(0, 6 * np.pi, 3001)) * np.linspace(0.2, 1, 3001)
     time = np.linspace(0, 30, x.size)
     force, _ = link_force_path(kinds[0], scalars[0], ks[0], bs[0], ns[0], np.zeros(2), x, time)
