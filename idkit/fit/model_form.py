@@ -26,7 +26,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from idkit.signal.cycles import noise_level
+from idkit.observe.histories import noise_floor
 
 __all__ = ["FLOOR_MARGIN", "MODEL_FORM_PREFIX", "ModelFormReason", "is_model_form_reason", "misses_the_floor",
            "loop_model_form_reasons", "residual_floor", "loop_noise_floor", "record_floor_reasons"]
@@ -157,19 +157,13 @@ def loop_model_form_reasons(groups: Sequence[tuple[str, Sequence, Sequence[np.nd
 
 
 def loop_noise_floor(records) -> dict:
-    """Relative force noise of each quasi-static record: ``noise_level(force) / rms(force)``.
-
-    :func:`idkit.signal.cycles.noise_level` (second differences, median-based) is the white
-    sensor noise on the force; a model that were exactly right would score about this under
-    the objective (7.1). Offsets and drift between repetitions are not in it, so it is a lower
-    bound of the floor, and :data:`FLOOR_MARGIN` is measured from it.
+    """Relative force noise of each quasi-static record by id: :func:`idkit.observe.histories.noise_floor`
+    (``noise_level(force) / rms(force)``, the white sensor noise on the force), what a model that
+    were exactly right would score under the objective (7.1). Offsets and drift between
+    repetitions are not in it, so it is a lower bound of the floor, and :data:`FLOOR_MARGIN` is
+    measured from it.
     """
-    floors = {}
-    for index, record in enumerate(records, start=1):
-        force = np.asarray(record.force, dtype=float)
-        rms = float(np.sqrt(np.mean(force**2)))
-        floors[record.id or f"record{index}"] = noise_level(force) / rms if rms > 0 else math.nan
-    return floors
+    return {record.id or f"record{index}": noise_floor(record) for index, record in enumerate(records, start=1)}
 
 
 def record_floor_reasons(result, records) -> tuple[str, ...]:

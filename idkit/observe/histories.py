@@ -253,10 +253,12 @@ def dissipated_energy(deflection, force) -> float:
     return float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(x)))
 
 
-def noise_floor(history: ForceHistory, span: slice | None = None) -> float:
-    """The error an exactly right model scores on ``history``: the force noise
-    (:func:`idkit.signal.cycles.noise_level`, second differences) over the RMS force of ``span``.
-    A lower bound: offsets and drift are not in it."""
-    force = history.force if span is None else history.force[span]
-    rms = float(np.sqrt(np.mean(force**2)))
-    return noise_level(history.force) / rms if rms > 0 else math.nan
+def noise_floor(history: ForceHistory | QuasiStaticMeasurement, span: slice | None = None) -> float:
+    """The error an exactly right model scores on ``history`` (any record with a ``force`` array
+    in N): the force noise (:func:`idkit.signal.cycles.noise_level`, second differences) over the
+    RMS force of ``span`` (NaN where that is zero). A lower bound: offsets and drift are not in
+    it."""
+    force = np.asarray(history.force, dtype=float)
+    part = force if span is None else force[span]
+    rms = float(np.sqrt(np.mean(part**2)))
+    return noise_level(force) / rms if rms > 0 else math.nan
