@@ -126,8 +126,28 @@ class WireRopeTruth(_RopeTruth):
     )
 
 
+class _ElastomerTruth:
+    """What every elastomer truth derives from its ``k0``, ``k`` and ``rate``."""
+
+    MODEL: ClassVar[str]
+    DESCRIPTION: ClassVar[str]
+
+    def complex_stiffness(self, freq) -> np.ndarray:
+        """Small-amplitude complex stiffness of the isolator's Maxwell body, without an internal
+        mass (N/m): ``k0 + sum k_i s / (s + rate_i)``, ``s = 2 pi i freq``."""
+        s = 2j * np.pi * np.asarray(freq, dtype=float)
+        return self.k0 + np.sum(np.asarray(self.k) * s[..., None]
+                                / (s[..., None] + np.asarray(self.rate)), axis=-1)
+
+    def to_dict(self) -> dict:
+        out = {"model": self.MODEL, **asdict(self)}
+        out["order"] = len(self.k)
+        out["description"] = self.DESCRIPTION
+        return out
+
+
 @dataclass(frozen=True)
-class ElastomerTruth:
+class ElastomerTruth(_ElastomerTruth):
     """True elastomer isolator: two generalized-Maxwell halves and an internal mass."""
 
     k0: float = 13.8e3  # N/m, whole isolator (quasi-static stiffness ~ 1.15 x 12e3)
@@ -155,23 +175,13 @@ class ElastomerTruth:
         two identical halves in series, inertia negligible, each take half."""
         return self.half_link(), 0.5
 
-    def complex_stiffness(self, freq) -> np.ndarray:
-        """Small-amplitude complex stiffness of the whole isolator without the internal
-        mass (N/m): ``k0 + sum k_i s / (s + rate_i)``."""
-        s = 2j * np.pi * np.asarray(freq, dtype=float)
-        return self.k0 + np.sum(np.asarray(self.k) * s[..., None]
-                                / (s[..., None] + np.asarray(self.rate)), axis=-1)
-
-    def to_dict(self) -> dict:
-        out = {"model": "two_maxwell_halves_with_internal_mass", **asdict(self)}
-        out["order"] = len(self.k)
-        out["description"] = (
-            "whole-isolator generalized Maxwell k0, k_i, rate_i (1/s) split into two halves in "
-            "series (each 2 k0, 2 k_i, same rates) with internal_mass_kg between them; static "
-            "spring of a half 2 k0 y (1 - alpha tanh^2(min(y, 0) / (y_soft / 2))); "
-            "moving_mass_kg is added to the top mass"
-        )
-        return out
+    MODEL: ClassVar[str] = "two_maxwell_halves_with_internal_mass"
+    DESCRIPTION: ClassVar[str] = (
+        "whole-isolator generalized Maxwell k0, k_i, rate_i (1/s) split into two halves in "
+        "series (each 2 k0, 2 k_i, same rates) with internal_mass_kg between them; static "
+        "spring of a half 2 k0 y (1 - alpha tanh^2(min(y, 0) / (y_soft / 2))); "
+        "moving_mass_kg is added to the top mass"
+    )
 
 
 def _spread_slip_elements(order: int) -> tuple[list[float], list[float]]:
@@ -220,7 +230,7 @@ class ModulatedWireRopeTruth(_RopeTruth):
 
 
 @dataclass(frozen=True)
-class SingleBodyElastomerTruth:
+class SingleBodyElastomerTruth(_ElastomerTruth):
     """Truth "b" elastomer: one generalized-Maxwell body, no internal mass (no internal mode)."""
 
     k0: float = 9.0e3  # N/m
@@ -245,20 +255,11 @@ class SingleBodyElastomerTruth:
         """The one link takes the whole deflection."""
         return self.link(), 1.0
 
-    def complex_stiffness(self, freq) -> np.ndarray:
-        """Small-amplitude complex stiffness (N/m): ``k0 + sum k_i s / (s + rate_i)``."""
-        s = 2j * np.pi * np.asarray(freq, dtype=float)
-        return self.k0 + np.sum(np.asarray(self.k) * s[..., None]
-                                / (s[..., None] + np.asarray(self.rate)), axis=-1)
-
-    def to_dict(self) -> dict:
-        out = {"model": "generalized_maxwell_single_body", **asdict(self)}
-        out["order"] = len(self.k)
-        out["description"] = (
-            "generalized Maxwell k0, k_i, rate_i (1/s) of the whole isolator; static spring "
-            "k0 y (1 - alpha tanh^2(min(y, 0) / y_soft)); moving_mass_kg is added to the top mass"
-        )
-        return out
+    MODEL: ClassVar[str] = "generalized_maxwell_single_body"
+    DESCRIPTION: ClassVar[str] = (
+        "generalized Maxwell k0, k_i, rate_i (1/s) of the whole isolator; static spring "
+        "k0 y (1 - alpha tanh^2(min(y, 0) / y_soft)); moving_mass_kg is added to the top mass"
+    )
 
 
 def truth_models(name: str = "a"):
