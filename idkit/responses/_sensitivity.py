@@ -14,8 +14,10 @@ here: systems with Bouc-Wen elements use finite differences.
 Tangent layout (rows): ``q (ndof), v (ndof), a (ndof), F (ndof x nj), u (ndof x nm)``;
 columns: the independent initial values ``q, v, F, u`` of real elements (the initial
 acceleration follows from equilibrium; see :func:`tangent_start`). The functions here never
-call the step itself: the period-map kernels (:func:`idkit.responses.periodic.period_kernel`)
-calls them around it.
+call the step itself: the period-map kernels (:func:`idkit.responses.period_map.period_kernel`)
+call them around it, :func:`tangent_start` before a run, :func:`tangent_step` after every step and
+:func:`tangent_finish` after the last (a Maxwell row's update is made in the next step's pass over
+the row, which reads it anyway: one pass over each of those rows a step instead of two).
 """
 
 from __future__ import annotations
@@ -66,7 +68,7 @@ def tangent_start(ndof, masses, P, state, tangent, nj, nm, columns):
 
 @numba.njit(cache=True, _nrt=False)
 def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h, tangent, nj, nm, work, stuck,
-                 lanes):
+                 lanes, pending):
     """Carry the tangent over one converged step.
 
     ``state`` holds the new positions (``[q0, q1, ...]``), ``old_q`` and ``old_force`` the
@@ -75,11 +77,13 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
     :func:`tangent_start` made them. ``work`` (2, 2), ``stuck`` (2, max(nj, 1)) and ``lanes``
     (6, columns): scratch of the caller's (slopes and stiffnesses of the isolators, which Jenkin
     elements stick, per-column derivatives), so that a step allocates nothing and, compiled
-    without reference counting, takes no atomic operation per call.
+    without reference counting, takes no atomic operation per call. ``pending``: the Maxwell rows
+    still owe the previous step's update (every step of a run but its first; ``lanes`` rows 4 and
+    5 hold that step's deflection increments), which this step makes as it reads them; after a
+    run's last step, :func:`tangent_finish` makes it.
     """
     m0 = masses[0]
     m1 = masses[1] if ndof == 2 else 1.0
-    row_a = 2 * ndof
     row_f = 3 * ndof
     row_u = 3 * ndof + ndof * nj
     c2 = 2.0 / h
@@ -116,8 +120,8 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
     n_jenkin1 = int(P[ndof - 1, 0, 5])
     n_maxwell1 = int(P[ndof - 1, 0, 6])
     # column by column the same arithmetic, written row by row over all the columns at once (the
-    # inner loops run along contiguous memory); lanes: derivatives of the isolator forces by the old
-    # values (0, 1), the new positions (2, 3), the new deflection increments (4, 5)
+    # inner loops run along contiguous memory and vectorise); lanes: derivatives of the isolator
+    # forces (0, 1), of the new positions (2, 3) and of the deflection increments (4, 5)
     n = tangent.shape[1]
     for j in range(ndof):
         force = lanes[j]
@@ -138,42 +142,59 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
             index = row_f + j * nj + i
             for c in range(n):
                 force[c] += weight * tangent[index, c]
+        increment = lanes[4 + j]
         for i in range(n_maxwell0 if j == 0 else n_maxwell1):
+            # the Maxwell rows still owe the previous step's update (see tangent_finish): made here,
+            # in the pass that reads them
+            decay = P[j, 4, i]
+            gain = P[j, 5, i]
             weight = P[j, 3, i] * P[j, 4, i]
             index = row_u + j * nm + i
-            for c in range(n):
-                force[c] += weight * tangent[index, c]
-    # the mechanical rows, written out per number of masses (fixed rows: each loop runs along
-    # contiguous columns and vectorises)
+            if pending:
+                for c in range(n):
+                    value = decay * tangent[index, c] + gain * increment[c]
+                    tangent[index, c] = value
+                    force[c] += weight * value
+            else:
+                for c in range(n):
+                    force[c] += weight * tangent[index, c]
+    # the mechanical rows, per number of masses, in passes that each write few rows (a loop that
+    # writes many rows of an array is not vectorised: their distances are not known when compiled)
     if ndof == 2:
         inverse = 1.0 / det
+        q0, q1, v0, v1, a0, a1 = tangent[0], tangent[1], tangent[2], tangent[3], tangent[4], tangent[5]
+        force0, force1, new0, new1 = lanes[0], lanes[1], lanes[2], lanes[3]
         for c in range(n):
-            r0 = -m0 * (c4 * tangent[0, c] + 2.0 * c2 * tangent[2, c] + tangent[4, c]) + lanes[0, c]
-            r1 = -m1 * (c4 * tangent[1, c] + 2.0 * c2 * tangent[3, c] + tangent[5, c]) - lanes[0, c] + lanes[1, c]
-            new0 = -(j11 * r0 - j01 * r1) * inverse
-            new1 = -(j00 * r1 - j01 * r0) * inverse
-            lanes[2, c] = new0
-            lanes[3, c] = new1
-            lanes[4, c] = (new0 - new1) - (tangent[0, c] - tangent[1, c])
-            lanes[5, c] = new1 - tangent[1, c]
-            change0 = new0 - tangent[0, c]
-            change1 = new1 - tangent[1, c]
-            tangent[4, c] = c4 * change0 - 2.0 * c2 * tangent[2, c] - tangent[4, c]
-            tangent[5, c] = c4 * change1 - 2.0 * c2 * tangent[3, c] - tangent[5, c]
-            tangent[2, c] = c2 * change0 - tangent[2, c]
-            tangent[3, c] = c2 * change1 - tangent[3, c]
-            tangent[0, c] = new0
-            tangent[1, c] = new1
+            r0 = -m0 * (c4 * q0[c] + 2.0 * c2 * v0[c] + a0[c]) + force0[c]
+            r1 = -m1 * (c4 * q1[c] + 2.0 * c2 * v1[c] + a1[c]) - force0[c] + force1[c]
+            new0[c] = -(j11 * r0 - j01 * r1) * inverse
+            new1[c] = -(j00 * r1 - j01 * r0) * inverse
+        increment0, increment1 = lanes[4], lanes[5]
+        for c in range(n):
+            increment0[c] = (new0[c] - new1[c]) - (q0[c] - q1[c])
+            increment1[c] = new1[c] - q1[c]
+        for c in range(n):
+            change = new0[c] - q0[c]
+            a0[c] = c4 * change - 2.0 * c2 * v0[c] - a0[c]
+            v0[c] = c2 * change - v0[c]
+            q0[c] = new0[c]
+        for c in range(n):
+            change = new1[c] - q1[c]
+            a1[c] = c4 * change - 2.0 * c2 * v1[c] - a1[c]
+            v1[c] = c2 * change - v1[c]
+            q1[c] = new1[c]
     else:
+        q0, v0, a0 = tangent[0], tangent[1], tangent[2]
+        force0, new0, increment0 = lanes[0], lanes[2], lanes[4]
         for c in range(n):
-            r0 = -m0 * (c4 * tangent[0, c] + 2.0 * c2 * tangent[1, c] + tangent[2, c]) + lanes[0, c]
-            new0 = -r0 / j00
-            lanes[2, c] = new0
-            lanes[4, c] = new0 - tangent[0, c]
-            change0 = new0 - tangent[0, c]
-            tangent[2, c] = c4 * change0 - 2.0 * c2 * tangent[1, c] - tangent[2, c]
-            tangent[1, c] = c2 * change0 - tangent[1, c]
-            tangent[0, c] = new0
+            new0[c] = -(-m0 * (c4 * q0[c] + 2.0 * c2 * v0[c] + a0[c]) + force0[c]) / j00
+        for c in range(n):
+            increment0[c] = new0[c] - q0[c]
+        for c in range(n):
+            change = new0[c] - q0[c]
+            a0[c] = c4 * change - 2.0 * c2 * v0[c] - a0[c]
+            v0[c] = c2 * change - v0[c]
+            q0[c] = new0[c]
     for j in range(ndof):
         increment = lanes[4 + j]
         for i in range(n_jenkin0 if j == 0 else n_jenkin1):
@@ -182,7 +203,21 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
             index = row_f + j * nj + i
             for c in range(n):
                 tangent[index, c] = weight * (tangent[index, c] + stiffness * increment[c])
-        for i in range(n_maxwell0 if j == 0 else n_maxwell1):
+
+
+@numba.njit(cache=True, _nrt=False)
+def tangent_finish(ndof, P, tangent, nj, nm, lanes):
+    """Complete the Maxwell rows after the last :func:`tangent_step` of a run.
+
+    :func:`tangent_step` updates a Maxwell row (``e du + g d(dy)``) in the next step's pass over
+    it, which reads it for the isolator force anyway (one pass over the row a step instead of
+    two); after the last step that update is still owed, and made here.
+    """
+    row_u = 3 * ndof + ndof * nj
+    n = tangent.shape[1]
+    for j in range(ndof):
+        increment = lanes[4 + j]
+        for i in range(int(P[j, 0, 6])):
             decay = P[j, 4, i]
             gain = P[j, 5, i]
             index = row_u + j * nm + i

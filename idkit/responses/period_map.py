@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.checks import Choice, Whole, accepts
 from idkit.errors import SimulationError
-from idkit.responses._sensitivity import tangent_start, tangent_step
+from idkit.responses._sensitivity import tangent_finish, tangent_start, tangent_step
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
 from idkit.simulate._parallel import run_chunked
 from idkit.simulate._kernel import (
@@ -116,7 +116,9 @@ def _period_kernel(structure):
                     break
                 if with_tangent:
                     tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangent, nj, nm, work,
-                                 stuck, lanes)
+                                 stuck, lanes, n > 0)
+            if with_tangent and flag == FLAG_OK and n_per * n_periods > 0:
+                tangent_finish(ndof, P, tangent, nj, nm, lanes)
             flags[b] = flag
             if flag == FLAG_OK:
                 _store_end_state(b, ndof, state, S, q_end, v_end, j_end, m_end, z_end)

@@ -213,6 +213,27 @@ def test_step_sensitivities_agree_with_finite_differences(name, freq, amplitude)
     assert np.allclose(derivative, derivative_fd, rtol=0, atol=1e-12)
 
 
+@pytest.mark.parametrize("steps", [1, 2, 5])
+def test_step_sensitivities_of_a_few_steps_agree_with_finite_differences(steps):
+    """Runs of one, two and five steps: the step updates a Maxwell row in the next step's pass
+    over it and the run's last update is completed after the loop, so the first and last steps
+    are where a misplaced update would show (hybrid: ten Maxwell elements; a Jenkin force 0.16 N
+    from its slip limit). Tolerance as in the test above (central differences' own error)."""
+    from idkit.responses.periodic import PeriodMap
+
+    system = library.get("hybrid_asymmetric")
+    exact, differences = PeriodMap(system), PeriodMap(system, jacobian="finite differences")
+    freq, amplitude = 4.0, 1e-3
+    state = exact.linear_guess(freq, amplitude)[0]
+    state[exact.state_names.index("F_J2.1 [N]")] = 8.3 - 0.16
+    scale = exact.scales(freq, amplitude, amplitude)[0]
+    phi, jacobian, _, flag = exact.jacobian(freq, amplitude, state, scale, steps)
+    phi_fd, jacobian_fd, _, flag_fd = differences.jacobian(freq, amplitude, state, scale, steps)
+    assert flag == flag_fd == 0
+    assert np.array_equal(phi, phi_fd)
+    assert np.max(np.abs(jacobian - jacobian_fd)) < 10 * MULTIPLIER_TOLERANCE * max(1.0, np.abs(jacobian).max())
+
+
 @pytest.mark.parametrize("arguments, name", [
     (dict(steps_per_period=100.5), "steps_per_period"),  # was truncated to 100
     (dict(steps_per_period=np.nan), "steps_per_period"),  # ValueError
