@@ -15,9 +15,11 @@ spread).
    1e-5 - 1e-2 m, harmonics 1-3 and 1/2, steady state 1e-3) and the Table A.1 asymmetric wire
    rope map on the same grid, on 1 and 2 workers. Beside the wall time: periods per point, the
    steps taken (counted during one map: plain ones of the time runs and windows, tangent ones with
-   the propagated Jacobian, of the classification and Newton) and the kernel floor, steps x ns per
-   step, with ns per step measured on the same points (the plain step: the slope of fixed 8- and
-   24-period runs; the tangent step: one classification batch from the linear start).
+   the propagated Jacobian, of the classification and Newton, and the periods run with it, one
+   eigenvalue problem each) and the kernel floor, steps x ns per step + eigenvalue problems x us
+   each, measured on the same points (the plain step: the slope of fixed 8- and 24-period runs; the
+   tangent step: one period with the Jacobian from the linear start, the step included; the
+   eigenvalues: ``numpy.linalg.eigvals`` of that batch's monodromy matrices).
 2. solve_ivp over the whole map, one core: ``harmonic_reference`` (BDF, rtol 1e-6, tanh
    smoothing 1e-4) from rest (its only start) for the periods the map spent at the point. The
    grid is cut into ``--blocks`` (default 5 x 3: frequency decades' fifths, amplitude thirds);
@@ -58,7 +60,7 @@ import numpy as np
 from idkit.models import library
 from idkit.responses.harmonic_map import harmonic_map
 maps_module = sys.modules["idkit.responses.harmonic_map"]
-from idkit.responses.periodic import PeriodMap, monodromy
+from idkit.responses.periodic import PeriodMap
 from idkit.simulate import default_steps_per_period, harmonic_response
 from idkit.simulate.reference import harmonic_reference
 
@@ -95,10 +97,11 @@ def the_map(system, workers):
 
 
 def counted_steps(system):
-    """One map on one worker, counting the steps it integrates: ``(plain, tangent)``, the plain ones
-    of the time runs (``harmonic_response``) and of the period map without the Jacobian, the tangent
-    ones with it (classification and Newton)."""
-    counts = {"plain": 0, "tangent": 0}
+    """One map on one worker, counting the steps it integrates: ``(plain, tangent, tangent periods)``,
+    the plain ones of the time runs (``harmonic_response``) and of the period map without the
+    Jacobian, the tangent ones with it (classification and Newton), and the member periods run with
+    it (one monodromy matrix, one eigenvalue problem each)."""
+    counts = {"plain": 0, "tangent": 0, "periods": 0}
     run, response = PeriodMap.run, maps_module.harmonic_response
 
     def counting_run(self, freq, amplitude, states, steps_per_period, *, n_periods=None, n_record=0,
@@ -107,6 +110,7 @@ def counted_steps(system):
         periods = self.periods if n_periods is None else int(n_periods)
         steps = int(np.sum(np.broadcast_to(steps_per_period, (batch,))))
         counts["tangent" if with_tangent else "plain"] += steps * periods
+        counts["periods"] += batch if with_tangent else 0
         return run(self, freq, amplitude, states, steps_per_period, n_periods=n_periods, n_record=n_record,
                    with_tangent=with_tangent)
 
@@ -120,14 +124,15 @@ def counted_steps(system):
         the_map(system, 1)
     finally:
         PeriodMap.run, maps_module.harmonic_response = run, response
-    return counts["plain"], counts["tangent"]
+    return counts["plain"], counts["tangent"], counts["periods"]
 
 
 def floor(system, result, repeat):
-    """Steps of the map's plain and tangent periods (counted), and ns per step of each."""
+    """Steps of the map's plain and tangent periods and its eigenvalue problems (counted), ns per
+    step of each kind and us per eigenvalue problem."""
     freq, amplitude = grid()
     steps = default_steps_per_period(system, freq)
-    run_steps, tangent_steps = (float(count) for count in counted_steps(system))
+    run_steps, tangent_steps, tangent_periods = (float(count) for count in counted_steps(system))
     fixed = {}
     for periods in (8, 24):
         _, _, cpus = repeated(lambda periods=periods: harmonic_response(
@@ -136,9 +141,12 @@ def floor(system, result, repeat):
     ns_step = (fixed[24] - fixed[8]) / (16 * float(steps.sum())) * 1e9
     one = PeriodMap(system, 1)
     states = one.linear_guess(freq, amplitude)
-    _, _, cpus = repeated(lambda: monodromy(one, freq, amplitude, states, steps, workers=1), repeat)
+    (_, _, tangents), _, cpus = repeated(lambda: one.run(freq, amplitude, states, steps, with_tangent=True), repeat)
     ns_tangent = min(cpus) / float(steps.sum()) * 1e9
-    return run_steps, ns_step, tangent_steps, ns_tangent
+    matrices = tangents[:, one._tangent_rows]
+    _, _, cpus = repeated(lambda: np.linalg.eigvals(matrices), repeat)
+    us_eigen = min(cpus) / freq.size * 1e6
+    return run_steps, ns_step, tangent_steps, ns_tangent, tangent_periods, us_eigen
 
 
 def map_rows(name, repeat):
@@ -153,16 +161,19 @@ def map_rows(name, repeat):
         kinds = ", ".join(f"{kind} {int((result.stability == kind).sum())}" for kind in np.unique(result.stability))
         print(f"{workers:8d} {min_median(walls)} {min_median(cpus)}  {int(result.valid.sum())}/1500  {kinds}")
     result = results[1][0]
-    run_steps, ns_step, tangent_steps, ns_tangent = floor(system, result, repeat)
-    kernel_floor = run_steps * ns_step * 1e-9 + tangent_steps * ns_tangent * 1e-9
+    run_steps, ns_step, tangent_steps, ns_tangent, tangent_periods, us_eigen = floor(system, result, repeat)
+    plain_seconds, tangent_seconds = run_steps * ns_step * 1e-9, tangent_steps * ns_tangent * 1e-9
+    eigen_seconds = tangent_periods * us_eigen * 1e-6
+    kernel_floor = plain_seconds + tangent_seconds + eigen_seconds
     steps = default_steps_per_period(system, grid()[0])
     print(f"  periods per point: mean {result.periods.mean():.1f}, median {np.median(result.periods):.0f}, "
           f"max {result.periods.max():.0f}; of them with the propagated Jacobian (classification, Newton): "
           f"{tangent_steps / steps.sum():.2f} a point; {int(result.shooting.sum())} points shot (Newton or "
           "per-point shooting)")
-    print(f"  kernel floor: plain {run_steps:.3g} steps x {ns_step:.1f} ns = {run_steps * ns_step * 1e-9:.4f} s "
-          f"+ tangent {tangent_steps:.3g} steps x {ns_tangent:.1f} ns (the step, its tangent and "
-          f"the eigenvalues) = {tangent_steps * ns_tangent * 1e-9:.4f} s; {kernel_floor:.4f} s of one core")
+    print(f"  kernel floor: plain {run_steps:.3g} steps x {ns_step:.1f} ns = {plain_seconds:.4f} s "
+          f"+ tangent {tangent_steps:.3g} steps x {ns_tangent:.1f} ns (the step and its tangent) = "
+          f"{tangent_seconds:.4f} s + eigenvalues {tangent_periods:.0f} x {us_eigen:.1f} us = {eigen_seconds:.4f} s; "
+          f"{kernel_floor:.4f} s of one core")
     for workers in (1, 2):
         walls, cpus = results[workers][1], results[workers][2]
         print(f"  {workers} worker(s): wall min {min(walls):.4f} s = {min(walls) / (kernel_floor / workers):.2f} x "
