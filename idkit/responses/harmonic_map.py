@@ -16,8 +16,10 @@ amplitude (``chained``; chains are never split between workers, so the map does 
 them). Steady-state criterion (the simulator's, ``docs/simulator.md``): over consecutive windows
 of two excitation periods, the largest change of any Fourier coefficient relative to the
 first harmonic, and its geometric extrapolation ``change r / (1 - r)``, are both below
-``tolerance``, after at least ``min_periods`` (:data:`MAP_MIN_PERIODS`, three windows: the
-ratio ``r`` of the stopping decision is always measured from two window changes). Points that reach ``max_periods`` without meeting it (lightly damped wire ropes
+``tolerance``, after at least ``min_periods`` (:data:`MAP_MIN_PERIODS`, two windows). A run that
+stops before :data:`RATIO_PERIODS` (three windows) has no measured ratio ``r``: its point is taken
+only if the Newton step to its orbit, from the classification's period with the propagated
+Jacobian, is within the tolerance (else it runs on). Points that reach ``max_periods`` without meeting it (lightly damped wire ropes
 far from resonance, where a 5 Hz free oscillation outlives thousands of excitation periods) are
 settled by shooting: with the default cap and a propagated Jacobian, after
 :data:`NEWTON_AFTER_PERIODS` by batched Newton on the period map from the runs' end states, each
@@ -58,8 +60,10 @@ from idkit.checks import Choice, Flag, Real, Reals, Whole, accepts
 from idkit.errors import SimulationError
 from idkit.responses.map_settling import (
     NEWTON_AFTER_PERIODS,
+    RATIO_PERIODS,
     SHOOTING_AFTER_PERIODS,
     MapPoints,
+    confirm_early_stops,
     settle_by_newton,
     settle_stability,
     shoot_pending,
@@ -68,11 +72,14 @@ from idkit.responses.periodic import STABILITY_MARGIN, PeriodMap
 from idkit.signal.harmonics import resonance_peak
 from idkit.simulate import harmonic_response
 
-__all__ = ["HarmonicMap", "harmonic_map", "MAP_MIN_PERIODS", "NEWTON_AFTER_PERIODS", "SHOOTING_AFTER_PERIODS"]
+__all__ = ["HarmonicMap", "harmonic_map", "MAP_MIN_PERIODS", "NEWTON_AFTER_PERIODS", "RATIO_PERIODS",
+           "SHOOTING_AFTER_PERIODS"]
 
-#: Fewest periods of a map point's time run (:func:`harmonic_map`'s ``min_periods``): three windows of two
-#: periods, the least on which the steady-state test stops on a measured ratio of window changes.
-MAP_MIN_PERIODS = 6
+#: Fewest periods of a map point's time run (:func:`harmonic_map`'s ``min_periods``): two windows of two
+#: periods. A run that stops before :data:`RATIO_PERIODS` (three windows, the least on which the window
+#: test measures a ratio of window changes for its extrapolation) is taken only if the Newton distance
+#: from its classification period is within the tolerance (:func:`confirm_early_stops`).
+MAP_MIN_PERIODS = 4
 
 #: Period cap of a map's time integration without shooting, and of the fallback run of the
 #: points that shooting could not close after the default :data:`SHOOTING_AFTER_PERIODS`.
@@ -333,12 +340,14 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
         1.6 s on 2 workers (4000 periods: 38 shot, 8.3 s on one worker) and agree with the
         4000-period map to 3.9e-4 in |H1| and |H3| (its own tolerance is 1e-3).
         With the default cap, points that shooting does not close are run on to 4000 periods.
-    min_periods : int, default :data:`MAP_MIN_PERIODS` (6)
-        Fewest periods a point's time run spans before the steady-state test may stop it. Six
-        periods are three windows: the first is compared with nothing, so the stop is decided on a
-        genuine ratio of two window changes (the geometric extrapolation), as with more; a point
-        started from its settled neighbour spends no more. (``harmonic_response``'s default is 8,
-        for runs from rest.)
+    min_periods : int, default :data:`MAP_MIN_PERIODS` (4)
+        Fewest periods a point's time run spans before the steady-state test may stop it. Four
+        periods are two windows: the first is compared with nothing, so a stop there rests on one
+        window change, without a measured ratio for the geometric extrapolation; such a point is
+        taken only if the Newton step to its orbit from the classification's period with the
+        Jacobian is within ``tolerance`` (else it runs on, three windows at least). From six
+        periods (three windows) the window test alone decides. A point started from its settled
+        neighbour mostly stops at four. (``harmonic_response``'s default is 8, for runs from rest.)
     shooting : bool, default True
         Settle the points that reach ``max_periods`` by shooting (module docstring); False
         leaves them unconverged, as a plain grid of time integrations.
@@ -386,6 +395,8 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
     shape = grid_freq.shape
     orders = (0.5,) + tuple(float(k) for k in range(1, int(n_harmonics) + 1))
     points = MapPoints.of(response, orders)
+    confirm_early_stops(system, one, points, response.steps_per_period, orders, float(tolerance), workers, executor,
+                        NEWTON_AFTER_PERIODS if newton and capped else max_periods)
     pending = np.flatnonzero(~points.converged & (points.flags == 0))
     if newton and pending.size:
         settle_by_newton(system, one, points, pending, response.steps_per_period, orders, float(tolerance), workers,

@@ -1,15 +1,16 @@
 """Settling and classifying the points of a harmonic map that its time runs leave.
 
 :func:`idkit.responses.harmonic_map.harmonic_map` runs every point in time first; this module holds
-what follows (docs/responses.md, docs/periodic.md): the points whose runs reach the period cap are
-settled by batched Newton on the period map from the runs' end states (or shot one by one), every
+what follows (docs/responses.md, docs/periodic.md): a run that stopped on one window change is
+taken only if the Newton distance from its classification period is within the tolerance (else it
+runs on), the points whose runs reach the period cap are settled by batched Newton on the period map from the runs' end states (or shot one by one), every
 settled orbit is classified by its Floquet multipliers, and an unstable one is carried to what a long
 run reaches (period 2 after a period doubling, the other branch after a fold).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -48,6 +49,11 @@ NEWTON_REACH = 0.1
 #: enough that the transient has chosen the member of a friction-memory family of orbits a long run
 #: reaches, which Newton cannot choose (shorter caps and their measured effect: docs/responses.md).
 NEWTON_AFTER_PERIODS = 48
+#: A time run that stops before this many periods (three windows of two) has measured no ratio of
+#: window changes for its geometric extrapolation (its first window is compared with nothing): its
+#: end state is taken only if the Newton distance to its orbit, from the classification's own period
+#: with the Jacobian, is within the tolerance (:func:`confirm_early_stops`); else it runs on.
+RATIO_PERIODS = 6
 
 
 #: A carried point shows a period-2 orbit when its 1/2 subharmonic exceeds this many steady-state
@@ -81,6 +87,8 @@ class MapPoints:
     states: tuple  # the time runs' end states (harmonic_response's end_states layout)
     stability: list
     multiplier: NDArray[np.complex128]
+    # index -> (multipliers, scaled monodromy matrix) of orbits classified already at their end state
+    classified: dict = field(default_factory=dict)
 
     @classmethod
     def of(cls, response, orders):
@@ -136,6 +144,61 @@ def _leading(multipliers, margin):
     return complex(leading_multipliers(np.asarray(multipliers)[None, :], margin)[0])
 
 
+def confirm_early_stops(system, one, points: MapPoints, steps, orders, tolerance, workers, executor, cap):
+    """Check the points whose time runs stopped before :data:`RATIO_PERIODS` periods.
+
+    Their window test stopped on one window change below the tolerance, without a measured ratio
+    for its extrapolation. Each is classified here, one period with the propagated Jacobian from its
+    end state ``x`` (the classification :func:`settle_stability` needs anyway, kept for it), and the
+    Newton step to its orbit, ``(J - I)^-1 (Phi(x) - x)`` with friction memory kept as
+    :func:`_newton_batch` keeps it, estimates the distance left; every state component in units of its
+    scale and carried to the top's first harmonic (times ``max(1, L / |X1|)``), it must be within
+    ``tolerance``, the test Newton's points pass. A point that fails runs on from ``Phi(x)`` (its
+    period counted) with three windows at least, up to ``cap`` periods in all; one that does not settle
+    then is left to Newton and shooting like the runs that reach the cap.
+    """
+    early = np.flatnonzero(points.converged & (points.flags == 0) & (points.periods < RATIO_PERIODS))
+    if not early.size:
+        return
+    freq, amplitude = points.freq[early], points.amplitude[early]
+    states = one.pack(*(values[early] for values in points.states))
+    _, multipliers, jacobians, flags, ends = monodromy(one, freq, amplitude, states, steps[early], workers=workers,
+                                                       with_ends=True)
+    length = np.maximum(amplitude, np.max(np.abs(states[:, :one.ndof]), axis=1))  # as monodromy scales
+    scale = one.scales(freq, amplitude, length)
+    good = np.flatnonzero((flags == FLAG_OK) & np.isfinite(ends).all(axis=1))
+    error = np.full(early.size, np.inf)
+    if good.size:
+        memory = (np.abs(multipliers[good] - 1.0) <= STABILITY_MARGIN).sum(axis=1)
+        step, _ = newton_steps(jacobians[good], (ends[good] - states[good]) / scale[good], None, memory,
+                               one.conserved_gradients(scale[good]))
+        first = np.abs(points.hosidf_values[list(orders).index(1.0), early[good]]) * amplitude[good]
+        error[good] = np.max(np.abs(step), axis=1) * np.maximum(1.0, length[good] / np.maximum(first, 1e-300))
+    accepted = error <= tolerance
+    for row in np.flatnonzero(accepted):
+        points.classified[early[row]] = (multipliers[row], jacobians[row])
+    again = np.flatnonzero(~accepted)
+    if not again.size:
+        return
+    indices = early[again]
+    moved = np.isin(again, good)  # run on from Phi(x), one period on
+    starts = np.where(moved[:, None], ends[again], states[again])
+    for row, index in zip(again, indices):
+        points.converged[index] = False
+        points.reasons[index] = (f"the window test stopped after {points.periods[index]:g} periods, but the "
+                                 f"distance to its orbit was {error[row]:.3g}")
+    points.periods[indices] += moved
+    runs = harmonic_response(system, freq[again], amplitude[again], n_harmonics=len(orders) - 1, tolerance=tolerance,
+                             steps_per_period=steps[indices], min_periods=RATIO_PERIODS,
+                             max_periods=max(RATIO_PERIODS, int(cap) - RATIO_PERIODS), workers=workers,
+                             executor=executor, start=one.unpack(starts))
+    points.take_runs(indices, runs, orders, continued=True)
+    for row, index in enumerate(indices):  # Newton and shooting go on from where the run is
+        if runs.flags[row] == FLAG_OK:
+            for field_values, values in zip(points.states, runs.end_states):
+                field_values[index] = values[row]
+
+
 def settle_stability(system, points: MapPoints, steps, orders, tolerance, workers):
     """Classify the orbit of every point the time runs settled; carry the unstable ones to the stable
     orbit a longer run reaches from them (module docstring). Points shot are classified already."""
@@ -145,8 +208,17 @@ def settle_stability(system, points: MapPoints, steps, orders, tolerance, worker
     if not timed.size:
         return
     states = one.pack(*(values[timed] for values in points.states))
-    _, multipliers, jacobians, flags = monodromy(one, points.freq[timed], points.amplitude[timed], states,
-                                               steps[timed], workers=workers)
+    multipliers = np.full((timed.size, one.size), np.nan, dtype=complex)
+    jacobians = np.full((timed.size, one.size, one.size), np.nan)
+    flags = np.zeros(timed.size, dtype=np.int64)
+    known = np.array([index in points.classified for index in timed], dtype=bool)
+    for row in np.flatnonzero(known):  # classified when its early stop was confirmed, same end state
+        multipliers[row], jacobians[row] = points.classified[timed[row]]
+    fresh = np.flatnonzero(~known)
+    if fresh.size:
+        _, multipliers[fresh], jacobians[fresh], flags[fresh] = monodromy(
+            one, points.freq[timed[fresh]], points.amplitude[timed[fresh]], states[fresh], steps[timed[fresh]],
+            workers=workers)
     for index, flag in zip(timed[flags != 0], flags[flags != 0]):
         # one period more from a valid end state: not expected, but not hidden
         points.converged[index] = False

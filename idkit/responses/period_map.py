@@ -339,14 +339,15 @@ class PeriodMap:
         return phi, jacobian, derivative, int(flag)
 
 
-def monodromy(period_map: PeriodMap, freq, amplitude, states, steps_per_period, *, workers=None):
+def monodromy(period_map: PeriodMap, freq, amplitude, states, steps_per_period, *, workers=None, with_ends=False):
     """Closing error and Floquet multipliers of many approximate orbits at once.
 
     ``states`` (n, size): packed states at t = 0 (a settled time run's end states). Over
     ``period_map.periods`` periods, returns ``(closing, multipliers, jacobians, flags)``:
     ``closing`` (n,) ``max |Phi(x) - x| / scale``, ``multipliers`` (n, size) complex, by
     decreasing modulus, ``jacobians`` (n, size, size) the monodromy matrices in scaled
-    variables (as :meth:`PeriodMap.jacobian`), ``flags`` (n,). The monodromy matrix is propagated through the steps (or
+    variables (as :meth:`PeriodMap.jacobian`), ``flags`` (n,), and with ``with_ends`` the states
+    ``Phi(x)`` after the periods (n, size). The monodromy matrix is propagated through the steps (or
     central differences, :meth:`PeriodMap.jacobian`), one compiled batch over every point
     (chunks on ``workers`` threads); multipliers do not depend on the variables' scaling.
     """
@@ -393,6 +394,8 @@ def monodromy(period_map: PeriodMap, freq, amplitude, states, steps_per_period, 
         return (values,)
     (multipliers,) = run_chunked(eigen, n, workers=workers)
     closing[~good] = np.nan
+    if with_ends:
+        return closing, multipliers, jacobian, np.asarray(flags), end
     return closing, multipliers, jacobian, np.asarray(flags)
 
 
