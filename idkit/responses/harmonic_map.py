@@ -425,7 +425,7 @@ def harmonic_map(system, freq_axis: ArrayLike, amplitude_axis: ArrayLike, *, n_h
                 system, response.freq[failed], response.amplitude[failed], n_harmonics=int(n_harmonics),
                 tolerance=tolerance, steps_per_period=response.steps_per_period[failed],
                 max_periods=PLAIN_MAX_PERIODS, workers=workers, executor=executor, start=start,
-                min_periods=min_periods,
+                min_periods=max(min_periods, RATIO_PERIODS),  # no early stop is checked after this run
             )
             points.take_runs(failed, longer, orders)
     settle_stability(system, points, response.steps_per_period, orders, float(tolerance), workers)

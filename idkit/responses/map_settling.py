@@ -134,8 +134,8 @@ class MapPoints:
             self.change[index] = runs.change[row]
             self.converged[index] = True
             self.reasons[index] = "ok"
-            for field, values in zip(self.states, runs.end_states):
-                field[index] = values[row]
+            for kept, values in zip(self.states, runs.end_states):
+                kept[index] = values[row]
         return settled
 
 
@@ -195,8 +195,8 @@ def confirm_early_stops(system, one, points: MapPoints, steps, orders, tolerance
     points.take_runs(indices, runs, orders, continued=True)
     for row, index in enumerate(indices):  # Newton and shooting go on from where the run is
         if runs.flags[row] == FLAG_OK:
-            for field_values, values in zip(points.states, runs.end_states):
-                field_values[index] = values[row]
+            for kept, values in zip(points.states, runs.end_states):
+                kept[index] = values[row]
 
 
 def settle_stability(system, points: MapPoints, steps, orders, tolerance, workers):
@@ -384,8 +384,8 @@ def settle_by_newton(system, one, points, pending, steps, orders, tolerance, wor
         points.stability[index] = "stable"
         points.shot[index] = True
         points.multiplier[index] = _leading(found.multipliers[row], margin)
-        for field, values in zip(points.states, one.unpack(found.ends[row])):
-            field[index] = values[0]
+        for kept, values in zip(points.states, one.unpack(found.ends[row])):
+            kept[index] = values[0]
 
 
 def _newton_batch(system, one, freq, amplitude, steps, rows, found, n_harmonics, tolerance, workers, executor):
