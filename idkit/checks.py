@@ -422,7 +422,9 @@ class Samples(Spec):
             raise _Refused(f"{array.shape[-1]} samples", self.expected())
         # a finite sum has no NaN or inf terms (an overflowing one is looked at value by value)
         if self.finite and not (math.isfinite(float(array.sum())) or np.isfinite(array).all()):
-            raise _Refused("NaN or inf", self.expected())
+            index = tuple(int(i) for i in np.unravel_index(int(np.argmin(np.isfinite(array))), array.shape))
+            raise _Refused(f"{float(array[index])!r} at index {index[0] if len(index) == 1 else index}",
+                           self.expected())
         view = array.view()
         view.setflags(write=False)
         return view

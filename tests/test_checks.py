@@ -59,8 +59,10 @@ def test_samples_returns_a_read_only_view_and_never_alters_the_callers_array():
     checked = Samples(min_size=3).check(record, "force")
     assert np.shares_memory(checked, record) and not checked.flags.writeable and record.flags.writeable
     assert Samples().check([1, 2], "x").dtype == np.float64
-    with pytest.raises(DataError, match=r"^x: found NaN or inf, expected a 1-D array"):
+    with pytest.raises(DataError, match=r"^x: found inf at index 1, expected a 1-D array"):
         Samples().check([1.0, np.inf], "x", DataError)
+    with pytest.raises(DataError, match=r"^x: found nan at index \(1, 0\), expected a 1-D or 2-D array"):
+        Samples(ndim=(1, 2)).check([[1.0, 2.0], [np.nan, 3.0]], "x", DataError)
 
 
 def test_choice_flag_and_seed():

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from idkit.checks import Samples
 from idkit.errors import DataError
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
@@ -53,6 +54,10 @@ GROUP_TOLERANCE = 0.10
 #: The strong-motion window: the span between these fractions of the cumulative integral of
 #: the deflection rate squared (Trifunac-Brady's 5-95 % significant duration).
 STRONG_MOTION_FRACTIONS = (0.05, 0.95)
+
+
+#: A history's time, deflection or force: 1-D and finite (lengths and time order checked together).
+_SIGNAL = Samples(min_size=0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -82,15 +87,8 @@ class ForceHistory:
 
     def __post_init__(self):
         where = f"force history {self.name!r}"
-        arrays = {}
-        for label in ("time", "deflection", "force"):
-            value = np.asarray(getattr(self, label), dtype=float)
-            if value.ndim != 1:
-                raise DataError(f"{where} {label}: found shape {value.shape}, expected a 1-D array")
-            bad = np.flatnonzero(~np.isfinite(value))
-            if bad.size:
-                raise DataError(f"{where} {label}: found {value[bad[0]]} at index {bad[0]}, expected finite values")
-            arrays[label] = value
+        arrays = {label: _SIGNAL.check(getattr(self, label), f"{where} {label}", DataError)
+                  for label in ("time", "deflection", "force")}
         sizes = {label: value.size for label, value in arrays.items()}
         if len(set(sizes.values())) != 1:
             raise DataError(f"{where}: found sample counts {sizes}, expected equal counts")
@@ -104,7 +102,6 @@ class ForceHistory:
         if np.ptp(arrays["deflection"]) <= 0:
             raise DataError(f"{where} deflection: found a constant record, expected a deflection history")
         for label, value in arrays.items():
-            value.setflags(write=False)
             object.__setattr__(self, label, value)
         object.__setattr__(self, "group", str(self.group or self.name))
 

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from idkit.checks import Instance, Real, Whole, accepts
+from idkit.checks import Instance, Real, Reals, Whole, accepts
 from idkit.errors import DataError, FitError, Message, Suggestion
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
@@ -66,6 +66,7 @@ LOOP_POINTS_PER_SET = 600
 SINGLE_AMPLITUDE_SPREAD = 0.25
 
 
+@accepts(amplitudes=Reals(unit="m", gt=0, meaning="record amplitudes"), error=FitError)
 def split_threshold(amplitudes) -> float:
     """The default small/large split of loop records, m: the geometric mean of the smallest and the
     largest record amplitude (half the peak-to-peak deflection), so the split follows the data's own
@@ -79,10 +80,7 @@ def split_threshold(amplitudes) -> float:
     >>> round(split_threshold([13e-3, 25e-3, 38e-3]) * 1e3, 1)       # a friction damper's 13-38 mm
     22.2
     """
-    values = np.asarray(amplitudes, dtype=float)
-    if values.size == 0 or not np.all(np.isfinite(values) & (values > 0)):
-        raise FitError(f"amplitudes: found {values!r}, expected positive record amplitudes in m")
-    return float(math.sqrt(values.min() * values.max()))
+    return float(math.sqrt(amplitudes.min() * amplitudes.max()))
 
 
 def record_cycles(deflection, *, min_excursion: float | None = None,
