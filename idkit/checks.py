@@ -125,7 +125,7 @@ def _bounds(gt, ge, lt, le, unit: str) -> str:
     parts = [f"{symbol} {bound:g}" for symbol, bound in ((">", gt), (">=", ge), ("<", lt), ("<=", le))
              if bound is not None]
     text = " and ".join(parts)
-    return f"{text} {unit}".rstrip() if unit not in ("", "-") else text
+    return f"{text} {unit}" if text and unit not in ("", "-") else text
 
 
 def _number(value: Any, spec: Spec) -> float:

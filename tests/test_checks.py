@@ -41,6 +41,7 @@ def test_real_coerces_and_states_its_bounds_in_one_template():
     with pytest.raises(ParameterError, match=r"^freq: found nan, expected"):
         spec.check(math.nan, "freq")
     assert Real(optional=True).check(None, "x") is None
+    assert Real(unit="m").expected() == "a finite real number in m"  # a unit without bounds reads "in"
 
 
 def test_whole_never_truncates_and_reads_exponent_notation():

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from idkit.checks import Samples
+from idkit.checks import Reals, Samples
 from idkit.errors import DataError
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
@@ -56,8 +56,10 @@ GROUP_TOLERANCE = 0.10
 STRONG_MOTION_FRACTIONS = (0.05, 0.95)
 
 
-#: A history's time, deflection or force: 1-D and finite (lengths and time order checked together).
+#: A history's deflection or force: 1-D and finite; its time: a strictly increasing axis in s
+#: (lengths checked together).
 _SIGNAL = Samples(min_size=0)
+_TIME = Reals(unit="s", min_size=0, increasing=True)
 
 
 @dataclass(frozen=True, eq=False)
@@ -87,18 +89,13 @@ class ForceHistory:
 
     def __post_init__(self):
         where = f"force history {self.name!r}"
-        arrays = {label: _SIGNAL.check(getattr(self, label), f"{where} {label}", DataError)
-                  for label in ("time", "deflection", "force")}
+        arrays = {label: spec.check(getattr(self, label), f"{where} {label}", DataError)
+                  for label, spec in (("time", _TIME), ("deflection", _SIGNAL), ("force", _SIGNAL))}
         sizes = {label: value.size for label, value in arrays.items()}
         if len(set(sizes.values())) != 1:
             raise DataError(f"{where}: found sample counts {sizes}, expected equal counts")
         if arrays["time"].size < MIN_HISTORY_SAMPLES:
             raise DataError(f"{where}: found {arrays['time'].size} samples, expected at least {MIN_HISTORY_SAMPLES}")
-        step = np.diff(arrays["time"])
-        if np.any(step <= 0):
-            index = int(np.flatnonzero(step <= 0)[0]) + 1
-            raise DataError(f"{where} time: found {arrays['time'][index]!r} after {arrays['time'][index - 1]!r} at "
-                            f"index {index}, expected strictly increasing time")
         if np.ptp(arrays["deflection"]) <= 0:
             raise DataError(f"{where} deflection: found a constant record, expected a deflection history")
         for label, value in arrays.items():
