@@ -161,16 +161,17 @@ class Catalogue:
                      and r.get("held_out", {}).get("verdict") in ("PASS", "NOT RUN"))
 
 
+_CATALOGUE_OBJECT = Instance((dict,), what="a JSON object (a catalogue built by 'idkit catalogue build')")
+
+
 def load_catalogue(folder) -> Catalogue:
     """Read a catalogue folder written by :func:`build_catalogue`."""
     folder = Path(folder)
     path = folder / CATALOGUE_FILE
-    if not path.is_file():
-        raise DataError(f"{path}: not found; expected a catalogue built by 'idkit catalogue build'")
-    try:
-        document = json.loads(path.read_text())
-    except json.JSONDecodeError as problem:
-        raise DataError(f"{path}: not valid JSON ({problem})") from None
+    label = f"catalogue '{path}'"  # read as strictly as every input file (idkit.inputfiles)
+    document = load_json(read_input_bytes(path, label, DataError), label, DataError,
+                         expected="a catalogue built by 'idkit catalogue build'")
+    _CATALOGUE_OBJECT.check(document, label, DataError)
     Choice(("idkit-catalogue",)).check(document.get("format"), f"{path}: format", DataError)
     return Catalogue(folder, tuple(document["parts"]))
 

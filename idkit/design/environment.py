@@ -33,13 +33,13 @@ components" as a design criterion beside their deflections).
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from idkit.checks import Field, Instance, Real, Reals, Text, check_fields, field_names, refuse
 from idkit.errors import DataError
 from idkit.gravity import STANDARD_GRAVITY
+from idkit.inputfiles import load_json, read_input_bytes
 from idkit.signal.psd import _BREAKPOINTS, _LEVELS, PsdProfile
 
 __all__ = ["DROP_LIMITS", "LIMIT_KEYS", "Environment", "load_environment"]
@@ -156,10 +156,7 @@ class Environment:
 def load_environment(path) -> Environment:
     """Read and check an environment file (module docstring)."""
     path = Path(path)
-    try:
-        document = json.loads(path.read_text())
-    except FileNotFoundError:
-        raise DataError(f"{path}: not found; expected an environment JSON file") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as problem:
-        raise DataError(f"{path}: not valid JSON ({problem})") from None
+    label = f"environment file '{path}'"  # read as strictly as every input file (idkit.inputfiles)
+    document = load_json(read_input_bytes(path, label, DataError), label, DataError,
+                         expected="an environment JSON object (floor_psd, drops, limits)")
     return Environment.from_dict(document, where=str(path))

@@ -136,3 +136,19 @@ def test_run_design_writes_the_best_designs_as_model_files(tmp_path):
 def test_bad_environments_are_refused_naming_the_key(document, message):
     with pytest.raises(DataError, match=message):
         Environment.from_dict(document)
+
+
+@pytest.mark.parametrize(("text", "message"), [
+    (None, r"environment file '.*env.json': not found"),
+    ('{"limits": {"probability": 0.5}, "limits": {}}', r"key 'limits' given twice"),
+    ('{"limits": {"probability": NaN}}', r"at limits.probability: found the non-finite number NaN"),
+    ('{"limits": ', r"invalid JSON at line 1"),
+])
+def test_an_environment_file_is_read_as_strictly_as_every_input_file(tmp_path, text, message):
+    """load_environment reads through idkit.inputfiles: a repeated key or a NaN is refused, not kept."""
+    from idkit.design import load_environment
+
+    if text is not None:
+        (tmp_path / "env.json").write_text(text)
+    with pytest.raises(DataError, match=message):
+        load_environment(tmp_path / "env.json")
