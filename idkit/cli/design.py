@@ -8,22 +8,21 @@ __all__ = ["register"]
 
 
 def _predicted(catalogue, path):
-    """A size never measured, from a JSON file {"family": ..., "dimensions": {...}} (docs/design.md)."""
-    import json
-    from pathlib import Path
-
+    """A size never measured, from a JSON file {"family": ..., "dimensions": {...}} (docs/design.md),
+    read as strictly as every input file and checked against its declared keys."""
+    from idkit.checks import Choice, Field, Instance, Text, check_fields
     from idkit.design import predicted_part
     from idkit.errors import DataError
+    from idkit.inputfiles import load_json, read_input_bytes
 
-    try:
-        document = json.loads(Path(path).read_text())
-    except (OSError, json.JSONDecodeError) as problem:
-        raise DataError(f"{path}: cannot read a predicted part ({problem})") from None
-    if not (isinstance(document, dict) and isinstance(document.get("dimensions"), dict)
-            and document.get("family") in ("wire_rope", "elastomer")):
-        raise DataError(f"{path}: found {str(document)[:80]!r}, expected {{\"family\": \"wire_rope\" or \"elastomer\", "
-                        "\"dimensions\": {...}, \"name\": optional}")
-    return predicted_part(catalogue, document["family"], document["dimensions"], name=document.get("name"))
+    label = f"predicted part '{path}'"
+    expected = '{"family": "wire_rope" or "elastomer", "dimensions": {...}, "name": optional}'
+    document = load_json(read_input_bytes(path, label, DataError), label, DataError, expected=expected)
+    fields = (Field("family", Choice(("wire_rope", "elastomer")), required=True),
+              Field("dimensions", Instance((dict,), what="an object of dimensions"), required=True),
+              Field("name", Text(optional=True)))
+    values = check_fields(Instance((dict,), what=expected).check(document, label, DataError), fields, label)
+    return predicted_part(catalogue, values["family"], values["dimensions"], name=values.get("name"))
 
 
 def _cmd_design(args) -> None:

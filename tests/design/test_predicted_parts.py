@@ -8,6 +8,7 @@ import pytest
 
 from idkit.catalogue import load_catalogue
 from idkit.design import draw_models, predicted_part
+from idkit.errors import DataError
 from idkit.models import GeneralizedMaxwell, IwanModel, save_model
 from idkit.synth.catalogue import elastomer_family, wire_rope_family
 
@@ -94,3 +95,18 @@ def test_cli_design_adds_a_predicted_size_to_the_candidates(tmp_path, capsys):
     assert table.loc[table["name"] == "4 x WR predicted", "predicted parts"].tolist() == [1]
     assert len(table) == 8
     capsys.readouterr()
+
+
+@pytest.mark.parametrize(("document", "message"), [
+    ({"family": "steel", "dimensions": {}}, r"size.json': family: found 'steel', expected one of 'wire_rope'"),
+    ({"family": "wire_rope"}, r"size.json': required key 'dimensions' missing"),
+    ({"family": "wire_rope", "dimensions": {}, "colour": "red"}, r"unknown key\(s\) colour"),
+    (["wire_rope"], r"size.json': found list, expected \{\"family\""),
+])
+def test_a_predicted_part_file_is_checked_against_its_declared_keys(tmp_path, document, message):
+    """--predicted-part FILE: the keys are declared (family, dimensions, name); nothing is ignored."""
+    from idkit.cli.design import _predicted
+
+    (tmp_path / "size.json").write_text(json.dumps(document))
+    with pytest.raises(DataError, match=message):
+        _predicted(None, tmp_path / "size.json")
