@@ -33,7 +33,7 @@ import inspect
 import math
 import os
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
@@ -45,19 +45,20 @@ from idkit.inputfiles import path_problem
 from idkit.limits import SMALLEST_NORMAL
 
 __all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Text", "Samples", "Seed", "Instance", "InputPath",
-           "Either", "accepts", "unchecked", "refuse", "DECLARED", "Contract", "OptionValueError", "Field", "field_names",
-           "check_fields"]
+           "Items", "Either", "accepts", "unchecked", "refuse", "DECLARED", "Contract", "OptionValueError", "Field",
+           "field_names", "check_fields"]
 
 #: Values that ``float()`` converts but that are not numbers.
 _NOT_NUMBERS = (bool, np.bool_, str, bytes)
 
 
 class _Refused(Exception):
-    """Raised by a spec's ``coerce``: what was found and what was expected."""
+    """Raised by a spec's ``coerce``: what was found and what was expected; ``at``, the position
+    of a refused item inside the value (``[3]``), follows the argument's name in the message."""
 
-    def __init__(self, found: str, expected: str):
+    def __init__(self, found: str, expected: str, at: str = ""):
         super().__init__(found, expected)
-        self.found, self.expected = found, expected
+        self.found, self.expected, self.at = found, expected, at
 
 
 def refuse(name: str, value: Any, expected: str, error: type[Exception] = ParameterError) -> Exception:
@@ -104,7 +105,7 @@ class Spec:
         try:
             return self.coerce(value)
         except _Refused as refusal:
-            raise error(f"{name}: found {refusal.found}, expected {refusal.expected}") from None
+            raise error(f"{name}{refusal.at}: found {refusal.found}, expected {refusal.expected}") from None
 
     def parse(self, text: str) -> Any:
         """An argparse ``type=``: ``text`` read as a number and checked (:class:`OptionValueError`,
@@ -505,6 +506,38 @@ class InputPath(Spec):
 
     def bad_values(self) -> list:
         return super().bad_values() + [3.0, True, "", "/nonexistent/idkit-input-path"]
+
+
+@dataclass(frozen=True)
+class Items(Spec):
+    """A sequence (a list, tuple or other iterable; not text) of at least ``min_size`` items, each
+    one ``item`` accepts; returned as a tuple of the coerced items. A refused item is named by its
+    position: ``records[2]: found float, expected QuasiStaticMeasurement``."""
+
+    item: Spec = field(default_factory=lambda: Instance((object,)))
+    min_size: int = 0
+    optional: bool = False
+
+    def expected(self) -> str:
+        count = f"at least {self.min_size} item{'s' if self.min_size > 1 else ''}" if self.min_size else "items"
+        return f"a sequence of {count}, each {self.item.expected()}"
+
+    def coerce(self, value: Any) -> tuple:
+        if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, Iterable):
+            raise _Refused(type(value).__name__, self.expected())
+        items = tuple(value)
+        if len(items) < self.min_size:
+            raise _Refused(f"{len(items)} items", self.expected())
+        checked = []
+        for index, item in enumerate(items):
+            try:
+                checked.append(self.item.coerce(item))
+            except _Refused as refusal:
+                raise _Refused(refusal.found, refusal.expected, f"[{index}]{refusal.at}") from None
+        return tuple(checked)
+
+    def bad_values(self) -> list:
+        return super().bad_values() + ["abc", 3.0] + [[bad] for bad in self.item.bad_values() if bad is not None]
 
 
 @dataclass(frozen=True)

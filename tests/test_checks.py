@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import idkit
-from idkit.checks import DECLARED, Choice, Either, Flag, Real, Samples, Seed, Whole, accepts
+from idkit.checks import DECLARED, Choice, Either, Flag, Items, Real, Samples, Seed, Whole, accepts
 from idkit.errors import DataError, ParameterError
 
 for _module in pkgutil.walk_packages(idkit.__path__, "idkit."):
@@ -29,7 +29,7 @@ def test_every_declared_argument_refuses_its_bad_values_naming_itself(contract, 
     """Only the bad argument is given: the contract is checked before the call binds the others,
     so the refusal names the argument whatever the function needs besides."""
     for bad in spec.bad_values():
-        with pytest.raises(contract.error, match=rf"^{name}: found .*, expected "):
+        with pytest.raises(contract.error, match=rf"^{name}(\[\d+\])*: found .*, expected "):  # an item: name[i]
             contract.function(**{name: bad})
 
 
@@ -64,6 +64,16 @@ def test_samples_returns_a_read_only_view_and_never_alters_the_callers_array():
         Samples().check([1.0, np.inf], "x", DataError)
     with pytest.raises(DataError, match=r"^x: found nan at index \(1, 0\), expected a 1-D or 2-D array"):
         Samples(ndim=(1, 2)).check([[1.0, 2.0], [np.nan, 3.0]], "x", DataError)
+
+
+def test_items_names_the_position_of_a_refused_item():
+    spec = Items(Real(unit="m", gt=0), min_size=1)
+    assert spec.check([1, np.float32(2.0)], "heights") == (1.0, 2.0)
+    for bad, message in (([1.0, -2.0], r"^heights\[1\]: found -2, expected a finite real number > 0 m$"),
+                         ([], r"^heights: found 0 items, expected a sequence of at least 1 item, each"),
+                         ("ab", r"^heights: found str, expected a sequence")):
+        with pytest.raises(ParameterError, match=message):
+            spec.check(bad, "heights")
 
 
 def test_choice_flag_and_seed():

@@ -4,14 +4,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from idkit.errors import DataError
-
-
-def _require(measurement, cls, function: str):
-    if not isinstance(measurement, cls):
-        raise DataError(f"{function}: found {type(measurement).__name__}, expected {cls.__name__}")
-
-
 
 @dataclass(frozen=True)
 class MeasuredRecord:

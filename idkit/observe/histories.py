@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from idkit.checks import Reals, Samples
+from idkit.checks import Instance, Items, Reals, Samples, accepts
 from idkit.errors import DataError
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import DataProvenance, select_measurements
@@ -152,15 +152,13 @@ def _groups(records: Sequence[tuple[str, float, float]]) -> dict[str, str]:
     return labels
 
 
+@accepts(records=Items(Instance((QuasiStaticMeasurement,), what="a quasi-static (force-deflection) record")),
+         error=DataError)
 def histories_from_records(records) -> list[ForceHistory]:
     """:class:`ForceHistory` items of quasi-static records already selected, grouped by test
     condition (module docstring); ids must be unique."""
-    records = list(records)
     built, seen = [], set()
     for index, record in enumerate(records, start=1):
-        if not isinstance(record, QuasiStaticMeasurement):
-            raise DataError(f"records[{index - 1}]: found {type(record).__name__}, expected a quasi-static "
-                            "(force-deflection) record")
         name = record.id or f"record{index}"
         if name in seen:
             raise DataError(f"records: found the id {name!r} twice, expected unique record ids")

@@ -15,11 +15,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from idkit.checks import Real, Samples, accepts
-from idkit.errors import FitError
+from idkit.checks import Instance, Items, Real, Samples, accepts
+from idkit.errors import DataError, FitError
 from idkit.io import QuasiStaticMeasurement
 from idkit.io.selection import select_measurements
-from idkit.observe._common import _require
 
 __all__ = ["K0Estimate", "estimate_k0", "K0FromLoops", "k0_from_measurements", "k0_from_records",
            "MIN_WINDOW_FRACTION", "StaticOperatingPoint", "static_operating_point"]
@@ -170,6 +169,11 @@ def k0_from_measurements(
     return k0_from_records(records, window=window)
 
 
+#: The quasi-static records of :func:`k0_from_records` and :func:`static_operating_point` (an item of
+#: another kind is a DataError; no record at all a FitError).
+_RECORDS = Items(Instance((QuasiStaticMeasurement,)))
+
+
 @accepts(window=WINDOW, error=FitError)
 def k0_from_records(records, *, window: float = 1e-3) -> K0FromLoops:
     """Static stiffness from quasi-static records already selected (:func:`k0_from_measurements`).
@@ -192,11 +196,9 @@ def k0_from_records(records, *, window: float = 1e-3) -> K0FromLoops:
     DataError
         An item that is not a :class:`~idkit.io.QuasiStaticMeasurement`.
     """
-    records = list(records)
+    records = _RECORDS.check(records, "records", DataError)
     if not records:
         raise FitError("records: found none, expected at least one quasi-static record")
-    for record in records:
-        _require(record, QuasiStaticMeasurement, "k0_from_records")
     x = np.concatenate([r.deflection for r in records])
     f = np.concatenate([r.force for r in records])
     pooled = estimate_k0(x, f, window)
@@ -274,9 +276,7 @@ def static_operating_point(records, load: float, *, window: float = 1e-3) -> Sta
     >>> round(point.deflection * 1e3, 4), round(point.stiffness)
     (-3.2055, 8718)
     """
-    records = list(records)
-    for record in records:
-        _require(record, QuasiStaticMeasurement, "static_operating_point")
+    records = _RECORDS.check(records, "records", DataError)
     x = np.concatenate([r.deflection for r in records])
     f = np.concatenate([r.force for r in records])
 

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from idkit.checks import Instance, Real, Reals, Whole, accepts
+from idkit.checks import Instance, Items, Real, Reals, Whole, accepts
 from idkit.errors import ParameterError, SimulationError
 from idkit.models import GeneralizedMaxwell, HybridSystem, IwanModel, SDOFSystem, VoigtModel, library
 from idkit.responses.random_vibration import FLAT_LEVELS, random_response, settle_records_for
@@ -148,7 +148,8 @@ def _top_mass(moving_mass: float, isolator) -> float:
     return top
 
 
-@accepts(target_freq=_TARGET_FREQ)
+@accepts(systems=Items(Instance((TransportSystem,), what="a TransportSystem (transport_systems)")),
+         target_freq=_TARGET_FREQ)
 def tuning_table(systems: list[TransportSystem], target_freq: float = 5.0) -> pd.DataFrame:
     """Masses and tuning checks of the study systems (one row each).
 
@@ -159,14 +160,8 @@ def tuning_table(systems: list[TransportSystem], target_freq: float = 5.0) -> pd
     ``SDOFSystem.mass`` / ``HybridSystem.mass`` holds); ``intermediate mass [kg]``;
     ``stiffness at target [N/m]``; ``r_k [-]`` requested and, for the hybrids, achieved.
     """
-    if isinstance(systems, (str, bytes)) or not np.iterable(systems):
-        raise ParameterError(f"systems: found {type(systems).__name__}, expected a list of TransportSystem "
-                             "(transport_systems)")
     rows = []
-    for index, item in enumerate(systems):
-        if not isinstance(item, TransportSystem):
-            raise ParameterError(f"systems[{index}]: found {type(item).__name__}, expected a TransportSystem "
-                                 "(transport_systems)")
+    for item in systems:
         system = item.system
         masses = system.masses
         row = {"system": item.name, "moving mass [kg]": masses[0], "top mass without m_eff [kg]": system.mass,
