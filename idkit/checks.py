@@ -543,7 +543,8 @@ class Items(Spec):
 @dataclass(frozen=True)
 class Either(Spec):
     """A value one of ``specs`` accepts, coerced by the first that does (an order or ``"auto"``:
-    ``Either((Whole(ge=1), Choice(("auto",))))``)."""
+    ``Either((Whole(ge=1), Choice(("auto",))))``). A sequence one :class:`Items` spec refuses for
+    one of its items is refused naming that item."""
 
     specs: tuple = ()
     optional: bool = False
@@ -552,11 +553,14 @@ class Either(Spec):
         return " or ".join(spec.expected() for spec in self.specs)
 
     def coerce(self, value: Any) -> Any:
+        inner = None  # a value shaped as one spec wants, one of whose items that spec refused
         for spec in self.specs:
             try:
                 return spec.coerce(value)
-            except _Refused:
-                continue
+            except _Refused as refusal:
+                inner = inner or (refusal if refusal.at else None)
+        if inner is not None:
+            raise inner
         raise _Refused(_found(value), self.expected())
 
     def parse(self, text: str) -> Any:

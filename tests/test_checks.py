@@ -74,6 +74,11 @@ def test_items_names_the_position_of_a_refused_item():
                          ("ab", r"^heights: found str, expected a sequence")):
         with pytest.raises(ParameterError, match=message):
             spec.check(bad, "heights")
+    either = Either((Choice(("all",)), spec))  # a sequence refused for one item names that item
+    with pytest.raises(ParameterError, match=r"^heights\[0\]: found 'a', expected a finite real number"):
+        either.check(["a"], "heights")
+    with pytest.raises(ParameterError, match=r"^heights: found 3.0, expected one of 'all' or a sequence"):
+        either.check(3.0, "heights")
 
 
 def test_choice_flag_and_seed():

@@ -8,10 +8,9 @@ carry into model files.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
-from idkit.checks import Choice, accepts
+from idkit.checks import Choice, Either, Instance, Items, accepts
 from idkit.errors import DataError, Message, Suggestion
 from idkit.io.info import SPLITS
 from idkit.io.manifest import MANIFEST_NAME, MeasurementSet
@@ -109,15 +108,13 @@ def split_option(split: str | None) -> str | None:
     return None if split == "all" else split
 
 
-def _everything(data) -> list:
-    if isinstance(data, MeasurementSet):
-        return list(data.measurements)
-    if isinstance(data, Sequence) and not isinstance(data, (str, bytes)):
-        return list(data)
-    raise DataError(f"measurements: found {type(data).__name__}, expected a MeasurementSet or a sequence "
-                    "of measurements")
+#: ``data`` of a selection: a measurement set, or a sequence of measurements of any kind.
+_DATA = Either((Instance((MeasurementSet,), what="a MeasurementSet"), Items(Instance(
+    (QuasiStaticMeasurement, WhiteNoiseMeasurement, SteppedSineMeasurement, DropMeasurement),
+    what="a measurement (QuasiStaticMeasurement, WhiteNoiseMeasurement, SteppedSineMeasurement or DropMeasurement)"))))
 
 
+@accepts(data=_DATA, error=DataError)
 def resolve_isolator(data, isolator, *, kind: str) -> str | None:
     """The ``isolator`` a selection uses: :data:`ONLY_ISOLATOR` becomes the data's only one.
 
@@ -152,7 +149,8 @@ def resolve_isolator(data, isolator, *, kind: str) -> str | None:
     """
     if isolator is not ONLY_ISOLATOR:
         return isolator
-    names = sorted({m.info.isolator for m in _everything(data) if m.kind == kind}, key=lambda name: name or "")
+    everything = data.measurements if isinstance(data, MeasurementSet) else data
+    names = sorted({m.info.isolator for m in everything if m.kind == kind}, key=lambda name: name or "")
     if len(names) <= 1:
         return names[0] if names else None
     where = f"{data.folder}: " if isinstance(data, MeasurementSet) and data.folder is not None else ""
@@ -163,6 +161,7 @@ def resolve_isolator(data, isolator, *, kind: str) -> str | None:
                             " (or another of those listed)"))
 
 
+@accepts(data=_DATA, error=DataError)
 def select_measurements(data, *, kind: str, isolator: str | None, split: str | None) -> tuple[list, DataProvenance]:
     """The measurements of one kind (and isolator, split) of a set, with their provenance.
 
@@ -199,23 +198,14 @@ def select_measurements(data, *, kind: str, isolator: str | None, split: str | N
         folder = None if data.folder is None else str(data.folder)
         manifest = data.manifest_sha256
         everything = list(data.measurements)
-    elif isinstance(data, Sequence) and not isinstance(data, (str, bytes)):
-        classes = (QuasiStaticMeasurement, WhiteNoiseMeasurement, SteppedSineMeasurement, DropMeasurement)
+    else:
         everything = list(data)
-        for index, item in enumerate(everything):
-            if not isinstance(item, classes):
-                raise DataError(f"measurements[{index}]: found {type(item).__name__}, expected a measurement "
-                                "(QuasiStaticMeasurement, WhiteNoiseMeasurement, SteppedSineMeasurement or "
-                                "DropMeasurement)")
         measurements = [m for m in everything if m.kind == kind
                         and (isolator is None or m.info.isolator == isolator)
                         and (split is None or m.info.split == split)]
         files = {(str(m.source.path) if m.source.path is not None else f"<memory:{m.id}>"): m.source.sha256
                  for m in measurements}
         folder, manifest = None, None
-    else:
-        raise DataError(f"measurements: found {type(data).__name__}, expected a MeasurementSet or a sequence "
-                        "of measurements")
     if not measurements:
         found: dict = {}
         for m in everything:
