@@ -107,16 +107,3 @@ def force_scale(arrays: SystemArrays, accel_scale):
                               f"the integrator's residual norm; expected forces below {MAX_FORCE_SCALE:.3g} N "
                               "(sqrt of the largest float64)")
     return float(scale) if np.ndim(scale) == 0 else np.ascontiguousarray(scale, dtype=float)
-
-
-def whole_number(value, name: str, minimum: int, minimum_text: str = "") -> int:
-    """``value`` as an int if it is a whole number >= ``minimum`` (2.5 is refused, never truncated)."""
-    number = None
-    if not isinstance(value, (bool, np.bool_)):
-        if isinstance(value, (int, np.integer)):
-            number = int(value)
-        elif isinstance(value, (float, np.floating)) and np.isfinite(value) and value == int(value):
-            number = int(value)
-    if number is None or number < minimum:
-        raise SimulationError(f"{name}: found {value!r}, expected a whole number >= {minimum_text or minimum}")
-    return number

@@ -40,8 +40,12 @@ def chunk_slices(size: int, chunk_size: int) -> list[slice]:
     return [slice(start, min(start + chunk_size, size)) for start in range(0, size, chunk_size)]
 
 
-@accepts(workers=Whole(ge=1, optional=True, meaning="threads"), chunk_size=Whole(ge=1, optional=True),
-         error=SimulationError)
+#: ``workers`` (threads) and ``chunk_size`` (points per chunk) of the chunked runs.
+WORKERS = Whole(ge=1, optional=True, meaning="threads")
+CHUNK_SIZE = Whole(ge=1, optional=True)
+
+
+@accepts(workers=WORKERS, chunk_size=CHUNK_SIZE, error=SimulationError)
 def run_chunked(task, size: int, *, workers=None, chunk_size=None, progress=None, executor=None):
     """Call ``task(slice)`` for chunks covering ``range(size)``; concatenate each output field.
 

@@ -7,10 +7,11 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from idkit.checks import Real, Whole, accepts
 from idkit.errors import SimulationError
-from idkit.simulate._arrays import force_scale, resolve_system, system_arrays, whole_number
+from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
 from idkit.simulate._kernel import FLAG_OK, FLAG_REASONS, harmonic_kernel
-from idkit.simulate._parallel import default_workers, run_chunked
+from idkit.simulate._parallel import CHUNK_SIZE, WORKERS, default_workers, run_chunked
 from idkit.simulate._structured import structure_of
 from idkit.models.laws import hybrid_displacements, sdof_transmissibility
 from idkit.signal.harmonics import search_resonance
@@ -227,6 +228,9 @@ def _reasons(flags, converged, periods, change, tolerance) -> tuple[str, ...]:
 _SMALLEST_NORMAL = float(np.finfo(float).tiny)  # 2.2e-308: below it float64 keeps fewer digits
 
 
+@accepts(n_harmonics=Whole(ge=1), tolerance=Real(gt=0, lt=1, meaning="a relative change"),
+         min_periods=Whole(ge=1), max_periods=Whole(ge=1), workers=WORKERS, chunk_size=CHUNK_SIZE,
+         chain_length=Whole(ge=1), error=SimulationError)
 def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, tolerance: float = 1e-3,
                       steps_per_period=None, min_periods: int = 8, max_periods: int = 4000,
                       progress=None, workers: int | None = None, executor=None,
@@ -307,12 +311,9 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
         worst = int(np.argmin(np.isfinite(base_accel)))
         raise SimulationError(f"freq, amplitude: found {freq[worst]:g} Hz and {amplitude[worst]:g} m, whose base "
                               f"acceleration A (2 pi f)^2 overflows; expected a finite one")
-    n_harmonics = whole_number(n_harmonics, "n_harmonics", 1)
-    min_periods = whole_number(min_periods, "min_periods", 1)
-    max_periods = whole_number(max_periods, "max_periods", min_periods, f"min_periods ({min_periods})")
-    if not (isinstance(tolerance, (int, float, np.floating, np.integer)) and not isinstance(tolerance, bool)
-            and 0 < tolerance < 1):
-        raise SimulationError(f"tolerance: found {tolerance!r}, expected a relative change > 0 and < 1")
+    if max_periods < min_periods:
+        raise SimulationError(f"max_periods: found {max_periods}, expected a whole number >= min_periods "
+                              f"({min_periods})")
     if steps_per_period is None:
         steps = default_steps_per_period(system, freq, arrays=arrays)
     else:
@@ -338,7 +339,6 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
     kernel_arrays = arrays.as_tuple()
     run_harmonic_batch = harmonic_kernel(structure_of(arrays))
 
-    chain_length = whole_number(chain_length, "chain_length", 1)
     if freq.size % chain_length:
         raise SimulationError(f"chain_length: found {chain_length} for {freq.size} points, expected a divisor of "
                               "the number of points (whole chains)")
@@ -371,9 +371,9 @@ def harmonic_response(system, freq, amplitude, *, n_harmonics: int = 3, toleranc
     order = (np.zeros(1, dtype=np.int64) if freq.size == 1 else
              (dealt_chains[:, None] * chain_length + np.arange(chain_length)[None, :]).ravel())
     if chain_length > 1:
-        workers_used = default_workers() if workers is None else whole_number(workers, "workers", 1)
+        workers_used = default_workers() if workers is None else workers
         chains_per_chunk = (max(1, -(-n_chains // (4 * workers_used))) if chunk_size is None
-                            else -(-whole_number(chunk_size, "chunk_size", 1) // chain_length))
+                            else -(-chunk_size // chain_length))
         chunk_size = chains_per_chunk * chain_length
     if freq.size == 1:
         dealt_freq, dealt_amplitude, dealt_steps, dealt_scale = freq, amplitude, np.ascontiguousarray(steps), scale
