@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 __all__ = ["MAX_STEPS", "MAX_SAMPLES", "MAX_GRID_POINTS", "MAX_DROP_SAMPLES", "MIN_TOLERANCE",
-           "MIN_TIME_STEP", "MAX_WORKERS", "MAX_SEED", "SMALLEST_NORMAL", "MAX_FORCE_SCALE"]
+           "MIN_TIME_STEP", "MAX_WORKERS", "MAX_SEED", "SMALLEST_NORMAL", "MAX_FORCE_SCALE", "MAX_IMPACT_SPEED"]
 
 #: Most integration steps of one simulated run (a time response, one harmonic point, one drop):
 #: each step stores a few float64 per degree of freedom, so 10^8 steps already fill gigabytes.
@@ -52,3 +52,7 @@ SMALLEST_NORMAL = float(np.finfo(np.float64).tiny)
 #: Largest force scale (N) the implicit step handles: its Newton iteration squares the force
 #: residual, which overflows float64 above the square root of its largest value.
 MAX_FORCE_SCALE = math.sqrt(np.finfo(np.float64).max)
+
+#: Largest impact speed (m/s) of a drop: its square, and so the drop height ``v0^2 / (2 g)``,
+#: overflows float64 above the square root of its largest value.
+MAX_IMPACT_SPEED = math.sqrt(np.finfo(np.float64).max)

@@ -49,6 +49,7 @@ from idkit.gravity import gravity_acceleration, impact_velocity_from_height
 from idkit.signal.drop import drop_phase_peaks
 from idkit.signal.srs import ShockResponseSpectrum, shock_response_spectrum
 from idkit.errors import SimulationError
+from idkit.limits import MAX_IMPACT_SPEED
 from idkit.checks import Choice, Flag, Real, Reals, accepts, unchecked
 from idkit.responses.linear import LINEAR_SYSTEM
 from idkit.models import HybridSystem
@@ -301,9 +302,9 @@ def shock_sweep(system, *, impact_velocity: ArrayLike | None = None, drop_height
         with np.errstate(over="ignore"):
             too_fast = ~np.isfinite(velocity**2 / (2.0 * STANDARD_GRAVITY))
         if too_fast.any():
-            limit = np.sqrt(2.0 * STANDARD_GRAVITY) * np.sqrt(np.finfo(float).max)
             raise SimulationError(f"impact_velocity: found {float(velocity[too_fast][0])!r} m/s, whose drop "
-                                  f"height v0^2 / (2 g) overflows float64; expected |v0| below {limit:.3g} m/s")
+                                  f"height v0^2 / (2 g) overflows float64; expected |v0| below "
+                                  f"{MAX_IMPACT_SPEED:.3g} m/s")
     if duration is None or time_step is None:  # only then is the resonance needed
         auto_duration, auto_step = default_shock_grid(system)
         duration = auto_duration if duration is None else duration

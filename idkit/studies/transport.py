@@ -44,6 +44,7 @@ import pandas as pd
 
 from idkit.checks import Instance, Items, Real, Reals, Whole, accepts
 from idkit.errors import ParameterError, SimulationError
+from idkit.limits import MAX_IMPACT_SPEED
 from idkit.models import GeneralizedMaxwell, HybridSystem, IwanModel, SDOFSystem, VoigtModel, library
 from idkit.responses.random_vibration import FLAT_LEVELS, random_response, settle_records_for
 from idkit.responses.shock import shock_sweep
@@ -309,10 +310,6 @@ def quick_transport_options(*, max_speed: float = 1.0, max_height: float = 0.15)
     """
     return dict(levels=(1e-6, 1e-3), n_realizations=4, r_k_values=(0.2, 1.0),
                 speeds=np.linspace(0.02, max_speed, 8), heights=np.linspace(0.01, max_height, 6))
-
-
-#: Fastest impact speed (m/s) of the shock sweeps: ``v0^2`` (the drop height ``v0^2 / (2 g)``) stays finite.
-MAX_IMPACT_SPEED = float(np.sqrt(np.finfo(float).max))
 
 
 # checked before the first simulation, not after minutes of random vibration

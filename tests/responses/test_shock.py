@@ -5,6 +5,7 @@ import pytest
 
 from idkit.responses.shock import default_shock_grid, shock_sweep, ShockSweep
 from idkit.errors import SimulationError
+from idkit.limits import MAX_IMPACT_SPEED
 from idkit.models import SDOFSystem, VoigtModel, library
 from idkit.simulate import STANDARD_GRAVITY
 
@@ -174,6 +175,12 @@ def test_an_impact_whose_arrest_overflows_the_force_scale_is_refused_from_a_heig
         sweep = shock_sweep(system, impact_velocity=[-1.0, -1e149], **grid)
     assert sweep.reasons == ("ok", "ok")
     assert sweep.rest_shock_level[1] / 1e149 == pytest.approx(sweep.rest_shock_level[0], rel=1e-9)
+    # the speed whose square overflows is the limit the message states (idkit.limits.MAX_IMPACT_SPEED)
+    with np.errstate(over="ignore"):
+        squares = np.array([MAX_IMPACT_SPEED, np.nextafter(MAX_IMPACT_SPEED, np.inf)]) ** 2
+    assert np.isfinite(squares).tolist() == [True, False]
+    with pytest.raises(SimulationError, match=r"found -1e\+160 m/s, whose drop height .* below 1.34e\+154 m/s"):
+        shock_sweep(system, impact_velocity=[-1e160], **grid)
 
 
 def test_a_rig_drop_whose_fall_exceeds_the_simulator_steps_is_refused():
