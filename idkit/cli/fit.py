@@ -12,9 +12,12 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from idkit.checks import Choice, Either, Whole
+from idkit.checks import Choice, Either, InputPath, Whole
 from idkit.cli import options as opt
 from idkit.errors import IdkitError
+
+#: The data a command reads: a measurement-set folder or one data file.
+_DATASET = InputPath(what="a measurement set (folder with manifest.json) or a data file")
 
 
 def _check_outputs(kind: str, output: str, plots: str | None, dataset: str, *more_inputs: str) -> None:
@@ -45,7 +48,7 @@ def _load(dataset: str, args=None):
     from idkit.io.discover import load_measurements
     from idkit.io.selection import ONLY_ISOLATOR, resolve_isolator
 
-    path = Path(dataset)
+    path = _DATASET.check(dataset, "DATASET", IdkitError)
     if path.is_dir():
         measurement_set = load_measurement_set(path)
         if args is not None:
@@ -53,9 +56,6 @@ def _load(dataset: str, args=None):
                                              kind=args.isolator_kind)
             args.split = "fit" if args.split is None else args.split
         return measurement_set
-    if not path.exists():
-        raise IdkitError(f"DATASET {dataset}: no such file or folder; expected a measurement set (folder with "
-                         "manifest.json) or a data file")
     # one file: every record in it is fitted unless --isolator/--split say otherwise
     if args is not None:
         args.split = "all" if args.split is None else args.split

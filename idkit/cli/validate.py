@@ -10,6 +10,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from idkit.checks import InputPath
 from idkit.errors import IdkitError
 
 #: exit status per verdict (``idkit report``'s numbers: 1 a validation failed, 3 inconclusive)
@@ -33,14 +34,12 @@ def _cmd_validate(args) -> int:
     if not isinstance(model, IsolatorModel):
         raise IdkitError(f"{args.model}: holds a whole system; expected an isolator model file (the records give "
                          "the isolator's own deflection and force)")
-    path = Path(args.data)
+    path = InputPath(what="a measurement set (folder with manifest.json) or a data file of force records").check(
+        args.data, "DATA", IdkitError)
     if path.is_dir():
         data, split = load_measurement_set(path), args.split or "validation"
-    elif path.exists():
-        data, split = load_measurements(path)[1], "all" if args.split is None else args.split
     else:
-        raise IdkitError(f"DATA {args.data}: no such file or folder; expected a measurement set (folder with "
-                         "manifest.json) or a data file of force records")
+        data, split = load_measurements(path)[1], "all" if args.split is None else args.split
     baselines = None if args.no_baselines else _baselines(data, args.isolator, split, args.seed)
     result = validate_histories(model, data, isolator=args.isolator, split=split,
                                 name=f"force histories, {Path(args.model).name}", baselines=baselines)

@@ -64,7 +64,7 @@ def test_cli_fit_maxwell_order_auto_keeps_the_recommended_order(dataset, tmp_pat
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["fit", "iwan", "{missing}", "-o", "{out}"], "no such file or folder"),
+    (["fit", "iwan", "{missing}", "-o", "{out}"], "(not found), expected a measurement set"),
     (["fit", "iwan", "{set}", "--order", "0", "-o", "{out}"], "--order"),
     # the set holds wire-rope and elastomer loops: the default isolator is not guessed
     (["fit", "iwan", "{set}", "-o", "{out}"], "found quasi_static records of 2 isolators (elastomer, wire_rope); "

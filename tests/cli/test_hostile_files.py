@@ -384,7 +384,7 @@ def test_manifest_permission_denied(dataset, tmp_path):
 def test_dataset_missing(tmp_path):
     output = tmp_path / "out.json"
     check(run_main(["fit", "iwan", tmp_path / "nope", "-o", output], must_not_exist=[output]),
-          "error", ["nope", "no such file or folder"], case="fit: dataset missing")
+          "error", ["DATASET: found", "nope' (not found)"], case="fit: dataset missing")
 
 
 # --------------------------------------------------------------- item 3: model files
