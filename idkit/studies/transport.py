@@ -347,8 +347,10 @@ def compute_transport_study(*, wire_rope=None, elastomer=None, levels=FLAT_LEVEL
     TransportStudy
     """
     systems = transport_systems(wire_rope=wire_rope, elastomer=elastomer, r_k_values=r_k_values)
-    speeds = np.linspace(0.01, 1.0, 40) if speeds is None else speeds
-    heights = np.linspace(0.005, 0.15, 30) if heights is None else heights
+    # writable copies, as the defaults: the compiled drivers take writable arrays (a read-only one is
+    # another signature to compile)
+    speeds = np.linspace(0.01, 1.0, 40) if speeds is None else np.array(speeds)
+    heights = np.linspace(0.005, 0.15, 30) if heights is None else np.array(heights)
     levels = np.ravel(levels)
     for name, values in (("speeds", speeds), ("heights", heights)):  # shock_sweep takes one axis
         if values.ndim != 1:
