@@ -15,9 +15,11 @@ Tangent layout (rows): ``q (ndof), v (ndof), a (ndof), F (ndof x nj), u (ndof x 
 columns: the independent initial values ``q, v, F, u`` of real elements (the initial
 acceleration follows from equilibrium; see :func:`tangent_start`). The functions here never
 call the step itself: the period-map kernels (:func:`idkit.responses.period_map.period_kernel`)
-call them around it, :func:`tangent_start` before a run, :func:`tangent_step` after every step and
-:func:`tangent_finish` after the last (a Maxwell row's update is made in the next step's pass over
-the row, which reads it anyway: one pass over each of those rows a step instead of two).
+call them around it, :func:`tangent_start` before a run, :func:`tangent_coefficients` after every
+member's step, :func:`tangent_step` after the steps of the one or two members run together (their
+columns side by side, one pass over each row for both) and :func:`tangent_finish` after the last (a
+Maxwell row's update is made in the next step's pass over the row, which reads it anyway: one pass
+over each of those rows a step instead of two).
 """
 
 from __future__ import annotations
@@ -67,20 +69,70 @@ def tangent_start(ndof, masses, P, state, tangent, nj, nm, columns):
 
 
 @numba.njit(cache=True, _nrt=False)
-def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h, tangent, nj, nm, work, stuck,
-                 lanes, pending):
-    """Carry the tangent over one converged step.
+def tangent_coefficients(ndof, masses, P, state, old_q, old_force, base_old, base_new, h, work, stuck, member):
+    """The coefficients of one member's converged step that :func:`tangent_step` needs, into row
+    ``member`` of ``work`` (2, 8) and ``stuck`` (2, 2, max(nj, 1)).
 
-    ``state`` holds the new positions (``[q0, q1, ...]``), ``old_q`` and ``old_force`` the
-    positions (m) and Jenkin forces (N) before the step, ``base_old``/``base_new`` the base
-    displacement (m) at its ends, ``h`` the step (s); the columns of ``tangent`` as
-    :func:`tangent_start` made them. ``work`` (2, 2), ``stuck`` (2, max(nj, 1)) and ``lanes``
-    (6, columns): scratch of the caller's (slopes and stiffnesses of the isolators, which Jenkin
-    elements stick, per-column derivatives), so that a step allocates nothing and, compiled
-    without reference counting, takes no atomic operation per call. ``pending``: the Maxwell rows
-    still owe the previous step's update (every step of a run but its first; ``lanes`` rows 4 and
-    5 hold that step's deflection increments), which this step makes as it reads them; after a
-    run's last step, :func:`tangent_finish` makes it.
+    ``state`` holds the member's new positions (``[q0, q1, ...]``), ``old_q[member]`` (2, 2) and
+    ``old_force[member]`` (2, ndof, max(nj, 1)) its positions (m) and Jenkin forces (N) before the step
+    (indexed here rather than passed as views: a view made in a step loop costs reference counting),
+    ``base_old``/``base_new`` the base displacement (m) at its ends, ``h`` the step (s).
+    ``work[member]``: the spring slopes (0, 1) and the stiffnesses of the sticking elements and the
+    spring-in-series terms (2, 3) of the isolators, then the step's Newton matrix ``j00, j01, j11``
+    (4-6) and the inverse of its determinant (7); ``stuck[member, j, i]`` 1 where Jenkin element
+    ``i`` of isolator ``j`` sticks in the step, else 0.
+    """
+    m0 = masses[0]
+    m1 = masses[1] if ndof == 2 else 1.0
+    c2 = 2.0 / h
+    c4 = c2 * c2
+    for j in range(ndof):
+        if ndof == 2 and j == 0:
+            y = state[0] - state[1]
+            step_dy = y - (old_q[member, 0] - old_q[member, 1])
+        elif ndof == 2:
+            y = state[1] - base_new
+            step_dy = (state[1] - old_q[member, 1]) - (base_new - base_old)
+        else:
+            y = state[0] - base_new
+            step_dy = (state[0] - old_q[member, 0]) - (base_new - base_old)
+        work[member, j] = polynomial_spring_stiffness(y, P[j, 0, 0], P[j, 0, 1], P[j, 0, 2])
+        total = P[j, 0, 4]
+        for i in range(int(P[j, 0, 5])):
+            trial = old_force[member, j, i] + P[j, 1, i] * step_dy
+            stuck[member, j, i] = 0.0
+            if -P[j, 2, i] <= trial <= P[j, 2, i]:  # the kernel's stick test
+                stuck[member, j, i] = 1.0
+                total += P[j, 1, i]
+        work[member, 2 + j] = total
+    t0 = work[member, 0] + P[0, 0, 3] * c2 + work[member, 2]
+    j00 = c4 * m0 + t0
+    j01 = 0.0
+    j11 = 1.0
+    if ndof == 2:
+        j01 = -t0
+        j11 = c4 * m1 + t0 + work[member, 1] + P[1, 0, 3] * c2 + work[member, 3]
+    work[member, 4] = j00
+    work[member, 5] = j01
+    work[member, 6] = j11
+    work[member, 7] = 1.0 / (j00 * j11 - j01 * j01)
+
+
+@numba.njit(cache=True, _nrt=False)
+def tangent_step(ndof, masses, P, h, tangent, nj, nm, split, work, stuck, lanes, pending):
+    """Carry the tangent columns of one or two members over one converged step of each.
+
+    ``tangent``: the columns of the first member (``[0, split)``) then those of the second
+    (``[split, n)``; none when ``split`` is the column count), each as :func:`tangent_start` made
+    them; the two members run the same step ``h`` (s) and parameters ``P`` (one frequency and steps
+    per period), their step's coefficients in rows 0 and 1 of ``work`` and ``stuck``
+    (:func:`tangent_coefficients`). Every column gets the arithmetic of its own member, so a column's
+    values do not depend on the columns beside it; one pass over a row serves both members. ``lanes``
+    (6, columns): scratch of the caller's (per-column derivatives), so that a step allocates nothing
+    and, compiled without reference counting, takes no atomic operation per call. ``pending``: the
+    Maxwell rows still owe the previous step's update (every step of a run but its first; ``lanes``
+    rows 4 and 5 hold that step's deflection increments), which this step makes as it reads them;
+    after a run's last step, :func:`tangent_finish` makes it.
     """
     m0 = masses[0]
     m1 = masses[1] if ndof == 2 else 1.0
@@ -88,60 +140,38 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
     row_u = 3 * ndof + ndof * nj
     c2 = 2.0 / h
     c4 = c2 * c2
-    for j in range(ndof):
-        if ndof == 2 and j == 0:
-            y = state[0] - state[1]
-            step_dy = y - (old_q[0] - old_q[1])
-        elif ndof == 2:
-            y = state[1] - base_new
-            step_dy = (state[1] - old_q[1]) - (base_new - base_old)
-        else:
-            y = state[0] - base_new
-            step_dy = (state[0] - old_q[0]) - (base_new - base_old)
-        work[0, j] = polynomial_spring_stiffness(y, P[j, 0, 0], P[j, 0, 1], P[j, 0, 2])
-        total = P[j, 0, 4]
-        for i in range(int(P[j, 0, 5])):
-            trial = old_force[j, i] + P[j, 1, i] * step_dy
-            stuck[j, i] = 0.0
-            if -P[j, 2, i] <= trial <= P[j, 2, i]:  # the kernel's stick test
-                stuck[j, i] = 1.0
-                total += P[j, 1, i]
-        work[1, j] = total
-    t0 = work[0, 0] + P[0, 0, 3] * c2 + work[1, 0]
-    j00 = c4 * m0 + t0
-    j01 = 0.0
-    j11 = 1.0
-    if ndof == 2:
-        j01 = -t0
-        j11 = c4 * m1 + t0 + work[0, 1] + P[1, 0, 3] * c2 + work[1, 1]
-    det = j00 * j11 - j01 * j01
     n_jenkin0 = int(P[0, 0, 5])
     n_maxwell0 = int(P[0, 0, 6])
     n_jenkin1 = int(P[ndof - 1, 0, 5])
     n_maxwell1 = int(P[ndof - 1, 0, 6])
     # column by column the same arithmetic, written row by row over all the columns at once (the
-    # inner loops run along contiguous memory and vectorise); lanes: derivatives of the isolator
-    # forces (0, 1), of the new positions (2, 3) and of the deflection increments (4, 5)
+    # inner loops run along contiguous memory and vectorise; a member's coefficient is chosen per
+    # column by a comparison with ``split``); lanes: derivatives of the isolator forces (0, 1), of
+    # the new positions (2, 3) and of the deflection increments (4, 5)
     n = tangent.shape[1]
     for j in range(ndof):
         force = lanes[j]
         damping = P[j, 0, 3]
-        stiffness = work[1, j]
+        stiffness_a = work[0, 2 + j]
+        stiffness_b = work[1, 2 + j]
         if ndof == 2 and j == 0:  # the branch outside the loops over the columns: they vectorise
             for c in range(n):
+                stiffness = stiffness_a if c < split else stiffness_b
                 ddy = -(tangent[0, c] - tangent[1, c])
                 dvrel = -(c2 * tangent[0, c] + tangent[2, c]) + (c2 * tangent[1, c] + tangent[3, c])
                 force[c] = damping * dvrel + stiffness * ddy
         else:
             for c in range(n):
+                stiffness = stiffness_a if c < split else stiffness_b
                 ddy = -tangent[j, c]
                 dvrel = -(c2 * tangent[j, c] + tangent[ndof + j, c])
                 force[c] = damping * dvrel + stiffness * ddy
         for i in range(n_jenkin0 if j == 0 else n_jenkin1):
-            weight = stuck[j, i]
+            weight_a = stuck[0, j, i]
+            weight_b = stuck[1, j, i]
             index = row_f + j * nj + i
             for c in range(n):
-                force[c] += weight * tangent[index, c]
+                force[c] += (weight_a if c < split else weight_b) * tangent[index, c]
         increment = lanes[4 + j]
         for i in range(n_maxwell0 if j == 0 else n_maxwell1):
             # the Maxwell rows still owe the previous step's update (see tangent_finish): made here,
@@ -160,11 +190,17 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
                     force[c] += weight * tangent[index, c]
     # the mechanical rows, per number of masses, in passes that each write few rows (a loop that
     # writes many rows of an array is not vectorised: their distances are not known when compiled)
+    j00_a, j01_a, j11_a, inverse_a = work[0, 4], work[0, 5], work[0, 6], work[0, 7]
+    j00_b, j01_b, j11_b, inverse_b = work[1, 4], work[1, 5], work[1, 6], work[1, 7]
     if ndof == 2:
-        inverse = 1.0 / det
         q0, q1, v0, v1, a0, a1 = tangent[0], tangent[1], tangent[2], tangent[3], tangent[4], tangent[5]
         force0, force1, new0, new1 = lanes[0], lanes[1], lanes[2], lanes[3]
         for c in range(n):
+            first = c < split
+            j00 = j00_a if first else j00_b
+            j01 = j01_a if first else j01_b
+            j11 = j11_a if first else j11_b
+            inverse = inverse_a if first else inverse_b
             r0 = -m0 * (c4 * q0[c] + 2.0 * c2 * v0[c] + a0[c]) + force0[c]
             r1 = -m1 * (c4 * q1[c] + 2.0 * c2 * v1[c] + a1[c]) - force0[c] + force1[c]
             new0[c] = -(j11 * r0 - j01 * r1) * inverse
@@ -187,7 +223,7 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
         q0, v0, a0 = tangent[0], tangent[1], tangent[2]
         force0, new0, increment0 = lanes[0], lanes[2], lanes[4]
         for c in range(n):
-            new0[c] = -(-m0 * (c4 * q0[c] + 2.0 * c2 * v0[c] + a0[c]) + force0[c]) / j00
+            new0[c] = -(-m0 * (c4 * q0[c] + 2.0 * c2 * v0[c] + a0[c]) + force0[c]) / (j00_a if c < split else j00_b)
         for c in range(n):
             increment0[c] = new0[c] - q0[c]
         for c in range(n):
@@ -198,11 +234,12 @@ def tangent_step(ndof, masses, P, state, old_q, old_force, base_old, base_new, h
     for j in range(ndof):
         increment = lanes[4 + j]
         for i in range(n_jenkin0 if j == 0 else n_jenkin1):
-            weight = stuck[j, i]
+            weight_a = stuck[0, j, i]
+            weight_b = stuck[1, j, i]
             stiffness = P[j, 1, i]
             index = row_f + j * nj + i
             for c in range(n):
-                tangent[index, c] = weight * (tangent[index, c] + stiffness * increment[c])
+                tangent[index, c] = (weight_a if c < split else weight_b) * (tangent[index, c] + stiffness * increment[c])
 
 
 @numba.njit(cache=True, _nrt=False)

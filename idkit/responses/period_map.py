@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.checks import Choice, Whole, accepts
 from idkit.errors import SimulationError
-from idkit.responses._sensitivity import tangent_finish, tangent_start, tangent_step
+from idkit.responses._sensitivity import tangent_coefficients, tangent_finish, tangent_start, tangent_step
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
 from idkit.simulate._parallel import run_chunked
 from idkit.simulate._kernel import (
@@ -73,25 +73,42 @@ def _period_kernel(structure):
         n_rows = 3 * ndof + ndof * (nj + nm) if with_tangent else 0
         n_cols = columns.shape[0] if with_tangent else 0
         tangents = np.zeros((batch, n_rows, n_cols))
-        old_q = np.zeros(2)
-        old_force = np.zeros((ndof, max(nj, 1)))
-        work = np.zeros((2, 2))
-        lanes = np.zeros((6, max(n_cols, 1)))
-        stuck = np.zeros((2, max(nj, 1)))
+        # two members of one frequency and steps per period run in step, their tangent columns side
+        # by side in ``pair``: one pass over a tangent row serves both (idkit.responses._sensitivity)
+        pair = np.zeros((n_rows, 2 * n_cols))
+        old_q = np.zeros((2, 2))
+        old_force = np.zeros((2, ndof, max(nj, 1)))
+        work = np.zeros((2, 8))
+        lanes = np.zeros((6, max(2 * n_cols, 1)))
+        stuck = np.zeros((2, 2, max(nj, 1)))
         table_n = -1  # the base motion's table, rebuilt only when the steps per period change
         base_sin = np.empty(0)
         base_cos = np.empty(0)
-        for b in range(batch):
-            omega, n_per, h, amp, P = harmonic_member(b, freq, steps_per_period, amplitude, poly, cvisc, jk, jfc, mk,
-                                                      mrate, bw, sm)
-            state, S = start_member(ndof, masses, q0[b], v0[b], jforce0[b], mstate0[b], bwz0[b], 0.0, 0.0, amp * omega,
-                                    P)
-            # the member's tangent block, bound once: a view made inside the step loop costs numba a
+        b = 0
+        while b < batch:
+            paired = (with_tangent and b + 1 < batch and freq[b + 1] == freq[b]
+                      and steps_per_period[b + 1] == steps_per_period[b])
+            second = b + 1 if paired else b
+            omega, n_per, h, amp_a, P = harmonic_member(b, freq, steps_per_period, amplitude, poly, cvisc, jk, jfc, mk,
+                                                        mrate, bw, sm)
+            state_a, S_a = start_member(ndof, masses, q0[b], v0[b], jforce0[b], mstate0[b], bwz0[b], 0.0, 0.0,
+                                        amp_a * omega, P)
+            # the second member's step and parameters are the first's (same frequency and steps)
+            amp_b = amplitude[second]
+            state_b, S_b = start_member(ndof, masses, q0[second], v0[second], jforce0[second], mstate0[second],
+                                        bwz0[second], 0.0, 0.0, amp_b * omega, P)
+            # the members' tangent block, bound once: a view made inside the step loop costs numba a
             # reference-count increment and decrement (atomic) per step
-            tangent = tangents[b]
+            tangent = pair if paired else tangents[b]
+            split = n_cols
             if with_tangent:
-                tangent_start(ndof, masses, P, state, tangent, nj, nm, columns)
-            flag = FLAG_OK
+                tangent_start(ndof, masses, P, state_a, tangents[b], nj, nm, columns)
+                if paired:
+                    tangent_start(ndof, masses, P, state_b, tangents[second], nj, nm, columns)
+                    pair[:, :n_cols] = tangents[b]
+                    pair[:, n_cols:] = tangents[second]
+            flag_a = FLAG_OK
+            flag_b = FLAG_OK if paired else -1  # -1: no second member
             if n_per != table_n:
                 base_sin, base_cos = base_motion_table(n_per)  # as the map's kernel reads it
                 table_n = n_per
@@ -99,29 +116,56 @@ def _period_kernel(structure):
             for n in range(n_per * n_periods):
                 if n < n_record:
                     for d in range(ndof):
-                        rec_q[b, d, n] = state[d]
-                    rec_a[b, n] = state[4]
-                base = amp * base_sin[at]
+                        rec_q[b, d, n] = state_a[d]
+                    rec_a[b, n] = state_a[4]
+                    if paired:
+                        for d in range(ndof):
+                            rec_q[second, d, n] = state_b[d]
+                        rec_a[second, n] = state_b[4]
+                base = base_sin[at]
                 at = at + 1 if at + 1 < n_per else 0
-                base_new = amp * base_sin[at]
-                if with_tangent:
-                    old_q[0] = state[0]
-                    old_q[1] = state[1]
+                base_new = base_sin[at]
+                cosine = base_cos[at]
+                if flag_a == FLAG_OK:
+                    if with_tangent:
+                        old_q[0, 0] = state_a[0]
+                        old_q[0, 1] = state_a[1]
+                        for d in range(ndof):
+                            for i in range(nj):
+                                old_force[0, d, i] = S_a[d, 0, i]
+                    flag_a = structure_step(structure, ndof, m0, m1, state_a, h, 0.0, amp_a * base, amp_a * base_new,
+                                            amp_a * omega * cosine, P, S_a, scale[b])
+                    if with_tangent and flag_a == FLAG_OK:
+                        tangent_coefficients(ndof, masses, P, state_a, old_q, old_force, amp_a * base,
+                                             amp_a * base_new, h, work, stuck, 0)
+                if flag_b == FLAG_OK:
+                    old_q[1, 0] = state_b[0]
+                    old_q[1, 1] = state_b[1]
                     for d in range(ndof):
                         for i in range(nj):
-                            old_force[d, i] = S[d, 0, i]
-                vb_new = amp * omega * base_cos[at]
-                flag = structure_step(structure, ndof, m0, m1, state, h, 0.0, base, base_new, vb_new, P, S, scale[b])
-                if flag != FLAG_OK:
+                            old_force[1, d, i] = S_b[d, 0, i]
+                    flag_b = structure_step(structure, ndof, m0, m1, state_b, h, 0.0, amp_b * base, amp_b * base_new,
+                                            amp_b * omega * cosine, P, S_b, scale[second])
+                    if flag_b == FLAG_OK:
+                        tangent_coefficients(ndof, masses, P, state_b, old_q, old_force, amp_b * base,
+                                             amp_b * base_new, h, work, stuck, 1)
+                if flag_a != FLAG_OK and flag_b != FLAG_OK:
                     break
-                if with_tangent:
-                    tangent_step(ndof, masses, P, state, old_q, old_force, base, base_new, h, tangent, nj, nm, work,
-                                 stuck, lanes, n > 0)
-            if with_tangent and flag == FLAG_OK and n_per * n_periods > 0:
+                if with_tangent:  # a flagged member's columns go on meaninglessly: its tangent is not used
+                    tangent_step(ndof, masses, P, h, tangent, nj, nm, split, work, stuck, lanes, n > 0)
+            if with_tangent and (flag_a == FLAG_OK or flag_b == FLAG_OK) and n_per * n_periods > 0:
                 tangent_finish(ndof, P, tangent, nj, nm, lanes)
-            flags[b] = flag
-            if flag == FLAG_OK:
-                _store_end_state(b, ndof, state, S, q_end, v_end, j_end, m_end, z_end)
+            if paired:
+                tangents[b] = pair[:, :n_cols]
+                tangents[second] = pair[:, n_cols:]
+            flags[b] = flag_a
+            if flag_a == FLAG_OK:
+                _store_end_state(b, ndof, state_a, S_a, q_end, v_end, j_end, m_end, z_end)
+            if paired:
+                flags[second] = flag_b
+                if flag_b == FLAG_OK:
+                    _store_end_state(second, ndof, state_b, S_b, q_end, v_end, j_end, m_end, z_end)
+            b += 2 if paired else 1
         return q_end, v_end, j_end, m_end, z_end, flags, rec_q, rec_a, tangents
 
     return _run_periods

@@ -269,3 +269,32 @@ def test_period_map_runs_the_specialised_step_with_the_generic_steps_numbers(mon
     assert specialised_map._kernel is not generic_map._kernel
     for got, expected in zip(specialised, generic):
         np.testing.assert_array_equal(got, expected)
+
+
+@pytest.mark.parametrize("name", ["hybrid_asymmetric", "system_a1_asymmetric"])
+def test_members_run_in_pairs_carry_their_own_tangents_bit_for_bit(name):
+    # Members of one frequency and steps per period run two by two, their tangent columns side by
+    # side in one pass (idkit.responses._sensitivity.tangent_step): every column must get its own
+    # member's arithmetic, so each member's end state and tangent equal those of the member run
+    # alone (the path the finite-difference tests above check), bit for bit. Three members at 4 Hz
+    # (a pair and one alone, sticking and slipping amplitudes), then a pair at 9 Hz whose first
+    # member starts from a non-finite state and flags in its first step: its partner runs on alone.
+    from idkit.responses.periodic import PeriodMap
+
+    system = library.get(name)
+    one = PeriodMap(system, 1)
+    freq = np.array([4.0, 4.0, 4.0, 9.0, 9.0])
+    amplitude = np.array([1e-4, 3e-3, 1e-3, 1e-3, 2e-3])
+    states = one.linear_guess(freq, amplitude)
+    states[:, 0] *= 1.1  # off the linear orbit, so that the Jenkin elements slip and stick in turn
+    states[3, 1] = np.nan
+    steps = 64
+    end, flags, tangents = one.run(freq, amplitude, states, steps, with_tangent=True)
+    assert list(flags[:3]) == [0, 0, 0] and flags[3] != 0 and flags[4] == 0
+    for member in (0, 1, 2, 4):
+        alone_end, alone_flags, alone_tangent = one.run(freq[member], amplitude[member], states[member], steps,
+                                                        with_tangent=True)
+        assert alone_flags[0] == 0
+        assert np.array_equal(end[member], alone_end[0])
+        assert np.array_equal(tangents[member], alone_tangent[0])
+        assert np.isfinite(tangents[member]).all()
