@@ -209,14 +209,14 @@ def settle_stability(system, points: MapPoints, steps, orders, tolerance, worker
         return
     states = one.pack(*(values[timed] for values in points.states))
     multipliers = np.full((timed.size, one.size), np.nan, dtype=complex)
-    jacobians = np.full((timed.size, one.size, one.size), np.nan)
     flags = np.zeros(timed.size, dtype=np.int64)
     known = np.array([index in points.classified for index in timed], dtype=bool)
-    for row in np.flatnonzero(known):  # classified when its early stop was confirmed, same end state
-        multipliers[row], jacobians[row] = points.classified[timed[row]]
+    if known.any():  # classified when its early stop was confirmed, same end state
+        multipliers[known] = [points.classified[index][0] for index in timed[known]]
     fresh = np.flatnonzero(~known)
+    fresh_jacobians = None
     if fresh.size:
-        _, multipliers[fresh], jacobians[fresh], flags[fresh] = monodromy(
+        _, multipliers[fresh], fresh_jacobians, flags[fresh] = monodromy(
             one, points.freq[timed[fresh]], points.amplitude[timed[fresh]], states[fresh], steps[timed[fresh]],
             workers=workers)
     for index, flag in zip(timed[flags != 0], flags[flags != 0]):
@@ -232,7 +232,9 @@ def settle_stability(system, points: MapPoints, steps, orders, tolerance, worker
             points.stability[index] = str(kind)
         else:
             unstable.append((row, index, str(kind)))
-    if unstable:
+    if unstable:  # the monodromy matrices of the unstable rows (scaled), for their eigenvectors
+        jacobians = {row: (points.classified[timed[row]][1] if known[row]
+                           else fresh_jacobians[np.searchsorted(fresh, row)]) for row, _, _ in unstable}
         _carry(system, one, points, steps, orders, tolerance, workers, states, multipliers, jacobians, unstable)
 
 

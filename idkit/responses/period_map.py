@@ -407,8 +407,9 @@ def monodromy(period_map: PeriodMap, freq, amplitude, states, steps_per_period, 
                                                   with_tangent=True)
             return end, flags, tangents
         end, flags, tangents = run_chunked(task, n, workers=workers)
-        jacobian = tangents[:, period_map._tangent_rows]
-        jacobian = jacobian * scale[:, None, :] / scale[:, :, None]
+        jacobian = tangents[:, period_map._tangent_rows]  # a copy, scaled in place
+        jacobian *= scale[:, None, :]
+        jacobian /= scale[:, :, None]
     else:
         members = np.repeat(states[:, None, :], 2 * size + 1, axis=1)
         offsets = FD_STEP * scale
