@@ -18,8 +18,10 @@ spread).
    the propagated Jacobian, of the classification and Newton, and the periods run with it, one
    eigenvalue problem each) and the kernel floor, steps x ns per step + eigenvalue problems x us
    each, measured on the same points (the plain step: the slope of fixed 8- and 24-period runs; the
-   tangent step: one period with the Jacobian from the linear start, the step included; the
-   eigenvalues: ``numpy.linalg.eigvals`` of that batch's monodromy matrices).
+   tangent step: one period with the Jacobian from the linear start, the step included, the grid's
+   points in frequency-major order as the map batches them, so that members of one frequency run
+   two by two as in the map; the eigenvalues: ``numpy.linalg.eigvals`` of that batch's monodromy
+   matrices).
 2. solve_ivp over the whole map, one core: ``harmonic_reference`` (BDF, rtol 1e-6, tanh
    smoothing 1e-4) from rest (its only start) for the periods the map spent at the point. The
    grid is cut into ``--blocks`` (default 5 x 3: frequency decades' fifths, amplitude thirds);
