@@ -54,7 +54,7 @@ def _period_kernel(structure):
         absolute mass displacements (m) and top acceleration (m/s^2) at each step start, and, if
         ``with_tangent``, the derivative of the end state with respect to the start
         (:mod:`idkit.responses._sensitivity`; no Bouc-Wen; one column per entry of ``columns``, the
-        initial values of real elements), else an empty array.
+        initial values of real elements; not meaningful for a flagged member), else an empty array.
         """
         batch = freq.shape[0]
         ndof = masses.shape[0]
