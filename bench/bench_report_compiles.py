@@ -100,10 +100,10 @@ def start_recorded(self):
         self._call = (function, args, kwargs)
 
 forked.Forked._start = start_recorded
-from idkit.cli.main import main
+from idkit.cli.main import run  # the command: its allocator settings included
 sys.argv = ["idkit", *sys.argv[1:]]
 try:
-    status = main()
+    status = run()
 finally:
     _write({"pid": os.getpid(), "role": "main process", "process cpu": _cpu()})
 sys.exit(status)
