@@ -1,7 +1,8 @@
 """Benchmark: the README's main command cold (fresh clone, fresh venv, empty kernel cache) and in a
 second fresh venv on the cache the first one filled (issue 34, item 3).
 
-    python bench/bench_cold_start.py [--repeats R] [--quick] [--pip-option OPTION ...] [--source REPO]
+    python bench/bench_cold_start.py [--repeats R] [--quick] [--pip-option OPTION ...] [--parallel-bytecode]
+                                     [--source REPO]
 
 Each repetition, in a new temporary folder:
 
@@ -20,7 +21,10 @@ compiles nothing writes none), the report's own stage timings (``provenance.json
 average; then min and median over the repetitions, wall and CPU (on a shared machine the wall
 depends on the other processes' load, the CPU far less). ``--quick`` adds ``--quick`` to the report
 (faster, for trying the script); ``--pip-option`` adds an option to the install (e.g.
-``--no-compile``: pip then writes no bytecode for the installed packages). The machine is used
+``--no-compile``: pip then writes no bytecode for the installed packages); ``--parallel-bytecode``
+installs with ``--no-compile`` and then writes the same bytecode on every core, as a part of its
+own (``bytecode``: ``python -m compileall -q -j 0`` over the venv's ``lib``; pip compiles the
+installed files one after the other in its own process). The machine is used
 as it is: the load average is printed beside the figures. Nothing is asserted.
 """
 
@@ -52,8 +56,14 @@ def readme_main_command(readme: Path) -> str:
     return " ".join(line.strip() for line in block.group(1).strip().splitlines())
 
 
-def command_parts(command: str, *, quick: bool, pip_options: list[str]) -> list[tuple[str, str]]:
-    """The command's ``&&``-separated parts, labelled venv / install / report (and adapted by the options)."""
+#: the bytecode part of ``--parallel-bytecode``: every ``.py`` of the venv compiled on every core
+PARALLEL_BYTECODE = ".venv/bin/python -m compileall -q -j 0 .venv/lib"
+
+
+def command_parts(command: str, *, quick: bool, pip_options: list[str],
+                  parallel_bytecode: bool = False) -> list[tuple[str, str]]:
+    """The command's ``&&``-separated parts, labelled venv / install / report (and adapted by the
+    options; ``parallel_bytecode``: the install without bytecode, then a ``bytecode`` part)."""
     parts = []
     for part in (piece.strip() for piece in command.split("&&")):
         words = shlex.split(part)
@@ -61,7 +71,10 @@ def command_parts(command: str, *, quick: bool, pip_options: list[str]) -> list[
             label = "venv"
         elif "pip" in words[0] and "install" in words:
             label = "install"
-            part = " ".join([part, *map(shlex.quote, pip_options)])
+            part = " ".join([part, *map(shlex.quote, pip_options), *(["--no-compile"] if parallel_bytecode else [])])
+            if parallel_bytecode:
+                parts.append((label, part))
+                label, part = "bytecode", PARALLEL_BYTECODE
         elif words[0].endswith("idkit") and "report" in words:
             label = "report"
             if quick:
@@ -89,11 +102,12 @@ def _load() -> str:
 
 
 def run_readme_command(source: str, commit: str, folder: Path, cache: Path, xdg: Path, *, quick: bool,
-                       pip_options: list[str]) -> dict:
+                       pip_options: list[str], parallel_bytecode: bool = False) -> dict:
     """Clone ``source`` at ``commit`` into ``folder`` and run the README's main command there, part by part."""
     subprocess.run(["git", "clone", "-q", source, str(folder)], check=True)
     subprocess.run(["git", "-C", str(folder), "checkout", "-q", commit], check=True)
-    parts = command_parts(readme_main_command(folder / "README.md"), quick=quick, pip_options=pip_options)
+    parts = command_parts(readme_main_command(folder / "README.md"), quick=quick, pip_options=pip_options,
+                          parallel_bytecode=parallel_bytecode)
     env = {key: value for key, value in os.environ.items()
            if key not in ("NUMBA_CACHE_DIR", "VIRTUAL_ENV", "PYTHONPATH")}
     env.update(IDKIT_CACHE_DIR=str(cache), XDG_CACHE_HOME=str(xdg))
@@ -138,6 +152,8 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="idkit report --quick (for trying the script)")
     parser.add_argument("--pip-option", action="append", default=[], dest="pip_options",
                         help="an option added to the install (repeatable), e.g. --pip-option=--no-compile")
+    parser.add_argument("--parallel-bytecode", action="store_true",
+                        help="install with --no-compile, then write the bytecode on every core (compileall -j 0)")
     parser.add_argument("--source", default=str(ROOT), help="repository to clone (default: this checkout)")
     options = parser.parse_args()
     # every run clones the same commit (a commit made meanwhile would change the kernels' cache key)
@@ -145,7 +161,8 @@ def main() -> None:
                             text=True).stdout.strip()
     print(f"commit {commit}; README main command of {options.source}: {readme_main_command(ROOT / 'README.md')}"
           + (" (report --quick)" if options.quick else "") + (f" (install {' '.join(options.pip_options)})"
-                                                              if options.pip_options else ""))
+                                                              if options.pip_options else "")
+          + (" (install --no-compile, then the bytecode on every core)" if options.parallel_bytecode else ""))
     print(f"{os.cpu_count()} CPUs; times are wall clock unless CPU (user + system of every process started)")
     runs = {"cold": [], "second venv": []}
     for repetition in range(options.repeats):
@@ -157,7 +174,8 @@ def main() -> None:
             print(f"repetition {repetition + 1}")
             for name, clone in (("cold", "first"), ("second venv", "second")):
                 found = run_readme_command(options.source, commit, scratch / clone, cache, xdg, quick=options.quick,
-                                           pip_options=options.pip_options)
+                                           pip_options=options.pip_options,
+                                           parallel_bytecode=options.parallel_bytecode)
                 runs[name].append(found)
                 _print_run(name, found)
     for name, found in runs.items():

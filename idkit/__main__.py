@@ -2,6 +2,6 @@
 
 import sys
 
-from idkit.cli.main import main
+from idkit.cli.main import run
 
-sys.exit(main())
+sys.exit(run())

@@ -14,6 +14,7 @@ import numpy as np
 
 from idkit import __version__
 from idkit.cli import options as opt
+from idkit.cli.allocator import keep_freed_memory
 from idkit.cli.hints import cli_message
 from idkit.cli.tables import write_table as _write_table
 from idkit.errors import IdkitError, SimulationError
@@ -280,5 +281,12 @@ def main(argv=None) -> int:
     return int(status or 0)
 
 
+def run() -> int:
+    """The ``idkit`` command (its console script, ``python -m idkit``): :func:`main` in a process whose
+    allocator keeps freed memory for the next allocation (:mod:`idkit.cli.allocator`)."""
+    keep_freed_memory()
+    return main()
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run())
