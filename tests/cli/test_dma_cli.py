@@ -117,7 +117,7 @@ def test_fit_iwan_on_one_loop_file(tmp_path):
     assert load_model(modulated).kind == "iwan_modulated"
     missing = run_main(["fit", "iwan", tmp_path / "nothing.csv", "-o", tmp_path / "x.json"],
                        must_not_exist=[tmp_path / "x.json"])
-    check(missing, "error", ["nothing.csv", "no such file"], case="fit-missing-file")
+    check(missing, "error", ["nothing.csv", "(not found)"], case="fit-missing-file")
 
 
 def test_report_of_a_table_takes_the_order_as_fit_does(dma_file, tmp_path):
