@@ -103,7 +103,8 @@ def repo_root() -> Path:
 # Compiled kernels, warmed in parallel before the xdist workers start: otherwise, from a
 # fresh clone (empty per-user numba cache, idkit._numba_cache), every worker compiles the same big
 # kernels itself. Each snippet compiles one kernel through the public API (the argument
-# types the tests use) and writes numba's on-disk cache; the workers then load it.
+# types the tests use) and writes numba's on-disk cache; the workers then load it. The
+# snippets are shared out over one process per worker, which collect garbage as the tests do.
 _WARM_UP = tuple(
     "import numpy as np\n"
     "from idkit.models import BoucWenModel, SDOFSystem, library\n"
@@ -133,7 +134,11 @@ def pytest_configure(config):
     import subprocess
     import sys
 
-    runs = [subprocess.Popen([sys.executable, "-c", code], cwd=REPO_ROOT, stdout=subprocess.DEVNULL,
-                             stderr=subprocess.DEVNULL) for code in _WARM_UP]
+    # one process per worker, each running its share of the snippets in turn: a process more
+    # costs an interpreter and idkit's imports, and only as many compile at once as there are cores
+    shares = ["\n".join(_WARM_UP[first::workers]) for first in range(min(workers, len(_WARM_UP)))]
+    garbage = f"import gc\ngc.set_threshold({YOUNG_COLLECTION_THRESHOLD}, *gc.get_threshold()[1:])\n"
+    runs = [subprocess.Popen([sys.executable, "-c", garbage + code], cwd=REPO_ROOT, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL) for code in shares]
     for run in runs:
         run.wait()  # a failure shows up again, with its message, in the tests themselves
