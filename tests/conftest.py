@@ -29,10 +29,16 @@ if int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")) > 1:
     os.environ.setdefault("IDKIT_WORKERS", "1")
 
 #: Net allocations between young-generation collections in the test processes (CPython's default
-#: 700). On the parameter-set and design tests with an empty kernel cache (mostly numba compiling),
-#: time spent in collections fell from 5.7 s to 1.4 s of about 40 s of CPU.
+#: 700; the measured effect is in docs/development.md, "Test data and speed").
 YOUNG_COLLECTION_THRESHOLD = 50_000
 gc.set_threshold(YOUNG_COLLECTION_THRESHOLD, *gc.get_threshold()[1:])
+
+# the allocator the `idkit` command runs with (idkit.cli.allocator; the command sets it in
+# run(), which the tests bypass by calling main() in process): freed arrays reused, not mapped
+# afresh. The user's MALLOC_* settings win, as for the command.
+from idkit.cli.allocator import keep_freed_memory  # noqa: E402 - after the thread settings above
+
+keep_freed_memory()
 
 REPO_ROOT = Path(__file__).resolve().parents[1]
 

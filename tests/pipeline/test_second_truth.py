@@ -165,8 +165,8 @@ def body_fit(tmp_path_factory):
     # The fit reads only the fit split's loops and white-noise runs (fit_maxwell_measurements),
     # so only those of the full elastomer plan are generated, and written and read back in the
     # files' non-SI units as `idkit data generate` writes them: the same records, the same fit.
-    # Not compressed: gzip changes no value read back, and compressing 4.6 MB at level 9 costs
-    # about 3.5 s of CPU (the .csv.gz reading path is the quick set's, data_b above)
+    # Not compressed: gzip changes no value read back and is the costliest part of writing
+    # (the .csv.gz reading path is the quick set's, data_b above)
     items = [item for item in plan(truth="b") if item.set_name == "elastomer" and item.split == "fit"
              and item.kind in ("quasi_static", "white_noise")]
     folder = tmp_path_factory.mktemp("truth_b_elastomer") / "elastomer"
