@@ -69,6 +69,17 @@ def tangent_start(ndof, masses, P, state, tangent, nj, nm, columns):
 
 
 @numba.njit(cache=True, _nrt=False)
+def keep_step_start(ndof, nj, state, S, old_q, old_force, member):
+    """Copy one member's positions (m) and Jenkin forces (N) before its step into row ``member`` of
+    ``old_q`` and ``old_force``: what :func:`tangent_coefficients` differentiates the step from."""
+    old_q[member, 0] = state[0]
+    old_q[member, 1] = state[1]
+    for d in range(ndof):
+        for i in range(nj):
+            old_force[member, d, i] = S[d, 0, i]
+
+
+@numba.njit(cache=True, _nrt=False)
 def tangent_coefficients(ndof, masses, P, state, old_q, old_force, base_old, base_new, h, work, stuck, member):
     """The coefficients of one member's converged step that :func:`tangent_step` needs, into row
     ``member`` of ``work`` (2, 8) and ``stuck`` (2, 2, max(nj, 1)).

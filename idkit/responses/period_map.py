@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 import idkit._numba_cache  # noqa: F401 - process-safe numba cache writes (before anything compiles)
 from idkit.checks import Choice, Whole, accepts
 from idkit.errors import SimulationError
-from idkit.responses._sensitivity import tangent_coefficients, tangent_finish, tangent_start, tangent_step
+from idkit.responses._sensitivity import keep_step_start, tangent_coefficients, tangent_finish, tangent_start, tangent_step
 from idkit.simulate._arrays import force_scale, resolve_system, system_arrays
 from idkit.simulate._parallel import run_chunked
 from idkit.simulate._kernel import (
@@ -128,22 +128,14 @@ def _period_kernel(structure):
                 cosine = base_cos[at]
                 if flag_a == FLAG_OK:
                     if with_tangent:
-                        old_q[0, 0] = state_a[0]
-                        old_q[0, 1] = state_a[1]
-                        for d in range(ndof):
-                            for i in range(nj):
-                                old_force[0, d, i] = S_a[d, 0, i]
+                        keep_step_start(ndof, nj, state_a, S_a, old_q, old_force, 0)
                     flag_a = structure_step(structure, ndof, m0, m1, state_a, h, 0.0, amp_a * base, amp_a * base_new,
                                             amp_a * omega * cosine, P, S_a, scale[b])
                     if with_tangent and flag_a == FLAG_OK:
                         tangent_coefficients(ndof, masses, P, state_a, old_q, old_force, amp_a * base,
                                              amp_a * base_new, h, work, stuck, 0)
                 if flag_b == FLAG_OK:
-                    old_q[1, 0] = state_b[0]
-                    old_q[1, 1] = state_b[1]
-                    for d in range(ndof):
-                        for i in range(nj):
-                            old_force[1, d, i] = S_b[d, 0, i]
+                    keep_step_start(ndof, nj, state_b, S_b, old_q, old_force, 1)
                     flag_b = structure_step(structure, ndof, m0, m1, state_b, h, 0.0, amp_b * base, amp_b * base_new,
                                             amp_b * omega * cosine, P, S_b, scale[second])
                     if flag_b == FLAG_OK:
