@@ -68,7 +68,7 @@ def tangent_start(ndof, masses, P, state, tangent, nj, nm, columns):
             tangent[row_a + 1, c] = (df[0] - df[1]) / masses[1]
 
 
-@numba.njit(cache=True, _nrt=False)
+@numba.njit(cache=True, _nrt=False, inline="always")
 def keep_step_start(ndof, nj, state, S, old_q, old_force, member):
     """Copy one member's positions (m) and Jenkin forces (N) before its step into row ``member`` of
     ``old_q`` and ``old_force``: what :func:`tangent_coefficients` differentiates the step from."""
