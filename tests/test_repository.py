@@ -34,7 +34,8 @@ LAYERS = {
                   "catalogue"},
     "design": {"models", "simulate", "io", "signal", "responses", "catalogue", "plot", "design"},
 }
-CORE = {"errors", "checks", "limits", "params", "atomic", "inputfiles", "gravity", "forked", "exit_status", "_numba_cache"}
+CORE = {"errors", "checks", "limits", "params", "atomic", "inputfiles", "gravity", "forked", "exit_status", "_numba_cache",
+        "exports"}
 
 
 def readme_commands():

@@ -52,7 +52,7 @@ def _cmd_init(args) -> None:
 
 def register(subparsers) -> None:
     """Add ``idkit data generate`` to the ``idkit`` command."""
-    from idkit.synth import DEFAULT_SEED, SET_NAMES, TRUTH_NAMES
+    from idkit.synth.names import DEFAULT_SEED, SET_NAMES, TRUTH_NAMES
 
     data = subparsers.add_parser("data", help="synthetic measurement data")
     actions = data.add_subparsers(dest="action", required=True)

@@ -11,44 +11,18 @@ noise with ADC-like rounding on every channel. The chain integrator is
 
 Command: ``idkit data generate -o data/ --seed 2026 [--force]`` or
 ``python -m idkit.synth``; ``--truth b`` writes the second, different truth
-(:func:`idkit.synth.truth.truth_models`; not bundled).
+(:func:`idkit.synth.truth.truth_models`; not bundled). The sets are written by
+:mod:`idkit.synth.sets`; their names, the truths' names and the default seed live in the light
+:mod:`idkit.synth.names`, which the command's parser reads.
 """
 
-from idkit.synth.experiments import Planned, plan
-from idkit.synth.generate import (
-    DEFAULT_SEED,
-    FILE_UNITS,
-    SET_NAMES,
-    GenerationSummary,
-    generate,
-    generate_measurement,
-)
-from idkit.synth.truth import (
-    TRUTH_NAMES,
-    ElastomerTruth,
-    ModulatedWireRopeTruth,
-    SingleBodyElastomerTruth,
-    WireRopeTruth,
-    default_elastomer,
-    default_wire_rope,
-    truth_models,
-)
+from idkit.exports import lazy_exports
 
-__all__ = [
-    "DEFAULT_SEED",
-    "FILE_UNITS",
-    "SET_NAMES",
-    "TRUTH_NAMES",
-    "ElastomerTruth",
-    "GenerationSummary",
-    "ModulatedWireRopeTruth",
-    "Planned",
-    "SingleBodyElastomerTruth",
-    "WireRopeTruth",
-    "default_elastomer",
-    "default_wire_rope",
-    "generate",
-    "generate_measurement",
-    "plan",
-    "truth_models",
-]
+# imported on first use: the parser reads idkit.synth.names without importing the generator
+__all__, __getattr__, __dir__ = lazy_exports(__name__, {
+    "experiments": ("Planned", "plan"),
+    "names": ("DEFAULT_SEED", "SET_NAMES", "TRUTH_NAMES"),
+    "sets": ("FILE_UNITS", "GenerationSummary", "generate", "generate_measurement"),
+    "truth": ("ElastomerTruth", "ModulatedWireRopeTruth", "SingleBodyElastomerTruth", "WireRopeTruth",
+              "default_elastomer", "default_wire_rope", "truth_models"),
+})

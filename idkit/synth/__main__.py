@@ -7,8 +7,8 @@ imports only lower layers.
 import argparse
 import sys
 
-from idkit.synth.generate import DEFAULT_SEED, SET_NAMES, generate
-from idkit.synth.truth import TRUTH_NAMES
+from idkit.synth import generate
+from idkit.synth.names import DEFAULT_SEED, SET_NAMES, TRUTH_NAMES
 
 
 def main(argv=None) -> int:

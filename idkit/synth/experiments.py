@@ -37,8 +37,8 @@ from idkit.io import (
     WhiteNoiseMeasurement,
 )
 from idkit.checks import Choice, Flag, accepts
-from idkit.synth.truth import TRUTH_NAMES
 from idkit.synth.chain import link_force_path, pack_links, run_chain
+from idkit.synth.names import TRUTH_NAMES
 
 __all__ = ["GRAVITY", "NOISE", "RESOLUTION", "Planned", "plan", "realize"]
 

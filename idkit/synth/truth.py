@@ -38,13 +38,10 @@ from typing import ClassVar
 import numpy as np
 
 from idkit.synth.chain import LINK_ELASTOMER, LINK_WIRE_ROPE, LINK_WIRE_ROPE_MODULATED, link_force_path, pack_links
+from idkit.synth.names import TRUTH_NAMES
 
-__all__ = ["TRUTH_NAMES", "ElastomerTruth", "ModulatedWireRopeTruth", "SingleBodyElastomerTruth",
+__all__ = ["ElastomerTruth", "ModulatedWireRopeTruth", "SingleBodyElastomerTruth",
            "WireRopeTruth", "default_elastomer", "default_wire_rope", "truth_models"]
-
-#: Named truths of the generator: ``"a"`` made the bundled data, ``"b"`` is the second truth.
-TRUTH_NAMES = ("a", "b")
-
 
 def _quasi_static_force(link, deflection) -> np.ndarray:
     """Force (N) of ``link`` along ``deflection`` (m) from the unloaded (virgin) state, so
@@ -263,7 +260,7 @@ class SingleBodyElastomerTruth(_ElastomerTruth):
 
 
 def truth_models(name: str = "a"):
-    """``(wire_rope, elastomer)`` truths of the named truth (:data:`TRUTH_NAMES`)."""
+    """``(wire_rope, elastomer)`` truths of the named truth (:data:`idkit.synth.names.TRUTH_NAMES`)."""
     if name == "a":
         return default_wire_rope(), default_elastomer()
     if name == "b":

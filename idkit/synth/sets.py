@@ -36,12 +36,11 @@ from idkit.atomic import atomic_output_folder
 from idkit.checks import Choice, Flag, Whole, accepts, unchecked
 from idkit.atomic import write_bytes_atomic
 from idkit.synth.experiments import CONTACT, NOISE, RESOLUTION, Planned, plan, realize
-from idkit.synth.truth import TRUTH_NAMES, truth_models
+from idkit.synth.names import DEFAULT_SEED, SET_NAMES, TRUTH_NAMES
+from idkit.synth.truth import truth_models
 
-__all__ = ["DEFAULT_SEED", "FILE_UNITS", "SET_NAMES", "GenerationSummary", "generate", "generate_measurement"]
+__all__ = ["FILE_UNITS", "GenerationSummary", "generate", "generate_measurement"]
 
-DEFAULT_SEED = 2026
-SET_NAMES = ("wire_rope", "elastomer", "hybrid")
 TRUTH_FOLDER = "truth"
 #: The stepped sines held out for validation, per truth (manifest notes).
 SWEEP_SPLIT = {"a": "amplitude level 3", "b": "every other frequency at every level"}
