@@ -8,8 +8,7 @@ work starts; the refusal names the argument and the limit (:mod:`idkit.checks`).
 from __future__ import annotations
 
 import math
-
-import numpy as np
+import sys
 
 __all__ = ["MAX_STEPS", "MAX_SAMPLES", "MAX_GRID_POINTS", "MAX_DROP_SAMPLES", "MIN_TOLERANCE",
            "MIN_TIME_STEP", "MAX_WORKERS", "MAX_SEED", "SMALLEST_NORMAL", "MAX_FORCE_SCALE", "MAX_IMPACT_SPEED"]
@@ -47,12 +46,12 @@ MAX_SEED = 2**32 - 1
 
 #: Smallest normal float64: a nonzero number below it is subnormal, with fewer significant bits,
 #: and a response divided by it overflows.
-SMALLEST_NORMAL = float(np.finfo(np.float64).tiny)
+SMALLEST_NORMAL = sys.float_info.min
 
 #: Largest force scale (N) the implicit step handles: its Newton iteration squares the force
 #: residual, which overflows float64 above the square root of its largest value.
-MAX_FORCE_SCALE = math.sqrt(np.finfo(np.float64).max)
+MAX_FORCE_SCALE = math.sqrt(sys.float_info.max)
 
 #: Largest impact speed (m/s) of a drop: its square, and so the drop height ``v0^2 / (2 g)``,
 #: overflows float64 above the square root of its largest value.
-MAX_IMPACT_SPEED = math.sqrt(np.finfo(np.float64).max)
+MAX_IMPACT_SPEED = math.sqrt(sys.float_info.max)
