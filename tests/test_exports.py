@@ -1,7 +1,9 @@
 """idkit.exports: a package's public names imported from their modules on first use, and the
 packages that declare theirs so (idkit.io, idkit.synth) keep their public lists."""
 
+import ast
 import importlib
+import inspect
 import pkgutil
 import sys
 import types
@@ -80,3 +82,15 @@ def test_the_lazy_packages_keep_their_public_names_after_every_submodule_is_impo
         if home is not None and home.startswith(package.__name__ + "."):  # classes and functions: defined there
             assert getattr(sys.modules[home], name) is value, name
     assert callable(idkit.synth.generate) and idkit.synth.generate.__module__ == "idkit.synth.sets"
+
+
+@pytest.mark.parametrize("package", list(PUBLIC), ids=lambda package: package.__name__)
+def test_the_type_checking_imports_state_the_same_names_and_homes(package):
+    """What type checkers and editors read (``if TYPE_CHECKING:`` imports) is what runs."""
+    tree = ast.parse(inspect.getsource(package))
+    blocks = [node for node in tree.body if isinstance(node, ast.If) and ast.unparse(node.test) == "TYPE_CHECKING"]
+    imports = [(node.module, alias.name) for block in blocks for node in block.body
+               if isinstance(node, ast.ImportFrom) for alias in node.names]
+    assert sorted(name for _, name in imports) == package.__all__
+    for module, name in imports:
+        assert getattr(package, name) is getattr(importlib.import_module(module), name), name

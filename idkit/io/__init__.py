@@ -7,7 +7,24 @@ names file, column, 1-based row, found and expected). The format is written
 down in ``docs/data-format.md``.
 """
 
+from typing import TYPE_CHECKING
+
 from idkit.exports import lazy_exports
+
+if TYPE_CHECKING:  # for type checkers and editors: the names below (tests/test_exports.py keeps them equal)
+    from idkit.io.complex_stiffness import (ComplexStiffnessTable, ShiftFactorTable, read_complex_stiffness,
+                                            read_shift_factors, write_complex_stiffness)
+    from idkit.io.contract import SAMPLE_RATE_TOLERANCE
+    from idkit.io.csv_measurement import build_measurement, read_csv_measurement, write_csv_measurement
+    from idkit.io.info import Excitation, MeasurementInfo
+    from idkit.io.manifest import (Manifest, ManifestEntry, MeasurementSet, load_measurement_set, read_manifest,
+                                   write_measurement_set)
+    from idkit.io.matfile import MatColumn, read_mat
+    from idkit.io.measurements import (AccelerationRecord, DropMeasurement, Measurement, QuasiStaticMeasurement,
+                                       SteppedSineMeasurement, WhiteNoiseMeasurement)
+    from idkit.io.provenance import Source, file_sha256
+    from idkit.io.shock_csv import read_shock_csv
+    from idkit.io.units import accepted_units
 
 # imported on first use: reading a light module (idkit.io.columns) does not import pandas
 __all__, __getattr__, __dir__ = lazy_exports(__name__, {

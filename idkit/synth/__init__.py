@@ -16,7 +16,16 @@ Command: ``idkit data generate -o data/ --seed 2026 [--force]`` or
 :mod:`idkit.synth.names`, which the command's parser reads.
 """
 
+from typing import TYPE_CHECKING
+
 from idkit.exports import lazy_exports
+
+if TYPE_CHECKING:  # for type checkers and editors: the names below (tests/test_exports.py keeps them equal)
+    from idkit.synth.experiments import Planned, plan
+    from idkit.synth.names import DEFAULT_SEED, SET_NAMES, TRUTH_NAMES
+    from idkit.synth.sets import FILE_UNITS, GenerationSummary, generate, generate_measurement
+    from idkit.synth.truth import (ElastomerTruth, ModulatedWireRopeTruth, SingleBodyElastomerTruth, WireRopeTruth,
+                                   default_elastomer, default_wire_rope, truth_models)
 
 # imported on first use: the parser reads idkit.synth.names without importing the generator
 __all__, __getattr__, __dir__ = lazy_exports(__name__, {
