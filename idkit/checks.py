@@ -51,6 +51,7 @@ __all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Text", "Samples"
            "Items", "Either", "accepts", "unchecked", "refuse", "DECLARED", "Contract", "OptionValueError", "Field",
            "field_names", "check_fields"]
 
+
 class _Refused(Exception):
     """Raised by a spec's ``coerce``: what was found and what was expected; ``at``, the position
     of a refused item inside the value (``[3]``), follows the argument's name in the message."""

@@ -45,7 +45,8 @@ MAX_WORKERS = 256
 MAX_SEED = 2**32 - 1
 
 #: Smallest normal float64: a nonzero number below it is subnormal, with fewer significant bits,
-#: and a response divided by it overflows.
+#: and a response divided by it overflows. (Python's float is float64: ``sys.float_info`` states
+#: its extremes, as ``numpy.finfo(numpy.float64)`` does, without importing numpy.)
 SMALLEST_NORMAL = sys.float_info.min
 
 #: Largest force scale (N) the implicit step handles: its Newton iteration squares the force
