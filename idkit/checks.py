@@ -36,20 +36,20 @@ import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable
+from typing import Any, Callable
+
+import numpy as np
 
 from idkit.errors import DataError, ParameterError
 from idkit.inputfiles import path_problem
 from idkit.limits import SMALLEST_NORMAL
 
-# numpy is imported where a check needs it, not with this module: the command's parser builds its
-# option types from these specs and so starts without numpy (docs/cli-reference.md, "Start-up")
-if TYPE_CHECKING:
-    import numpy as np
-
 __all__ = ["Spec", "Real", "Reals", "Whole", "Choice", "Flag", "Text", "Samples", "Seed", "Instance", "InputPath",
            "Items", "Either", "accepts", "unchecked", "refuse", "DECLARED", "Contract", "OptionValueError", "Field",
            "field_names", "check_fields"]
+
+#: Values that ``float()`` converts but that are not numbers.
+_NOT_NUMBERS = (bool, np.bool_, str, bytes)
 
 
 class _Refused(Exception):
@@ -68,8 +68,6 @@ def refuse(name: str, value: Any, expected: str, error: type[Exception] = Parame
 
 
 def _found(value: Any) -> str:
-    import numpy as np
-
     if isinstance(value, (bool, np.bool_)):
         return f"{value!r} (bool)"
     if isinstance(value, np.ndarray):
@@ -133,9 +131,7 @@ def _bounds(gt, ge, lt, le, unit: str) -> str:
 
 def _number(value: Any, spec: Spec) -> float:
     """``value`` as a finite float; the expectation is spelled out only on refusal."""
-    import numpy as np
-
-    if isinstance(value, (bool, np.bool_, str, bytes)):  # float() would take True as 1 and "8" as 8
+    if isinstance(value, _NOT_NUMBERS):  # float() would take True as 1 and "8" as 8
         raise _Refused(_found(value), spec.expected())
     try:
         number = float(value)
@@ -204,8 +200,6 @@ class Whole(Spec):
         return f"{text} ({self.meaning})" if self.meaning else text
 
     def coerce(self, value: Any) -> int:
-        import numpy as np
-
         if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)):
             number = int(value)
         else:
@@ -261,8 +255,6 @@ class Flag(Spec):
         return "True, False or None" if self.optional else "True or False"
 
     def coerce(self, value: Any) -> bool:
-        import numpy as np
-
         if isinstance(value, (bool, np.bool_)):
             return bool(value)
         raise _Refused(_found(value), self.expected())
@@ -324,8 +316,6 @@ class Reals(Spec):
         return f"{text} ({self.meaning})" if self.meaning else text
 
     def coerce(self, value: Any) -> np.ndarray:
-        import numpy as np
-
         if isinstance(value, (str, bytes, bool, np.bool_)):
             raise _Refused(_found(value), self.expected())
         try:
@@ -364,8 +354,6 @@ class Reals(Spec):
     def _inside(self, array: np.ndarray) -> bool:
         """Every value finite and within the bounds (the common case, without a per-value mask: a
         finite sum has no NaN or inf terms; the extremes decide the bounds)."""
-        import numpy as np
-
         if array.size == 0:
             return True
         if not math.isfinite(float(array.sum())):  # NaN, inf, or finite values whose sum overflows
@@ -379,8 +367,6 @@ class Reals(Spec):
                 and (self.lt is None or high < self.lt) and (self.le is None or high <= self.le))
 
     def bad_values(self) -> list:
-        import numpy as np
-
         bad = super().bad_values() + ["abc", [1.0, math.nan], True, [[1.0, math.inf]]]
         if self.increasing:
             inside = (self.gt if self.gt is not None else self.ge if self.ge is not None else 0.0) + 1.0
@@ -424,8 +410,6 @@ class Samples(Spec):
         return f"a {shape} array of {count}{finite}real samples{unit}"
 
     def coerce(self, value: Any) -> np.ndarray:
-        import numpy as np
-
         if isinstance(value, (str, bytes, bool, np.bool_)) or value is None:
             raise _Refused(_found(value), self.expected())
         try:
@@ -447,8 +431,6 @@ class Samples(Spec):
         return view
 
     def bad_values(self) -> list:
-        import numpy as np
-
         bad = super().bad_values() + ["abc", np.zeros((self.min_size, 2, 2))]
         if self.min_size > 0:
             bad.append(np.zeros(self.min_size - 1))
@@ -468,8 +450,6 @@ class Seed(Spec):
         return "an integer in [0, 4294967295], a SeedSequence or a Generator"
 
     def coerce(self, value: Any) -> Any:
-        import numpy as np
-
         if isinstance(value, (np.random.SeedSequence, np.random.Generator)):
             return value
         if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)) \

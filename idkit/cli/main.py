@@ -10,6 +10,8 @@ import threading
 import warnings
 from pathlib import Path
 
+import numpy as np
+
 from idkit import __version__
 from idkit.cli import options as opt
 from idkit.cli.allocator import keep_freed_memory
@@ -103,8 +105,6 @@ def _cmd_simulate_harmonic(args):
 
 def _cmd_simulate_drop(args):
     """Conditioned free falls through :func:`idkit.responses.shock.shock_sweep` (the one drop reduction)."""
-    import numpy as np
-
     from idkit.plot.simulations import drop_plot_paths, save_drop_plots
     from idkit.responses.shock import default_shock_grid, shock_sweep
 

@@ -36,17 +36,14 @@ from __future__ import annotations
 import argparse
 import math
 import re
-import sys
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+
+import numpy as np
 
 from idkit.checks import Real, Whole
 from idkit.errors import IdkitError
 from idkit.limits import (MAX_DROP_SAMPLES, MAX_GRID_POINTS, MAX_SEED, MAX_STEPS, MAX_WORKERS, MIN_TIME_STEP,
                           MIN_TOLERANCE, SMALLEST_NORMAL)
-
-if TYPE_CHECKING:
-    import numpy as np
 
 __all__ = [
     "IdkitArgumentParser", "OptionError", "real", "integer", "Axis", "parse_axis", "check_grid_size",
@@ -68,7 +65,7 @@ DEFAULT_MAX_SAMPLES = 10**7
 #: MIN_K0 = 1e-12 keeps every box nine times wider than that; above MAX_K0, 10 k0 squared in
 #: lmfit's bound transform overflows float64.
 MIN_K0 = 1e-12
-MAX_K0 = math.sqrt(sys.float_info.max) / 10.0
+MAX_K0 = math.sqrt(np.finfo(np.float64).max) / 10.0
 
 
 class OptionError(IdkitError, ValueError):
@@ -142,8 +139,6 @@ class Axis:
         return len(self.values) if self.spacing is None else int(self.values[2])
 
     def build(self) -> np.ndarray:
-        import numpy as np
-
         if self.spacing is None:
             return np.asarray(self.values, dtype=float)
         start, stop, count = self.values

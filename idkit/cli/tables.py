@@ -6,14 +6,14 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
+
 __all__ = ["json_records", "write_table"]
 
 
 def json_records(frame) -> str:
     """``frame`` as JSON records, every number as written by CSV (shortest round-trip repr;
     pandas' ``to_json`` keeps 10 decimals: a 1e-11 m amplitude became 0.0); NaN as null."""
-    import numpy as np
-
     def value(cell):
         if isinstance(cell, (float, np.floating)):
             return float(cell) if np.isfinite(cell) else None
