@@ -38,6 +38,7 @@ import pytest
 from idkit.fit import iwan_set_errors
 from idkit.fit import fit_iwan_measurements, fit_maxwell_measurements
 from idkit.io import load_measurement_set, write_measurement_set
+from idkit.studies.pipeline import compute_report_data, valid_range_of, wire_rope_fit_options
 from idkit.synth import (
     FILE_UNITS,
     DEFAULT_SEED,
@@ -149,8 +150,20 @@ def data_b(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def rope_fit(data_b):
-    return fit_iwan_measurements(data_b["wire_rope"])  # the CLI's default: order="auto"
+def report_b(data_b):
+    """What ``idkit report --quick`` computes with the CLI's defaults
+    (:func:`~idkit.studies.pipeline.compute_report_data`, the call ``run_report`` makes); its
+    transport study is not read here."""
+    data = compute_report_data(data_b["folder"], quick=True)
+    data.abandon_transport()
+    return data
+
+
+@pytest.fixture(scope="module")
+def rope_fit(report_b):
+    # the report's wire-rope fit (order="auto", family="auto", the set's valid range: the
+    # options of wire_rope_fit_options), computed once for the report test and the rope's tests
+    return report_b.iwan
 
 
 @pytest.fixture(scope="module")
@@ -350,12 +363,13 @@ def test_a_feasible_loop_optimum_is_kept_by_the_valid_range_fit(data_b, rope_fit
     that optimum, the same on every numpy CPU path (a refit from it wandered into a 2.1 %
     minimum on one path)."""
     from idkit.models.laws import lowest_spring_stiffness
-    from idkit.studies.pipeline import valid_range_of
 
     low, high = valid_range_of(data_b["wire_rope"])
-    ranged = rope_fit  # the default valid range ("data") is the report's: 1.25 x the set's deflections
+    ranged = rope_fit  # the report's fit: its valid range is 1.25 x the set's deflections
     assert ranged.result.settings.valid_range == (low, high) and ranged.success, ranged.reasons
-    free = fit_iwan_measurements(data_b["wire_rope"], valid_range=None).model  # the loops' own optimum
+    # the loops' own optimum: the same options without the valid range
+    options = wire_rope_fit_options(data_b["wire_rope"]) | {"valid_range": None}
+    free = fit_iwan_measurements(data_b["wire_rope"], **options).model
     assert lowest_spring_stiffness(free.g1, free.g2, free.g3, low, high) >= 0.0
     # an inactive barrier changes the objective by rounding only, which moves a determined
     # optimum by about that perturbation over the conditioning (measured 2e-15 here; one ulp
@@ -376,7 +390,7 @@ def test_wire_rope_sweeps_and_elastomer_frf_pass(data_b, rope_fit, body_fit):
 
 
 @pytest.mark.slow
-def test_report_on_truth_b_passes_every_validation_and_flags_only_the_unresolved_frf(data_b):
+def test_report_on_truth_b_passes_every_validation_and_flags_only_the_unresolved_frf(report_b):
     """Every validation PASS; exit status 4 because the quick set's 4 s white-noise records
     cannot resolve the elastomer's resonances (the Maxwell fit says so, see the resolution
     test below; on full-length records the same fit is a success), while the wire-rope fit is
@@ -390,10 +404,8 @@ def test_report_on_truth_b_passes_every_validation_and_flags_only_the_unresolved
     from idkit.cli.report import verdict_lines
     from idkit.report.front_page import PREDICTING_FITS
     from idkit.report.main_report import ReportSummary
-    from idkit.studies.pipeline import compute_report_data
 
-    data = compute_report_data(data_b["folder"], quick=True)
-    data.abandon_transport()  # the transport study is not what this test reads
+    data = report_b
     # the summary the CLI prints from (no page is written here, hence no folder)
     summary = ReportSummary(out_dir=Path("."), html=Path("report.html"), sections=(),
                             validation_passed={}, timings_s={}, validation_verdicts=data.verdicts, quick=True,
@@ -430,7 +442,7 @@ def test_rope_parameters_agree_to_1e3_when_the_forces_move_by_one_ulp(data_b, ro
     own size over the conditioning, orders of magnitude below it."""
     records = [dataclasses.replace(m, force=np.nextafter(m.force, direction)) if m.kind == "quasi_static" else m
                for m in data_b["wire_rope"].measurements]
-    again = fit_iwan_measurements(records)
+    again = fit_iwan_measurements(records, **wire_rope_fit_options(data_b["wire_rope"]))  # the report's options
     assert again.success == rope_fit.success
     assert again.result.settings.family == rope_fit.result.settings.family
     assert again.model.order == rope_fit.model.order
