@@ -88,16 +88,48 @@ window.addEventListener("load", function () { if (location.hash) idkitOpenTarget
 """
 
 
+#: resolution of the report's PNG figures (dots per inch); the layout is solved at it
+PNG_DPI = 90
+
+
+def _solve_layout_once(figure, dpi: float) -> None:
+    """Place the axes of ``figure`` with its layout engine at ``dpi``, then drop the engine.
+
+    ``savefig`` with a layout engine draws the whole figure once without output, only to
+    run the engine, before drawing it for real, and the SVG would do the same again. Run
+    on the Agg canvas at the PNG's resolution, the engine sees the text extents the PNG's
+    own pass would measure, so both files keep the same placement; without an engine each
+    ``savefig`` draws once.
+    """
+    from matplotlib import rc_context
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    engine = figure.get_layout_engine()
+    if engine is None:
+        return
+    if figure.axes:
+        canvas, original_dpi = figure.canvas, figure.dpi
+        try:
+            FigureCanvasAgg(figure)  # attaches itself; the engine measures text with its renderer
+            figure.dpi = dpi
+            engine.execute(figure)
+        finally:
+            figure.dpi = original_dpi
+            figure.set_canvas(canvas)
+    # ``None`` removes the engine only when the rc parameters name no default one
+    with rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
+        figure.set_layout_engine(None)
+
+
 def _render_figure(figure, *, with_svg: bool) -> tuple[bytes, bytes | None]:
-    """PNG (90 dpi) and, when asked, SVG bytes of a figure."""
-    buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=90)
-    if not with_svg:
-        return buffer.getvalue(), None
-    # the layout was solved for the PNG: keep it rather than solve it again for the SVG
-    figure.set_layout_engine("none")
+    """PNG (:data:`PNG_DPI`) and, when asked, SVG bytes of a figure; its layout is solved once for both."""
     from matplotlib import rc_context
 
+    _solve_layout_once(figure, PNG_DPI)
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=PNG_DPI)
+    if not with_svg:
+        return buffer.getvalue(), None
     svg = io.BytesIO()
     # no clock and no random ids in the file: the same figure gives the same bytes
     with rc_context({"svg.hashsalt": "idkit"}):
