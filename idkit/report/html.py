@@ -92,30 +92,46 @@ window.addEventListener("load", function () { if (location.hash) idkitOpenTarget
 PNG_DPI = 90
 
 
+@contextmanager
+def _on_agg_canvas(figure):
+    """``figure`` on an Agg canvas inside the block (its own when it has one), its canvas back after.
+
+    One canvas keeps one renderer for a size and resolution, and matplotlib caches text
+    extents and parsed mathtext per renderer: the layout and the PNG measure each label once.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = figure.canvas
+    if isinstance(canvas, FigureCanvasAgg):
+        yield canvas
+        return
+    try:
+        yield FigureCanvasAgg(figure)  # attaches itself to the figure
+    finally:
+        figure.set_canvas(canvas)
+
+
 def _solve_layout_once(figure, dpi: float) -> None:
     """Place the axes of ``figure`` with its layout engine at ``dpi``, then drop the engine.
 
     ``savefig`` with a layout engine draws the whole figure once without output, only to
     run the engine, before drawing it for real, and the SVG would do the same again. Run
-    on the Agg canvas at the PNG's resolution, the engine sees the text extents the PNG's
-    own pass would measure, so both files keep the same placement; without an engine each
+    on the figure's Agg canvas at the PNG's resolution, the engine measures the text as the
+    PNG's own pass would, so the files keep the same placement; without an engine each
     ``savefig`` draws once.
     """
     from matplotlib import rc_context
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     engine = figure.get_layout_engine()
     if engine is None:
         return
     if figure.axes:
-        canvas, original_dpi = figure.canvas, figure.dpi
+        original_dpi = figure.dpi
+        figure.dpi = dpi
         try:
-            FigureCanvasAgg(figure)  # attaches itself; the engine measures text with its renderer
-            figure.dpi = dpi
             engine.execute(figure)
         finally:
             figure.dpi = original_dpi
-            figure.set_canvas(canvas)
     # ``None`` removes the engine only when the rc parameters name no default one
     with rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
         figure.set_layout_engine(None)
@@ -125,15 +141,16 @@ def _render_figure(figure, *, with_svg: bool) -> tuple[bytes, bytes | None]:
     """PNG (:data:`PNG_DPI`) and, when asked, SVG bytes of a figure; its layout is solved once for both."""
     from matplotlib import rc_context
 
-    _solve_layout_once(figure, PNG_DPI)
     buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=PNG_DPI)
-    if not with_svg:
-        return buffer.getvalue(), None
-    svg = io.BytesIO()
-    # no clock and no random ids in the file: the same figure gives the same bytes
-    with rc_context({"svg.hashsalt": "idkit"}):
-        figure.savefig(svg, format="svg", metadata={"Date": None})
+    with _on_agg_canvas(figure):
+        _solve_layout_once(figure, PNG_DPI)
+        figure.savefig(buffer, format="png", dpi=PNG_DPI)
+        if not with_svg:
+            return buffer.getvalue(), None
+        svg = io.BytesIO()
+        # no clock and no random ids in the file: the same figure gives the same bytes
+        with rc_context({"svg.hashsalt": "idkit"}):
+            figure.savefig(svg, format="svg", metadata={"Date": None})
     return buffer.getvalue(), svg.getvalue()
 
 
