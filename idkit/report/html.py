@@ -94,17 +94,16 @@ PNG_DPI = 90
 
 @contextmanager
 def _on_agg_canvas(figure):
-    """``figure`` on an Agg canvas inside the block (its own when it has one), its canvas back after.
+    """``figure`` on a new Agg canvas inside the block; its own canvas is given back after.
 
     One canvas keeps one renderer for a size and resolution, and matplotlib caches text
-    extents and parsed mathtext per renderer: the layout and the PNG measure each label once.
+    extents and parsed mathtext per renderer: drawn on it, the layout and the PNG measure
+    each label once. A canvas of its own (no window manager) also lets the figure's
+    resolution change for the layout without resizing any window the figure is shown in.
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     canvas = figure.canvas
-    if isinstance(canvas, FigureCanvasAgg):
-        yield canvas
-        return
     try:
         yield FigureCanvasAgg(figure)  # attaches itself to the figure
     finally:
@@ -116,9 +115,9 @@ def _solve_layout_once(figure, dpi: float) -> None:
 
     ``savefig`` with a layout engine draws the whole figure once without output, only to
     run the engine, before drawing it for real, and the SVG would do the same again. Run
-    on the figure's Agg canvas at the PNG's resolution, the engine measures the text as the
-    PNG's own pass would, so the files keep the same placement; without an engine each
-    ``savefig`` draws once.
+    on the figure's Agg canvas (:func:`_on_agg_canvas`) at the PNG's resolution, the engine
+    measures the text as the PNG's own pass would, so the files keep the same placement;
+    without an engine each ``savefig`` draws once.
     """
     from matplotlib import rc_context
 
@@ -130,6 +129,8 @@ def _solve_layout_once(figure, dpi: float) -> None:
         figure.dpi = dpi
         try:
             engine.execute(figure)
+        except ValueError:  # skipped as matplotlib's own draw skips it: the axes stay where they are
+            pass
         finally:
             figure.dpi = original_dpi
     # ``None`` removes the engine only when the rc parameters name no default one

@@ -183,3 +183,72 @@ def test_a_thumbnail_shows_a_figure_drawn_later_and_links_to_it(tmp_path):
     broken.thumbnail("never drawn", "x")
     with pytest.raises(ValueError, match="never_drawn"):
         broken.render()
+
+
+def _figure_with_the_report_s_text():
+    """A small figure with what makes the report's figures costly to lay out: a log-log panel
+    (minor ticks and grid, mathtext tick labels and label, a title, a legend placed by
+    matplotlib) beside a colour mesh with a log colour bar."""
+    import numpy as np
+    from matplotlib.colors import LogNorm
+
+    curve_ax, mesh_ax = new_axes(1, 2)
+    frequency = np.geomspace(1.0, 200.0, 40)
+    curve_ax.loglog(frequency, 1.0 / np.abs(1.0 - (frequency / 20.0) ** 2 + 0.1j * frequency / 20.0), label="model")
+    curve_ax.loglog(frequency[::4], frequency[::4] ** -0.5, ".", label="measured")
+    curve_ax.set_title("panel", fontsize="small")
+    curve_ax.set_ylabel("|H| [-] (m/s$^2$)")
+    curve_ax.grid(True, which="both", alpha=0.3)
+    curve_ax.legend(fontsize="x-small", title="legend")
+    mesh = mesh_ax.pcolormesh(frequency[::8], frequency[::10], np.outer(frequency[:3], frequency[:4]) * 1e-6,
+                              norm=LogNorm(), shading="flat")
+    mesh_ax.set_xscale("log")
+    mesh_ax.figure.colorbar(mesh, ax=mesh_ax, label="|H2| [-]")
+    return curve_ax.figure
+
+
+def _render_as_matplotlib_lays_out(figure):
+    """PNG and SVG the plain way: ``savefig`` runs the layout engine in a draw of its own before each file."""
+    import io
+
+    from matplotlib import rc_context
+
+    from idkit.report.html import PNG_DPI
+
+    png = io.BytesIO()
+    figure.savefig(png, format="png", dpi=PNG_DPI)
+    figure.set_layout_engine("none")  # the SVG keeps the PNG's placement
+    svg = io.BytesIO()
+    with rc_context({"svg.hashsalt": "idkit"}):
+        figure.savefig(svg, format="svg", metadata={"Date": None})
+    return png.getvalue(), svg.getvalue()
+
+
+def test_a_figure_laid_out_once_gives_the_files_matplotlib_s_own_layout_pass_gives():
+    from idkit.report.html import _render_figure
+
+    figure = _figure_with_the_report_s_text()
+    canvas = figure.canvas
+    draws = []
+    figure.canvas.mpl_connect("draw_event", lambda event: draws.append(type(event.canvas).__name__))
+    png, svg = _render_figure(figure, with_svg=True)
+    # one draw per file: the layout is solved without drawing, on the canvas the PNG is drawn on
+    assert draws == ["FigureCanvasAgg", "FigureCanvasSVG"]
+    assert figure.canvas is canvas  # the caller's canvas is given back
+    assert figure.get_layout_engine() is None
+    # byte for byte what matplotlib writes when it solves the layout in a draw of its own
+    reference_png, reference_svg = _render_as_matplotlib_lays_out(_figure_with_the_report_s_text())
+    assert png == reference_png
+    assert svg == reference_svg
+
+
+def test_a_figure_rendered_without_its_svg_gives_the_png_alone():
+    from idkit.report.html import _render_figure
+
+    def line():
+        ax = new_axes()
+        ax.plot([0.0, 1.0], [0.0, 2.0])
+        ax.set_xlabel("time [s]")
+        return ax.figure
+
+    assert _render_figure(line(), with_svg=False) == (_render_as_matplotlib_lays_out(line())[0], None)
