@@ -84,7 +84,8 @@ def _period_kernel(structure):
         table_n = -1  # the base motion's table, rebuilt only when the steps per period change
         base_sin = np.empty(0)
         base_cos = np.empty(0)
-        b = 0
+        # a typed zero, not the literal 0: numba would also compile the members' helpers for the literal
+        b = np.int64(0)
         while b < batch:
             paired = (with_tangent and b + 1 < batch and freq[b + 1] == freq[b]
                       and steps_per_period[b + 1] == steps_per_period[b])
