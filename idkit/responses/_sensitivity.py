@@ -129,6 +129,18 @@ def tangent_coefficients(ndof, masses, P, state, old_q, old_force, base_old, bas
     work[member, 7] = 1.0 / (j00 * j11 - j01 * j01)
 
 
+@numba.njit(cache=True, _nrt=False, inline="always")
+def _end_of_step_columns(q, v, a, new, c2, c4, n):
+    """The trapezoidal rule's end of step on ``n`` tangent columns of one mass: positions ``q``
+    set to ``new``, velocities ``v`` and accelerations ``a`` from the change (``c2 = 2 / h``,
+    ``c4 = c2^2``); the columns' analogue of :func:`idkit.simulate._structured.end_of_step`."""
+    for c in range(n):
+        change = new[c] - q[c]
+        a[c] = c4 * change - 2.0 * c2 * v[c] - a[c]
+        v[c] = c2 * change - v[c]
+        q[c] = new[c]
+
+
 @numba.njit(cache=True, _nrt=False)
 def tangent_step(ndof, masses, P, h, tangent, nj, nm, split, work, stuck, lanes, pending):
     """Carry the tangent columns of one or two members over one converged step of each.
@@ -220,16 +232,8 @@ def tangent_step(ndof, masses, P, h, tangent, nj, nm, split, work, stuck, lanes,
         for c in range(n):
             increment0[c] = (new0[c] - new1[c]) - (q0[c] - q1[c])
             increment1[c] = new1[c] - q1[c]
-        for c in range(n):
-            change = new0[c] - q0[c]
-            a0[c] = c4 * change - 2.0 * c2 * v0[c] - a0[c]
-            v0[c] = c2 * change - v0[c]
-            q0[c] = new0[c]
-        for c in range(n):
-            change = new1[c] - q1[c]
-            a1[c] = c4 * change - 2.0 * c2 * v1[c] - a1[c]
-            v1[c] = c2 * change - v1[c]
-            q1[c] = new1[c]
+        _end_of_step_columns(q0, v0, a0, new0, c2, c4, n)
+        _end_of_step_columns(q1, v1, a1, new1, c2, c4, n)
     else:
         q0, v0, a0 = tangent[0], tangent[1], tangent[2]
         force0, new0, increment0 = lanes[0], lanes[2], lanes[4]
@@ -237,11 +241,7 @@ def tangent_step(ndof, masses, P, h, tangent, nj, nm, split, work, stuck, lanes,
             new0[c] = -(-m0 * (c4 * q0[c] + 2.0 * c2 * v0[c] + a0[c]) + force0[c]) / (j00_a if c < split else j00_b)
         for c in range(n):
             increment0[c] = new0[c] - q0[c]
-        for c in range(n):
-            change = new0[c] - q0[c]
-            a0[c] = c4 * change - 2.0 * c2 * v0[c] - a0[c]
-            v0[c] = c2 * change - v0[c]
-            q0[c] = new0[c]
+        _end_of_step_columns(q0, v0, a0, new0, c2, c4, n)
     for j in range(ndof):
         increment = lanes[4 + j]
         for i in range(n_jenkin0 if j == 0 else n_jenkin1):
